@@ -1,0 +1,19 @@
+# embed_spirv(TARGET OUTDIR SHADER...): compiles each compute shader with glslangValidator into
+# OUTDIR/<name>_spv.h (a `<name>_spv` uint32_t array); included .glsl files are tracked by depfile.
+function(embed_spirv target outdir)
+  set(headers)
+  foreach(shader ${ARGN})
+    get_filename_component(name ${shader} NAME_WE)
+    set(header ${outdir}/${name}_spv.h)
+    add_custom_command(
+      OUTPUT ${header}
+      COMMAND ${CMAKE_COMMAND} -E make_directory ${outdir}
+      COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -Os --quiet
+              --vn ${name}_spv --depfile ${header}.d -o ${header} ${shader}
+      DEPENDS ${shader}
+      DEPFILE ${header}.d
+      COMMENT "Compiling ${name}.comp to SPIR-V")
+    list(APPEND headers ${header})
+  endforeach()
+  add_custom_target(${target} DEPENDS ${headers})
+endfunction()

@@ -1,0 +1,29 @@
+/* image.h: float RGB images, the film -> image resolve, tonemapping, PPM/PNG/PFM read and write. */
+#ifndef TRAZADOR_IMAGE_H
+#define TRAZADOR_IMAGE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "render.h"
+
+typedef enum tonemap { TONEMAP_SRGB = 0, TONEMAP_LINEAR = 1 } tonemap;
+
+/* Linear float RGB, rows top to bottom, 3 floats a pixel. */
+typedef struct image {
+    int width, height;
+    float *rgb;
+} image;
+
+/* Averages the film into a new image (sum / count, black where count is 0); false on OOM. */
+bool image_from_film(const film *f, image *out);
+/* Frees the pixels; safe on a zeroed image. */
+void image_free(image *img);
+/* Clamps to [0,1] and applies the transfer function: 8-bit value of one linear channel. */
+uint8_t tonemap_channel(float linear, tonemap tm);
+/* Writes .ppm, .png or .pfm by extension via a temporary file and rename; false on error. */
+bool image_write(const char *path, const image *img, tonemap tm);
+/* Reads .ppm, .png or .pfm (8-bit formats decoded with tm back to linear); false on error. */
+bool image_read(const char *path, image *out, tonemap tm);
+
+#endif

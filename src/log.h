@@ -1,0 +1,19 @@
+/* log.h: the one leveled message sink; every library reports through it, only main.c exits. */
+#ifndef TRAZADOR_LOG_H
+#define TRAZADOR_LOG_H
+
+#include <stdbool.h>
+
+typedef enum log_level { LOG_DEBUG, LOG_INFO, LOG_WARN, LOG_ERROR } log_level;
+
+/* Sets the lowest level that is printed (default LOG_INFO). */
+void log_set_level(log_level level);
+/* Prints one formatted line to stderr, prefixed "trazador: " and the level for warnings/errors. */
+void log_message(log_level level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+#define log_debug(...) log_message(LOG_DEBUG, __VA_ARGS__)
+#define log_info(...) log_message(LOG_INFO, __VA_ARGS__)
+#define log_warn(...) log_message(LOG_WARN, __VA_ARGS__)
+#define log_error(...) log_message(LOG_ERROR, __VA_ARGS__)
+
+#endif

@@ -1,0 +1,76 @@
+/* scene.h: struct scene, the one input of both back ends, its limits, and the parser API. */
+#ifndef TRAZADOR_SCENE_H
+#define TRAZADOR_SCENE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "vec3.h"
+
+#define SCENE_MAX_RESOLUTION 16384
+#define SCENE_MAX_SPHERES 16777216 /* the GPU addresses spheres with 24-bit-exact floats */
+#define SCENE_MAX_LIGHTS 4096
+#define SCENE_MAX_SAMPLES 1048576
+#define SCENE_MAX_BOUNCES 64
+#define SCENE_MAX_LINE 4096 /* longer lines are an error, not a slowdown */
+
+typedef enum material_kind {
+    MATERIAL_LAMBERTIAN = 0,
+    MATERIAL_PHONG = 1,
+    MATERIAL_MIRROR = 2,
+    MATERIAL_REFRACTIVE = 3,
+} material_kind;
+
+typedef enum render_mode { RENDER_MODE_SEED = 0 } render_mode;
+
+typedef struct sphere {
+    vec3 center;
+    float radius;
+    material_kind material;
+    vec3 color;    /* kd for lambertian/phong, tint for mirror/refractive */
+    float ks;      /* phong specular weight, 0 for the others */
+    float alpha;   /* phong exponent */
+    float ior;     /* refractive index, 1 for the others */
+    vec3 emission; /* reserved for the path-tracing mode; always 0 in seed mode */
+} sphere;
+
+typedef struct light {
+    vec3 position;
+    float power;
+    vec3 color;
+} light;
+
+typedef struct scene {
+    vec3 camera_position, camera_direction, camera_up;
+    float plane_width, plane_height, pixel_size;
+    int width, height; /* pixels: plane size / pixel size */
+    vec3 background;
+    /* render settings; command-line flags override them */
+    int samples;
+    bool indirect;
+    int bounces;
+    uint32_t seed;
+    render_mode mode;
+    sphere *spheres;
+    int sphere_count;
+    light *lights;
+    int light_count;
+} scene;
+
+/* Where and why parsing failed: "file:line:col: message". */
+typedef struct scene_error {
+    char file[256];
+    int line, col;
+    char message[512];
+} scene_error;
+
+/* Parses scene text; false with *err filled (when non-NULL) and *out untouched on any error. */
+bool scene_parse_string(const char *text, size_t length, const char *filename, scene *out,
+                        scene_error *err);
+/* Reads and parses a file; false with *err filled on a read or parse error. */
+bool scene_parse_file(const char *path, scene *out, scene_error *err);
+/* Releases the arrays of a parsed scene; safe on a zeroed scene. */
+void scene_free(scene *s);
+
+#endif
