@@ -1,0 +1,77 @@
+/* shared_layout.h: the one definition of every buffer, binding and constant the shaders read.
+ * Included by C (src/scene_pack.c, the C integrator) and by GLSL (shaders/*.comp).
+ * std430, vec4-packed; the C side asserts every size and offset in src/scene_pack.c. */
+#ifndef TRAZADOR_SHARED_LAYOUT_H
+#define TRAZADOR_SHARED_LAYOUT_H
+
+#ifdef GL_core_profile
+#define TZ_VEC4 vec4
+#define TZ_UVEC4 uvec4
+#define TZ_FLOAT_CONST(x) (x)
+#else
+#include <stdint.h>
+typedef struct tz_vec4 {
+    float x, y, z, w;
+} tz_vec4;
+typedef struct tz_uvec4 {
+    uint32_t x, y, z, w;
+} tz_uvec4;
+#define TZ_VEC4 tz_vec4
+#define TZ_UVEC4 tz_uvec4
+#define TZ_FLOAT_CONST(x) (x##f)
+#endif
+
+/* Ray offset: EPS * max(1, largest |coordinate| of the point), so that it grows with float
+ * spacing away from the origin. */
+#define TZ_EPS TZ_FLOAT_CONST(1e-4)
+#define TZ_PI TZ_FLOAT_CONST(3.14159265358979)
+
+#define TZ_MATERIAL_LAMBERTIAN 0
+#define TZ_MATERIAL_PHONG 1
+#define TZ_MATERIAL_MIRROR 2
+#define TZ_MATERIAL_REFRACTIVE 3
+
+#define TZ_FLAG_JITTER 1u
+#define TZ_FLAG_INDIRECT 2u
+
+/* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (2 x 4 pixel blocks keep a
+ * subgroup's rays coherent), 32 lanes on real GPUs. */
+#define TZ_GROUP_X 8
+#define TZ_GROUP_Y 4
+
+/* Descriptor bindings of set 0. */
+#define TZ_BINDING_FRAME 0
+#define TZ_BINDING_SPHERES 1
+#define TZ_BINDING_LIGHTS 2
+#define TZ_BINDING_ACCUM 3
+
+/* One sphere, 48 bytes. material is stored as an exactly representable float. */
+struct gpu_sphere {
+    TZ_VEC4 center_radius; /* xyz centre, w radius */
+    TZ_VEC4 color_ks;      /* rgb kd or tint, w phong ks */
+    TZ_VEC4 params;        /* x phong alpha, y ior, z material, w unused (0) */
+};
+
+/* One point light, 32 bytes. */
+struct gpu_light {
+    TZ_VEC4 position_power; /* xyz position, w power */
+    TZ_VEC4 color;          /* rgb colour, w unused (0) */
+};
+
+/* Everything per render that is not per sphere or light: camera, plane, counts, settings. */
+struct gpu_frame {
+    TZ_VEC4 origin;     /* camera position, w pixel size */
+    TZ_VEC4 right;      /* R, w -width/2 */
+    TZ_VEC4 up;         /* U, w height/2 */
+    TZ_VEC4 forward;    /* F, w distance to the plane (2 width) */
+    TZ_VEC4 background; /* rgb, w unused (0) */
+    TZ_UVEC4 size;      /* image width, height, sphere count, light count */
+    TZ_UVEC4 settings;  /* seed, bounces, flags (TZ_FLAG_*), unused (0) */
+};
+
+/* Push constants of one dispatch: which tile and which sample. */
+struct gpu_pass {
+    TZ_UVEC4 tile; /* x0, y0 of the tile in pixels, sample index, unused (0) */
+};
+
+#endif

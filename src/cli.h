@@ -1,0 +1,20 @@
+/* cli.h: the subcommands main.c dispatches to; each returns the process exit code. */
+#ifndef TRAZADOR_CLI_H
+#define TRAZADOR_CLI_H
+
+#include <stdbool.h>
+
+#include "render.h"
+
+typedef enum backend_choice { BACKEND_AUTO = 0, BACKEND_VULKAN, BACKEND_CPU } backend_choice;
+
+/* Parses a whole decimal integer in [min, max]; false on anything else. */
+bool cli_parse_int(const char *text, long long min, long long max, long long *out);
+/* Renders with the chosen back end (auto: Vulkan when a device exists); false on failure. */
+bool cli_render(const scene *s, const render_opts *opts, backend_choice backend, film *f,
+                const char **used);
+
+/* `trazador bench`: fixed workloads on the back ends; 0, or 1 on a failure, 2 on usage. */
+int bench_command(int argc, char **argv);
+
+#endif

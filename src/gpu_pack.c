@@ -1,1 +1,0 @@
-/* placeholder */ typedef int placeholder_gpu_pack;

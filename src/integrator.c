@@ -1,0 +1,217 @@
+/* integrator.c: the C reference integrator (DESIGN section 3). Every function here has a twin of
+ * the same name in shaders/*.glsl; change both and a test in one commit. */
+#include "integrator.h"
+
+#include <math.h>
+
+#include "rng.h"
+
+static vec3 xyz(tz_vec4 v) { return v3(v.x, v.y, v.z); }
+
+/* Ray offset distance at a point: EPS scaled with the point's magnitude. */
+static float ray_eps(vec3 p) { return TZ_EPS * fmaxf(1.0f, v3_max_abs(p)); }
+
+/* |oc|^2 - r^2 without cancellation: the largest component carries r (exact when a huge sphere's
+ * centre lies along an axis from the ray origin, as walls of a room do). */
+static float sphere_c(vec3 oc, float r) {
+    float ax = fabsf(oc.x), ay = fabsf(oc.y), az = fabsf(oc.z);
+    if (ax >= ay && ax >= az) return (ax - r) * (ax + r) + oc.y * oc.y + oc.z * oc.z;
+    if (ay >= az) return (ay - r) * (ay + r) + oc.x * oc.x + oc.z * oc.z;
+    return (az - r) * (az + r) + oc.x * oc.x + oc.y * oc.y;
+}
+
+/* Nearest root of the sphere greater than tmin (the far one only when far_only), or INFINITY.
+ * Haines et al., Ray Tracing Gems ch. 7: disc = r^2 - |oc - b d|^2, q = -b - sign(b) sqrt(disc). */
+static float sphere_hit(const struct gpu_sphere *s, vec3 o, vec3 d, float tmin, int far_only) {
+    vec3 oc = v3_sub(o, xyz(s->center_radius));
+    float r = s->center_radius.w;
+    float b = v3_dot(oc, d);
+    float c = sphere_c(oc, r);
+    if (c > 0.0f && b > 0.0f) return INFINITY; /* outside and moving away */
+    float l = v3_length(v3_sub(oc, v3_scale(d, b)));
+    float disc = (r - l) * (r + l);
+    if (disc < 0.0f) return INFINITY;
+    float q = b > 0.0f ? -b - sqrtf(disc) : -b + sqrtf(disc);
+    if (q == 0.0f) return INFINITY;
+    float t0 = fminf(c / q, q), t1 = fmaxf(c / q, q);
+    if (!far_only && t0 > tmin) return t0;
+    return t1 > tmin ? t1 : INFINITY;
+}
+
+/* Far-only for the sphere the ray leaves: an inward ray sees its far wall, an outward one
+ * cannot hit it again (spheres are convex). Returns -1 to skip it, 1 far-only, 0 normal. */
+static int self_mode(const packed_scene *p, int k, int self, vec3 o, vec3 d) {
+    if (k != self) return 0;
+    vec3 n = v3_sub(o, xyz(p->spheres[k].center_radius));
+    return v3_dot(n, d) < 0.0f ? 1 : -1;
+}
+
+int integrator_nearest(const packed_scene *p, vec3 o, vec3 d, int self, float *t_out) {
+    float tmin = ray_eps(o), best = INFINITY;
+    int id = -1;
+    uint32_t count = p->frame.size.z;
+    for (uint32_t k = 0; k < count; k++) {
+        int mode = self_mode(p, (int)k, self, o, d);
+        if (mode < 0) continue;
+        float t = sphere_hit(&p->spheres[k], o, d, tmin, mode);
+        if (t < best) {
+            best = t;
+            id = (int)k;
+        }
+    }
+    *t_out = best;
+    return id;
+}
+
+/* True when a sphere blocks o + t d for EPS < t < dist; glass blocks too, as in the seed. */
+static int occluded(const packed_scene *p, vec3 o, vec3 d, float dist, int self) {
+    float tmin = ray_eps(o);
+    uint32_t count = p->frame.size.z;
+    for (uint32_t k = 0; k < count; k++) {
+        int mode = self_mode(p, (int)k, self, o, d);
+        if (mode < 0) continue;
+        if (sphere_hit(&p->spheres[k], o, d, tmin, mode) < dist) return 1;
+    }
+    return 0;
+}
+
+/* Normalized Phong BRDF: kd/pi + ks (alpha+2)/(2 pi) max(0, wo.wr)^alpha, wr = 2(n.wi)n - wi. */
+static vec3 phong_brdf(const struct gpu_sphere *s, vec3 n, vec3 wi, vec3 wo) {
+    vec3 f = v3_scale(xyz(s->color_ks), 1.0f / TZ_PI);
+    float ks = s->color_ks.w;
+    if (ks > 0.0f) {
+        vec3 wr = v3_sub(v3_scale(n, 2.0f * v3_dot(n, wi)), wi);
+        float x = v3_dot(wo, wr);
+        /* 0^alpha is taken as 0 (even for alpha 0) so both back ends agree on it. */
+        float lobe = x > 0.0f ? powf(x, s->params.x) : 0.0f;
+        float spec = ks * (s->params.x + 2.0f) / (2.0f * TZ_PI) * lobe;
+        f = v3_add(f, v3(spec, spec, spec));
+    }
+    return f;
+}
+
+/* Direct light from every point light at p (shading normal n, facing wo) on sphere id. */
+static vec3 direct_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3 wo) {
+    const struct gpu_sphere *s = &p->spheres[id];
+    vec3 o = v3_add(pos, v3_scale(n, ray_eps(pos)));
+    vec3 sum = v3(0.0f, 0.0f, 0.0f);
+    uint32_t count = p->frame.size.w;
+    for (uint32_t k = 0; k < count; k++) {
+        const struct gpu_light *l = &p->lights[k];
+        vec3 to_light = v3_sub(xyz(l->position_power), o);
+        float dist2 = v3_dot(to_light, to_light);
+        float dist = sqrtf(dist2);
+        vec3 wi = v3_scale(to_light, 1.0f / dist);
+        float cos_i = v3_dot(n, wi);
+        if (cos_i <= 0.0f || occluded(p, o, wi, dist, id)) continue;
+        vec3 f = phong_brdf(s, n, wi, wo);
+        float scale = cos_i * l->position_power.w / dist2;
+        sum = v3_add(sum, v3_mul(f, v3_scale(xyz(l->color), scale)));
+    }
+    return sum;
+}
+
+/* Duff et al. 2017 orthonormal basis (t, b) around unit n. */
+static void basis(vec3 n, vec3 *t, vec3 *b) {
+    float sign = n.z >= 0.0f ? 1.0f : -1.0f;
+    float a = -1.0f / (sign + n.z);
+    float c = n.x * n.y * a;
+    *t = v3(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
+    *b = v3(c, sign + n.y * n.y * a, -n.y);
+}
+
+/* Follows a ray through mirrors and glass to a diffuse hit. Returns the sphere id (-1 on a miss,
+ * -2 when the chain exceeds the bounce limit); *o, *d become the last ray, *weight the tints. */
+static int follow_specular(const packed_scene *p, vec3 *o, vec3 *d, int self, vec3 *weight,
+                           vec3 *pos, vec3 *n) {
+    uint32_t bounces = p->frame.settings.y;
+    for (uint32_t chain = 0;; chain++) {
+        float t;
+        int id = integrator_nearest(p, *o, *d, self, &t);
+        if (id < 0) return -1;
+        const struct gpu_sphere *s = &p->spheres[id];
+        *pos = v3_add(*o, v3_scale(*d, t));
+        vec3 nout = v3_scale(v3_sub(*pos, xyz(s->center_radius)), 1.0f / s->center_radius.w);
+        int material = (int)s->params.z;
+        if (material == TZ_MATERIAL_LAMBERTIAN || material == TZ_MATERIAL_PHONG) {
+            /* Opaque surfaces are two-sided: shade with the normal facing the ray. */
+            *n = v3_dot(nout, *d) < 0.0f ? nout : v3_scale(nout, -1.0f);
+            return id;
+        }
+        if (chain == bounces) return -2;
+        *weight = v3_mul(*weight, xyz(s->color_ks));
+        float eps = ray_eps(*pos);
+        int entering = v3_dot(*d, nout) < 0.0f;
+        vec3 side = entering ? nout : v3_scale(nout, -1.0f); /* faces the incoming ray */
+        vec3 reflected = v3_sub(*d, v3_scale(side, 2.0f * v3_dot(side, *d)));
+        vec3 next_o = v3_add(*pos, v3_scale(side, eps));
+        vec3 next_d = reflected;
+        if (material == TZ_MATERIAL_REFRACTIVE) {
+            float eta = entering ? 1.0f / s->params.y : s->params.y;
+            float c1 = -v3_dot(*d, side);
+            float k = 1.0f - eta * eta * (1.0f - c1 * c1);
+            if (k >= 0.0f) { /* otherwise total internal reflection: keep the reflected ray */
+                next_d = v3_add(v3_scale(*d, eta), v3_scale(side, eta * c1 - sqrtf(k)));
+                next_d = v3_normalize(next_d);
+                next_o = v3_sub(*pos, v3_scale(side, eps));
+            }
+        }
+        *o = next_o;
+        *d = next_d;
+        self = id;
+    }
+}
+
+/* Radiance arriving along a ray: background on a miss, black past the bounce limit, else the
+ * direct light of the diffuse surface it reaches through mirrors and glass, times their tints. */
+static vec3 radiance_direct_only(const packed_scene *p, vec3 o, vec3 d, int self) {
+    vec3 weight = v3(1.0f, 1.0f, 1.0f), pos, n;
+    int id = follow_specular(p, &o, &d, self, &weight, &pos, &n);
+    if (id == -1) return v3_mul(weight, xyz(p->frame.background));
+    if (id == -2) return v3(0.0f, 0.0f, 0.0f);
+    return v3_mul(weight, direct_light(p, id, pos, n, v3_scale(d, -1.0f)));
+}
+
+/* One cosine-weighted bounce at a diffuse hit: theta = acos(sqrt(1 - y1)), phi = 2 pi y2,
+ * pdf = cos(theta) / pi; returns f_r * L_direct * cos / pdf. */
+static vec3 indirect_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3 wo, uint32_t *rng) {
+    float y1 = rng_next(rng), y2 = rng_next(rng);
+    float cos_t = sqrtf(1.0f - y1), sin_t = sqrtf(y1), phi = 2.0f * TZ_PI * y2;
+    vec3 t, b;
+    basis(n, &t, &b);
+    vec3 wi = v3_add(v3_add(v3_scale(t, sin_t * cosf(phi)), v3_scale(b, sin_t * sinf(phi))),
+                     v3_scale(n, cos_t));
+    vec3 o = v3_add(pos, v3_scale(n, ray_eps(pos)));
+    vec3 incoming = radiance_direct_only(p, o, wi, id);
+    float pdf = cos_t / TZ_PI;
+    vec3 f = phong_brdf(&p->spheres[id], n, wi, wo);
+    return v3_mul(f, v3_scale(incoming, cos_t / pdf));
+}
+
+/* Primary ray through the plane point of pixel (i, j) offset by (u, v) in pixels. */
+static vec3 camera_direction(const struct gpu_frame *fr, uint32_t i, uint32_t j, float u, float v) {
+    float pixel = fr->origin.w;
+    float x = fr->right.w + ((float)i + u) * pixel;
+    float y = fr->up.w - ((float)j + v) * pixel;
+    vec3 d = v3_add(v3_add(v3_scale(xyz(fr->right), x), v3_scale(xyz(fr->up), y)),
+                    v3_scale(xyz(fr->forward), fr->forward.w));
+    return v3_normalize(d);
+}
+
+vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index) {
+    const struct gpu_frame *fr = &p->frame;
+    uint32_t rng = rng_seed(fr->settings.x, j * fr->size.x + i, sample_index);
+    /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag. */
+    float u = rng_next(&rng), v = rng_next(&rng);
+    if (!(fr->settings.z & TZ_FLAG_JITTER)) u = v = 0.5f;
+    vec3 o = xyz(fr->origin), d = camera_direction(fr, i, j, u, v);
+    vec3 weight = v3(1.0f, 1.0f, 1.0f), pos, n;
+    int id = follow_specular(p, &o, &d, -1, &weight, &pos, &n);
+    if (id == -1) return v3_mul(weight, xyz(fr->background));
+    if (id == -2) return v3(0.0f, 0.0f, 0.0f);
+    vec3 wo = v3_scale(d, -1.0f);
+    vec3 radiance = direct_light(p, id, pos, n, wo);
+    if (fr->settings.z & TZ_FLAG_INDIRECT)
+        radiance = v3_add(radiance, indirect_light(p, id, pos, n, wo, &rng));
+    return v3_mul(weight, radiance);
+}

@@ -1,0 +1,17 @@
+/* integrator.h: the seed integrator of DESIGN section 3 in C, one sample at a time; the twin of
+ * shaders/trace.comp and the oracle the Vulkan back end is checked against. */
+#ifndef TRAZADOR_INTEGRATOR_H
+#define TRAZADOR_INTEGRATOR_H
+
+#include <stdint.h>
+
+#include "scene_pack.h"
+
+/* Radiance of sample `sample_index` of pixel (i, j), i to the right and j down; never fails. */
+vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
+
+/* Nearest sphere hit by the ray o + t d (|d| = 1) with t > EPS, -1 on a miss; `self` is the
+ * sphere the ray leaves (-1 for none): its near root is the ray's own origin and is ignored. */
+int integrator_nearest(const packed_scene *p, vec3 o, vec3 d, int self, float *t_out);
+
+#endif

@@ -1,0 +1,212 @@
+/* main.c: the command line: subcommands, flags and exit codes (the only file that exits).
+ * Exit codes: 0 success, 1 runtime failure, 2 usage or scene error. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "cli.h"
+#include "default_scene.h"
+#include "diff.h"
+#include "image.h"
+#include "log.h"
+#include "scene.h"
+#include "vk_context.h"
+
+static const char usage_text[] =
+    "usage: trazador render [SCENE] [-o OUT] [--backend auto|vulkan|cpu] [--spp N] [--seed N]\n"
+    "                       [--no-jitter] [--no-indirect] [--indirect] [--bounces N]\n"
+    "                       [--threads N] [--device N] [--validate] [--quiet] [--verbose]\n"
+    "                       [--tonemap srgb|linear]\n"
+    "       trazador diff A B [--max-rmse X] [--min-psnr X] [--max-diff-share X]\n"
+    "       trazador devices\n"
+    "       trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
+    "       trazador --help | --version\n"
+    "SCENE defaults to the embedded scenes/cornell.scene, OUT to render.png;\n"
+    "the output format follows the extension: .png, .ppm or .pfm (linear float).\n";
+
+static int usage_error(const char *fmt, const char *arg) {
+    fprintf(stderr, "trazador: ");
+    fprintf(stderr, fmt, arg);
+    fprintf(stderr, "\n%s", usage_text);
+    return 2;
+}
+
+bool cli_parse_int(const char *text, long long min, long long max, long long *out) {
+    if (!text || !*text) return false;
+    char *end;
+    errno = 0;
+    long long v = strtoll(text, &end, 10);
+    if (errno || *end || v < min || v > max) return false;
+    *out = v;
+    return true;
+}
+
+static bool has_image_extension(const char *path) {
+    const char *dot = strrchr(path, '.');
+    return dot && (!strcasecmp(dot, ".png") || !strcasecmp(dot, ".ppm") || !strcasecmp(dot, ".pfm"));
+}
+
+bool cli_render(const scene *s, const render_opts *opts, backend_choice backend, film *f,
+                const char **used) {
+    if (backend == BACKEND_AUTO) {
+        backend = vk_context_device_count() > 0 ? BACKEND_VULKAN : BACKEND_CPU;
+        if (backend == BACKEND_CPU)
+            log_info("no Vulkan device found; rendering with the CPU back end");
+    }
+    *used = backend == BACKEND_VULKAN ? "vulkan" : "cpu";
+    return backend == BACKEND_VULKAN ? render_vk(s, opts, f) : render_cpu(s, opts, f);
+}
+
+typedef struct render_args {
+    const char *scene_path, *output;
+    backend_choice backend;
+    tonemap tm;
+    bool quiet;
+    long long spp, seed, bounces, threads, device; /* -1: not given */
+    int indirect;                                  /* -1 not given, 0 off, 1 on */
+    bool no_jitter, validate, verbose;
+} render_args;
+
+/* Parses `render` arguments; returns 0 to go on, else the exit code (2 usage, 0 for --help). */
+static int parse_render_args(int argc, char **argv, render_args *a) {
+    *a = (render_args){.output = "render.png", .spp = -1, .seed = -1, .bounces = -1,
+                       .threads = -1, .device = -1, .indirect = -1};
+    for (int k = 1; k < argc; k++) {
+        const char *arg = argv[k];
+        const char *value = k + 1 < argc ? argv[k + 1] : NULL;
+        bool takes_value = true;
+        if (!strcmp(arg, "-h") || !strcmp(arg, "--help")) {
+            fputs(usage_text, stdout);
+            return -1;
+        } else if (!strcmp(arg, "-o") || !strcmp(arg, "--output")) {
+            if (!value) return usage_error("%s needs a file name", arg);
+            a->output = value;
+        } else if (!strcmp(arg, "--backend")) {
+            if (value && !strcmp(value, "vulkan")) a->backend = BACKEND_VULKAN;
+            else if (value && !strcmp(value, "cpu")) a->backend = BACKEND_CPU;
+            else if (value && !strcmp(value, "auto")) a->backend = BACKEND_AUTO;
+            else return usage_error("--backend takes auto, vulkan or cpu, got '%s'", value ? value : "");
+        } else if (!strcmp(arg, "--tonemap")) {
+            if (value && !strcmp(value, "srgb")) a->tm = TONEMAP_SRGB;
+            else if (value && !strcmp(value, "linear")) a->tm = TONEMAP_LINEAR;
+            else return usage_error("--tonemap takes srgb or linear, got '%s'", value ? value : "");
+        } else if (!strcmp(arg, "--spp")) {
+            if (!cli_parse_int(value, 1, SCENE_MAX_SAMPLES, &a->spp))
+                return usage_error("--spp takes a whole number from 1 to 1048576, got '%s'", value ? value : "");
+        } else if (!strcmp(arg, "--seed")) {
+            if (!cli_parse_int(value, 0, 4294967295LL, &a->seed))
+                return usage_error("--seed takes a whole number from 0 to 4294967295, got '%s'", value ? value : "");
+        } else if (!strcmp(arg, "--bounces")) {
+            if (!cli_parse_int(value, 0, SCENE_MAX_BOUNCES, &a->bounces))
+                return usage_error("--bounces takes a whole number from 0 to 64, got '%s'", value ? value : "");
+        } else if (!strcmp(arg, "--threads")) {
+            if (!cli_parse_int(value, 1, 256, &a->threads))
+                return usage_error("--threads takes a whole number from 1 to 256, got '%s'", value ? value : "");
+        } else if (!strcmp(arg, "--device")) {
+            if (!cli_parse_int(value, 0, 255, &a->device))
+                return usage_error("--device takes a device index (see `trazador devices`), got '%s'", value ? value : "");
+        } else {
+            takes_value = false;
+            if (!strcmp(arg, "--no-jitter")) a->no_jitter = true;
+            else if (!strcmp(arg, "--no-indirect")) a->indirect = 0;
+            else if (!strcmp(arg, "--indirect")) a->indirect = 1;
+            else if (!strcmp(arg, "--validate")) a->validate = true;
+            else if (!strcmp(arg, "--quiet") || !strcmp(arg, "-q")) a->quiet = true;
+            else if (!strcmp(arg, "--verbose") || !strcmp(arg, "-v")) a->verbose = true;
+            else if (arg[0] == '-' && arg[1]) return usage_error("unknown option '%s'", arg);
+            else if (!a->scene_path) a->scene_path = arg;
+            else return usage_error("more than one scene given ('%s')", arg);
+        }
+        if (takes_value) k++;
+    }
+    if (!has_image_extension(a->output))
+        return usage_error("output '%s' must end in .png, .ppm or .pfm", a->output);
+    return 0;
+}
+
+static void apply_overrides(const render_args *a, render_opts *o) {
+    if (a->spp >= 0) o->samples = (int)a->spp;
+    if (a->seed >= 0) o->seed = (uint32_t)a->seed;
+    if (a->bounces >= 0) o->bounces = (int)a->bounces;
+    if (a->threads >= 0) o->threads = (int)a->threads;
+    if (a->device >= 0) o->device = (int)a->device;
+    if (a->indirect >= 0) o->indirect = a->indirect;
+    o->no_jitter = a->no_jitter;
+    o->validate = a->validate;
+    o->verbose = a->verbose;
+    o->progress = !a->quiet && isatty(STDERR_FILENO);
+}
+
+static double seconds_now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static int render_command(int argc, char **argv) {
+    render_args a;
+    int rc = parse_render_args(argc, argv, &a);
+    if (rc) return rc < 0 ? 0 : rc;
+    if (a.verbose) log_set_level(LOG_DEBUG);
+    if (a.quiet) log_set_level(LOG_WARN);
+    scene s;
+    scene_error err;
+    bool parsed = a.scene_path
+                      ? scene_parse_file(a.scene_path, &s, &err)
+                      : scene_parse_string(default_scene_text, strlen(default_scene_text),
+                                           "scenes/cornell.scene (embedded)", &s, &err);
+    if (!parsed) {
+        fprintf(stderr, "%s:%d:%d: %s\n", err.file, err.line, err.col, err.message);
+        return 2;
+    }
+    render_opts opts;
+    render_opts_from_scene(&s, &opts);
+    apply_overrides(&a, &opts);
+    film f = {0};
+    image img = {0};
+    const char *used = "";
+    double start = seconds_now();
+    bool ok = cli_render(&s, &opts, a.backend, &f, &used);
+    double elapsed = seconds_now() - start;
+    if (ok && f.nonfinite)
+        log_warn("%llu samples had non-finite radiance and were not accumulated",
+                 (unsigned long long)f.nonfinite);
+    ok = ok && image_from_film(&f, &img) && image_write(a.output, &img, a.tm);
+    if (ok && !a.quiet) {
+        double samples = (double)s.width * s.height * opts.samples;
+        log_info("%s: %dx%d, %d spp, %s back end, %.3f s, %.2f Msamples/s", a.output, s.width,
+                 s.height, opts.samples, used, elapsed, samples / elapsed * 1e-6);
+    }
+    image_free(&img);
+    film_free(&f);
+    scene_free(&s);
+    return ok ? 0 : 1;
+}
+
+int main(int argc, char **argv) {
+    if (argc < 2) {
+        fputs(usage_text, stderr);
+        return 2;
+    }
+    const char *cmd = argv[1];
+    if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) {
+        fputs(usage_text, stdout);
+        return 0;
+    }
+    if (!strcmp(cmd, "--version")) {
+        printf("trazador %s\n", TRAZADOR_VERSION);
+        return 0;
+    }
+    if (!strcmp(cmd, "render")) return render_command(argc - 1, argv + 1);
+    if (!strcmp(cmd, "diff")) return diff_command(argc - 1, argv + 1);
+    if (!strcmp(cmd, "bench")) return bench_command(argc - 1, argv + 1);
+    if (!strcmp(cmd, "devices")) {
+        if (argc > 2) return usage_error("devices takes no arguments, got '%s'", argv[2]);
+        return vk_context_print_devices() ? 0 : 1;
+    }
+    return usage_error("unknown command '%s'", cmd);
+}

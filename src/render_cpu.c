@@ -1,0 +1,103 @@
+/* render_cpu.c: the C reference back end: pthreads over tiles of the image, each pixel's samples
+ * summed in sample order, so the film is bit-identical for every thread count. */
+#include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "integrator.h"
+#include "log.h"
+#include "render.h"
+
+#define TILE_SIZE 16
+#define MAX_THREADS 256
+
+typedef struct cpu_job {
+    const packed_scene *packed;
+    film *film;
+    int samples;
+    int tiles_x, tile_count;
+    atomic_int next_tile;
+    atomic_int tiles_done;
+    atomic_ullong nonfinite;
+} cpu_job;
+
+static void render_tile(cpu_job *job, int tile) {
+    int x0 = (tile % job->tiles_x) * TILE_SIZE, y0 = (tile / job->tiles_x) * TILE_SIZE;
+    int x1 = x0 + TILE_SIZE < job->film->width ? x0 + TILE_SIZE : job->film->width;
+    int y1 = y0 + TILE_SIZE < job->film->height ? y0 + TILE_SIZE : job->film->height;
+    unsigned long long dropped = 0;
+    for (int j = y0; j < y1; j++) {
+        for (int i = x0; i < x1; i++) {
+            float *px = &job->film->accum[((size_t)j * (size_t)job->film->width + (size_t)i) * 4];
+            for (int s = 0; s < job->samples; s++) {
+                vec3 l = integrator_sample(job->packed, (uint32_t)i, (uint32_t)j, (uint32_t)s);
+                if (!isfinite(l.x) || !isfinite(l.y) || !isfinite(l.z)) {
+                    dropped++;
+                    continue;
+                }
+                px[0] += l.x;
+                px[1] += l.y;
+                px[2] += l.z;
+                px[3] += 1.0f;
+            }
+        }
+    }
+    if (dropped) atomic_fetch_add(&job->nonfinite, dropped);
+}
+
+static void *worker(void *arg) {
+    cpu_job *job = arg;
+    for (;;) {
+        int tile = atomic_fetch_add(&job->next_tile, 1);
+        if (tile >= job->tile_count) return NULL;
+        render_tile(job, tile);
+        atomic_fetch_add(&job->tiles_done, 1);
+    }
+}
+
+static int thread_count(int requested) {
+    if (requested > 0) return requested < MAX_THREADS ? requested : MAX_THREADS;
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
+}
+
+/* Prints the share of finished tiles on stderr until every tile is done. */
+static void report_progress(cpu_job *job) {
+    struct timespec pause = {0, 200 * 1000 * 1000};
+    while (atomic_load(&job->tiles_done) < job->tile_count) {
+        fprintf(stderr, "\rtrazador: rendering %5.1f%%",
+                100.0 * atomic_load(&job->tiles_done) / job->tile_count);
+        nanosleep(&pause, NULL);
+    }
+    fprintf(stderr, "\r\033[K");
+}
+
+bool render_cpu(const scene *s, const render_opts *opts, film *f) {
+    packed_scene packed;
+    if (!scene_pack(s, opts, &packed)) return false;
+    if (!film_init(f, s->width, s->height)) {
+        log_error("out of memory for a %d x %d film", s->width, s->height);
+        packed_scene_free(&packed);
+        return false;
+    }
+    cpu_job job = {.packed = &packed, .film = f, .samples = opts->samples};
+    job.tiles_x = (s->width + TILE_SIZE - 1) / TILE_SIZE;
+    job.tile_count = job.tiles_x * ((s->height + TILE_SIZE - 1) / TILE_SIZE);
+    atomic_init(&job.next_tile, 0);
+    atomic_init(&job.tiles_done, 0);
+    atomic_init(&job.nonfinite, 0);
+    int n = thread_count(opts->threads);
+    pthread_t threads[MAX_THREADS];
+    int started = 0;
+    while (started < n && pthread_create(&threads[started], NULL, worker, &job) == 0) started++;
+    if (started == 0) worker(&job); /* no thread could start: render on this one */
+    if (opts->progress) report_progress(&job);
+    for (int k = 0; k < started; k++) pthread_join(threads[k], NULL);
+    f->nonfinite = atomic_load(&job.nonfinite);
+    packed_scene_free(&packed);
+    return true;
+}
