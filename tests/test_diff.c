@@ -1,0 +1,333 @@
+/* test_diff.c: diff_images metrics against known values and diff_command exit codes and output. */
+#include <fcntl.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "diff.h"
+#include "image.h"
+#include "log.h"
+
+static const char *test_name;
+static int test_failures;
+
+#define CHECK(cond)                                                        \
+    do {                                                                   \
+        if (!(cond)) {                                                     \
+            test_failures++;                                               \
+            printf("FAIL %s: %s (line %d)\n", test_name, #cond, __LINE__); \
+        }                                                                  \
+    } while (0)
+
+static char tmpdir[] = "/tmp/test_diff.XXXXXX";
+
+static const char *tmp_path(const char *name) {
+    static char bufs[8][512];
+    static int next;
+    char *p = bufs[next++ % 8];
+    snprintf(p, sizeof bufs[0], "%s/%s", tmpdir, name);
+    return p;
+}
+
+static bool near(double got, double want, double tol) { return fabs(got - want) <= tol; }
+
+enum { W = 6, H = 5 };
+
+/* Values in [0.2, 0.7], each the decoded value of an sRGB byte so that a PPM holds it exactly. */
+static void make_image(image *img) {
+    image_init(img, W, H);
+    for (int i = 0; i < W * H * 3; i++) {
+        float v = 0.2f + 0.5f * (float)i / (W * H * 3);
+        img->rgb[i] = tonemap_decode(tonemap_channel(v, TONEMAP_SRGB), TONEMAP_SRGB);
+    }
+}
+
+static void copy_image(image *dst, const image *src) {
+    image_init(dst, src->width, src->height);
+    memcpy(dst->rgb, src->rgb, sizeof(float) * 3 * (size_t)src->width * (size_t)src->height);
+}
+
+static void test_identical(void) {
+    image a, b;
+    make_image(&a);
+    copy_image(&b, &a);
+    b.rgb[5] = a.rgb[5] = INFINITY; /* equal infinities count as equal */
+    diff_stats s;
+    CHECK(diff_images(&a, &b, &s));
+    CHECK(s.rmse == 0.0);
+    CHECK(isinf(s.psnr) && s.psnr > 0);
+    CHECK(s.max_diff == 0.0);
+    CHECK(s.differ_share == 0.0 && s.differ_count == 0);
+    image_free(&a);
+    image_free(&b);
+}
+
+static void test_constant_offset(void) {
+    image a, b;
+    make_image(&a);
+    copy_image(&b, &a);
+    for (int i = 0; i < W * H * 3; i++) b.rgb[i] += 0.01f;
+    diff_stats s;
+    CHECK(diff_images(&a, &b, &s));
+    CHECK(near(s.rmse, 0.01, 1e-6)); /* sqrt(mean(0.01^2)) */
+    CHECK(near(s.max_diff, 0.01, 1e-6));
+    CHECK(isfinite(s.psnr) && s.psnr > 20 && s.psnr < 60);
+    /* 0.01 linear is over 1/255 after sRGB encoding everywhere in [0.2, 0.7] */
+    CHECK(s.differ_count == W * H && s.differ_share == 1.0);
+
+    for (int i = 0; i < W * H * 3; i++) b.rgb[i] = a.rgb[i] + 1e-4f; /* below 1/255 displayed */
+    CHECK(diff_images(&a, &b, &s));
+    CHECK(near(s.rmse, 1e-4, 1e-7));
+    CHECK(s.differ_count == 0 && s.differ_share == 0.0);
+    image_free(&a);
+    image_free(&b);
+}
+
+static void test_psnr_known(void) {
+    /* every byte two steps apart: 8-bit MSE 4, PSNR 10 log10(255^2 / 4) */
+    image a, b;
+    image_init(&a, W, H);
+    image_init(&b, W, H);
+    for (int i = 0; i < W * H * 3; i++) {
+        a.rgb[i] = tonemap_decode((uint8_t)(10 + i), TONEMAP_SRGB);
+        b.rgb[i] = tonemap_decode((uint8_t)(12 + i), TONEMAP_SRGB);
+    }
+    diff_stats s;
+    CHECK(diff_images(&a, &b, &s));
+    CHECK(near(s.psnr, 10.0 * log10(255.0 * 255.0 / 4.0), 1e-9));
+    CHECK(s.differ_count == W * H);
+    image_free(&a);
+    image_free(&b);
+}
+
+static void test_single_pixel(void) {
+    image a, b;
+    make_image(&a);
+    copy_image(&b, &a);
+    b.rgb[(2 * W + 3) * 3 + 1] += 0.2f;
+    diff_stats s;
+    CHECK(diff_images(&a, &b, &s));
+    CHECK(s.differ_count == 1);
+    CHECK(s.differ_share == 1.0 / (W * H));
+    CHECK(near(s.rmse, sqrt(0.04 / (W * H * 3)), 1e-6));
+    CHECK(near(s.max_diff, 0.2, 1e-6));
+    image_free(&a);
+    image_free(&b);
+}
+
+static void test_nonfinite(void) {
+    image a, b;
+    make_image(&a);
+    copy_image(&b, &a);
+    b.rgb[7] = NAN;
+    diff_stats s;
+    CHECK(diff_images(&a, &b, &s));
+    CHECK(isnan(s.rmse) && isnan(s.max_diff)); /* so that every threshold on them fails */
+    image_free(&a);
+    image_free(&b);
+}
+
+static void test_size_mismatch(void) {
+    image a, b;
+    image_init(&a, W, H);
+    image_init(&b, H, W);
+    diff_stats s;
+    CHECK(!diff_images(&a, &b, &s));
+    image_free(&b);
+    image_init(&b, W, H + 1);
+    CHECK(!diff_images(&a, &b, &s));
+    image_free(&a);
+    image_free(&b);
+}
+
+static char cmd_out[8192], cmd_err[8192];
+static log_level quiet_level = LOG_INFO;
+
+static void read_capture(const char *path, char *buf, size_t cap) {
+    FILE *fp = fopen(path, "rb");
+    size_t n = fp ? fread(buf, 1, cap - 1, fp) : 0;
+    buf[n] = '\0';
+    if (fp) fclose(fp);
+}
+
+/* Runs `diff ARGS...` (NULL-terminated) with stdout and stderr captured into cmd_out, cmd_err. */
+static int run_diff(const char *first, ...) {
+    char *argv[16] = {"diff"};
+    int argc = 1;
+    va_list ap;
+    va_start(ap, first);
+    for (const char *arg = first; arg && argc < 15; arg = va_arg(ap, const char *))
+        argv[argc++] = (char *)arg;
+    va_end(ap);
+    argv[argc] = NULL;
+
+    char out_path[600], err_path[600];
+    snprintf(out_path, sizeof out_path, "%s/stdout.txt", tmpdir);
+    snprintf(err_path, sizeof err_path, "%s/stderr.txt", tmpdir);
+    fflush(stdout);
+    fflush(stderr);
+    int saved_out = dup(1), saved_err = dup(2);
+    int fo = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    int fe = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(fo, 1);
+    dup2(fe, 2);
+    close(fo);
+    close(fe);
+    log_set_level(LOG_INFO); /* captured, so the errors can be checked */
+    int rc = diff_command(argc, argv);
+    log_set_level(quiet_level);
+    fflush(stdout);
+    fflush(stderr);
+    dup2(saved_out, 1);
+    dup2(saved_err, 2);
+    close(saved_out);
+    close(saved_err);
+    read_capture(out_path, cmd_out, sizeof cmd_out);
+    read_capture(err_path, cmd_err, sizeof cmd_err);
+    return rc;
+}
+
+static void write_fixtures(void) {
+    image a, b;
+    make_image(&a);
+    image_write(tmp_path("a.pfm"), &a, TONEMAP_SRGB);
+    image_write(tmp_path("a.ppm"), &a, TONEMAP_SRGB);
+    image_write(tmp_path("a.png"), &a, TONEMAP_SRGB);
+    copy_image(&b, &a);
+    for (int i = 0; i < W * H * 3; i++) b.rgb[i] += 0.01f;
+    image_write(tmp_path("offset.pfm"), &b, TONEMAP_SRGB);
+    memcpy(b.rgb, a.rgb, sizeof(float) * W * H * 3);
+    b.rgb[(2 * W + 3) * 3 + 1] += 0.2f;
+    image_write(tmp_path("pixel.pfm"), &b, TONEMAP_SRGB);
+    image_free(&b);
+    image_init(&b, W + 1, H);
+    image_write(tmp_path("wide.pfm"), &b, TONEMAP_SRGB);
+    image_free(&a);
+    image_free(&b);
+    FILE *fp = fopen(tmp_path("bad.ppm"), "wb");
+    if (fp) {
+        fputs("P6\n6 5\n255\nshort", fp);
+        fclose(fp);
+    }
+}
+
+static void test_command_metrics(void) {
+    const char *a = tmp_path("a.pfm"), *ppm = tmp_path("a.ppm"), *png = tmp_path("a.png");
+    CHECK(run_diff(a, a, NULL) == 0);
+    CHECK(strstr(cmd_out, "rmse 0\n") && strstr(cmd_out, "psnr inf dB\n"));
+    CHECK(strstr(cmd_out, "max_diff 0\n") && strstr(cmd_out, "differ 0.0000% (0 of 30 pixels)\n"));
+    /* the 8-bit files hold exactly the same linear values */
+    CHECK(run_diff(a, ppm, "--min-psnr", "inf", "--max-rmse", "0", NULL) == 0);
+    CHECK(run_diff(png, a, "--min-psnr", "inf", "--max-diff-share", "0", NULL) == 0);
+    CHECK(run_diff(a, tmp_path("pixel.pfm"), NULL) == 0);
+    CHECK(strstr(cmd_out, "differ 3.3333% (1 of 30 pixels)\n") != NULL);
+    CHECK(strstr(cmd_out, "max_diff 0.2") != NULL);
+    CHECK(strstr(cmd_out, "FAIL") == NULL);
+}
+
+static void test_command_thresholds(void) {
+    const char *a = tmp_path("a.pfm"), *off = tmp_path("offset.pfm");
+    const char *px = tmp_path("pixel.pfm");
+    CHECK(run_diff(a, off, "--max-rmse", "0.1", NULL) == 0);
+    CHECK(run_diff(a, off, "--max-rmse", "0.001", NULL) == 1);
+    CHECK(strstr(cmd_out, "FAIL: rmse 0.0") && strstr(cmd_out, " > 0.001\n"));
+    CHECK(run_diff(a, a, "--min-psnr", "100", NULL) == 0);
+    CHECK(run_diff(a, off, "--min-psnr", "10", NULL) == 0);
+    CHECK(run_diff(a, off, "--min-psnr", "100", NULL) == 1);
+    CHECK(strstr(cmd_out, "FAIL: psnr ") && strstr(cmd_out, " dB < 100\n"));
+    CHECK(run_diff(a, px, "--max-diff-share", "0.05", NULL) == 0);
+    CHECK(run_diff(a, px, "--max-diff-share", "0.01", NULL) == 1);
+    CHECK(strstr(cmd_out, "FAIL: differ 3.3333% > 1%\n") != NULL);
+    CHECK(run_diff(a, off, "--max-diff-share", "1", NULL) == 0);
+    /* thresholds just either side of the measured values */
+    image ia, ib;
+    diff_stats s;
+    CHECK(image_read(a, &ia, TONEMAP_SRGB) && image_read(off, &ib, TONEMAP_SRGB));
+    CHECK(diff_images(&ia, &ib, &s));
+    image_free(&ia);
+    image_free(&ib);
+    char below[64], above[64];
+    snprintf(below, sizeof below, "%.17g", s.psnr - 0.01);
+    snprintf(above, sizeof above, "%.17g", s.psnr + 0.01);
+    CHECK(run_diff(a, off, "--min-psnr", below, NULL) == 0);
+    CHECK(run_diff(a, off, "--min-psnr", above, NULL) == 1);
+    snprintf(below, sizeof below, "%.17g", s.rmse * 0.999);
+    snprintf(above, sizeof above, "%.17g", s.rmse * 1.001);
+    CHECK(run_diff(a, off, "--max-rmse", below, NULL) == 1);
+    CHECK(run_diff(a, off, "--max-rmse", above, NULL) == 0);
+    /* all three, only the last one failing */
+    CHECK(run_diff("--max-rmse", "0.5", a, "--min-psnr", "5", px, "--max-diff-share", "0", NULL) ==
+          1);
+    CHECK(!strstr(cmd_out, "FAIL: rmse") && !strstr(cmd_out, "FAIL: psnr"));
+    CHECK(strstr(cmd_out, "FAIL: differ") != NULL);
+}
+
+static void test_command_failures(void) {
+    const char *a = tmp_path("a.pfm");
+    CHECK(run_diff(a, tmp_path("wide.pfm"), NULL) == 1);
+    CHECK(strstr(cmd_err, "6x5") && strstr(cmd_err, "7x5"));
+    CHECK(cmd_out[0] == '\0');
+    CHECK(run_diff(a, tmp_path("missing.pfm"), NULL) == 1);
+    CHECK(run_diff(tmp_path("bad.ppm"), a, NULL) == 1);
+    CHECK(run_diff(a, tmp_path("a.bmp"), NULL) == 1);
+}
+
+static void test_command_usage(void) {
+    const char *a = tmp_path("a.pfm");
+    CHECK(run_diff(NULL) == 2 && strstr(cmd_err, "usage: trazador diff"));
+    CHECK(run_diff(a, NULL) == 2 && strstr(cmd_err, "usage:"));
+    CHECK(run_diff(a, a, a, NULL) == 2 && strstr(cmd_err, "usage:"));
+    CHECK(run_diff(a, a, "--max-rmse", NULL) == 2 && strstr(cmd_err, "usage:"));
+    CHECK(run_diff(a, a, "--max-rmse", "abc", NULL) == 2 && strstr(cmd_err, "abc"));
+    CHECK(run_diff(a, a, "--max-rmse", "0.1x", NULL) == 2);
+    CHECK(run_diff(a, a, "--max-rmse", "", NULL) == 2);
+    CHECK(run_diff(a, a, "--min-psnr", "nan", NULL) == 2);
+    CHECK(run_diff(a, a, "--max-diff-share", NULL) == 2);
+    CHECK(run_diff(a, a, "--bogus", NULL) == 2 && strstr(cmd_err, "--bogus"));
+    CHECK(run_diff(a, a, "--max-rmse=0.1", NULL) == 2);
+    CHECK(cmd_out[0] == '\0'); /* nothing read, nothing printed */
+    CHECK(run_diff("--help", NULL) == 0 && strstr(cmd_out, "usage:"));
+}
+
+static void run(const char *name, void (*fn)(void), int *passed, int *failed) {
+    test_name = name;
+    test_failures = 0;
+    fn();
+    if (test_failures)
+        ++*failed;
+    else
+        ++*passed;
+}
+
+int main(void) {
+    if (!mkdtemp(tmpdir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    /* the expected errors are noise; TRAZADOR_TEST_VERBOSE=1 shows them */
+    if (!getenv("TRAZADOR_TEST_VERBOSE")) quiet_level = (log_level)(LOG_ERROR + 1);
+    log_set_level(quiet_level);
+    write_fixtures();
+    int passed = 0, failed = 0;
+#define RUN(fn) run(#fn, fn, &passed, &failed)
+    RUN(test_identical);
+    RUN(test_constant_offset);
+    RUN(test_psnr_known);
+    RUN(test_single_pixel);
+    RUN(test_nonfinite);
+    RUN(test_size_mismatch);
+    RUN(test_command_metrics);
+    RUN(test_command_thresholds);
+    RUN(test_command_failures);
+    RUN(test_command_usage);
+    const char *files[] = {"a.pfm",    "a.ppm",   "a.png",      "offset.pfm", "pixel.pfm",
+                           "wide.pfm", "bad.ppm", "stdout.txt", "stderr.txt"};
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) unlink(tmp_path(files[i]));
+    rmdir(tmpdir);
+    printf("test_diff: %d passed, %d failed\n", passed, failed);
+    return failed ? 1 : 0;
+}

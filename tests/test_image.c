@@ -1,0 +1,582 @@
+/* test_image.c: tonemapping, film resolve, PPM/PNG/PFM round trips and bytes, atomic writes,
+   and malformed inputs for src/image.c. */
+#include <dirent.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "image.h"
+#include "log.h"
+
+static const char *test_name;
+static int test_failures;
+
+#define CHECK(cond)                                                        \
+    do {                                                                   \
+        if (!(cond)) {                                                     \
+            test_failures++;                                               \
+            printf("FAIL %s: %s (line %d)\n", test_name, #cond, __LINE__); \
+        }                                                                  \
+    } while (0)
+
+static char tmpdir[] = "/tmp/test_image.XXXXXX";
+
+/* tmpdir/name, from a small ring of buffers so that a few can be alive at once. */
+static const char *tmp_path(const char *name) {
+    static char bufs[8][512];
+    static int next;
+    char *p = bufs[next++ % 8];
+    snprintf(p, sizeof bufs[0], "%s/%s", tmpdir, name);
+    return p;
+}
+
+static void write_file(const char *path, const void *data, size_t len) {
+    FILE *fp = fopen(path, "wb");
+    if (!fp || fwrite(data, 1, len, fp) != len || fclose(fp) != 0) {
+        printf("cannot write %s\n", path);
+        exit(1);
+    }
+}
+
+/* The whole file, or NULL; *len its size. */
+static unsigned char *slurp(const char *path, size_t *len) {
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return NULL;
+    unsigned char *buf = NULL;
+    size_t n = 0, cap = 0, got;
+    do {
+        if (n == cap) buf = realloc(buf, cap = cap * 2 + 4096);
+        got = fread(buf + n, 1, cap - n, fp);
+        n += got;
+    } while (got > 0);
+    fclose(fp);
+    *len = n;
+    return buf;
+}
+
+static int count_entries(const char *dir) {
+    DIR *d = opendir(dir);
+    if (!d) return -1;
+    int n = 0;
+    for (struct dirent *e; (e = readdir(d));)
+        if (strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0) n++;
+    closedir(d);
+    return n;
+}
+
+static void remove_tree(const char *path) {
+    struct stat st;
+    if (lstat(path, &st) != 0) return;
+    if (S_ISDIR(st.st_mode)) {
+        DIR *d = opendir(path);
+        for (struct dirent *e; d && (e = readdir(d));) {
+            if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
+            char child[1024];
+            snprintf(child, sizeof child, "%s/%s", path, e->d_name);
+            remove_tree(child);
+        }
+        if (d) closedir(d);
+        rmdir(path);
+    } else {
+        unlink(path);
+    }
+}
+
+/* 6x5, every value distinct and encoding its row, column and channel. 8-bit images hold the
+   decoded value of a distinct byte, so that an exact round trip is possible. */
+enum { W = 6, H = 5 };
+
+static uint8_t test_byte(int x, int y, int c) { return (uint8_t)(40 + 2 * ((y * W + x) * 3 + c)); }
+
+static void make_8bit_image(image *img, tonemap tm) {
+    image_init(img, W, H);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            for (int c = 0; c < 3; c++)
+                img->rgb[(y * W + x) * 3 + c] = tonemap_decode(test_byte(x, y, c), tm);
+}
+
+static float test_float(int x, int y, int c) {
+    return (float)(y * 100 + x * 10 + c) * 0.37f - 3.0f;
+}
+
+static void make_float_image(image *img) {
+    image_init(img, W, H);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            for (int c = 0; c < 3; c++) img->rgb[(y * W + x) * 3 + c] = test_float(x, y, c);
+}
+
+/* Same size and bit-identical values; prints the first difference. */
+static bool same_image(const image *got, const image *want) {
+    if (got->width != want->width || got->height != want->height || !got->rgb) {
+        printf("  %s: size %dx%d, want %dx%d\n", test_name, got->width, got->height, want->width,
+               want->height);
+        return false;
+    }
+    for (int i = 0; i < want->width * want->height * 3; i++) {
+        if (memcmp(&got->rgb[i], &want->rgb[i], sizeof(float)) != 0) {
+            int p = i / 3;
+            printf("  %s: pixel (%d,%d) channel %d is %.9g, want %.9g\n", test_name,
+                   p % want->width, p / want->width, i % 3, got->rgb[i], want->rgb[i]);
+            return false;
+        }
+    }
+    return true;
+}
+
+static void test_tonemap_known(void) {
+    CHECK(tonemap_channel(0.0f, TONEMAP_SRGB) == 0);
+    CHECK(tonemap_channel(1.0f, TONEMAP_SRGB) == 255);
+    CHECK(tonemap_channel(0.5f, TONEMAP_SRGB) == 188);
+    CHECK(tonemap_channel(0.5f, TONEMAP_LINEAR) == 128);
+    CHECK(tonemap_channel(0.2f, TONEMAP_LINEAR) == 51);
+    CHECK(tonemap_channel(0.0031308f, TONEMAP_SRGB) == 10); /* 12.92 * 0.0031308 * 255 = 10.3 */
+    CHECK(tonemap_channel(0.0031307f, TONEMAP_SRGB) == 10);
+    CHECK(tonemap_channel(0.0031309f, TONEMAP_SRGB) == 10);
+    CHECK(tonemap_channel(0.001f, TONEMAP_SRGB) == 3);   /* 12.92 * 0.001 * 255 = 3.29 */
+    CHECK(tonemap_channel(0.0035f, TONEMAP_SRGB) == 11); /* power curve 11.48; the line: 11.53 */
+    CHECK(fabs(tonemap_encode(0.003f, TONEMAP_SRGB) - 12.92 * (double)0.003f) < 1e-9);
+    CHECK(fabs(tonemap_encode(0.0035f, TONEMAP_SRGB) - (1.055 * pow(0.0035f, 1 / 2.4) - 0.055)) <
+          1e-9);
+    CHECK(tonemap_channel(0.18f, TONEMAP_SRGB) == 118);
+    CHECK(tonemap_channel(-0.5f, TONEMAP_SRGB) == 0);
+    CHECK(tonemap_channel(-0.5f, TONEMAP_LINEAR) == 0);
+    CHECK(tonemap_channel(7.0f, TONEMAP_SRGB) == 255);
+    CHECK(tonemap_channel(7.0f, TONEMAP_LINEAR) == 255);
+    CHECK(tonemap_channel(NAN, TONEMAP_SRGB) == 0);
+    CHECK(tonemap_channel(NAN, TONEMAP_LINEAR) == 0);
+    CHECK(tonemap_channel(INFINITY, TONEMAP_SRGB) == 255);
+    CHECK(tonemap_channel(-INFINITY, TONEMAP_SRGB) == 0);
+    CHECK(fabs(tonemap_encode(0.5f, TONEMAP_SRGB) - 0.735356983) < 1e-6);
+    CHECK(tonemap_encode(0.25f, TONEMAP_LINEAR) == 0.25);
+    CHECK(tonemap_encode(2.0f, TONEMAP_SRGB) <= 1.0);
+    /* the inverse: linear segment up to byte 10, the power curve from 11 */
+    CHECK(tonemap_decode(10, TONEMAP_SRGB) == (float)(10.0 / 255.0 / 12.92));
+    CHECK(fabs(tonemap_decode(11, TONEMAP_SRGB) - pow((11.0 / 255.0 + 0.055) / 1.055, 2.4)) < 1e-9);
+    CHECK(fabs(tonemap_decode(188, TONEMAP_SRGB) - 0.502886) < 1e-6);
+    CHECK(tonemap_decode(51, TONEMAP_LINEAR) == 0.2f);
+}
+
+static void test_tonemap_decode_all_bytes(void) {
+    for (int tm = TONEMAP_SRGB; tm <= TONEMAP_LINEAR; tm++) {
+        float prev = -1.0f;
+        for (int b = 0; b < 256; b++) {
+            float v = tonemap_decode((uint8_t)b, (tonemap)tm);
+            if (tonemap_channel(v, (tonemap)tm) != b || !(v > prev)) {
+                printf("  %s: tonemap %d byte %d decodes to %.9g, re-encodes to %d\n", test_name,
+                       tm, b, v, tonemap_channel(v, (tonemap)tm));
+                CHECK(!"decode then encode gives back every byte, increasing");
+                break;
+            }
+            prev = v;
+        }
+        CHECK(tonemap_decode(0, (tonemap)tm) == 0.0f);
+        CHECK(tonemap_decode(255, (tonemap)tm) == 1.0f);
+    }
+}
+
+static void test_film_average(void) {
+    /* 3x2: plain sample, four samples, no samples, one channel at zero, and so on */
+    float accum[] = {0.5f, 1.0f, 1.5f, 1.0f, 4.0f, 2.0f, 1.0f, 4.0f, 9.0f, 9.0f, 9.0f, 0.0f,
+                     0.0f, 3.0f, 0.0f, 3.0f, 0.0f, 0.0f, 0.0f, 0.0f, -1.f, 2.0f, 8.0f, 2.0f};
+    film f = {3, 2, accum, 0};
+    image img;
+    CHECK(image_from_film(&f, &img));
+    float want[] = {0.5f, 1.0f, 1.5f, 1.0f, 0.5f, 0.25f, 0.0f,  0.0f, 0.0f,
+                    0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 0.0f,  -0.5f, 1.0f, 4.0f};
+    image ref = {3, 2, want};
+    CHECK(same_image(&img, &ref));
+    image_free(&img);
+    CHECK(img.rgb == NULL && img.width == 0);
+    image_free(&img); /* safe twice */
+}
+
+static void test_init_limits(void) {
+    image img;
+    CHECK(!image_init(&img, 0, 5) && img.rgb == NULL);
+    CHECK(!image_init(&img, 5, -1) && img.rgb == NULL);
+    CHECK(!image_init(&img, IMAGE_MAX_DIM + 1, 1) && img.rgb == NULL);
+    CHECK(image_init(&img, 2, 3) && img.rgb && img.rgb[17] == 0.0f);
+    image_free(&img);
+}
+
+static void roundtrip_8bit(const char *name, tonemap tm) {
+    image src, back;
+    make_8bit_image(&src, tm);
+    const char *path = tmp_path(name);
+    CHECK(image_write(path, &src, tm));
+    CHECK(image_read(path, &back, tm));
+    CHECK(same_image(&back, &src));
+    bool bytes_ok = back.rgb != NULL;
+    for (int y = 0; y < H && bytes_ok; y++)
+        for (int x = 0; x < W; x++)
+            for (int c = 0; c < 3; c++)
+                if (tonemap_channel(back.rgb[(y * W + x) * 3 + c], tm) != test_byte(x, y, c))
+                    bytes_ok = false;
+    CHECK(bytes_ok);
+    image_free(&src);
+    image_free(&back);
+}
+
+static void test_roundtrip_ppm(void) {
+    roundtrip_8bit("rt_srgb.ppm", TONEMAP_SRGB);
+    roundtrip_8bit("rt_linear.ppm", TONEMAP_LINEAR);
+}
+
+static void test_roundtrip_png(void) {
+    roundtrip_8bit("rt_srgb.png", TONEMAP_SRGB);
+    roundtrip_8bit("rt_linear.png", TONEMAP_LINEAR);
+}
+
+static void test_roundtrip_pfm(void) {
+    image src, back;
+    make_float_image(&src);
+    src.rgb[4] = 1e-30f; /* tiny, huge, negative zero and infinity survive too */
+    src.rgb[7] = 3e38f;
+    src.rgb[11] = -0.0f;
+    src.rgb[13] = INFINITY;
+    CHECK(image_write(tmp_path("rt.pfm"), &src, TONEMAP_SRGB));
+    CHECK(image_read(tmp_path("rt.pfm"), &back, TONEMAP_LINEAR));
+    CHECK(same_image(&back, &src));
+    image_free(&src);
+    image_free(&back);
+}
+
+static void test_all_bytes_through_files(void) {
+    const char *names[] = {"all.ppm", "all.png"};
+    for (int tm = TONEMAP_SRGB; tm <= TONEMAP_LINEAR; tm++) {
+        for (int k = 0; k < 2; k++) {
+            image src, back;
+            image_init(&src, 256, 1);
+            for (int i = 0; i < 256 * 3; i++)
+                src.rgb[i] = tonemap_decode((uint8_t)((i / 3 + 85 * (i % 3)) % 256), (tonemap)tm);
+            CHECK(image_write(tmp_path(names[k]), &src, (tonemap)tm));
+            CHECK(image_read(tmp_path(names[k]), &back, (tonemap)tm));
+            CHECK(same_image(&back, &src));
+            image_free(&src);
+            image_free(&back);
+        }
+    }
+}
+
+static void test_ppm_bytes(void) {
+    image src;
+    make_8bit_image(&src, TONEMAP_SRGB);
+    CHECK(image_write(tmp_path("bytes.ppm"), &src, TONEMAP_SRGB));
+    size_t len;
+    unsigned char *data = slurp(tmp_path("bytes.ppm"), &len);
+    const char header[] = "P6\n6 5\n255\n";
+    size_t hl = sizeof header - 1;
+    CHECK(data && len == hl + W * H * 3);
+    if (data && len == hl + W * H * 3) {
+        CHECK(memcmp(data, header, hl) == 0);
+        bool ok = true; /* top row first, RGB order */
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++)
+                for (int c = 0; c < 3; c++)
+                    ok = ok && data[hl + (size_t)(y * W + x) * 3 + c] == test_byte(x, y, c);
+        CHECK(ok);
+    }
+    free(data);
+    image_free(&src);
+}
+
+static float le_float(const unsigned char *b) {
+    uint32_t u = (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+
+static void test_pfm_bytes(void) {
+    image src;
+    make_float_image(&src);
+    CHECK(image_write(tmp_path("bytes.pfm"), &src, TONEMAP_SRGB));
+    size_t len;
+    unsigned char *data = slurp(tmp_path("bytes.pfm"), &len);
+    const char header[] = "PF\n6 5\n-1.0\n";
+    size_t hl = sizeof header - 1;
+    CHECK(data && len == hl + W * H * 12);
+    if (data && len == hl + W * H * 12) {
+        CHECK(memcmp(data, header, hl) == 0);
+        CHECK(le_float(data + hl) == test_float(0, H - 1, 0)); /* bottom-left red first */
+        bool ok = true;
+        for (int r = 0; r < H; r++)
+            for (int x = 0; x < W; x++)
+                for (int c = 0; c < 3; c++)
+                    ok = ok && le_float(data + hl + (size_t)((r * W + x) * 3 + c) * 4) ==
+                                   test_float(x, H - 1 - r, c);
+        CHECK(ok);
+    }
+    free(data);
+    image_free(&src);
+}
+
+static void test_pfm_big_endian_and_gray(void) {
+    /* big-endian PF, 2x1: 1.0 2.0 3.0 | -4.0 0.5 0.25 */
+    unsigned char be[] =
+        "PF\n2 1\n1.0\n"
+        "\x3f\x80\x00\x00\x40\x00\x00\x00\x40\x40\x00\x00"
+        "\xc0\x80\x00\x00\x3f\x00\x00\x00\x3e\x80\x00\x00";
+    write_file(tmp_path("be.pfm"), be, sizeof be - 1);
+    image img;
+    CHECK(image_read(tmp_path("be.pfm"), &img, TONEMAP_SRGB));
+    float want_be[] = {1.0f, 2.0f, 3.0f, -4.0f, 0.5f, 0.25f};
+    image ref_be = {2, 1, want_be};
+    CHECK(same_image(&img, &ref_be));
+    image_free(&img);
+
+    /* little-endian Pf, 2x2, bottom row (1, 2) first, then top row (3, 4) */
+    unsigned char gray[] =
+        "Pf\n2 2\n-1\n"
+        "\x00\x00\x80\x3f\x00\x00\x00\x40\x00\x00\x40\x40\x00\x00\x80\x40";
+    write_file(tmp_path("gray.pfm"), gray, sizeof gray - 1);
+    CHECK(image_read(tmp_path("gray.pfm"), &img, TONEMAP_SRGB));
+    float want_gray[] = {3, 3, 3, 4, 4, 4, 1, 1, 1, 2, 2, 2};
+    image ref_gray = {2, 2, want_gray};
+    CHECK(same_image(&img, &ref_gray));
+    image_free(&img);
+}
+
+static void test_ppm_comments_and_p3(void) {
+    unsigned char p6[] = "P6\n# a comment\n2 # width\n1\n255\n\x00\x80\xff\x01\x02\x03";
+    write_file(tmp_path("comments.ppm"), p6, sizeof p6 - 1);
+    float want[6];
+    const uint8_t bytes[] = {0, 128, 255, 1, 2, 3};
+    for (int i = 0; i < 6; i++) want[i] = tonemap_decode(bytes[i], TONEMAP_LINEAR);
+    image ref = {2, 1, want}, img;
+    CHECK(image_read(tmp_path("comments.ppm"), &img, TONEMAP_LINEAR));
+    CHECK(same_image(&img, &ref));
+    image_free(&img);
+
+    const char p3[] = "P3\n# ascii\n2 1\n255\n0 128 255\n1 2 3\n";
+    write_file(tmp_path("ascii.ppm"), p3, sizeof p3 - 1);
+    CHECK(image_read(tmp_path("ascii.ppm"), &img, TONEMAP_LINEAR));
+    CHECK(same_image(&img, &ref));
+    image_free(&img);
+}
+
+static void test_extension_case(void) {
+    image src, back;
+    make_8bit_image(&src, TONEMAP_SRGB);
+    CHECK(image_write(tmp_path("UPPER.PPM"), &src, TONEMAP_SRGB));
+    CHECK(image_write(tmp_path("mixed.Png"), &src, TONEMAP_SRGB));
+    CHECK(image_read(tmp_path("UPPER.PPM"), &back, TONEMAP_SRGB) && same_image(&back, &src));
+    image_free(&back);
+    CHECK(image_read(tmp_path("mixed.Png"), &back, TONEMAP_SRGB) && same_image(&back, &src));
+    image_free(&back);
+    image_free(&src);
+}
+
+static bool file_is(const char *path, const char *content) {
+    size_t len;
+    unsigned char *data = slurp(path, &len);
+    bool same = data && len == strlen(content) && memcmp(data, content, len) == 0;
+    free(data);
+    return same;
+}
+
+static void test_write_errors(void) {
+    const char *dir = tmp_path("werr");
+    mkdir(dir, 0755);
+    char keep[600], noext[600], missing[600], blocked[600], inner[700];
+    snprintf(keep, sizeof keep, "%s/keep.bmp", dir);
+    snprintf(noext, sizeof noext, "%s/noext", dir);
+    snprintf(missing, sizeof missing, "%s/missing/out.ppm", dir);
+    snprintf(blocked, sizeof blocked, "%s/blocked.ppm", dir);
+    snprintf(inner, sizeof inner, "%s/inside", blocked);
+    write_file(keep, "original", 8);
+    write_file(noext, "original", 8);
+    mkdir(blocked, 0755); /* rename over a folder fails after the temporary is complete */
+    write_file(inner, "x", 1);
+
+    image src;
+    make_8bit_image(&src, TONEMAP_SRGB);
+    CHECK(!image_write(keep, &src, TONEMAP_SRGB));
+    CHECK(!image_write(noext, &src, TONEMAP_SRGB));
+    CHECK(!image_write(missing, &src, TONEMAP_SRGB));
+    CHECK(!image_write(blocked, &src, TONEMAP_SRGB));
+    image empty = {0};
+    CHECK(!image_write(keep, &empty, TONEMAP_SRGB));
+    CHECK(file_is(keep, "original"));
+    CHECK(file_is(noext, "original"));
+    CHECK(file_is(inner, "x"));
+    CHECK(count_entries(dir) == 3); /* keep.bmp, noext, blocked.ppm: no temporaries */
+    image_free(&src);
+}
+
+static void test_write_interrupted(void) {
+    /* a write failing halfway (file size limit: EFBIG) must leave the old file intact */
+    const char *dir = tmp_path("wint");
+    mkdir(dir, 0755);
+    char dest[600];
+    snprintf(dest, sizeof dest, "%s/old.ppm", dir);
+    const char *names[] = {"old.ppm", "old.png", "old.pfm"};
+    for (int k = 0; k < 3; k++) {
+        snprintf(dest, sizeof dest, "%s/%s", dir, names[k]);
+        write_file(dest, "original", 8);
+        fflush(NULL);
+        pid_t pid = fork();
+        if (pid == 0) {
+            signal(SIGXFSZ, SIG_IGN);
+            struct rlimit lim;
+            getrlimit(RLIMIT_FSIZE, &lim);
+            lim.rlim_cur = 1000;
+            setrlimit(RLIMIT_FSIZE, &lim);
+            image big;
+            image_init(&big, 64, 64);
+            uint32_t state = 12345; /* noise, so that the PNG cannot compress below the limit */
+            for (int i = 0; i < 64 * 64 * 3; i++) {
+                state = state * 1664525u + 1013904223u;
+                big.rgb[i] = (float)(state >> 24) / 255.0f;
+            }
+            _exit(image_write(dest, &big, TONEMAP_SRGB) ? 0 : 3);
+        }
+        int status = 0;
+        CHECK(pid > 0 && waitpid(pid, &status, 0) == pid);
+        CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 3);
+        CHECK(file_is(dest, "original"));
+    }
+    CHECK(count_entries(dir) == 3);
+}
+
+static void test_overwrite(void) {
+    const char *dir = tmp_path("wover");
+    mkdir(dir, 0755);
+    const char *names[] = {"a.ppm", "a.png", "a.pfm"};
+    image src, back;
+    make_8bit_image(&src, TONEMAP_SRGB);
+    for (int k = 0; k < 3; k++) {
+        char path[600];
+        snprintf(path, sizeof path, "%s/%s", dir, names[k]);
+        write_file(path, "original", 8);
+        chmod(path, 0600);
+        CHECK(image_write(path, &src, TONEMAP_SRGB));
+        CHECK(image_read(path, &back, TONEMAP_SRGB) && same_image(&back, &src));
+        image_free(&back);
+        struct stat st;
+        CHECK(stat(path, &st) == 0 && (st.st_mode & 0777) == 0644);
+    }
+    CHECK(count_entries(dir) == 3);
+    image_free(&src);
+}
+
+/* Writes data to name and expects image_read to fail cleanly with out zeroed. */
+static void expect_bad(const char *name, const void *data, size_t len) {
+    const char *path = tmp_path(name);
+    write_file(path, data, len);
+    image img = {7, 7, NULL};
+    bool ok = image_read(path, &img, TONEMAP_SRGB);
+    if (ok || img.rgb || img.width || img.height) {
+        printf("  %s: %s was accepted\n", test_name, name);
+        CHECK(!"malformed file rejected");
+    }
+    image_free(&img);
+}
+
+#define BAD(name, lit) expect_bad(name, lit, sizeof lit - 1)
+
+static void test_malformed(void) {
+    BAD("empty.ppm", "");
+    BAD("magic.ppm", "P5\n6 5\n255\n");
+    BAD("magic2.ppm", "P7\n6 5\n255\n\0\0\0");
+    BAD("header_only.ppm", "P6\n6 5\n");
+    BAD("truncated.ppm", "P6\n6 5\n255\n0123456789");
+    BAD("negative.ppm", "P6\n-6 5\n255\n\0\0\0");
+    BAD("zero.ppm", "P6\n0 5\n255\n");
+    BAD("huge.ppm", "P6\n16385 16384\n255\n\0\0\0");
+    BAD("huge2.ppm", "P6\n16384 100000\n255\n\0\0\0");
+    BAD("overflow.ppm", "P6\n99999999999999999999 5\n255\n\0\0\0");
+    BAD("overflow2.ppm", "P6\n4294967302 5\n255\n\0\0\0");
+    BAD("longtoken.ppm", "P6\n111111111111111111111111111111111111111 5\n255\n");
+    BAD("maxval.ppm", "P6\n1 1\n65535\n\0\0\0\0\0\0");
+    BAD("maxval0.ppm", "P6\n1 1\n0\n\0\0\0");
+    BAD("bigclaim.ppm", "P6\n16384 16384\n255\n\0\0\0"); /* fails before allocating 3 GiB */
+    BAD("p3_short.ppm", "P3\n2 1\n255\n0 1 2 3 4\n");
+    BAD("p3_range.ppm", "P3\n1 1\n255\n0 256 0\n");
+    BAD("p3_junk.ppm", "P3\n1 1\n255\n0 x 0\n");
+    BAD("empty.pfm", "");
+    BAD("magic.pfm", "PX\n1 1\n-1.0\n\0\0\0\0\0\0\0\0\0\0\0\0");
+    BAD("truncated.pfm", "PF\n6 5\n-1.0\n\0\0\0\0\0\0\0\0\0\0");
+    BAD("scale0.pfm", "Pf\n1 1\n0\n\0\0\0\0");
+    BAD("scalenan.pfm", "Pf\n1 1\nnan\n\0\0\0\0");
+    BAD("scalejunk.pfm", "Pf\n1 1\n-1.0x\n\0\0\0\0");
+    BAD("huge.pfm", "PF\n16384 16384\n-1.0\n\0\0\0\0");
+    BAD("negative.pfm", "PF\n6 -5\n-1.0\n\0\0\0\0");
+    BAD("garbage.png", "\x89PNG\r\n\x1a\nthis is not a PNG at all, just garbage bytes");
+    BAD("text.png", "hello");
+    BAD("empty.png", "");
+    BAD("noext", "P6\n1 1\n255\n\0\0\0");
+    BAD("wrongext.bmp", "P6\n1 1\n255\n\0\0\0");
+
+    /* a real PNG cut in half, and one whose header claims 20000 x 20000 */
+    image src;
+    make_8bit_image(&src, TONEMAP_SRGB);
+    CHECK(image_write(tmp_path("whole.png"), &src, TONEMAP_SRGB));
+    image_free(&src);
+    size_t len;
+    unsigned char *png = slurp(tmp_path("whole.png"), &len);
+    CHECK(png && len > 40);
+    if (png && len > 40) {
+        expect_bad("half.png", png, len / 2);
+        expect_bad("header.png", png, 30);
+        /* IHDR width 16385, height 16: small enough for stb's own limits */
+        const unsigned char big[8] = {0, 0, 0x40, 0x01, 0, 0, 0, 0x10};
+        memcpy(png + 16, big, 8);
+        expect_bad("bigihdr.png", png, len);
+    }
+    free(png);
+
+    image img;
+    CHECK(!image_read(tmp_path("does_not_exist.ppm"), &img, TONEMAP_SRGB) && !img.rgb);
+    mkdir(tmp_path("folder.ppm"), 0755);
+    CHECK(!image_read(tmp_path("folder.ppm"), &img, TONEMAP_SRGB) && !img.rgb);
+}
+
+static void run(const char *name, void (*fn)(void), int *passed, int *failed) {
+    test_name = name;
+    test_failures = 0;
+    fn();
+    if (test_failures)
+        ++*failed;
+    else
+        ++*passed;
+}
+
+int main(void) {
+    if (!mkdtemp(tmpdir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    /* the expected errors are noise; TRAZADOR_TEST_VERBOSE=1 shows them */
+    if (!getenv("TRAZADOR_TEST_VERBOSE")) log_set_level((log_level)(LOG_ERROR + 1));
+    int passed = 0, failed = 0;
+#define RUN(fn) run(#fn, fn, &passed, &failed)
+    RUN(test_tonemap_known);
+    RUN(test_tonemap_decode_all_bytes);
+    RUN(test_film_average);
+    RUN(test_init_limits);
+    RUN(test_roundtrip_ppm);
+    RUN(test_roundtrip_png);
+    RUN(test_roundtrip_pfm);
+    RUN(test_all_bytes_through_files);
+    RUN(test_ppm_bytes);
+    RUN(test_pfm_bytes);
+    RUN(test_pfm_big_endian_and_gray);
+    RUN(test_ppm_comments_and_p3);
+    RUN(test_extension_case);
+    RUN(test_write_errors);
+    RUN(test_write_interrupted);
+    RUN(test_overwrite);
+    RUN(test_malformed);
+    remove_tree(tmpdir);
+    printf("test_image: %d passed, %d failed\n", passed, failed);
+    return failed ? 1 : 0;
+}
