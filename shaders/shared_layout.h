@@ -1,5 +1,5 @@
 /* shared_layout.h: the one definition of every buffer, binding and constant the shaders read.
- * Included by C (src/scene_pack.c, the C integrator) and by GLSL (shaders/*.comp).
+ * Included by C (src/scene_pack.c, the C integrator) and by GLSL (the shaders in shaders/).
  * std430, vec4-packed; the C side asserts every size and offset in src/scene_pack.c. */
 #ifndef TRAZADOR_SHARED_LAYOUT_H
 #define TRAZADOR_SHARED_LAYOUT_H

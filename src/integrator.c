@@ -1,5 +1,5 @@
 /* integrator.c: the C reference integrator (DESIGN section 3). Every function here has a twin of
- * the same name in shaders/*.glsl; change both and a test in one commit. */
+ * the same name in the shaders/ GLSL files; change both and a test in one commit. */
 #include "integrator.h"
 
 #include <math.h>
@@ -98,7 +98,8 @@ static vec3 direct_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3 w
     uint32_t count = p->frame.size.w;
     for (uint32_t k = 0; k < count; k++) {
         const struct gpu_light *l = &p->lights[k];
-        vec3 to_light = v3_sub(xyz(l->position_power), o);
+        /* Distance and angle from the true hit point; only the shadow ray starts off the surface. */
+        vec3 to_light = v3_sub(xyz(l->position_power), pos);
         float dist2 = v3_dot(to_light, to_light);
         float dist = sqrtf(dist2);
         vec3 wi = v3_scale(to_light, 1.0f / dist);
