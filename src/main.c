@@ -1,6 +1,7 @@
 /* main.c: the command line: subcommands, flags and exit codes (the only file that exits).
  * Exit codes: 0 success, 1 runtime failure, 2 usage or scene error. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,7 +21,7 @@ static const char usage_text[] =
     "usage: trazador render [SCENE] [-o OUT] [--backend auto|vulkan|cpu] [--spp N] [--seed N]\n"
     "                       [--no-jitter] [--no-indirect] [--indirect] [--bounces N]\n"
     "                       [--threads N] [--device N] [--validate] [--quiet] [--verbose]\n"
-    "                       [--tonemap srgb|linear]\n"
+    "                       [--tonemap srgb|linear] [--width N]\n"
     "       trazador diff A B [--max-rmse X] [--min-psnr X] [--max-diff-share X]\n"
     "       trazador devices\n"
     "       trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
@@ -66,7 +67,7 @@ typedef struct render_args {
     backend_choice backend;
     tonemap tm;
     bool quiet;
-    long long spp, seed, bounces, threads, device; /* -1: not given */
+    long long spp, seed, bounces, threads, device, width; /* -1: not given */
     int indirect;                                  /* -1 not given, 0 off, 1 on */
     bool no_jitter, validate, verbose;
 } render_args;
@@ -74,7 +75,7 @@ typedef struct render_args {
 /* Parses `render` arguments; returns 0 to go on, else the exit code (2 usage, 0 for --help). */
 static int parse_render_args(int argc, char **argv, render_args *a) {
     *a = (render_args){.output = "render.png", .spp = -1, .seed = -1, .bounces = -1,
-                       .threads = -1, .device = -1, .indirect = -1};
+                       .threads = -1, .device = -1, .width = -1, .indirect = -1};
     for (int k = 1; k < argc; k++) {
         const char *arg = argv[k];
         const char *value = k + 1 < argc ? argv[k + 1] : NULL;
@@ -106,6 +107,9 @@ static int parse_render_args(int argc, char **argv, render_args *a) {
         } else if (!strcmp(arg, "--threads")) {
             if (!cli_parse_int(value, 1, 256, &a->threads))
                 return usage_error("--threads takes a whole number from 1 to 256, got '%s'", value ? value : "");
+        } else if (!strcmp(arg, "--width")) {
+            if (!cli_parse_int(value, 1, SCENE_MAX_RESOLUTION, &a->width))
+                return usage_error("--width takes a whole number of pixels from 1 to 16384, got '%s'", value ? value : "");
         } else if (!strcmp(arg, "--device")) {
             if (!cli_parse_int(value, 0, 255, &a->device))
                 return usage_error("--device takes a device index (see `trazador devices`), got '%s'", value ? value : "");
@@ -126,6 +130,23 @@ static int parse_render_args(int argc, char **argv, render_args *a) {
     if (!has_image_extension(a->output))
         return usage_error("output '%s' must end in .png, .ppm or .pfm", a->output);
     return 0;
+}
+
+/* --width N: N pixels across the same plane; the height must come out whole too. */
+static bool apply_width(long long width, scene *s) {
+    if (width < 0) return true;
+    double pixel = (double)s->plane_width / (double)width;
+    double height = (double)s->plane_height / pixel;
+    long long rows = llround(height);
+    if (rows < 1 || rows > SCENE_MAX_RESOLUTION || fabs(height - (double)rows) > 1e-6 * height) {
+        fprintf(stderr, "trazador: --width %lld gives a height of %.4g pixels for a %g x %g plane; "
+                "pick a width that makes it whole\n", width, height, s->plane_width, s->plane_height);
+        return false;
+    }
+    s->pixel_size = (float)pixel;
+    s->width = (int)width;
+    s->height = (int)rows;
+    return true;
 }
 
 static void apply_overrides(const render_args *a, render_opts *o) {
@@ -161,6 +182,10 @@ static int render_command(int argc, char **argv) {
                                            "scenes/cornell.scene (embedded)", &s, &err);
     if (!parsed) {
         fprintf(stderr, "%s:%d:%d: %s\n", err.file, err.line, err.col, err.message);
+        return 2;
+    }
+    if (!apply_width(a.width, &s)) {
+        scene_free(&s);
         return 2;
     }
     render_opts opts;

@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# cli_test.sh TRAZADOR SOURCE_DIR: the command line as a user drives it: exit codes, messages,
+# files written or left alone. The CPU back end, so it runs everywhere.
+set -u
+tz=$1
+src=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+cd "$tmp" || exit 1
+passed=0
+failed=0
+
+ok() { passed=$((passed + 1)); }
+bad() { failed=$((failed + 1)); echo "FAIL: $*" >&2; }
+# run NAME EXPECTED_RC CMD...: runs CMD with stdout/stderr in $tmp/out, $tmp/err.
+run() {
+    local name=$1 want=$2
+    shift 2
+    "$@" >"$tmp/out" 2>"$tmp/err"
+    local rc=$?
+    if [ "$rc" = "$want" ]; then ok; else bad "$name: exit $rc, want $want; stderr: $(head -c 400 "$tmp/err")"; fi
+}
+has() { # has NAME FILE TEXT
+    if grep -qF -- "$3" "$2"; then ok; else bad "$1: '$3' not in $(basename "$2"): $(head -c 400 "$2")"; fi
+}
+
+run help 0 "$tz" --help
+has help out "usage: trazador render"
+run version 0 "$tz" --version
+has version out "trazador 0."
+run no-args 2 "$tz"
+run unknown-command 2 "$tz" paint
+has unknown-command err "unknown command 'paint'"
+run unknown-flag 2 "$tz" render --bogus
+has unknown-flag err "unknown option '--bogus'"
+has unknown-flag err "usage:"
+run bad-spp 2 "$tz" render --spp 0
+run bad-backend 2 "$tz" render --backend metal
+run bad-extension 2 "$tz" render -o out.txt
+has bad-extension err ".png, .ppm or .pfm"
+run width-not-whole 2 "$tz" render --backend cpu --width 7 "$src/scenes/shadows.scene"
+has width-not-whole err "--width 7"
+
+# Scene errors: file:line:col, exit 2, nothing written, nothing overwritten.
+printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.1\nsphere lambertian center 0 0 0 radius -1\n' > bad.scene
+run bad-scene 2 "$tz" render bad.scene --backend cpu -o new.png
+has bad-scene err "bad.scene:3:"
+[ ! -e new.png ] && ok || bad "bad-scene: new.png was created"
+echo "precious" > keep.png
+run bad-scene-keeps 2 "$tz" render bad.scene --backend cpu -o keep.png
+[ "$(cat keep.png)" = precious ] && ok || bad "bad-scene-keeps: keep.png was overwritten"
+run missing-scene 2 "$tz" render nowhere.scene --backend cpu
+has missing-scene err "nowhere.scene"
+
+# A render into a folder that does not exist fails with 1 and leaves nothing behind.
+run missing-folder 1 "$tz" render --backend cpu --spp 1 --width 20 -o no/such/dir/out.png
+[ ! -e no ] && ok || bad "missing-folder: created something"
+
+# The default scene, default output name, summary line; --quiet is quiet.
+run default 0 "$tz" render --backend cpu --spp 1 --width 40
+[ -s render.png ] && ok || bad "default: render.png missing"
+has default err "40x40, 1 spp, cpu back end"
+run quiet 0 "$tz" render --backend cpu --spp 1 --width 40 --quiet -o q.ppm
+[ ! -s err ] && ok || bad "quiet: stderr not empty: $(cat err)"
+[ "$(head -c 13 q.ppm | tr '\n' ' ')" = "P6 40 40 255 " ] && ok || bad "quiet: q.ppm header $(head -c 13 q.ppm)"
+
+# Same seed, same image; another seed, another image; tonemaps differ; diff exit codes.
+run seed-a 0 "$tz" render --backend cpu --spp 2 --width 40 --seed 5 -q -o a.pfm
+run seed-b 0 "$tz" render --backend cpu --spp 2 --width 40 --seed 5 -q -o b.pfm --threads 1
+run seed-c 0 "$tz" render --backend cpu --spp 2 --width 40 --seed 6 -q -o c.pfm
+cmp -s a.pfm b.pfm && ok || bad "same seed: images differ"
+cmp -s a.pfm c.pfm && bad "other seed: images equal" || ok
+run diff-same 0 "$tz" diff a.pfm b.pfm --min-psnr 1000 --max-rmse 0
+has diff-same out "psnr inf dB"
+run diff-other 1 "$tz" diff a.pfm c.pfm --min-psnr 100
+has diff-other out "FAIL"
+run diff-usage 2 "$tz" diff a.pfm
+run tonemap-linear 0 "$tz" render --backend cpu --spp 1 --width 40 -q -o lin.ppm --tonemap linear
+cmp -s lin.ppm q.ppm && bad "tonemap linear: same bytes as srgb" || ok
+run no-jitter 0 "$tz" render --backend cpu --spp 1 --width 40 -q -o nj.ppm --no-jitter --no-indirect
+cmp -s nj.ppm q.ppm && bad "no-jitter no-indirect: same bytes as the default" || ok
+
+# No Vulkan driver at all: an explicit Vulkan request fails with the advice; auto falls back.
+export VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json
+run no-device 1 "$tz" render --backend vulkan --spp 1 --width 20 -o v.png
+has no-device err "mesa-vulkan-drivers"
+has no-device err "--backend cpu"
+[ ! -e v.png ] && ok || bad "no-device: v.png was written"
+run no-device-auto 0 "$tz" render --spp 1 --width 20 -o auto.png
+has no-device-auto err "CPU back end"
+run no-device-list 1 "$tz" devices
+unset VK_DRIVER_FILES VK_ICD_FILENAMES
+
+# Every example scene parses and renders.
+for scene in "$src"/scenes/*.scene; do
+    run "$(basename "$scene")" 0 "$tz" render "$scene" --backend cpu --spp 1 --width 40 -q -o s.png
+done
+
+echo "cli_test: $passed passed, $failed failed"
+[ "$failed" = 0 ]
