@@ -9,54 +9,60 @@
 static vec3 xyz(tz_vec4 v) { return v3(v.x, v.y, v.z); }
 
 /* Ray offset distance at a point: EPS scaled with the point's magnitude. */
-static float ray_eps(vec3 p) { return TZ_EPS * fmaxf(1.0f, v3_max_abs(p)); }
-
-/* |oc|^2 - r^2 without cancellation: the largest component carries r (exact when a huge sphere's
- * centre lies along an axis from the ray origin, as walls of a room do). */
-static float sphere_c(vec3 oc, float r) {
-    float ax = fabsf(oc.x), ay = fabsf(oc.y), az = fabsf(oc.z);
-    if (ax >= ay && ax >= az) return (ax - r) * (ax + r) + oc.y * oc.y + oc.z * oc.z;
-    if (ay >= az) return (ay - r) * (ay + r) + oc.x * oc.x + oc.z * oc.z;
-    return (az - r) * (az + r) + oc.x * oc.x + oc.y * oc.y;
+static float ray_eps(vec3 p) {
+    float m = v3_max_abs(p);
+    return TZ_EPS * (m > 1.0f ? m : 1.0f);
 }
 
-/* Nearest root of the sphere greater than tmin (the far one only when far_only), or INFINITY.
- * Haines et al., Ray Tracing Gems ch. 7: disc = r^2 - |oc - b d|^2, q = -b - sign(b) sqrt(disc). */
-static float sphere_hit(const struct gpu_sphere *s, vec3 o, vec3 d, float tmin, int far_only) {
-    vec3 oc = v3_sub(o, xyz(s->center_radius));
-    float r = s->center_radius.w;
-    float b = v3_dot(oc, d);
-    float c = sphere_c(oc, r);
-    if (c > 0.0f && b > 0.0f) return INFINITY; /* outside and moving away */
-    float l = v3_length(v3_sub(oc, v3_scale(d, b)));
-    float disc = (r - l) * (r + l);
-    if (disc < 0.0f) return INFINITY;
-    float q = b > 0.0f ? -b - sqrtf(disc) : -b + sqrtf(disc);
-    if (q == 0.0f) return INFINITY;
-    float t0 = fminf(c / q, q), t1 = fmaxf(c / q, q);
-    if (!far_only && t0 > tmin) return t0;
-    return t1 > tmin ? t1 : INFINITY;
-}
-
-/* Far-only for the sphere the ray leaves: an inward ray sees its far wall, an outward one
- * cannot hit it again (spheres are convex). Returns -1 to skip it, 1 far-only, 0 normal. */
-static int self_mode(const packed_scene *p, int k, int self, vec3 o, vec3 d) {
-    if (k != self) return 0;
-    vec3 n = v3_sub(o, xyz(p->spheres[k].center_radius));
-    return v3_dot(n, d) < 0.0f ? 1 : -1;
+/* Ray-sphere distances of spheres [begin, end) into t[], INFINITY for a miss: the nearest root
+ * greater than tmin, after Haines et al., Ray Tracing Gems ch. 7: disc = r^2 - |oc - b d|^2 and
+ * q = -b - sign(b) sqrt(disc), roots c/q and q; c = |oc|^2 - r^2 is taken on the largest
+ * component of oc, (|m| - r)(|m| + r) + the other two squared, exact when a huge wall sphere's
+ * centre lies along an axis from the ray origin. The sphere `self` that the ray leaves is its own
+ * origin: moving inward (b < 0) only its far root counts, moving outward it cannot be hit again.
+ * Branch-free over SOA_LANES spheres of the padded structure-of-arrays (past `count`: INFINITY),
+ * so that it compiles to 8-wide SIMD; each lane does the very operations of the shader's
+ * sphere_hit, in the same order. */
+__attribute__((target_clones("avx2", "default"))) static void spheres_hit(
+    const sphere_soa *sp, int begin, int count, vec3 o, vec3 d, float tmin, int self,
+    float *restrict t) {
+    for (int lane = 0; lane < SOA_LANES; lane++) { /* a fixed trip count: one AVX2 iteration */
+        int k = begin + lane;
+        float ocx = o.x - sp->cx[k], ocy = o.y - sp->cy[k], ocz = o.z - sp->cz[k];
+        float r = sp->r[k];
+        float b = ocx * d.x + ocy * d.y + ocz * d.z;
+        float ax = ocx < 0.0f ? -ocx : ocx, ay = ocy < 0.0f ? -ocy : ocy;
+        float az = ocz < 0.0f ? -ocz : ocz;
+        float xx = ocx * ocx, yy = ocy * ocy, zz = ocz * ocz;
+        int x_big = (ax >= ay) & (ax >= az), y_big = !x_big & (ay >= az);
+        float big = x_big ? ax : y_big ? ay : az;
+        float other1 = x_big ? yy : xx, other2 = x_big | y_big ? zz : yy;
+        float c = (big - r) * (big + r) + other1 + other2;
+        float fx = ocx - b * d.x, fy = ocy - b * d.y, fz = ocz - b * d.z;
+        float l = sqrtf(fx * fx + fy * fy + fz * fz);
+        float disc = (r - l) * (r + l);
+        float root = sqrtf(disc < 0.0f ? 0.0f : disc);
+        float q = b > 0.0f ? -b - root : -b + root;
+        float cq = c / q;
+        float t0 = cq < q ? cq : q, t1 = cq < q ? q : cq;
+        int is_self = k == self;
+        int near_ok = (t0 > tmin) & !is_self, far_ok = (t1 > tmin) & (!is_self | (b < 0.0f));
+        float near = near_ok ? t0 : far_ok ? t1 : INFINITY;
+        int miss = ((c > 0.0f) & (b > 0.0f)) | (disc < 0.0f) | (q == 0.0f);
+        t[lane] = miss | (k >= count) ? INFINITY : near;
+    }
 }
 
 int integrator_nearest(const packed_scene *p, vec3 o, vec3 d, int self, float *t_out) {
-    float tmin = ray_eps(o), best = INFINITY;
-    int id = -1;
-    uint32_t count = p->frame.size.z;
-    for (uint32_t k = 0; k < count; k++) {
-        int mode = self_mode(p, (int)k, self, o, d);
-        if (mode < 0) continue;
-        float t = sphere_hit(&p->spheres[k], o, d, tmin, mode);
-        if (t < best) {
-            best = t;
-            id = (int)k;
+    float tmin = ray_eps(o), best = INFINITY, t[SOA_LANES];
+    int id = -1, count = (int)p->frame.size.z;
+    for (int begin = 0; begin < count; begin += SOA_LANES) {
+        spheres_hit(&p->soa, begin, count, o, d, tmin, self, t);
+        for (int lane = 0; lane < SOA_LANES; lane++) {
+            if (t[lane] < best) {
+                best = t[lane];
+                id = begin + lane;
+            }
         }
     }
     *t_out = best;
@@ -65,12 +71,13 @@ int integrator_nearest(const packed_scene *p, vec3 o, vec3 d, int self, float *t
 
 /* True when a sphere blocks o + t d for EPS < t < dist; glass blocks too, as in the seed. */
 static int occluded(const packed_scene *p, vec3 o, vec3 d, float dist, int self) {
-    float tmin = ray_eps(o);
-    uint32_t count = p->frame.size.z;
-    for (uint32_t k = 0; k < count; k++) {
-        int mode = self_mode(p, (int)k, self, o, d);
-        if (mode < 0) continue;
-        if (sphere_hit(&p->spheres[k], o, d, tmin, mode) < dist) return 1;
+    float tmin = ray_eps(o), t[SOA_LANES];
+    int count = (int)p->frame.size.z;
+    for (int begin = 0; begin < count; begin += SOA_LANES) {
+        spheres_hit(&p->soa, begin, count, o, d, tmin, self, t);
+        int blocked = 0;
+        for (int lane = 0; lane < SOA_LANES; lane++) blocked |= t[lane] < dist;
+        if (blocked) return 1;
     }
     return 0;
 }

@@ -33,7 +33,9 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     /* One zero element when empty keeps every buffer non-empty for Vulkan. */
     out->spheres = calloc(s->sphere_count ? (size_t)s->sphere_count : 1, sizeof *out->spheres);
     out->lights = calloc(s->light_count ? (size_t)s->light_count : 1, sizeof *out->lights);
-    if (!out->spheres || !out->lights) {
+    size_t n = ((size_t)s->sphere_count + SOA_LANES - 1) / SOA_LANES * SOA_LANES;
+    out->soa.cx = calloc(4 * (n ? n : SOA_LANES), sizeof(float));
+    if (!out->spheres || !out->lights || !out->soa.cx) {
         log_error("out of memory packing %d spheres", s->sphere_count);
         packed_scene_free(out);
         return false;
@@ -45,7 +47,14 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
             .color_ks = vec4_from(sp->color, sp->ks),
             .params = {sp->alpha, sp->ior, (float)sp->material, 0.0f},
         };
+        out->soa.cx[k] = sp->center.x;
+        out->soa.cx[n + k] = sp->center.y;
+        out->soa.cx[2 * n + k] = sp->center.z;
+        out->soa.cx[3 * n + k] = sp->radius;
     }
+    out->soa.cy = out->soa.cx + n;
+    out->soa.cz = out->soa.cx + 2 * n;
+    out->soa.r = out->soa.cx + 3 * n;
     for (int k = 0; k < s->light_count; k++) {
         const light *l = &s->lights[k];
         out->lights[k] = (struct gpu_light){
@@ -74,5 +83,6 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
 void packed_scene_free(packed_scene *p) {
     free(p->spheres);
     free(p->lights);
+    free(p->soa.cx);
     *p = (packed_scene){0};
 }

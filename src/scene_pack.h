@@ -5,10 +5,19 @@
 #include "render.h"
 #include "shared_layout.h"
 
+#define SOA_LANES 8
+
+/* Sphere centres and radii as separate arrays, each padded with zeros to a multiple of
+ * SOA_LANES: the C integrator tests 8 spheres at a time. */
+typedef struct sphere_soa {
+    float *cx, *cy, *cz, *r;
+} sphere_soa;
+
 typedef struct packed_scene {
     struct gpu_frame frame;
     struct gpu_sphere *spheres;
     struct gpu_light *lights;
+    sphere_soa soa; /* the C back end's copy of spheres[].center_radius */
 } packed_scene;
 
 /* Packs the scene with the options applied; false (logged) on out-of-memory. */

@@ -20,7 +20,9 @@ static inline vec3 v3_cross(vec3 a, vec3 b) {
     return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
 }
 static inline float v3_max_abs(vec3 a) {
-    return fmaxf(fabsf(a.x), fmaxf(fabsf(a.y), fabsf(a.z)));
+    float x = fabsf(a.x), y = fabsf(a.y), z = fabsf(a.z);
+    float m = x > y ? x : y;
+    return m > z ? m : z;
 }
 
 #endif
