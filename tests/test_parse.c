@@ -1,0 +1,612 @@
+/* test_parse.c: the scene parser on valid input (exact struct values, defaults, layout freedom),
+ * on every kind of invalid input (line, column and message), and on files. */
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "scene.h"
+
+static int passed, failed;
+
+/* Counts one check; prints the case name and why when it fails. */
+static bool check(bool ok, const char *name, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static bool check(bool ok, const char *name, const char *fmt, ...) {
+    if (ok) {
+        passed++;
+        return true;
+    }
+    failed++;
+    fprintf(stderr, "FAIL %s: ", name);
+    va_list ap;
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+    return false;
+}
+
+static bool vec_is(vec3 v, float x, float y, float z) { return v.x == x && v.y == y && v.z == z; }
+
+/* Parses text that must be valid; on failure prints the parser's error under `name`. */
+static bool parse_ok(const char *name, const char *text, size_t length, scene *s) {
+    scene_error err;
+    bool ok = scene_parse_string(text, length, "test.scene", s, &err);
+    return check(ok, name, "unexpected error %d:%d: %s", err.line, err.col, err.message);
+}
+
+#define BYTES(literal) literal, sizeof(literal) - 1
+/* Two valid lines that most invalid cases start from, so their errors land on line 3. */
+#define BASE "camera position 0 0 0\nplane width 4 height 3 pixel 0.01\n"
+
+static const char full_example[] =
+    "camera  position 0 1 -8   direction 0 0 1   up 0 1 0\n"
+    "plane   width 4  height 3  pixel 0.01\n"
+    "light   position -2 3 -1  power 60  color 1 1 1\n"
+    "sphere  lambertian center 0 -1001 0 radius 1000 color 0.8 0.8 0.8\n"
+    "sphere  phong      center -1 0 2 radius 1 color 0.6 0.1 0.1 ks 0.3 alpha 40\n"
+    "sphere  mirror     center  1 0 3 radius 1\n"
+    "sphere  refractive center  0 0 1 radius 0.7 ior 1.5\n"
+    "background 0 0 0\n"
+    "render  samples 64 indirect on bounces 5 seed 1\n";
+
+static void check_full_example(const char *name, const scene *s) {
+    check(vec_is(s->camera_position, 0, 1, -8), name, "camera position");
+    check(vec_is(s->camera_direction, 0, 0, 1), name, "camera direction");
+    check(vec_is(s->camera_up, 0, 1, 0), name, "camera up");
+    check(s->plane_width == 4.0f && s->plane_height == 3.0f && s->pixel_size == 0.01f, name,
+          "plane %g %g %g", s->plane_width, s->plane_height, s->pixel_size);
+    check(s->width == 400 && s->height == 300, name, "resolution %dx%d", s->width, s->height);
+    check(vec_is(s->background, 0, 0, 0), name, "background");
+    check(s->samples == 64 && s->indirect && s->bounces == 5 && s->seed == 1 &&
+              s->mode == RENDER_MODE_SEED,
+          name, "render settings");
+    if (!check(s->light_count == 1 && s->sphere_count == 4, name, "counts %d lights %d spheres",
+               s->light_count, s->sphere_count)) {
+        return;
+    }
+    const light *l = &s->lights[0];
+    check(vec_is(l->position, -2, 3, -1) && l->power == 60.0f && vec_is(l->color, 1, 1, 1), name,
+          "light");
+    const sphere *p = s->spheres;
+    check(p[0].material == MATERIAL_LAMBERTIAN && vec_is(p[0].center, 0, -1001, 0) &&
+              p[0].radius == 1000.0f && vec_is(p[0].color, 0.8f, 0.8f, 0.8f) && p[0].ks == 0 &&
+              p[0].alpha == 0 && p[0].ior == 1.0f && vec_is(p[0].emission, 0, 0, 0),
+          name, "lambertian sphere");
+    check(p[1].material == MATERIAL_PHONG && vec_is(p[1].center, -1, 0, 2) && p[1].radius == 1 &&
+              vec_is(p[1].color, 0.6f, 0.1f, 0.1f) && p[1].ks == 0.3f && p[1].alpha == 40.0f &&
+              p[1].ior == 1.0f && vec_is(p[1].emission, 0, 0, 0),
+          name, "phong sphere");
+    check(p[2].material == MATERIAL_MIRROR && vec_is(p[2].center, 1, 0, 3) && p[2].radius == 1 &&
+              vec_is(p[2].color, 1, 1, 1) && p[2].ks == 0 && p[2].alpha == 0 && p[2].ior == 1.0f &&
+              vec_is(p[2].emission, 0, 0, 0),
+          name, "mirror sphere");
+    check(p[3].material == MATERIAL_REFRACTIVE && vec_is(p[3].center, 0, 0, 1) &&
+              p[3].radius == 0.7f && vec_is(p[3].color, 1, 1, 1) && p[3].ks == 0 &&
+              p[3].alpha == 0 && p[3].ior == 1.5f && vec_is(p[3].emission, 0, 0, 0),
+          name, "refractive sphere");
+}
+
+static void test_valid(void) {
+    scene s;
+    if (parse_ok("full example", BYTES(full_example), &s)) {
+        check_full_example("full example", &s);
+        scene_free(&s);
+    }
+
+    static const char defaults[] =
+        "camera position 1 2 3\n"
+        "plane width 2 height 1 pixel 0.5\n"
+        "light position 0 5 0 power 10\n"
+        "sphere phong center 0 0 0 radius 1\n"
+        "sphere lambertiana center 0 0 0 radius 1\n"
+        "sphere espejo center 0 0 0 radius 1\n"
+        "sphere refractada center 0 0 0 radius 1\n"
+        "sphere lambertian center 0 0 0 radius 1\n";
+    if (parse_ok("defaults", BYTES(defaults), &s)) {
+        const char *n = "defaults";
+        check(vec_is(s.camera_direction, 0, 0, 1) && vec_is(s.camera_up, 0, 1, 0), n, "camera");
+        check(s.width == 4 && s.height == 2, n, "resolution %dx%d", s.width, s.height);
+        check(vec_is(s.lights[0].color, 1, 1, 1), n, "light color");
+        check(vec_is(s.background, 0, 0, 0), n, "background");
+        check(s.samples == 64 && s.indirect && s.bounces == 5 && s.seed == 1 &&
+                  s.mode == RENDER_MODE_SEED,
+              n, "render settings");
+        const sphere *p = s.spheres;
+        check(p[0].material == MATERIAL_PHONG && vec_is(p[0].color, 0.8f, 0.8f, 0.8f) &&
+                  p[0].ks == 0.5f && p[0].alpha == 32.0f && p[0].ior == 1.0f,
+              n, "phong defaults");
+        check(p[1].material == MATERIAL_LAMBERTIAN && vec_is(p[1].color, 0.8f, 0.8f, 0.8f) &&
+                  p[1].ks == 0 && p[1].alpha == 0 && p[1].ior == 1.0f,
+              n, "lambertiana");
+        check(p[2].material == MATERIAL_MIRROR && vec_is(p[2].color, 1, 1, 1) && p[2].ior == 1.0f,
+              n, "espejo");
+        check(
+            p[3].material == MATERIAL_REFRACTIVE && vec_is(p[3].color, 1, 1, 1) && p[3].ior == 1.5f,
+            n, "refractada");
+        check(p[4].material == MATERIAL_LAMBERTIAN && vec_is(p[4].color, 0.8f, 0.8f, 0.8f), n,
+              "lambertian color");
+        scene_free(&s);
+    }
+
+    static const char settings[] = BASE
+        "render seed 4294967295 bounces 64 indirect off samples 1048576\n"
+        "background 0.5 2 0\n"
+        "sphere mirror radius 2 color 0.5 0.25 0 center 1 2 3\n";
+    if (parse_ok("render settings, background, key order", BYTES(settings), &s)) {
+        const char *n = "render settings";
+        check(s.samples == SCENE_MAX_SAMPLES && !s.indirect && s.bounces == SCENE_MAX_BOUNCES &&
+                  s.seed == 4294967295u,
+              n, "got %d %d %d %u", s.samples, s.indirect, s.bounces, s.seed);
+        check(vec_is(s.background, 0.5f, 2, 0), n, "background above 1 is allowed");
+        check(vec_is(s.spheres[0].center, 1, 2, 3) && s.spheres[0].radius == 2 &&
+                  vec_is(s.spheres[0].color, 0.5f, 0.25f, 0),
+              n, "keys in any order");
+        scene_free(&s);
+    }
+
+    /* The same scene as full_example, written with every layout freedom the format allows. */
+    static const char layout[] =
+        "# a header comment, with UTF-8: esfera lambertiana, cámara \xe2\x9c\x93\r\n"
+        "\r\n"
+        "   \t \r\n"
+        "\tcamera up 0 1 0 direction 0 0 1\tposition 0 1 -8 # trailing comment\r\n"
+        "plane pixel 0.01 height 3 width 4#comment glued to a value\n"
+        "\n"
+        "light color 1 1 1 power 60 position -2 3 -1\n"
+        "sphere lambertiana color 0.8 .8 8e-1 radius 1e3 center 0 -1001 +0\r\n"
+        "sphere phong alpha 40. ks 0.3 color 0.6 0.1 0.1 radius 1 center -1 0 2\n"
+        "sphere espejo radius 1 center 1 0 3\n"
+        "render seed 1 bounces 5 indirect on samples 64\n"
+        "background 0 -0 0.0e+5\n"
+        "sphere refractada ior 1.5 radius 0.7 center 0 0 1";
+    if (parse_ok("layout freedom", BYTES(layout), &s)) {
+        check_full_example("layout freedom", &s);
+        scene_free(&s);
+    }
+
+    if (parse_ok("zero spheres and lights", BYTES(BASE), &s)) {
+        check(s.sphere_count == 0 && s.light_count == 0 && !s.spheres && !s.lights,
+              "zero spheres and lights", "counts %d %d", s.sphere_count, s.light_count);
+        scene_free(&s);
+    }
+
+    if (parse_ok("pixel within 1e-6 of dividing",
+                 BYTES("camera position 0 0 0\n"
+                       "plane width 1 height 1 pixel 0.3333333\n"),
+                 &s)) {
+        check(s.width == 3 && s.height == 3, "pixel within 1e-6", "%dx%d", s.width, s.height);
+        scene_free(&s);
+    }
+
+    if (parse_ok("largest resolution",
+                 BYTES("camera position 0 0 0\nplane width 16384 height 1 pixel 1\n"), &s)) {
+        check(s.width == 16384 && s.height == 1, "largest resolution", "%dx%d", s.width, s.height);
+        scene_free(&s);
+    }
+
+    /* err may be NULL, and a NULL file name is reported as <string>. */
+    check(!scene_parse_string(BYTES("spere"), "x", &s, NULL), "NULL err", "bad text accepted");
+    if (check(scene_parse_string(BYTES(BASE), "x", &s, NULL), "NULL err", "good text refused")) {
+        scene_free(&s);
+    }
+    scene_error err;
+    check(!scene_parse_string(BYTES(""), NULL, &s, &err) && strcmp(err.file, "<string>") == 0,
+          "NULL file name", "file '%s'", err.file);
+}
+
+typedef struct invalid_case {
+    const char *name;
+    const char *text;
+    size_t length;
+    int line, col;
+    const char *message; /* expected substring */
+} invalid_case;
+
+static const invalid_case invalid_cases[] = {
+    {"unknown directive", BYTES(BASE "spere lambertian"), 3, 1, "unknown directive 'spere'"},
+    {"unknown key", BYTES(BASE "sphere lambertian center 0 0 0 radiu 1"), 3, 32,
+     "unknown key 'radiu' for sphere lambertian (expected one of: center radius color)"},
+    {"ior on lambertian", BYTES(BASE "sphere lambertian center 0 0 0 radius 1 ior 1.5"), 3, 41,
+     "unknown key 'ior' for sphere lambertian (expected one of: center radius color)"},
+    {"ks on mirror", BYTES(BASE "sphere mirror center 0 0 0 radius 1 ks 0.5"), 3, 37,
+     "unknown key 'ks' for sphere mirror (expected one of: center radius color)"},
+    {"unknown key lists phong keys", BYTES(BASE "sphere phong center 0 0 0 radius 1 ior 2"), 3, 36,
+     "(expected one of: center radius color ks alpha)"},
+    {"missing value", BYTES(BASE "sphere lambertian center 0 0 0 radius"), 3, 38,
+     "expected a value for 'radius', got end of line"},
+    {"missing value before comment", BYTES(BASE "sphere lambertian center 0 0 0 radius # r"), 3, 38,
+     "expected a value for 'radius'"},
+    {"missing second component", BYTES(BASE "light power 5 position 1"), 3, 25,
+     "expected 3 numbers (x y z) for 'position', got 1"},
+    {"missing third component", BYTES(BASE "light power 5 position 1 2"), 3, 27,
+     "expected 3 numbers (x y z) for 'position', got 2"},
+    {"key where a component belongs", BYTES(BASE "light position 1 power 5"), 3, 18,
+     "expected a number for 'position', got 'power'"},
+    {"key given twice", BYTES(BASE "sphere lambertian center 0 0 0 radius 1 radius 2"), 3, 41,
+     "'radius' given twice"},
+    {"camera given twice", BYTES(BASE "camera position 1 1 1"), 3, 1,
+     "'camera' given twice (first on line 1)"},
+    {"plane given twice", BYTES(BASE "\nplane width 4 height 3 pixel 0.01"), 4, 1,
+     "'plane' given twice (first on line 2)"},
+    {"background given twice", BYTES(BASE "background 0 0 0\n  background 0 0 0"), 4, 3,
+     "'background' given twice (first on line 3)"},
+    {"render given twice", BYTES(BASE "render\nrender samples 2"), 4, 1,
+     "'render' given twice (first on line 3)"},
+    {"not a number", BYTES(BASE "sphere lambertian center 0 0 0 radius abc"), 3, 39,
+     "expected a number for 'radius', got 'abc'"},
+    {"nan", BYTES(BASE "sphere lambertian center 0 0 0 radius nan"), 3, 39,
+     "got 'nan' (NaN and infinities are not allowed)"},
+    {"inf", BYTES(BASE "sphere lambertian center 0 0 0 radius inf"), 3, 39,
+     "got 'inf' (NaN and infinities are not allowed)"},
+    {"-inf", BYTES(BASE "sphere lambertian center -inf 0 0 radius 1"), 3, 26,
+     "got '-inf' (NaN and infinities are not allowed)"},
+    {"Infinity", BYTES(BASE "light position 0 0 0 power Infinity"), 3, 28,
+     "got 'Infinity' (NaN and infinities are not allowed)"},
+    {"hex float", BYTES(BASE "sphere lambertian center 0 0 0 radius 0x1p3"), 3, 39,
+     "got '0x1p3' (hexadecimal numbers are not allowed)"},
+    {"float overflow", BYTES(BASE "sphere lambertian center 0 0 0 radius 1e999"), 3, 39,
+     "number '1e999' for 'radius' is out of range"},
+    {"just above FLT_MAX", BYTES(BASE "sphere lambertian center 3.5e38 0 0 radius 1"), 3, 26,
+     "number '3.5e38' for 'center' is out of range"},
+    {"trailing garbage", BYTES(BASE "sphere lambertian center 0 0 0 radius 1.5x"), 3, 39,
+     "expected a number for 'radius', got '1.5x'"},
+    {"lone minus", BYTES(BASE "sphere lambertian center 0 - 0 radius 1"), 3, 28,
+     "expected a number for 'center', got '-'"},
+    {"lone dot", BYTES(BASE "sphere lambertian center 0 . 0 radius 1"), 3, 28,
+     "expected a number for 'center', got '.'"},
+    {"exponent without digits", BYTES(BASE "sphere lambertian center 0 1e+ 0 radius 1"), 3, 28,
+     "got '1e+'"},
+    {"two dots", BYTES(BASE "sphere lambertian center 0 1.2.3 0 radius 1"), 3, 28, "got '1.2.3'"},
+    {"radius 0", BYTES(BASE "sphere lambertian center 0 0 0 radius 0"), 3, 39,
+     "radius must be > 0, got 0"},
+    {"radius -1", BYTES(BASE "sphere lambertian center 0 0 0 radius -1"), 3, 39,
+     "radius must be > 0, got -1"},
+    {"radius underflows to 0", BYTES(BASE "sphere lambertian center 0 0 0 radius 1e-60"), 3, 39,
+     "radius must be > 0, got 1e-60"},
+    {"ior below 1", BYTES(BASE "sphere refractive center 0 0 0 radius 1 ior 0.9"), 3, 45,
+     "ior must be >= 1, got 0.9"},
+    {"color above 1", BYTES(BASE "sphere lambertian center 0 0 0 radius 1 color 0.5 1.5 0"), 3, 51,
+     "color must be in [0, 1], got 1.5"},
+    {"color below 0", BYTES(BASE "sphere lambertian center 0 0 0 radius 1 color -0.1 0 0"), 3, 47,
+     "color must be in [0, 1], got -0.1"},
+    {"light color above 1", BYTES(BASE "light position 0 0 0 power 1 color 1 1 2"), 3, 40,
+     "color must be in [0, 1], got 2"},
+    {"negative power", BYTES(BASE "light position 0 0 0 power -1"), 3, 28,
+     "power must be >= 0, got -1"},
+    {"negative background", BYTES(BASE "background 0 -1 0"), 3, 14,
+     "background must be >= 0, got -1"},
+    {"background missing component", BYTES(BASE "background 0 0"), 3, 15,
+     "expected 3 numbers (r g b) for 'background', got 2"},
+    {"background extra number", BYTES(BASE "background 0 0 0 0"), 3, 18,
+     "unexpected '0' after background's 3 numbers"},
+    {"ks above 1", BYTES(BASE "sphere phong center 0 0 0 radius 1 ks 1.5"), 3, 39,
+     "ks must be in [0, 1], got 1.5"},
+    {"alpha below 0", BYTES(BASE "sphere phong center 0 0 0 radius 1 alpha -1"), 3, 42,
+     "alpha must be >= 0, got -1"},
+    {"pixel does not divide width",
+     BYTES("camera position 0 0 0\n"
+           "plane width 4 height 3 pixel 0.03\n"),
+     2, 30,
+     "plane width 4 is not a whole number of pixels of 0.03 (133.33); nearest pixel sizes that "
+     "divide it: 0.0300752 (133 px), 0.02985075 (134 px); one that divides width and height: "
+     "0.03030303 (132 x 99 px)"},
+    {"pixel does not divide height",
+     BYTES("camera position 0 0 0\n"
+           "plane width 4 height 3.001 pixel 0.01\n"),
+     2, 34,
+     "plane height 3.001 is not a whole number of pixels of 0.01 (300.10); nearest pixel sizes "
+     "that divide it: 0.01000333 (300 px), 0.0099701 (301 px)"},
+    {"only one pixel count fits",
+     BYTES("camera position 0 0 0\n"
+           "plane width 0.7 height 1 pixel 1\n"),
+     2, 32,
+     "plane width 0.7 is not a whole number of pixels of 1 (0.70); the nearest pixel size that "
+     "divides it is 0.7 (1 px); one that divides width and height: 0.1 (7 x 10 px)"},
+    {"resolution over 16384",
+     BYTES("camera position 0 0 0\n"
+           "plane width 200 height 1 pixel 0.01\n"),
+     2, 32, "plane width 200 at pixel 0.01 is 20000 pixels, more than the maximum 16384"},
+    {"less than one pixel",
+     BYTES("camera position 0 0 0\n"
+           "plane width 4 height 0.001 pixel 0.01\n"),
+     2, 34, "plane height 0.001 is less than one pixel of 0.01"},
+    {"width 0", BYTES("camera position 0 0 0\nplane width 0 height 3 pixel 0.01\n"), 2, 13,
+     "width must be > 0, got 0"},
+    {"width negative", BYTES("camera position 0 0 0\nplane width -4 height 3 pixel 0.01\n"), 2, 13,
+     "width must be > 0, got -4"},
+    {"pixel 0", BYTES("camera position 0 0 0\nplane width 4 height 3 pixel 0\n"), 2, 30,
+     "pixel must be > 0, got 0"},
+    {"plane missing pixel", BYTES("camera position 0 0 0\n  plane width 4 height 3\n"), 2, 3,
+     "plane is missing required key 'pixel'"},
+    {"missing camera", BYTES("plane width 4 height 3 pixel 0.01\n"), 2, 1,
+     "missing 'camera' directive"},
+    {"missing plane", BYTES("camera position 0 0 0\n"), 2, 1, "missing 'plane' directive"},
+    {"missing plane, no final newline", BYTES("\n\ncamera position 0 0 0"), 3, 1,
+     "missing 'plane' directive"},
+    {"missing sphere center", BYTES(BASE "sphere lambertian radius 1"), 3, 1,
+     "sphere is missing required key 'center'"},
+    {"missing sphere radius", BYTES(BASE " sphere lambertian center 0 0 0"), 3, 2,
+     "sphere is missing required key 'radius'"},
+    {"missing material", BYTES(BASE "sphere"), 3, 7, "expected a material after 'sphere'"},
+    {"missing light power", BYTES(BASE "light position 0 0 0"), 3, 1,
+     "light is missing required key 'power'"},
+    {"missing camera position", BYTES("camera\nplane width 4 height 3 pixel 0.01\n"), 1, 1,
+     "camera is missing required key 'position'"},
+    {"zero camera direction", BYTES("camera position 0 0 0 direction 0 0 0\n"), 1, 23,
+     "camera direction must not be zero"},
+    {"zero camera up", BYTES("camera position 0 0 0 up 0 0 0\n"), 1, 23,
+     "camera up must not be zero"},
+    {"tiny camera direction", BYTES("camera position 0 0 0 direction 1e-30 0 0\n"), 1, 23,
+     "camera direction is too small or too large to normalize"},
+    {"up parallel to direction", BYTES("camera position 0 0 0 up 0 0 -2\n"), 1, 23,
+     "camera up (0 0 -2) is parallel to direction (0 0 1)"},
+    {"direction parallel to default up", BYTES("camera position 0 0 0 direction 0 3 0\n"), 1, 23,
+     "camera up (0 1 0) is parallel to direction (0 3 0)"},
+    {"samples 0", BYTES(BASE "render samples 0"), 3, 16,
+     "samples must be an integer in [1, 1048576], got 0"},
+    {"samples 1.5", BYTES(BASE "render samples 1.5"), 3, 16,
+     "expected an integer for 'samples', got '1.5'"},
+    {"samples with exponent", BYTES(BASE "render samples 1e3"), 3, 16,
+     "expected an integer for 'samples', got '1e3'"},
+    {"samples above maximum", BYTES(BASE "render samples 1048577"), 3, 16,
+     "samples must be an integer in [1, 1048576], got 1048577"},
+    {"sign without digits", BYTES(BASE "render seed +"), 3, 13,
+     "expected an integer for 'seed', got '+'"},
+    {"indirect maybe", BYTES(BASE "render indirect maybe"), 3, 17,
+     "expected on or off for 'indirect', got 'maybe'"},
+    {"bounces -1", BYTES(BASE "render bounces -1"), 3, 16,
+     "bounces must be an integer in [0, 64], got -1"},
+    {"bounces 65", BYTES(BASE "render bounces 65"), 3, 16,
+     "bounces must be an integer in [0, 64], got 65"},
+    {"seed 4294967296", BYTES(BASE "render seed 4294967296"), 3, 13,
+     "seed must be an integer in [0, 4294967295], got 4294967296"},
+    {"seed with 30 digits", BYTES(BASE "render seed 999999999999999999999999999999"), 3, 13,
+     "seed must be an integer in [0, 4294967295]"},
+    {"unknown material", BYTES(BASE "sphere glass center 0 0 0 radius 1"), 3, 8,
+     "unknown material 'glass' for sphere"},
+    {"empty file", BYTES(""), 1, 1, "missing 'camera' directive"},
+    {"only comments", BYTES("# one\n   # two\n"), 3, 1, "missing 'camera' directive"},
+    {"NUL byte mid-line", BYTES("camera position 0\0 0 0\n"), 1, 18, "NUL byte"},
+    {"NUL byte in a comment", BYTES(BASE "# ab\0c\n"), 3, 5, "NUL byte in a comment"},
+    {"binary garbage",
+     BYTES(BASE "\x7f"
+                "ELF\x02\x01\x01"),
+     3, 1, "unexpected byte 0x7f"},
+    {"non-ASCII byte in a token", BYTES(BASE "sphere lambertian center 0 0 0 radius 1\xc3\xa9"), 3,
+     40, "unexpected byte 0xc3"},
+    {"vertical tab", BYTES(BASE "render\vsamples 2"), 3, 7, "unexpected byte 0x0b"},
+    {"tab counts as one column", BYTES(BASE "\tspere"), 3, 2, "unknown directive 'spere'"},
+    {"CRLF keeps columns", BYTES(BASE "render samples 0\r\n"), 3, 16, "samples must be"},
+    {"long token quoted short",
+     BYTES(BASE "render samples "
+                "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"),
+     3, 16, "got 'aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa...'"},
+    {"error on line 7 after valid lines",
+     BYTES(BASE "light position 0 5 0 power 10\n"
+                "sphere phong center 0 0 0 radius 1\n"
+                "# comment\n"
+                "\n"
+                "sphere mirror center 0 0 0 radius -2\n"
+                "sphere mirror center 0 0 0 radius 1\n"),
+     7, 35, "radius must be > 0, got -2"},
+};
+
+/* Parses text that must fail at line:col with `message` in the error, and leave *out alone. */
+static void expect_error(const char *name, const char *text, size_t length, int line, int col,
+                         const char *message) {
+    scene s, sentinel;
+    memset(&s, 0xab, sizeof s);
+    memcpy(&sentinel, &s, sizeof s);
+    scene_error err;
+    memset(&err, 0, sizeof err);
+    if (!check(!scene_parse_string(text, length, "bad.scene", &s, &err), name,
+               "parsed without error")) {
+        scene_free(&s);
+        return;
+    }
+    check(err.line == line && err.col == col, name, "at %d:%d, expected %d:%d (%s)", err.line,
+          err.col, line, col, err.message);
+    check(strstr(err.message, message) != NULL, name, "message '%s' lacks '%s'", err.message,
+          message);
+    check(strcmp(err.file, "bad.scene") == 0, name, "file '%s'", err.file);
+    check(memcmp(&s, &sentinel, sizeof s) == 0, name, "*out was modified on failure");
+}
+
+/* Cases whose text is built at run time: too long, too many, too big. */
+static void test_generated(void) {
+    /* A 1 MB line fails at the first byte past the limit, without a quadratic scan. */
+    size_t big = 1 << 20;
+    char *text = malloc(big + 64);
+    strcpy(text, "camera position 0 0 0\n");
+    size_t used = strlen(text);
+    memset(text + used, 'a', big);
+    expect_error("line of 1 MB", text, used + big, 2, SCENE_MAX_LINE + 1,
+                 "line is longer than 4096 bytes");
+
+    /* Exactly SCENE_MAX_LINE bytes is fine, with LF or CRLF; one more is not. */
+    used = (size_t)sprintf(text, "%s", BASE);
+    size_t line_start = used;
+    used += (size_t)sprintf(text + used, "render samples 2 #");
+    memset(text + used, 'c', SCENE_MAX_LINE - (used - line_start));
+    used = line_start + SCENE_MAX_LINE;
+    memcpy(text + used, "\r\n", 2);
+    scene s;
+    if (parse_ok("line of exactly SCENE_MAX_LINE bytes", text, used + 2, &s)) scene_free(&s);
+    text[used] = 'c';
+    expect_error("line of SCENE_MAX_LINE + 1 bytes", text, used + 1, 3, SCENE_MAX_LINE + 1,
+                 "line is longer than 4096 bytes");
+
+    /* Any number of digits is a number; only its float value matters. */
+    used = (size_t)sprintf(text, "%slight power 1 position 0 0 0.", BASE);
+    memset(text + used, '5', 500);
+    if (parse_ok("500-digit number", text, used + 500, &s)) {
+        check(s.lights[0].position.z == 0.5555556f, "500-digit number", "%.9g",
+              s.lights[0].position.z);
+        scene_free(&s);
+    }
+    free(text);
+
+    /* One light past the limit fails on its own line. */
+    size_t line_length = strlen("light position 0 0 0 power 1\n");
+    size_t length = strlen(BASE) + (SCENE_MAX_LIGHTS + 1) * line_length;
+    text = malloc(length + 1);
+    used = (size_t)sprintf(text, "%s", BASE);
+    for (int i = 0; i <= SCENE_MAX_LIGHTS; i++) {
+        used += (size_t)sprintf(text + used, "light position 0 0 0 power 1\n");
+    }
+    expect_error("too many lights", text, length, SCENE_MAX_LIGHTS + 3, 1,
+                 "too many lights (the maximum is 4096)");
+    if (parse_ok("SCENE_MAX_LIGHTS lights", text, length - line_length, &s)) {
+        check(s.light_count == SCENE_MAX_LIGHTS, "SCENE_MAX_LIGHTS lights", "%d", s.light_count);
+        scene_free(&s);
+    }
+    free(text);
+
+    /* Many spheres: the arrays grow past many doublings with every value in place. */
+    int count = 100000;
+    text = malloc(strlen(BASE) + (size_t)count * 80);
+    used = (size_t)sprintf(text, "%s", BASE);
+    for (int i = 0; i < count; i++) {
+        used +=
+            (size_t)sprintf(text + used, "sphere lambertian center %d 0 %d radius 0.5\n", i, -i);
+    }
+    if (parse_ok("100000 spheres", text, used, &s)) {
+        bool all = s.sphere_count == count;
+        for (int i = 0; all && i < count; i++) {
+            all = vec_is(s.spheres[i].center, (float)i, 0, (float)-i);
+        }
+        check(all, "100000 spheres", "count %d or a center is wrong", s.sphere_count);
+        scene_free(&s);
+    }
+    free(text);
+
+    /* Lengths past the limit are refused before a byte is read (this buffer is tiny). */
+    if (sizeof(size_t) > 4) {
+        scene_error err;
+        bool ok = scene_parse_string("", (size_t)INT_MAX + 10, "huge", &s, &err);
+        check(!ok && err.line == 0 && err.col == 0 && strstr(err.message, "too large"),
+              "text over 2 GiB", "%d:%d %s", err.line, err.col, err.message);
+    }
+}
+
+static bool write_file(const char *path, const char *text, size_t length) {
+    FILE *f = fopen(path, "wb");
+    if (!f) return false;
+    bool ok = fwrite(text, 1, length, f) == length;
+    return fclose(f) == 0 && ok;
+}
+
+/* Parses a file that must fail with line 0 (no position), `message` in the error. */
+static void expect_file_error(const char *name, const char *path, const char *message) {
+    scene s, sentinel;
+    memset(&s, 0xcd, sizeof s);
+    memcpy(&sentinel, &s, sizeof s);
+    scene_error err;
+    if (!check(!scene_parse_file(path, &s, &err), name, "parsed without error")) {
+        scene_free(&s);
+        return;
+    }
+    check(strcmp(err.file, path) == 0, name, "file '%s', expected '%s'", err.file, path);
+    check(err.line == 0 && err.col == 0, name, "at %d:%d, expected 0:0", err.line, err.col);
+    check(strstr(err.message, message) != NULL, name, "message '%s' lacks '%s'", err.message,
+          message);
+    check(memcmp(&s, &sentinel, sizeof s) == 0, name, "*out was modified on failure");
+}
+
+static void test_files(void) {
+    char dir[] = "/tmp/test_parse.XXXXXX";
+    if (!check(mkdtemp(dir) != NULL, "temp dir", "mkdtemp: %s", strerror(errno))) return;
+    char path[512], other[600];
+
+    snprintf(path, sizeof path, "%s/missing.scene", dir);
+    expect_file_error("missing file", path, "cannot open: No such file or directory");
+    expect_file_error("directory", "/tmp", "is a directory");
+
+    snprintf(path, sizeof path, "%s/example.scene", dir);
+    check(write_file(path, BYTES(full_example)), "write example", "%s", strerror(errno));
+    scene s;
+    scene_error err;
+    if (check(scene_parse_file(path, &s, &err), "file round trip", "%s:%d:%d: %s", err.file,
+              err.line, err.col, err.message)) {
+        check_full_example("file round trip", &s);
+        scene_free(&s);
+    }
+
+    /* A path through a regular file cannot be opened, even by root. */
+    snprintf(other, sizeof other, "%s/x.scene", path);
+    expect_file_error("unreadable path", other, "cannot open: Not a directory");
+    if (geteuid() != 0) {
+        chmod(path, 0);
+        expect_file_error("file without read permission", path, "Permission denied");
+        chmod(path, 0644);
+    }
+
+    snprintf(path, sizeof path, "%s/bad.scene", dir);
+    check(write_file(path, BYTES(BASE "\nsphere mirror center 0 0 0\n")), "write bad", "%s",
+          strerror(errno));
+    if (check(!scene_parse_file(path, &s, &err), "error in a file", "parsed")) {
+        check(strcmp(err.file, path) == 0 && err.line == 4 && err.col == 1 &&
+                  strstr(err.message, "missing required key 'radius'"),
+              "error in a file", "%s:%d:%d: %s", err.file, err.line, err.col, err.message);
+    }
+
+    /* Files past 2 GiB are refused from their size alone; this one is sparse. */
+    snprintf(path, sizeof path, "%s/huge.scene", dir);
+    int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0 && ftruncate(fd, (off_t)3 << 30) == 0) {
+        expect_file_error("file over 2 GiB", path, "file is too large");
+    }
+    if (fd >= 0) close(fd);
+    unlink(path);
+
+    /* A FIFO has no size up front: the reader grows its buffer until end of file. */
+    snprintf(path, sizeof path, "%s/fifo.scene", dir);
+    if (mkfifo(path, 0600) == 0) {
+        pid_t child = fork();
+        if (child == 0) {
+            int out = open(path, O_WRONLY);
+            /* Comments pad the text past the first buffer so the reader must grow it. */
+            bool ok =
+                out >= 0 && write(out, BYTES(full_example)) == (ssize_t)sizeof full_example - 1;
+            for (int i = 0; ok && i < 5000; i++) {
+                ok = write(out, BYTES("# padding padding padding\n")) == 26;
+            }
+            _exit(ok ? 0 : 1);
+        }
+        bool ok = scene_parse_file(path, &s, &err);
+        int status = 0;
+        waitpid(child, &status, 0);
+        if (check(ok && WIFEXITED(status) && WEXITSTATUS(status) == 0, "FIFO", "%s", err.message)) {
+            check_full_example("FIFO", &s);
+            scene_free(&s);
+        }
+        unlink(path);
+    }
+
+    snprintf(path, sizeof path, "%s/example.scene", dir);
+    unlink(path);
+    snprintf(path, sizeof path, "%s/bad.scene", dir);
+    unlink(path);
+    rmdir(dir);
+}
+
+int main(void) {
+    test_valid();
+    for (size_t i = 0; i < sizeof invalid_cases / sizeof invalid_cases[0]; i++) {
+        const invalid_case *c = &invalid_cases[i];
+        expect_error(c->name, c->text, c->length, c->line, c->col, c->message);
+    }
+    test_generated();
+    test_files();
+    printf("test_parse: %d passed, %d failed (%zu invalid-input cases)\n", passed, failed,
+           sizeof invalid_cases / sizeof invalid_cases[0]);
+    return failed ? 1 : 0;
+}
