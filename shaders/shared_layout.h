@@ -43,7 +43,8 @@ typedef struct tz_uvec4 {
 #define TZ_BINDING_FRAME 0
 #define TZ_BINDING_SPHERES 1
 #define TZ_BINDING_LIGHTS 2
-#define TZ_BINDING_ACCUM 3
+#define TZ_BINDING_ACCUM 3    /* dynamic: bound at the first row of each band of tiles */
+#define TZ_BINDING_COUNTERS 4 /* one uint: samples dropped as non-finite since the last reset */
 
 /* One sphere, 48 bytes. material is stored as an exactly representable float. */
 struct gpu_sphere {
@@ -69,9 +70,9 @@ struct gpu_frame {
     TZ_UVEC4 settings;  /* seed, bounces, flags (TZ_FLAG_*), unused (0) */
 };
 
-/* Push constants of one dispatch: which tile and which sample. */
+/* Push constants of one dispatch: which tile and which samples (count >= 1, taken in order). */
 struct gpu_pass {
-    TZ_UVEC4 tile; /* x0, y0 of the tile in pixels, sample index, unused (0) */
+    TZ_UVEC4 tile; /* x0, y0 of the tile in pixels, first sample index, sample count */
 };
 
 #endif

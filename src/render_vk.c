@@ -1,8 +1,331 @@
-/* TEMPORARY placeholder until the Vulkan back end lands. */
+/* render_vk.c: the Vulkan back end: packs and uploads the scene once, then runs shaders/trace.comp
+ * over tiles of the image, sample pass after sample pass, each pass adding into one float
+ * accumulation buffer in sample order (a barrier between passes), and reads the sums back into
+ * the film once at the end. The film matches render_cpu's, sample for sample. */
+#include <inttypes.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
 #include "log.h"
 #include "render.h"
+#include "scene_pack.h"
+#include "trace_spv.h"
+#include "vk_context.h"
+#include "vk_probe.h"
+
+/* Tile side in pixels: one dispatch covers at most one tile, which bounds its duration on real
+ * GPUs (watchdogs) and the accumulation band it binds (TILE_SIZE rows of the image). */
+#define TILE_SIZE 256u
+/* Loop iterations (about one ray/sphere test each) one dispatch may cost, so that a dispatch
+ * stays well under a second on a GPU; samples per dispatch are chosen to fit. */
+#define DISPATCH_BUDGET (UINT64_C(1) << 29)
+/* Loop iterations one submission may cost: a few seconds on lavapipe, the granularity of the
+ * progress line and of the non-finite counter read-back. */
+#define SUBMIT_BUDGET (UINT64_C(1) << 31)
+
+typedef struct vk_render {
+    vk_context ctx;
+    vk_buffer frame, spheres, lights, accum, counter;
+    vk_buffer upload;   /* staging for the inputs when device memory is not mapped */
+    vk_buffer readback; /* staging: the counter at 0, the accumulation at 16 */
+    vk_kernel kernel;
+    VkFence fence;
+    VkCommandBuffer cmd;
+} vk_render;
+
+static double seconds_now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* Refuses what the device could not render right: buffers past maxStorageBufferRange, and on
+ * lavapipe a sample whose worst-case loop work reaches the silent loop limit. */
+static bool check_limits(const vk_context *ctx, const scene *s, uint64_t sample_iterations) {
+    /* One sample an invocation: its passes and the sample loop's exit pass. */
+    if (vk_context_is_lavapipe(ctx) && sample_iterations + 1u > VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
+        log_error("this scene needs up to %" PRIu64 " loop passes per sample, past lavapipe's "
+                  "safe limit of %u (its shaders stop loops silently after %u): use --backend cpu "
+                  "(a BVH will lift this limit)",
+                  sample_iterations + 1u, VK_PROBE_LAVAPIPE_SAFE_ITERATIONS,
+                  VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+        return false;
+    }
+    uint64_t limit = ctx->properties.limits.maxStorageBufferRange;
+    uint64_t need[] = {(uint64_t)s->sphere_count * sizeof(struct gpu_sphere),
+                       (uint64_t)s->light_count * sizeof(struct gpu_light),
+                       (uint64_t)TILE_SIZE * (uint64_t)s->width * 4u * sizeof(float)};
+    const char *what[] = {"spheres", "lights", "a band of accumulation rows"};
+    for (int k = 0; k < 3; k++) {
+        if (need[k] > limit) {
+            log_error("the %s need a %" PRIu64 "-byte buffer, past this device's limit of %" PRIu64
+                      " bytes: use --backend cpu",
+                      what[k], need[k], limit);
+            return false;
+        }
+    }
+    return true;
+}
+
+/* Creates the buffers and writes the packed scene into them (mapped, or through `upload`). */
+static bool create_buffers(vk_render *r, const packed_scene *p, int width, int height) {
+    vk_context *ctx = &r->ctx;
+    const VkBufferUsageFlags input = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                       VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                                       VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    size_t sphere_bytes = (p->frame.size.z ? p->frame.size.z : 1u) * sizeof *p->spheres;
+    size_t light_bytes = (p->frame.size.w ? p->frame.size.w : 1u) * sizeof *p->lights;
+    /* Rows padded to whole tiles: every band binding of TILE_SIZE rows stays inside the buffer. */
+    uint64_t rows = ((uint64_t)height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
+    VkDeviceSize accum_bytes = rows * (uint64_t)width * 4u * sizeof(float);
+    if (!vk_buffer_create(ctx, sizeof p->frame, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | input,
+                          VK_MEMORY_DEVICE, &r->frame) ||
+        !vk_buffer_create(ctx, sphere_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | input,
+                          VK_MEMORY_DEVICE, &r->spheres) ||
+        !vk_buffer_create(ctx, light_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | input,
+                          VK_MEMORY_DEVICE, &r->lights) ||
+        !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum) ||
+        !vk_buffer_create(ctx, sizeof(uint32_t), storage, VK_MEMORY_DEVICE, &r->counter))
+        return false;
+    if (!r->accum.mapped || !r->counter.mapped) {
+        VkDeviceSize bytes = 16u + (VkDeviceSize)width * (VkDeviceSize)height * 4u * sizeof(float);
+        if (!vk_buffer_create(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, VK_MEMORY_READBACK,
+                              &r->readback))
+            return false;
+    }
+    const void *data[] = {&p->frame, p->spheres, p->lights};
+    vk_buffer *targets[] = {&r->frame, &r->spheres, &r->lights};
+    size_t sizes[] = {sizeof p->frame, sphere_bytes, light_bytes};
+    if (r->frame.mapped && r->spheres.mapped && r->lights.mapped) {
+        for (int k = 0; k < 3; k++) memcpy(targets[k]->mapped, data[k], sizes[k]);
+        return true;
+    }
+    if (!vk_buffer_create(ctx, sizes[0] + sizes[1] + sizes[2], VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                          VK_MEMORY_UPLOAD, &r->upload))
+        return false;
+    size_t offset = 0;
+    for (int k = 0; k < 3; k++) {
+        memcpy((char *)r->upload.mapped + offset, data[k], sizes[k]);
+        offset += sizes[k];
+    }
+    return true;
+}
+
+/* Copies the staged inputs into place (when staged) and zeroes the accumulation buffer. */
+static void record_setup(vk_render *r) {
+    if (r->upload.buffer) {
+        vk_buffer *targets[] = {&r->frame, &r->spheres, &r->lights};
+        VkDeviceSize offset = 0;
+        for (int k = 0; k < 3; k++) {
+            VkBufferCopy copy = {offset, 0, targets[k]->size};
+            vkCmdCopyBuffer(r->cmd, r->upload.buffer, targets[k]->buffer, 1, &copy);
+            offset += targets[k]->size;
+        }
+    }
+    vkCmdFillBuffer(r->cmd, r->accum.buffer, 0, VK_WHOLE_SIZE, 0u);
+}
+
+typedef struct pass_plan {
+    uint32_t width, height, samples;
+    uint32_t per_dispatch; /* samples one invocation renders, in order */
+    uint32_t passes_per_submit;
+} pass_plan;
+
+/* Records passes [first, last) of the plan: a barrier before each, then one dispatch per tile,
+ * each tile row band bound at its first row through the dynamic offset. */
+static void record_passes(vk_render *r, const pass_plan *plan, uint32_t first, uint32_t last) {
+    VkCommandBuffer cmd = r->cmd;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.pipeline);
+    for (uint32_t pass = first; pass < last; pass++) {
+        /* Each pass reads and writes what the one before wrote: samples add in order. */
+        vk_commands_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                            VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                                VK_ACCESS_UNIFORM_READ_BIT);
+        uint32_t sample = pass * plan->per_dispatch;
+        uint32_t count = plan->samples - sample < plan->per_dispatch ? plan->samples - sample
+                                                                     : plan->per_dispatch;
+        for (uint32_t y0 = 0; y0 < plan->height; y0 += TILE_SIZE) {
+            /* Dynamic offsets are 32-bit: at most (16384 - 256) rows of 16384 pixels of 16 bytes,
+             * 4.23e9, which fits. */
+            uint32_t band_offset = y0 * plan->width * 4u * (uint32_t)sizeof(float);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.layout, 0, 1,
+                                    &r->kernel.set, 1, &band_offset);
+            uint32_t th = plan->height - y0 < TILE_SIZE ? plan->height - y0 : TILE_SIZE;
+            for (uint32_t x0 = 0; x0 < plan->width; x0 += TILE_SIZE) {
+                uint32_t tw = plan->width - x0 < TILE_SIZE ? plan->width - x0 : TILE_SIZE;
+                struct gpu_pass push = {.tile = {x0, y0, sample, count}};
+                vkCmdPushConstants(cmd, r->kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                                   sizeof push, &push);
+                vkCmdDispatch(cmd, (tw + TZ_GROUP_X - 1u) / TZ_GROUP_X,
+                              (th + TZ_GROUP_Y - 1u) / TZ_GROUP_Y, 1);
+            }
+        }
+    }
+}
+
+/* Makes the counter (and with `final` the accumulation) readable by the host after the fence. */
+static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
+    VkCommandBuffer cmd = r->cmd;
+    vk_commands_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                        VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_HOST_READ_BIT);
+    if (!r->counter.mapped) {
+        VkBufferCopy copy = {0, 0, sizeof(uint32_t)};
+        vkCmdCopyBuffer(cmd, r->counter.buffer, r->readback.buffer, 1, &copy);
+    }
+    if (final && !r->accum.mapped) {
+        VkBufferCopy copy = {0, 16, (VkDeviceSize)plan->width * plan->height * 4u * sizeof(float)};
+        vkCmdCopyBuffer(cmd, r->accum.buffer, r->readback.buffer, 1, &copy);
+    }
+    if (r->readback.buffer)
+        vk_commands_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                            VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+}
+
+/* Records and runs every pass, submission by submission; sums the non-finite counts. */
+static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *opts,
+                       uint64_t *nonfinite) {
+    vk_context *ctx = &r->ctx;
+    uint32_t passes = (plan->samples + plan->per_dispatch - 1u) / plan->per_dispatch;
+    const uint32_t *counter = r->counter.mapped ? r->counter.mapped : r->readback.mapped;
+    *nonfinite = 0;
+    for (uint32_t first = 0; first < passes; first += plan->passes_per_submit) {
+        uint32_t last = passes - first < plan->passes_per_submit ? passes
+                                                                  : first + plan->passes_per_submit;
+        if (!vk_commands_begin(ctx, &r->cmd)) return false;
+        /* The counter restarts each submission, so 32 bits never wrap: the previous
+         * submission's atomics and copy are done (fence) and ordered before the fill. */
+        vk_commands_barrier(r->cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                            VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                            VK_ACCESS_TRANSFER_WRITE_BIT);
+        if (first == 0) record_setup(r);
+        vkCmdFillBuffer(r->cmd, r->counter.buffer, 0, VK_WHOLE_SIZE, 0u);
+        record_passes(r, plan, first, last);
+        record_readback(r, plan, last == passes);
+        if (!vk_commands_submit_wait(ctx, r->cmd, r->fence)) return false;
+        *nonfinite += *counter;
+        if (opts->progress)
+            fprintf(stderr, "\rtrazador: rendering %5.1f%%", 100.0 * last / passes);
+    }
+    if (opts->progress) fprintf(stderr, "\r\033[K");
+    return true;
+}
+
+/* Samples per dispatch and passes per submission, from the per-sample worst case. */
+static pass_plan plan_passes(const vk_context *ctx, const scene *s, const render_opts *opts,
+                             uint64_t sample_iterations) {
+    pass_plan plan = {.width = (uint32_t)s->width, .height = (uint32_t)s->height,
+                      .samples = (uint32_t)opts->samples};
+    uint64_t tile_pixels = (uint64_t)TILE_SIZE * TILE_SIZE;
+    uint64_t per_dispatch = DISPATCH_BUDGET / (tile_pixels * sample_iterations);
+    if (vk_context_is_lavapipe(ctx)) {
+        uint64_t fit = (VK_PROBE_LAVAPIPE_SAFE_ITERATIONS - 1u) / sample_iterations;
+        if (fit < per_dispatch) per_dispatch = fit;
+    }
+    if (per_dispatch > plan.samples) per_dispatch = plan.samples;
+    plan.per_dispatch = per_dispatch ? (uint32_t)per_dispatch : 1u;
+    uint64_t pass_cost = (uint64_t)plan.width * plan.height * plan.per_dispatch * sample_iterations;
+    uint64_t per_submit = SUBMIT_BUDGET / pass_cost;
+    plan.passes_per_submit = per_submit > 0 ? (uint32_t)(per_submit < UINT32_MAX ? per_submit : UINT32_MAX) : 1u;
+    return plan;
+}
+
+static void render_destroy(vk_render *r) {
+    vk_context *ctx = &r->ctx;
+    if (ctx->device) {
+        vkDeviceWaitIdle(ctx->device);
+        if (r->fence) vkDestroyFence(ctx->device, r->fence, NULL);
+        if (r->cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &r->cmd);
+        vk_kernel_destroy(ctx, &r->kernel);
+        vk_buffer *buffers[] = {&r->readback, &r->upload, &r->counter, &r->accum,
+                                &r->lights, &r->spheres, &r->frame};
+        for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; k++)
+            vk_buffer_destroy(ctx, buffers[k]);
+    }
+}
+
 bool render_vk(const scene *s, const render_opts *opts, film *f) {
-    (void)s; (void)opts; (void)f;
-    log_error("Vulkan back end not built yet");
-    return false;
+    *f = (film){0};
+    vk_render r = {0};
+    packed_scene packed = {0};
+    bool ok = false;
+    double t0 = seconds_now();
+    vk_context_desc desc = {.device = opts->device, .validate = opts->validate};
+    if (!vk_context_init(&r.ctx, &desc)) return false;
+    double t_init = seconds_now();
+    log_debug("vulkan: device %d, %s (%s), instance and device in %.1f ms", r.ctx.device_index,
+              r.ctx.properties.deviceName, r.ctx.driver_name, (t_init - t0) * 1e3);
+    uint64_t sample_iterations =
+        vk_probe_sample_iterations((uint32_t)s->sphere_count, (uint32_t)s->light_count,
+                                   (uint32_t)opts->bounces, opts->indirect);
+    if (!check_limits(&r.ctx, s, sample_iterations) || !scene_pack(s, opts, &packed)) goto done;
+    if (!film_init(f, s->width, s->height)) {
+        log_error("out of memory for a %d x %d film", s->width, s->height);
+        goto done;
+    }
+    if (!create_buffers(&r, &packed, s->width, s->height)) goto done;
+    double t_upload = seconds_now();
+    log_debug("vulkan: buffers and upload in %.1f ms (%s)", (t_upload - t_init) * 1e3,
+              r.accum.mapped ? "mapped device memory" : "staging copies");
+
+    const VkDescriptorType types[] = {
+        [TZ_BINDING_FRAME] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+        [TZ_BINDING_SPHERES] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        [TZ_BINDING_LIGHTS] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        [TZ_BINDING_ACCUM] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC,
+        [TZ_BINDING_COUNTERS] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+    };
+    vk_kernel_desc kernel = {
+        .code = trace_spv,
+        .code_size = sizeof trace_spv,
+        .types = types,
+        .binding_count = 5,
+        .push_size = sizeof(struct gpu_pass),
+    };
+    VkFenceCreateInfo fence_info = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    if (!vk_kernel_create(&r.ctx, &kernel, &r.kernel) ||
+        !VK_CHECK(vkCreateFence(r.ctx.device, &fence_info, NULL, &r.fence)))
+        goto done;
+    const vk_buffer *buffers[] = {
+        [TZ_BINDING_FRAME] = &r.frame,     [TZ_BINDING_SPHERES] = &r.spheres,
+        [TZ_BINDING_LIGHTS] = &r.lights,   [TZ_BINDING_ACCUM] = &r.accum,
+        [TZ_BINDING_COUNTERS] = &r.counter,
+    };
+    const VkDeviceSize ranges[] = {
+        [TZ_BINDING_FRAME] = VK_WHOLE_SIZE,
+        [TZ_BINDING_SPHERES] = VK_WHOLE_SIZE,
+        [TZ_BINDING_LIGHTS] = VK_WHOLE_SIZE,
+        [TZ_BINDING_ACCUM] = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)s->width * 4u * sizeof(float),
+        [TZ_BINDING_COUNTERS] = VK_WHOLE_SIZE,
+    };
+    vk_kernel_bind(&r.ctx, &r.kernel, buffers, ranges);
+    double t_pipeline = seconds_now();
+    log_debug("vulkan: pipeline in %.1f ms", (t_pipeline - t_upload) * 1e3);
+
+    pass_plan plan = plan_passes(&r.ctx, s, opts, sample_iterations);
+    log_debug("vulkan: %" PRIu64 " loop passes per sample at most, %u sample%s per dispatch, "
+              "%u pass%s per submission",
+              sample_iterations, plan.per_dispatch, plan.per_dispatch == 1 ? "" : "s",
+              plan.passes_per_submit, plan.passes_per_submit == 1 ? "" : "es");
+    if (!run_passes(&r, &plan, opts, &f->nonfinite)) goto done;
+    double t_render = seconds_now();
+    const char *sums = r.accum.mapped ? r.accum.mapped : (const char *)r.readback.mapped + 16;
+    memcpy(f->accum, sums, (size_t)s->width * (size_t)s->height * 4u * sizeof(float));
+    double t_read = seconds_now();
+    log_debug("vulkan: rendering in %.1f ms, read-back in %.1f ms", (t_render - t_pipeline) * 1e3,
+              (t_read - t_render) * 1e3);
+    ok = true;
+done:
+    render_destroy(&r);
+    packed_scene_free(&packed);
+    if (!vk_context_destroy(&r.ctx)) {
+        log_error("the Vulkan validation layer reported errors: the render failed");
+        ok = false;
+    }
+    if (!ok) film_free(f);
+    return ok;
 }

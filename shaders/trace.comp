@@ -1,0 +1,81 @@
+/* trace.comp: the per-sample compute entry point. One invocation renders `pass.tile.w` samples
+ * (in sample order) of one pixel of the tile at pass.tile.xy and adds each finite one to the
+ * pixel's accumulator exactly as the C back end does; non-finite samples are counted instead.
+ * Twin of integrator_sample() and camera_direction() in src/integrator.c. */
+#version 450
+#extension GL_GOOGLE_include_directive : require
+
+#include "shared_layout.h"
+
+layout(local_size_x = TZ_GROUP_X, local_size_y = TZ_GROUP_Y, local_size_z = 1) in;
+
+layout(std140, set = 0, binding = TZ_BINDING_FRAME) uniform frame_block { gpu_frame frame; };
+layout(std430, set = 0, binding = TZ_BINDING_SPHERES) readonly buffer sphere_block {
+    gpu_sphere spheres[];
+};
+layout(std430, set = 0, binding = TZ_BINDING_LIGHTS) readonly buffer light_block {
+    gpu_light lights[];
+};
+/* Bound at the tile's first row (a dynamic offset): a band of rows, never the whole image, so
+ * the range stays within maxStorageBufferRange for any image width up to 16384. */
+layout(std430, set = 0, binding = TZ_BINDING_ACCUM) buffer accum_block { vec4 accum[]; };
+layout(std430, set = 0, binding = TZ_BINDING_COUNTERS) buffer counter_block { uint nonfinite; };
+layout(push_constant) uniform pass_block { gpu_pass pass; };
+
+#include "shade.glsl"
+
+/* Primary ray through the plane point of pixel (i, j) offset by (u, v) in pixels. */
+vec3 camera_direction(uint i, uint j, float u, float v) {
+    float pixel = frame.origin.w;
+    precise float x = frame.right.w + (float(i) + u) * pixel;
+    precise float y = frame.up.w - (float(j) + v) * pixel;
+    precise vec3 d = frame.right.xyz * x + frame.up.xyz * y + frame.forward.xyz * frame.forward.w;
+    return v3_normalize(d);
+}
+
+/* Radiance of sample `sample_index` of pixel (i, j), i to the right and j down. */
+vec3 integrator_sample(uint i, uint j, uint sample_index) {
+    uint rng = rng_seed(frame.settings.x, j * frame.size.x + i, sample_index);
+    /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag. */
+    float u = rng_next(rng);
+    float v = rng_next(rng);
+    if ((frame.settings.z & TZ_FLAG_JITTER) == 0u) u = v = 0.5;
+    vec3 o = frame.origin.xyz, d = camera_direction(i, j, u, v);
+    vec3 weight = vec3(1.0), pos, n;
+    int id = follow_specular(o, d, -1, weight, pos, n);
+    precise vec3 r;
+    if (id == -1) {
+        r = weight * frame.background.xyz;
+    } else if (id == -2) {
+        r = vec3(0.0);
+    } else {
+        vec3 wo = d * -1.0;
+        precise vec3 radiance = direct_light(id, pos, n, wo);
+        if ((frame.settings.z & TZ_FLAG_INDIRECT) != 0u)
+            radiance = radiance + indirect_light(id, pos, n, wo, rng);
+        r = weight * radiance;
+    }
+    return r;
+}
+
+/* isfinite() on the bits: immune to a compiler that assumes no NaN or infinity. */
+bool finite3(vec3 v) {
+    uvec3 e = floatBitsToUint(v) & 0x7f800000u;
+    return all(notEqual(e, uvec3(0x7f800000u)));
+}
+
+void main() {
+    uint i = pass.tile.x + gl_GlobalInvocationID.x;
+    uint j = pass.tile.y + gl_GlobalInvocationID.y;
+    if (i >= frame.size.x || j >= frame.size.y) return;
+    uint slot = gl_GlobalInvocationID.y * frame.size.x + i;
+    precise vec4 sum = accum[slot];
+    uint dropped = 0u;
+    for (uint k = 0u; k < pass.tile.w; k++) {
+        vec3 l = integrator_sample(i, j, pass.tile.z + k);
+        if (finite3(l)) sum = sum + vec4(l, 1.0);
+        else dropped++;
+    }
+    accum[slot] = sum;
+    if (dropped > 0u) atomicAdd(nonfinite, dropped);
+}

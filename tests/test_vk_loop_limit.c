@@ -1,0 +1,122 @@
+/* test_vk_loop_limit.c: the loop budget the renderer's guard relies on (DESIGN section 5). On
+ * lavapipe one invocation completes exactly VK_PROBE_LAVAPIPE_LOOP_LIMIT loop iterations, all
+ * loops together, and then every loop stops silently; elsewhere every iteration runs. Also checks
+ * the per-sample bound and that the renderer refuses a scene past the safe limit on lavapipe.
+ * Validation is on; exits 77 only when no Vulkan device exists. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "render.h"
+#include "vk_context.h"
+#include "vk_probe.h"
+
+/* What one invocation should complete of loops of n[0] then n[1] iterations: on lavapipe a
+ * budget of VK_PROBE_LAVAPIPE_LOOP_LIMIT passes, one spent at the end of every pass of either
+ * loop (the pass that finds the loop done included), a loop stopping when none is left. */
+static void expected(bool lavapipe, const uint32_t n[2], uint32_t want[2]) {
+    if (!lavapipe) {
+        want[0] = n[0];
+        want[1] = n[1];
+        return;
+    }
+    int64_t budget = VK_PROBE_LAVAPIPE_LOOP_LIMIT;
+    for (int loop = 0; loop < 2; loop++) {
+        uint32_t done = 0;
+        for (;;) {
+            bool finished = done >= n[loop];
+            if (!finished) done++;
+            if (--budget <= 0 || finished) break;
+        }
+        want[loop] = done;
+    }
+}
+
+static void test_probe(vk_context *ctx) {
+    bool lavapipe = vk_context_is_lavapipe(ctx);
+    const uint32_t cases[][2] = {
+        {1000, 0}, {65535, 0}, {65536, 0}, {200000, 0},      /* one loop */
+        {40000, 40000}, {65534, 5}, {65535, 1}, {65535, 2},  /* the budget is shared */
+        {1000, 1000}, {0, 70000},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        uint32_t least[2] = {0, 0}, most[2] = {0, 0}, want[2];
+        expected(lavapipe, cases[k], want);
+        CHECK(vk_probe_loop(ctx, cases[k], least, most), "probe (%u, %u) failed", cases[k][0],
+              cases[k][1]);
+        /* Every invocation of every workgroup and subgroup has a budget of its own. */
+        CHECK(least[0] == most[0] && least[1] == most[1],
+              "loops of %u then %u: invocations disagree (%u..%u, %u..%u)", cases[k][0],
+              cases[k][1], least[0], most[0], least[1], most[1]);
+        CHECK(least[0] == want[0] && least[1] == want[1],
+              "loops of %u then %u iterations completed %u and %u, want %u and %u on %s",
+              cases[k][0], cases[k][1], least[0], least[1], want[0], want[1], ctx->driver_name);
+    }
+}
+
+static void test_bound(void) {
+    /* 8 spheres, 1 light, 5 bounces: 2 paths of (6 chain rays + 1 shadow ray) x (8 + 2) passes
+     * and the light loop's exit pass, and the sample's own pass. */
+    CHECK(vk_probe_sample_iterations(8, 1, 5, true) == 2 * (7 * 10 + 1) + 1, "cornell bound %llu",
+          (unsigned long long)vk_probe_sample_iterations(8, 1, 5, true));
+    CHECK(vk_probe_sample_iterations(8, 1, 5, false) == 7 * 10 + 1 + 1, "direct-only bound");
+    CHECK(vk_probe_sample_iterations(0, 0, 0, false) == 1 * 2 + 1 + 1, "empty scene bound");
+    /* No overflow at the scene limits: 2^24 spheres, 4096 lights, 64 bounces. */
+    CHECK(vk_probe_sample_iterations(1u << 24, 4096, 64, true) ==
+              2ull * ((65 + 4096) * ((1ull << 24) + 2) + 1) + 1,
+          "largest bound");
+}
+
+/* A scene of n tiny spheres in a row and one light, 8 x 8 pixels. */
+static scene row_of_spheres(int n, sphere *spheres, light *l) {
+    for (int k = 0; k < n; k++)
+        spheres[k] = (sphere){.center = {(float)k * 0.01f, 0.0f, 5.0f}, .radius = 0.004f,
+                              .material = MATERIAL_LAMBERTIAN, .color = {0.5f, 0.5f, 0.5f},
+                              .ior = 1.0f};
+    *l = (light){.position = {0.0f, 2.0f, 0.0f}, .power = 10.0f, .color = {1.0f, 1.0f, 1.0f}};
+    return (scene){.camera_position = {0.0f, 0.0f, 0.0f}, .camera_direction = {0.0f, 0.0f, 1.0f},
+                   .camera_up = {0.0f, 1.0f, 0.0f}, .plane_width = 0.08f, .plane_height = 0.08f,
+                   .pixel_size = 0.01f, .width = 8, .height = 8, .samples = 1, .bounces = 5,
+                   .seed = 1, .spheres = spheres, .sphere_count = n, .lights = l,
+                   .light_count = 1};
+}
+
+/* On lavapipe a scene past the safe limit is refused (false, no film); below it, it renders. */
+static void test_guard(vk_context *ctx) {
+    enum { BIG = 4500 }; /* 2 x (7 x 4502 + 1) + 1 = 63031 passes a sample: past 60000 */
+    sphere *spheres = calloc(BIG, sizeof *spheres);
+    light l;
+    if (!spheres) return;
+    scene big = row_of_spheres(BIG, spheres, &l), small = row_of_spheres(BIG / 2, spheres, &l);
+    render_opts opts;
+    render_opts_from_scene(&big, &opts);
+    opts.indirect = true;
+    film f = {0};
+    bool rendered = render_vk(&big, &opts, &f);
+    if (vk_context_is_lavapipe(ctx))
+        CHECK(!rendered && !f.accum, "lavapipe rendered a scene of %llu iterations per sample",
+              (unsigned long long)vk_probe_sample_iterations(BIG, 1, 5, true));
+    else
+        CHECK(rendered, "a %d-sphere scene failed off lavapipe", BIG);
+    film_free(&f);
+    CHECK(render_vk(&small, &opts, &f), "a %d-sphere scene failed", BIG / 2);
+    film_free(&f);
+    free(spheres);
+}
+
+int main(void) {
+    if (vk_context_device_count() == 0) {
+        printf("test_vk_loop_limit: no Vulkan device, skipped\n");
+        return 77;
+    }
+    vk_context ctx;
+    vk_context_desc desc = {.device = -1, .validate = true};
+    CHECK(vk_context_init(&ctx, &desc), "context creation failed");
+    if (ctx.device) {
+        test_probe(&ctx);
+        test_guard(&ctx);
+    }
+    CHECK(vk_context_destroy(&ctx), "the validation layer reported errors");
+    test_bound();
+    return check_summary("test_vk_loop_limit");
+}
