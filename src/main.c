@@ -12,6 +12,7 @@
 #include "cli.h"
 #include "default_scene.h"
 #include "diff.h"
+#include "gen.h"
 #include "image.h"
 #include "log.h"
 #include "scene.h"
@@ -25,6 +26,8 @@ static const char usage_text[] =
     "       trazador diff A B [--max-rmse X] [--min-psnr X] [--max-diff-share X]\n"
     "       trazador devices\n"
     "       trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
+    "       trazador gen sphereflake --depth N [-o FILE] [--seed N]\n"
+    "       trazador gen random --count N [-o FILE] [--seed N]\n"
     "       trazador --help | --version\n"
     "SCENE defaults to the embedded scenes/cornell.scene, OUT to render.png;\n"
     "the output format follows the extension: .png, .ppm or .pfm (linear float).\n";
@@ -229,6 +232,7 @@ int main(int argc, char **argv) {
     if (!strcmp(cmd, "render")) return render_command(argc - 1, argv + 1);
     if (!strcmp(cmd, "diff")) return diff_command(argc - 1, argv + 1);
     if (!strcmp(cmd, "bench")) return bench_command(argc - 1, argv + 1);
+    if (!strcmp(cmd, "gen")) return gen_command(argc - 1, argv + 1);
     if (!strcmp(cmd, "devices")) {
         if (argc > 2) return usage_error("devices takes no arguments, got '%s'", argv[2]);
         return vk_context_print_devices() ? 0 : 1;
