@@ -1,6 +1,6 @@
 /* intersect.glsl: ray offsets, ray/sphere intersection, nearest-hit and shadow queries over the
- * sphere buffer; twin of the functions of the same names in src/integrator.c. The including
- * shader declares `frame` and `spheres`. */
+ * spheres; twin of the functions of the same names in src/integrator.c. The including shader
+ * declares `frame`, sphere_center_radius() and sphere_count(). */
 #ifndef TRAZADOR_INTERSECT_GLSL
 #define TRAZADOR_INTERSECT_GLSL
 
@@ -14,52 +14,44 @@ float ray_eps(vec3 p) {
     return r;
 }
 
-/* |oc|^2 - r^2 without cancellation: the largest component carries r. */
-float sphere_c(vec3 oc, float r) {
-    float ax = abs(oc.x), ay = abs(oc.y), az = abs(oc.z);
-    precise float c;
-    if (ax >= ay && ax >= az) c = (ax - r) * (ax + r) + oc.y * oc.y + oc.z * oc.z;
-    else if (ay >= az) c = (ay - r) * (ay + r) + oc.x * oc.x + oc.z * oc.z;
-    else c = (az - r) * (az + r) + oc.x * oc.x + oc.y * oc.y;
-    return c;
-}
-
-/* Nearest root of sphere k greater than tmin (the far one only when far_only), or infinity;
- * Haines et al., Ray Tracing Gems ch. 7. */
-float sphere_hit(uint k, vec3 o, vec3 d, float tmin, bool far_only) {
-    vec4 cr = spheres[k].center_radius;
-    precise vec3 oc = o - cr.xyz;
+/* Distance to sphere k along o + t d: the nearest root greater than tmin, or infinity (Haines
+ * et al., Ray Tracing Gems ch. 7); the sphere `self` that the ray leaves counts only by its far
+ * root, and only when the ray moves inward (b < 0). Branch-free, the very operations of one lane
+ * of spheres_hit() in src/integrator.c in the same order, with one read of the sphere. */
+float sphere_hit(int k, vec3 o, vec3 d, float tmin, int self) {
+    vec4 cr = sphere_center_radius(k);
+    precise float ocx = o.x - cr.x, ocy = o.y - cr.y, ocz = o.z - cr.z;
     float r = cr.w;
-    precise float b = v3_dot(oc, d);
-    precise float c = sphere_c(oc, r);
-    if (c > 0.0 && b > 0.0) return TZ_INFINITY; /* outside and moving away */
-    precise float l = v3_length(oc - d * b);
+    precise float b = ocx * d.x + ocy * d.y + ocz * d.z;
+    float ax = abs(ocx), ay = abs(ocy), az = abs(ocz);
+    precise float xx = ocx * ocx, yy = ocy * ocy, zz = ocz * ocz;
+    bool x_big = ax >= ay && ax >= az, y_big = !x_big && ay >= az;
+    float big = x_big ? ax : y_big ? ay : az;
+    float other1 = x_big ? yy : xx, other2 = x_big || y_big ? zz : yy;
+    /* |oc|^2 - r^2 on the largest component: exact for a huge wall sphere along an axis. */
+    precise float c = (big - r) * (big + r) + other1 + other2;
+    precise float fx = ocx - b * d.x, fy = ocy - b * d.y, fz = ocz - b * d.z;
+    precise float l = sqrt(fx * fx + fy * fy + fz * fz);
     precise float disc = (r - l) * (r + l);
-    if (disc < 0.0) return TZ_INFINITY;
-    precise float q = b > 0.0 ? -b - sqrt(disc) : -b + sqrt(disc);
-    if (q == 0.0) return TZ_INFINITY;
+    precise float root = sqrt(disc < 0.0 ? 0.0 : disc);
+    precise float q = b > 0.0 ? -b - root : -b + root;
     precise float cq = c / q;
-    float t0 = min(cq, q), t1 = max(cq, q);
-    if (!far_only && t0 > tmin) return t0;
-    return t1 > tmin ? t1 : TZ_INFINITY;
+    float t0 = cq < q ? cq : q, t1 = cq < q ? q : cq;
+    bool is_self = k == self;
+    bool near_ok = t0 > tmin && !is_self, far_ok = t1 > tmin && (!is_self || b < 0.0);
+    float near = near_ok ? t0 : far_ok ? t1 : TZ_INFINITY;
+    bool miss = (c > 0.0 && b > 0.0) || disc < 0.0 || q == 0.0;
+    return miss ? TZ_INFINITY : near;
 }
 
-/* For the sphere the ray leaves: -1 to skip it (outward ray), 1 far root only, 0 normal. */
-int self_mode(int k, int self, vec3 o, vec3 d) {
-    if (k != self) return 0;
-    precise vec3 n = o - spheres[k].center_radius.xyz;
-    return v3_dot(n, d) < 0.0 ? 1 : -1;
-}
-
-/* Nearest sphere hit by o + t d with t > EPS, -1 on a miss; t_out is its distance. */
+/* Nearest sphere hit by o + t d with t > EPS, -1 on a miss; t_out is its distance. Spheres in
+ * index order, the first of equal distances kept, as in the C integrator. [[unroll]] takes effect
+ * when sphere_count() is a specialization constant. */
 int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
     float tmin = ray_eps(o), best = TZ_INFINITY;
     int id = -1;
-    uint count = frame.size.z;
-    for (uint k = 0u; k < count; k++) {
-        int mode = self_mode(int(k), self, o, d);
-        if (mode < 0) continue;
-        float t = sphere_hit(k, o, d, tmin, mode == 1);
+    [[unroll]] for (uint k = 0u; k < sphere_count(); k++) {
+        float t = sphere_hit(int(k), o, d, tmin, self);
         if (t < best) {
             best = t;
             id = int(k);
@@ -72,12 +64,8 @@ int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
 /* True when a sphere blocks o + t d for EPS < t < dist; glass blocks too, as in the seed. */
 bool occluded(vec3 o, vec3 d, float dist, int self) {
     float tmin = ray_eps(o);
-    uint count = frame.size.z;
-    for (uint k = 0u; k < count; k++) {
-        int mode = self_mode(int(k), self, o, d);
-        if (mode < 0) continue;
-        if (sphere_hit(k, o, d, tmin, mode == 1) < dist) return true;
-    }
+    [[unroll]] for (uint k = 0u; k < sphere_count(); k++)
+        if (sphere_hit(int(k), o, d, tmin, self) < dist) return true;
     return false;
 }
 

@@ -1,6 +1,7 @@
 /* shade.glsl: the Phong BRDF, direct light, the specular chain and the one indirect bounce;
  * twin of the functions of the same names in src/integrator.c, in the same operation order and
- * drawing the same random numbers. The including shader declares `frame`, `spheres`, `lights`. */
+ * drawing the same random numbers. The including shader declares `frame` and the sphere_*(),
+ * light_*() accessors. */
 #ifndef TRAZADOR_SHADE_GLSL
 #define TRAZADOR_SHADE_GLSL
 
@@ -9,8 +10,8 @@
 
 /* Normalized Phong BRDF: kd/pi + ks (alpha+2)/(2 pi) max(0, wo.wr)^alpha, wr = 2(n.wi)n - wi. */
 vec3 phong_brdf(int id, vec3 n, vec3 wi, vec3 wo) {
-    vec4 color_ks = spheres[id].color_ks;
-    float alpha = spheres[id].params.x;
+    vec4 color_ks = sphere_color_ks(id);
+    float alpha = sphere_params(id).x;
     precise vec3 f = color_ks.xyz * (1.0 / TZ_PI);
     float ks = color_ks.w;
     if (ks > 0.0) {
@@ -28,9 +29,8 @@ vec3 phong_brdf(int id, vec3 n, vec3 wi, vec3 wo) {
 vec3 direct_light(int id, vec3 pos, vec3 n, vec3 wo) {
     precise vec3 o = pos + n * ray_eps(pos);
     precise vec3 sum = vec3(0.0);
-    uint count = frame.size.w;
-    for (uint k = 0u; k < count; k++) {
-        vec4 position_power = lights[k].position_power;
+    [[unroll]] for (uint k = 0u; k < light_count(); k++) {
+        vec4 position_power = light_position_power(int(k));
         /* Distance and angle from the true hit point; only the shadow ray starts off the surface. */
         precise vec3 to_light = position_power.xyz - pos;
         precise float dist2 = v3_dot(to_light, to_light);
@@ -40,7 +40,7 @@ vec3 direct_light(int id, vec3 pos, vec3 n, vec3 wo) {
         if (cos_i <= 0.0 || occluded(o, wi, dist, id)) continue;
         vec3 f = phong_brdf(id, n, wi, wo);
         precise float scale = cos_i * position_power.w / dist2;
-        sum = sum + f * (lights[k].color.xyz * scale);
+        sum = sum + f * (light_color(int(k)).xyz * scale);
     }
     return sum;
 }
@@ -67,18 +67,19 @@ int follow_specular(inout vec3 o, inout vec3 d, int self, inout vec3 weight, out
         float t;
         int id = integrator_nearest(o, d, self, t);
         if (id < 0) return -1;
-        vec4 cr = spheres[id].center_radius;
+        vec4 cr = sphere_center_radius(id);
         precise vec3 hit = o + d * t;
         pos = hit;
         precise vec3 nout = (hit - cr.xyz) * (1.0 / cr.w);
-        int material = int(spheres[id].params.z);
+        vec4 params = sphere_params(id);
+        int material = int(params.z);
         if (material == TZ_MATERIAL_LAMBERTIAN || material == TZ_MATERIAL_PHONG) {
             /* Opaque surfaces are two-sided: shade with the normal facing the ray. */
             n = v3_dot(nout, d) < 0.0 ? nout : nout * -1.0;
             return id;
         }
         if (chain == bounces) return -2;
-        precise vec3 tinted = weight * spheres[id].color_ks.xyz;
+        precise vec3 tinted = weight * sphere_color_ks(id).xyz;
         weight = tinted;
         float eps = ray_eps(hit);
         bool entering = v3_dot(d, nout) < 0.0;
@@ -87,7 +88,7 @@ int follow_specular(inout vec3 o, inout vec3 d, int self, inout vec3 weight, out
         precise vec3 next_o = hit + side * eps;
         precise vec3 next_d = reflected;
         if (material == TZ_MATERIAL_REFRACTIVE) {
-            float ior = spheres[id].params.y;
+            float ior = params.y;
             precise float eta = entering ? 1.0 / ior : ior;
             precise float c1 = -v3_dot(d, side);
             precise float k = 1.0 - eta * eta * (1.0 - c1 * c1);

@@ -39,12 +39,27 @@ typedef struct tz_uvec4 {
 #define TZ_GROUP_X 8
 #define TZ_GROUP_Y 4
 
-/* Descriptor bindings of set 0. */
+/* Descriptor bindings of set 0. Spheres and lights are uniform texel buffers (RGBA32F) over the
+ * very bytes of the gpu_sphere and gpu_light arrays: a sphere is texels 3k..3k+2, a light texels
+ * 2k, 2k+1. lavapipe gathers texels with a few vector loads where a storage buffer read at a
+ * per-lane index costs a scalar loop over the lanes; no size limit short of
+ * maxTexelBufferElements. */
 #define TZ_BINDING_FRAME 0
 #define TZ_BINDING_SPHERES 1
 #define TZ_BINDING_LIGHTS 2
 #define TZ_BINDING_ACCUM 3    /* dynamic: bound at the first row of each band of tiles */
 #define TZ_BINDING_COUNTERS 4 /* one uint: samples dropped as non-finite since the last reset */
+
+/* Specialization constants of trace.comp: the sphere and light counts when their loops are
+ * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.size.z / .w;
+ * and frame.settings.z (TZ_FLAG_*), so that code a render never runs is compiled out (lavapipe
+ * pays for masked-off SIMD code). Unrolling stops at these counts, where compile time grows past
+ * ~60 ms on lavapipe. */
+#define TZ_SPEC_UNROLLED_SPHERES 0
+#define TZ_SPEC_UNROLLED_LIGHTS 1
+#define TZ_SPEC_FLAGS 2
+#define TZ_UNROLL_MAX_SPHERES 16
+#define TZ_UNROLL_MAX_LIGHTS 4
 
 /* One sphere, 48 bytes. material is stored as an exactly representable float. */
 struct gpu_sphere {

@@ -1,26 +1,38 @@
 /* trace.comp: the per-sample compute entry point. One invocation renders `pass.tile.w` samples
  * (in sample order) of one pixel of the tile at pass.tile.xy and adds each finite one to the
  * pixel's accumulator exactly as the C back end does; non-finite samples are counted instead.
- * Twin of integrator_sample() and camera_direction() in src/integrator.c. */
+ * Twin of integrator_sample() and camera_direction() in src/integrator.c. Declares the bindings
+ * and the scene accessors the included .glsl files use. */
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 
 #include "shared_layout.h"
 
 layout(local_size_x = TZ_GROUP_X, local_size_y = TZ_GROUP_Y, local_size_z = 1) in;
 
 layout(std140, set = 0, binding = TZ_BINDING_FRAME) uniform frame_block { gpu_frame frame; };
-layout(std430, set = 0, binding = TZ_BINDING_SPHERES) readonly buffer sphere_block {
-    gpu_sphere spheres[];
-};
-layout(std430, set = 0, binding = TZ_BINDING_LIGHTS) readonly buffer light_block {
-    gpu_light lights[];
-};
+layout(set = 0, binding = TZ_BINDING_SPHERES) uniform samplerBuffer sphere_texels;
+layout(set = 0, binding = TZ_BINDING_LIGHTS) uniform samplerBuffer light_texels;
 /* Bound at the tile's first row (a dynamic offset): a band of rows, never the whole image, so
  * the range stays within maxStorageBufferRange for any image width up to 16384. */
 layout(std430, set = 0, binding = TZ_BINDING_ACCUM) buffer accum_block { vec4 accum[]; };
 layout(std430, set = 0, binding = TZ_BINDING_COUNTERS) buffer counter_block { uint nonfinite; };
 layout(push_constant) uniform pass_block { gpu_pass pass; };
+layout(constant_id = TZ_SPEC_UNROLLED_SPHERES) const uint UNROLLED_SPHERES = 0u;
+layout(constant_id = TZ_SPEC_UNROLLED_LIGHTS) const uint UNROLLED_LIGHTS = 0u;
+layout(constant_id = TZ_SPEC_FLAGS) const uint FLAGS = 0u; /* frame.settings.z */
+
+/* The fields of struct gpu_sphere k and gpu_light k (see TZ_BINDING_SPHERES). */
+vec4 sphere_center_radius(int k) { return texelFetch(sphere_texels, 3 * k); }
+vec4 sphere_color_ks(int k) { return texelFetch(sphere_texels, 3 * k + 1); }
+vec4 sphere_params(int k) { return texelFetch(sphere_texels, 3 * k + 2); }
+vec4 light_position_power(int k) { return texelFetch(light_texels, 2 * k); }
+vec4 light_color(int k) { return texelFetch(light_texels, 2 * k + 1); }
+
+/* Loop counts: a specialization constant when small enough to unroll, else the frame's. */
+uint sphere_count() { return UNROLLED_SPHERES > 0u ? UNROLLED_SPHERES : frame.size.z; }
+uint light_count() { return UNROLLED_LIGHTS > 0u ? UNROLLED_LIGHTS : frame.size.w; }
 
 #include "shade.glsl"
 
@@ -39,7 +51,7 @@ vec3 integrator_sample(uint i, uint j, uint sample_index) {
     /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag. */
     float u = rng_next(rng);
     float v = rng_next(rng);
-    if ((frame.settings.z & TZ_FLAG_JITTER) == 0u) u = v = 0.5;
+    if ((FLAGS & TZ_FLAG_JITTER) == 0u) u = v = 0.5;
     vec3 o = frame.origin.xyz, d = camera_direction(i, j, u, v);
     vec3 weight = vec3(1.0), pos, n;
     int id = follow_specular(o, d, -1, weight, pos, n);
@@ -51,7 +63,7 @@ vec3 integrator_sample(uint i, uint j, uint sample_index) {
     } else {
         vec3 wo = d * -1.0;
         precise vec3 radiance = direct_light(id, pos, n, wo);
-        if ((frame.settings.z & TZ_FLAG_INDIRECT) != 0u)
+        if ((FLAGS & TZ_FLAG_INDIRECT) != 0u)
             radiance = radiance + indirect_light(id, pos, n, wo, rng);
         r = weight * radiance;
     }

@@ -52,16 +52,17 @@ static bool check_limits(const vk_context *ctx, const scene *s, uint64_t sample_
                   VK_PROBE_LAVAPIPE_LOOP_LIMIT);
         return false;
     }
-    uint64_t limit = ctx->properties.limits.maxStorageBufferRange;
-    uint64_t need[] = {(uint64_t)s->sphere_count * sizeof(struct gpu_sphere),
-                       (uint64_t)s->light_count * sizeof(struct gpu_light),
+    const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
+    uint64_t need[] = {(uint64_t)s->sphere_count * 3u, (uint64_t)s->light_count * 2u,
                        (uint64_t)TILE_SIZE * (uint64_t)s->width * 4u * sizeof(float)};
-    const char *what[] = {"spheres", "lights", "a band of accumulation rows"};
+    uint64_t limit[] = {limits->maxTexelBufferElements, limits->maxTexelBufferElements,
+                        limits->maxStorageBufferRange};
+    const char *what[] = {"texels of spheres", "texels of lights", "bytes of accumulation rows"};
     for (int k = 0; k < 3; k++) {
-        if (need[k] > limit) {
-            log_error("the %s need a %" PRIu64 "-byte buffer, past this device's limit of %" PRIu64
-                      " bytes: use --backend cpu",
-                      what[k], need[k], limit);
+        if (need[k] > limit[k]) {
+            log_error("the scene needs %" PRIu64 " %s in one buffer, past this device's limit of "
+                      "%" PRIu64 ": use --backend cpu",
+                      need[k], what[k], limit[k]);
             return false;
         }
     }
@@ -80,12 +81,13 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
     /* Rows padded to whole tiles: every band binding of TILE_SIZE rows stays inside the buffer. */
     uint64_t rows = ((uint64_t)height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
     VkDeviceSize accum_bytes = rows * (uint64_t)width * 4u * sizeof(float);
+    const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | input;
     if (!vk_buffer_create(ctx, sizeof p->frame, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | input,
                           VK_MEMORY_DEVICE, &r->frame) ||
-        !vk_buffer_create(ctx, sphere_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | input,
-                          VK_MEMORY_DEVICE, &r->spheres) ||
-        !vk_buffer_create(ctx, light_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | input,
-                          VK_MEMORY_DEVICE, &r->lights) ||
+        !vk_buffer_create(ctx, sphere_bytes, texels, VK_MEMORY_DEVICE, &r->spheres) ||
+        !vk_buffer_create_view(ctx, &r->spheres, VK_FORMAT_R32G32B32A32_SFLOAT) ||
+        !vk_buffer_create(ctx, light_bytes, texels, VK_MEMORY_DEVICE, &r->lights) ||
+        !vk_buffer_create_view(ctx, &r->lights, VK_FORMAT_R32G32B32A32_SFLOAT) ||
         !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum) ||
         !vk_buffer_create(ctx, sizeof(uint32_t), storage, VK_MEMORY_DEVICE, &r->counter))
         return false;
@@ -274,12 +276,25 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
 
     const VkDescriptorType types[] = {
         [TZ_BINDING_FRAME] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
-        [TZ_BINDING_SPHERES] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-        [TZ_BINDING_LIGHTS] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        [TZ_BINDING_SPHERES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+        [TZ_BINDING_LIGHTS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         [TZ_BINDING_ACCUM] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC,
         [TZ_BINDING_COUNTERS] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
     };
+    /* Small scenes get their sphere and light loops unrolled: constant indices make every
+     * read of the scene a uniform load, and the loop bookkeeping disappears. The flags compile
+     * out the indirect bounce when it is off. */
+    uint32_t constants[3] = {
+        [TZ_SPEC_UNROLLED_SPHERES] = s->sphere_count <= TZ_UNROLL_MAX_SPHERES ? (uint32_t)s->sphere_count : 0u,
+        [TZ_SPEC_UNROLLED_LIGHTS] = s->light_count <= TZ_UNROLL_MAX_LIGHTS ? (uint32_t)s->light_count : 0u,
+        [TZ_SPEC_FLAGS] = packed.frame.settings.z,
+    };
+    VkSpecializationMapEntry entries[3];
+    for (uint32_t k = 0; k < 3; k++)
+        entries[k] = (VkSpecializationMapEntry){k, k * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
+    const VkSpecializationInfo spec = {3, entries, sizeof constants, constants};
     vk_kernel_desc kernel = {
+        .spec = &spec,
         .code = trace_spv,
         .code_size = sizeof trace_spv,
         .types = types,

@@ -565,7 +565,18 @@ bool vk_buffer_create(vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usa
     return true;
 }
 
+bool vk_buffer_create_view(vk_context *ctx, vk_buffer *b, VkFormat format) {
+    VkBufferViewCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO,
+        .buffer = b->buffer,
+        .format = format,
+        .range = VK_WHOLE_SIZE,
+    };
+    return VK_CHECK(vkCreateBufferView(ctx->device, &info, NULL, &b->view));
+}
+
 void vk_buffer_destroy(vk_context *ctx, vk_buffer *b) {
+    if (b->view) vkDestroyBufferView(ctx->device, b->view, NULL);
     if (b->mapped) vkUnmapMemory(ctx->device, b->memory);
     if (b->buffer) vkDestroyBuffer(ctx->device, b->buffer, NULL);
     if (b->memory) vkFreeMemory(ctx->device, b->memory, NULL);
@@ -628,6 +639,7 @@ bool vk_kernel_create(vk_context *ctx, const vk_kernel_desc *desc, vk_kernel *ou
                 .stage = VK_SHADER_STAGE_COMPUTE_BIT,
                 .module = module,
                 .pName = "main",
+                .pSpecializationInfo = desc->spec,
             },
         .layout = out->layout,
     };
@@ -660,6 +672,8 @@ void vk_kernel_bind(vk_context *ctx, vk_kernel *k, const vk_buffer *const *buffe
     VkDescriptorBufferInfo infos[VK_KERNEL_MAX_BINDINGS];
     VkWriteDescriptorSet writes[VK_KERNEL_MAX_BINDINGS];
     for (uint32_t n = 0; n < k->binding_count; n++) {
+        bool texel = k->types[n] == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER ||
+                     k->types[n] == VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
         infos[n] = (VkDescriptorBufferInfo){buffers[n]->buffer, 0, ranges[n]};
         writes[n] = (VkWriteDescriptorSet){
             .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
@@ -667,7 +681,8 @@ void vk_kernel_bind(vk_context *ctx, vk_kernel *k, const vk_buffer *const *buffe
             .dstBinding = n,
             .descriptorCount = 1,
             .descriptorType = k->types[n],
-            .pBufferInfo = &infos[n],
+            .pBufferInfo = texel ? NULL : &infos[n],
+            .pTexelBufferView = texel ? &buffers[n]->view : NULL,
         };
     }
     vkUpdateDescriptorSets(ctx->device, k->binding_count, writes, 0, NULL);

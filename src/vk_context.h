@@ -44,6 +44,8 @@
     X(vkResetFences)                        \
     X(vkCreateBuffer)                       \
     X(vkDestroyBuffer)                      \
+    X(vkCreateBufferView)                   \
+    X(vkDestroyBufferView)                  \
     X(vkGetBufferMemoryRequirements)        \
     X(vkAllocateMemory)                     \
     X(vkFreeMemory)                         \
@@ -135,13 +137,16 @@ typedef struct vk_buffer {
     VkBuffer buffer;
     VkDeviceMemory memory;
     VkDeviceSize size;
-    void *mapped; /* NULL when the host cannot see the memory: copy through staging */
+    void *mapped;      /* NULL when the host cannot see the memory: copy through staging */
+    VkBufferView view; /* for texel-buffer bindings, from vk_buffer_create_view */
 } vk_buffer;
 
 /* Creates a buffer with its own memory; false (logged) on failure, with nothing left behind. */
 bool vk_buffer_create(vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usage,
                       vk_memory_use use, vk_buffer *out);
-/* Destroys the buffer and frees its memory; safe on a zeroed vk_buffer. */
+/* Gives the buffer a view of the whole of it in `format`; false (logged) on failure. */
+bool vk_buffer_create_view(vk_context *ctx, vk_buffer *b, VkFormat format);
+/* Destroys the buffer (and its view) and frees its memory; safe on a zeroed vk_buffer. */
 void vk_buffer_destroy(vk_context *ctx, vk_buffer *b);
 
 #define VK_KERNEL_MAX_BINDINGS 8
@@ -153,7 +158,8 @@ typedef struct vk_kernel_desc {
     const VkDescriptorType *types;
     uint32_t binding_count;
     uint32_t push_size; /* bytes of push constants, 0 for none */
-    VkPipelineCache cache; /* optional */
+    VkPipelineCache cache;              /* optional */
+    const VkSpecializationInfo *spec;   /* optional */
 } vk_kernel_desc;
 
 typedef struct vk_kernel {
@@ -169,8 +175,9 @@ typedef struct vk_kernel {
 /* Builds the pipeline and allocates its descriptor set; false (logged) on failure, with nothing
  * left behind. */
 bool vk_kernel_create(vk_context *ctx, const vk_kernel_desc *desc, vk_kernel *out);
-/* Points binding k at buffers[k] (ranges[k] bytes from offset 0, VK_WHOLE_SIZE for all), for
- * every binding; never fails (misuse surfaces through validation). */
+/* Points binding k at buffers[k] (ranges[k] bytes from offset 0, VK_WHOLE_SIZE for all; texel
+ * buffers through their view), for every binding; never fails (misuse surfaces through
+ * validation). */
 void vk_kernel_bind(vk_context *ctx, vk_kernel *k, const vk_buffer *const *buffers,
                     const VkDeviceSize *ranges);
 /* Destroys the kernel; safe on a zeroed vk_kernel. */

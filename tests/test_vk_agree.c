@@ -112,6 +112,44 @@ static scene room_scene(void) {
                    .sphere_count = 8, .lights = &room_light, .light_count = 1};
 }
 
+/* A grid of n spheres of every material in front of a wall, lit by m lights: past
+ * TZ_UNROLL_MAX_SPHERES or TZ_UNROLL_MAX_LIGHTS the shader loops instead of unrolling. */
+static void check_crowd(const char *name, int n, int m) {
+    sphere *spheres = calloc((size_t)n + 1, sizeof *spheres);
+    light *lights = calloc((size_t)m, sizeof *lights);
+    if (!spheres || !lights) {
+        CHECK(0, "%s: out of memory", name);
+        free(spheres);
+        free(lights);
+        return;
+    }
+    spheres[0] = (sphere){.center = {0.0f, 0.0f, 1006.0f}, .radius = 1000.0f,
+                          .material = MATERIAL_LAMBERTIAN, .color = {0.6f, 0.6f, 0.6f},
+                          .ior = 1.0f};
+    for (int k = 1; k <= n; k++) {
+        material_kind kind = (material_kind)(k % 4);
+        spheres[k] = (sphere){.center = {(float)(k % 8) - 3.5f, (float)(k / 8) - 2.0f, 3.0f},
+                              .radius = 0.35f + 0.02f * (float)(k % 5), .material = kind,
+                              .color = {0.3f + 0.08f * (float)(k % 7), 0.5f, 0.9f - 0.1f * (float)(k % 6)},
+                              .ks = kind == MATERIAL_PHONG ? 0.3f : 0.0f,
+                              .alpha = kind == MATERIAL_PHONG ? 25.0f : 0.0f,
+                              .ior = kind == MATERIAL_REFRACTIVE ? 1.45f : 1.0f};
+    }
+    for (int k = 0; k < m; k++)
+        lights[k] = (light){.position = {2.0f * (float)k - (float)m, 3.0f, -1.0f + 0.5f * (float)k},
+                            .power = 30.0f / (float)m, .color = {1.0f, 0.9f, 0.8f}};
+    scene s = {.camera_position = {0.0f, 0.0f, -5.0f}, .camera_direction = {0.0f, 0.0f, 1.0f},
+               .camera_up = {0.0f, 1.0f, 0.0f}, .plane_width = 4.0f, .plane_height = 3.0f,
+               .pixel_size = 4.0f / 96.0f, .width = 96, .height = 72, .samples = 16,
+               .indirect = true, .bounces = 5, .seed = 11, .spheres = spheres,
+               .sphere_count = n + 1, .lights = lights, .light_count = m};
+    render_opts opts;
+    render_opts_from_scene(&s, &opts);
+    check_agreement(name, &s, &opts);
+    free(spheres);
+    free(lights);
+}
+
 static void test_built_scenes(void) {
     scene s = materials_scene();
     render_opts opts;
@@ -125,6 +163,9 @@ static void test_built_scenes(void) {
     check_agreement("room of 1e5 walls", &s, &opts);
     opts.bounces = 1; /* the glass sphere's inside goes black: the limit, on both */
     check_agreement("room, bounces 1", &s, &opts);
+    check_crowd("crowd 40 spheres 6 lights", 39, 6); /* both loops */
+    check_crowd("crowd 24 spheres 2 lights", 23, 2); /* sphere loop, lights unrolled */
+    check_crowd("crowd 6 spheres 5 lights", 5, 5);   /* spheres unrolled, light loop */
 }
 
 /* Every scene in scenes/, 96 pixels across its own plane, 16 samples. */
