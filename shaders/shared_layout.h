@@ -65,7 +65,8 @@ typedef struct tz_uvec4 {
 struct gpu_sphere {
     TZ_VEC4 center_radius; /* xyz centre, w radius */
     TZ_VEC4 color_ks;      /* rgb kd or tint, w phong ks */
-    TZ_VEC4 params;        /* x phong alpha, y ior, z material, w unused (0) */
+    TZ_VEC4 params;        /* x phong alpha, y ior, z material, w index in the scene file
+                              (exact below 2^24): an exact tie in distance goes to the lower */
 };
 
 /* One point light, 32 bytes. */
@@ -88,6 +89,17 @@ struct gpu_frame {
 /* Push constants of one dispatch: which tile and which samples (count >= 1, taken in order). */
 struct gpu_pass {
     TZ_UVEC4 tile; /* x0, y0 of the tile in pixels, first sample index, sample count */
+};
+
+/* BVH: a depth-first flat array; an inner node's first child is the next node. The w fields hold
+ * uint bits (floatBitsToUint in GLSL): lo.w = inner: index of the second child, leaf: first sphere;
+ * hi.w = number of spheres in a leaf (1..TZ_BVH_LEAF_MAX), 0 for an inner node. */
+#define TZ_BVH_MAX_DEPTH 48 /* the build never exceeds it: traversal stacks hold this many */
+#define TZ_BVH_LEAF_MAX 8
+
+struct gpu_bvh_node {
+    TZ_VEC4 lo; /* xyz box minimum, w see above */
+    TZ_VEC4 hi; /* xyz box maximum, w see above */
 };
 
 #endif

@@ -3,6 +3,7 @@
 #include "integrator.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "rng.h"
 
@@ -14,7 +15,7 @@ static float ray_eps(vec3 p) {
     return TZ_EPS * (m > 1.0f ? m : 1.0f);
 }
 
-/* Ray-sphere distances of spheres [begin, end) into t[], INFINITY for a miss: the nearest root
+/* Ray-sphere distances of spheres [begin, begin + SOA_LANES) into t[], INFINITY for a miss or past end: the nearest root
  * greater than tmin, after Haines et al., Ray Tracing Gems ch. 7: disc = r^2 - |oc - b d|^2 and
  * q = -b - sign(b) sqrt(disc), roots c/q and q; c = |oc|^2 - r^2 is taken on the largest
  * component of oc, (|m| - r)(|m| + r) + the other two squared, exact when a huge wall sphere's
@@ -24,7 +25,7 @@ static float ray_eps(vec3 p) {
  * so that it compiles to 8-wide SIMD; each lane does the very operations of the shader's
  * sphere_hit, in the same order. */
 __attribute__((target_clones("avx2", "default"))) static void spheres_hit(
-    const sphere_soa *sp, int begin, int count, vec3 o, vec3 d, float tmin, int self,
+    const sphere_soa *sp, int begin, int end, vec3 o, vec3 d, float tmin, int self,
     float *restrict t) {
     for (int lane = 0; lane < SOA_LANES; lane++) { /* a fixed trip count: one AVX2 iteration */
         int k = begin + lane;
@@ -49,37 +50,112 @@ __attribute__((target_clones("avx2", "default"))) static void spheres_hit(
         int near_ok = (t0 > tmin) & !is_self, far_ok = (t1 > tmin) & (!is_self | (b < 0.0f));
         float near = near_ok ? t0 : far_ok ? t1 : INFINITY;
         int miss = ((c > 0.0f) & (b > 0.0f)) | (disc < 0.0f) | (q == 0.0f);
-        t[lane] = miss | (k >= count) ? INFINITY : near;
+        t[lane] = (miss | (k >= end)) ? INFINITY : near;
     }
 }
 
-int integrator_nearest(const packed_scene *p, vec3 o, vec3 d, int self, float *t_out) {
-    float tmin = ray_eps(o), best = INFINITY, t[SOA_LANES];
-    int id = -1, count = (int)p->frame.size.z;
-    for (int begin = 0; begin < count; begin += SOA_LANES) {
-        spheres_hit(&p->soa, begin, count, o, d, tmin, self, t);
-        for (int lane = 0; lane < SOA_LANES; lane++) {
-            if (t[lane] < best) {
-                best = t[lane];
-                id = begin + lane;
-            }
+/* Tests spheres [begin, end) (at most SOA_LANES) and keeps the nearest hit below *best. An exact
+ * tie goes to the sphere written first in the scene (params.w), so that the BVH's order of visits
+ * never changes which sphere is seen. */
+static void leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end, vec3 o, vec3 d,
+                     float tmin, int self, float *best, int *id) {
+    float t[SOA_LANES];
+    spheres_hit(&p->soa, (int)begin, (int)end, o, d, tmin, self, t);
+    for (int lane = 0; lane < SOA_LANES; lane++) {
+        int k = (int)begin + lane;
+        if (t[lane] < *best || (t[lane] == *best && *id >= 0 &&
+                                p->spheres[k].params.w < p->spheres[*id].params.w)) {
+            *best = t[lane];
+            *id = k;
         }
     }
-    *t_out = best;
+}
+
+static uint32_t uint_bits(float f) {
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+/* Distance at which the ray enters the node's box, INFINITY when it misses it or enters at or
+ * beyond tmax (slab test; inv = 1/d with zero components replaced by 1e30, so no NaN). */
+static float box_entry(const struct gpu_bvh_node *n, vec3 o, vec3 inv, float tmax) {
+    float x1 = (n->lo.x - o.x) * inv.x, x2 = (n->hi.x - o.x) * inv.x;
+    float y1 = (n->lo.y - o.y) * inv.y, y2 = (n->hi.y - o.y) * inv.y;
+    float z1 = (n->lo.z - o.z) * inv.z, z2 = (n->hi.z - o.z) * inv.z;
+    float near = x1 < x2 ? x1 : x2, far = x1 < x2 ? x2 : x1;
+    float ny = y1 < y2 ? y1 : y2, fy = y1 < y2 ? y2 : y1;
+    float nz = z1 < z2 ? z1 : z2, fz = z1 < z2 ? z2 : z1;
+    near = near > ny ? near : ny;
+    near = near > nz ? near : nz;
+    near = near > 0.0f ? near : 0.0f;
+    far = far < fy ? far : fy;
+    far = far < fz ? far : fz;
+    return near <= far && near < tmax ? near : INFINITY;
+}
+
+/* Nearest sphere hit below tmax (*t = its distance), or with any_hit the first one found; -1 when
+ * none. Walks the BVH nearer child first with a stack of TZ_BVH_MAX_DEPTH (each level pushes at
+ * most one node), or, without a BVH, every sphere SOA_LANES at a time. */
+static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self, float tmax, int any_hit,
+                     float *t) {
+    float tmin = ray_eps(o), best = tmax;
+    int id = -1;
+    uint32_t count = p->frame.size.z, node_count = p->frame.settings.w;
+    if (node_count == 0) {
+        for (uint32_t begin = 0; begin < count && !(any_hit && id >= 0); begin += SOA_LANES)
+            leaf_hit(p, begin, begin + SOA_LANES < count ? begin + SOA_LANES : count, o, d, tmin,
+                     self, &best, &id);
+        *t = best;
+        return id;
+    }
+    vec3 inv = v3(d.x != 0.0f ? 1.0f / d.x : 1e30f, d.y != 0.0f ? 1.0f / d.y : 1e30f,
+                  d.z != 0.0f ? 1.0f / d.z : 1e30f);
+    uint32_t stack[TZ_BVH_MAX_DEPTH];
+    float stack_t[TZ_BVH_MAX_DEPTH];
+    int top = 0;
+    uint32_t node = 0;
+    int go = box_entry(&p->nodes[0], o, inv, best) < INFINITY;
+    while (go) {
+        const struct gpu_bvh_node *n = &p->nodes[node];
+        uint32_t leaf_count = uint_bits(n->hi.w);
+        if (leaf_count > 0) {
+            uint32_t first = uint_bits(n->lo.w);
+            leaf_hit(p, first, first + leaf_count, o, d, tmin, self, &best, &id);
+            if (any_hit && id >= 0) break;
+        } else {
+            uint32_t left = node + 1, right = uint_bits(n->lo.w);
+            float tl = box_entry(&p->nodes[left], o, inv, best);
+            float tr = box_entry(&p->nodes[right], o, inv, best);
+            if (tl < INFINITY || tr < INFINITY) {
+                int left_first = tl <= tr;
+                node = left_first ? left : right;
+                float other_t = left_first ? tr : tl;
+                if (other_t < INFINITY) {
+                    stack[top] = left_first ? right : left;
+                    stack_t[top++] = other_t;
+                }
+                continue;
+            }
+        }
+        go = 0; /* pop the nearest pending node that can still hold a nearer hit */
+        while (top > 0 && !go) {
+            top--;
+            node = stack[top];
+            go = stack_t[top] < best;
+        }
+    }
+    *t = best;
     return id;
 }
 
-/* True when a sphere blocks o + t d for EPS < t < dist; glass blocks too, as in the seed. */
-static int occluded(const packed_scene *p, vec3 o, vec3 d, float dist, int self) {
-    float tmin = ray_eps(o), t[SOA_LANES];
-    int count = (int)p->frame.size.z;
-    for (int begin = 0; begin < count; begin += SOA_LANES) {
-        spheres_hit(&p->soa, begin, count, o, d, tmin, self, t);
-        int blocked = 0;
-        for (int lane = 0; lane < SOA_LANES; lane++) blocked |= t[lane] < dist;
-        if (blocked) return 1;
-    }
-    return 0;
+int integrator_nearest(const packed_scene *p, vec3 o, vec3 d, int self, float *t_out) {
+    return trace_ray(p, o, d, self, INFINITY, 0, t_out);
+}
+
+int integrator_occluded(const packed_scene *p, vec3 o, vec3 d, float dist, int self) {
+    float t;
+    return trace_ray(p, o, d, self, dist, 1, &t) >= 0;
 }
 
 /* Normalized Phong BRDF: kd/pi + ks (alpha+2)/(2 pi) max(0, wo.wr)^alpha, wr = 2(n.wi)n - wi. */
@@ -111,7 +187,7 @@ static vec3 direct_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3 w
         float dist = sqrtf(dist2);
         vec3 wi = v3_scale(to_light, 1.0f / dist);
         float cos_i = v3_dot(n, wi);
-        if (cos_i <= 0.0f || occluded(p, o, wi, dist, id)) continue;
+        if (cos_i <= 0.0f || integrator_occluded(p, o, wi, dist, id)) continue;
         vec3 f = phong_brdf(s, n, wi, wo);
         float scale = cos_i * l->position_power.w / dist2;
         sum = v3_add(sum, v3_mul(f, v3_scale(xyz(l->color), scale)));

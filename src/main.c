@@ -22,7 +22,7 @@ static const char usage_text[] =
     "usage: trazador render [SCENE] [-o OUT] [--backend auto|vulkan|cpu] [--spp N] [--seed N]\n"
     "                       [--no-jitter] [--no-indirect] [--indirect] [--bounces N]\n"
     "                       [--threads N] [--device N] [--validate] [--quiet] [--verbose]\n"
-    "                       [--tonemap srgb|linear] [--width N]\n"
+    "                       [--tonemap srgb|linear] [--width N] [--no-bvh]\n"
     "       trazador diff A B [--max-rmse X] [--min-psnr X] [--max-diff-share X]\n"
     "       trazador devices\n"
     "       trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
@@ -72,7 +72,7 @@ typedef struct render_args {
     bool quiet;
     long long spp, seed, bounces, threads, device, width; /* -1: not given */
     int indirect;                                  /* -1 not given, 0 off, 1 on */
-    bool no_jitter, validate, verbose;
+    bool no_jitter, validate, verbose, no_bvh;
 } render_args;
 
 /* Parses `render` arguments; returns 0 to go on, else the exit code (2 usage, 0 for --help). */
@@ -122,6 +122,7 @@ static int parse_render_args(int argc, char **argv, render_args *a) {
             else if (!strcmp(arg, "--no-indirect")) a->indirect = 0;
             else if (!strcmp(arg, "--indirect")) a->indirect = 1;
             else if (!strcmp(arg, "--validate")) a->validate = true;
+            else if (!strcmp(arg, "--no-bvh")) a->no_bvh = true;
             else if (!strcmp(arg, "--quiet") || !strcmp(arg, "-q")) a->quiet = true;
             else if (!strcmp(arg, "--verbose") || !strcmp(arg, "-v")) a->verbose = true;
             else if (arg[0] == '-' && arg[1]) return usage_error("unknown option '%s'", arg);
@@ -161,6 +162,7 @@ static void apply_overrides(const render_args *a, render_opts *o) {
     if (a->indirect >= 0) o->indirect = a->indirect;
     o->no_jitter = a->no_jitter;
     o->validate = a->validate;
+    o->no_bvh = a->no_bvh;
     o->verbose = a->verbose;
     o->progress = !a->quiet && isatty(STDERR_FILENO);
 }

@@ -16,6 +16,7 @@ typedef struct render_opts {
     int threads;   /* CPU back end; 0 = all cores */
     int device;    /* Vulkan back end; -1 = first */
     bool validate; /* Vulkan validation layer, errors fail the run */
+    bool no_bvh;   /* test every sphere for every ray (debugging, comparisons) */
     bool progress; /* progress line on stderr */
     bool verbose;
 } render_opts;

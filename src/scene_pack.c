@@ -3,7 +3,9 @@
 
 #include <stddef.h>
 #include <stdlib.h>
+#include <time.h>
 
+#include "bvh.h"
 #include "log.h"
 
 /* std430 with vec4 members only: the C structs must have no padding of their own. */
@@ -26,35 +28,75 @@ _Static_assert(offsetof(struct gpu_frame, size) == 80, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, settings) == 96, "gpu_frame layout");
 _Static_assert(sizeof(struct gpu_pass) == 16, "gpu_pass is 16 bytes");
 
+_Static_assert(sizeof(struct gpu_bvh_node) == 32, "gpu_bvh_node is 32 bytes");
+_Static_assert(offsetof(struct gpu_bvh_node, hi) == 16, "gpu_bvh_node layout");
+
+static double seconds_now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
 static tz_vec4 vec4_from(vec3 v, float w) { return (tz_vec4){v.x, v.y, v.z, w}; }
+
+/* Sorts the spheres into BVH order and keeps the tree; false on out-of-memory. */
+static bool pack_bvh(packed_scene *out, uint32_t count) {
+    double start = seconds_now();
+    bvh tree;
+    if (!bvh_build(out->spheres, count, TZ_BVH_MAX_DEPTH, &tree)) return false;
+    struct gpu_sphere *sorted = malloc((count ? count : 1) * sizeof *sorted);
+    if (!sorted) {
+        bvh_free(&tree);
+        return false;
+    }
+    for (uint32_t k = 0; k < count; k++) sorted[k] = out->spheres[tree.order[k]];
+    free(out->spheres);
+    out->spheres = sorted;
+    out->nodes = tree.nodes;
+    out->bvh_depth = tree.depth;
+    out->frame.settings.w = tree.node_count;
+    free(tree.order);
+    out->bvh_seconds = seconds_now() - start;
+    return true;
+}
+
+/* The structure-of-arrays copy, padded by SOA_LANES zeros past every array's end. */
+static bool pack_soa(packed_scene *out, uint32_t count) {
+    size_t n = ((size_t)count + SOA_LANES - 1) / SOA_LANES * SOA_LANES + SOA_LANES;
+    out->soa.cx = calloc(4 * n, sizeof(float));
+    if (!out->soa.cx) return false;
+    out->soa.cy = out->soa.cx + n;
+    out->soa.cz = out->soa.cx + 2 * n;
+    out->soa.r = out->soa.cx + 3 * n;
+    for (uint32_t k = 0; k < count; k++) {
+        const tz_vec4 *c = &out->spheres[k].center_radius;
+        out->soa.cx[k] = c->x;
+        out->soa.cy[k] = c->y;
+        out->soa.cz[k] = c->z;
+        out->soa.r[k] = c->w;
+    }
+    return true;
+}
 
 bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     *out = (packed_scene){0};
+    uint32_t count = (uint32_t)s->sphere_count;
     /* One zero element when empty keeps every buffer non-empty for Vulkan. */
-    out->spheres = calloc(s->sphere_count ? (size_t)s->sphere_count : 1, sizeof *out->spheres);
+    out->spheres = calloc(count ? count : 1, sizeof *out->spheres);
     out->lights = calloc(s->light_count ? (size_t)s->light_count : 1, sizeof *out->lights);
-    size_t n = ((size_t)s->sphere_count + SOA_LANES - 1) / SOA_LANES * SOA_LANES;
-    out->soa.cx = calloc(4 * (n ? n : SOA_LANES), sizeof(float));
-    if (!out->spheres || !out->lights || !out->soa.cx) {
-        log_error("out of memory packing %d spheres", s->sphere_count);
+    if (!out->spheres || !out->lights) {
+        log_error("out of memory packing %u spheres", count);
         packed_scene_free(out);
         return false;
     }
-    for (int k = 0; k < s->sphere_count; k++) {
+    for (uint32_t k = 0; k < count; k++) {
         const sphere *sp = &s->spheres[k];
         out->spheres[k] = (struct gpu_sphere){
             .center_radius = vec4_from(sp->center, sp->radius),
             .color_ks = vec4_from(sp->color, sp->ks),
-            .params = {sp->alpha, sp->ior, (float)sp->material, 0.0f},
+            .params = {sp->alpha, sp->ior, (float)sp->material, (float)k},
         };
-        out->soa.cx[k] = sp->center.x;
-        out->soa.cx[n + k] = sp->center.y;
-        out->soa.cx[2 * n + k] = sp->center.z;
-        out->soa.cx[3 * n + k] = sp->radius;
     }
-    out->soa.cy = out->soa.cx + n;
-    out->soa.cz = out->soa.cx + 2 * n;
-    out->soa.r = out->soa.cx + 3 * n;
     for (int k = 0; k < s->light_count; k++) {
         const light *l = &s->lights[k];
         out->lights[k] = (struct gpu_light){
@@ -77,6 +119,11 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
                  (uint32_t)s->light_count},
         .settings = {opts->seed, (uint32_t)opts->bounces, flags, 0u},
     };
+    if ((!opts->no_bvh && !pack_bvh(out, count)) || !pack_soa(out, count)) {
+        log_error("out of memory packing %u spheres", count);
+        packed_scene_free(out);
+        return false;
+    }
     return true;
 }
 
@@ -84,5 +131,6 @@ void packed_scene_free(packed_scene *p) {
     free(p->spheres);
     free(p->lights);
     free(p->soa.cx);
+    free(p->nodes);
     *p = (packed_scene){0};
 }

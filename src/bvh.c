@@ -1,0 +1,218 @@
+/* bvh.c: binned-SAH BVH build over spheres into the flat node array of shared_layout.h. */
+#include "bvh.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "log.h"
+
+#define BIN_COUNT 16
+#define TRAVERSAL_COST 1.0f /* relative to one sphere test */
+
+typedef struct box {
+    float lo[3], hi[3];
+} box;
+
+typedef struct builder {
+    const struct gpu_sphere *spheres;
+    box *bounds;      /* per input sphere, padded for rounding */
+    float *centroid;  /* 3 per input sphere */
+    uint32_t *index;  /* the permutation being built */
+    struct gpu_bvh_node *nodes;
+    uint32_t node_count;
+    uint32_t depth;
+    uint32_t max_depth;
+} builder;
+
+static box box_empty(void) { return (box){{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}}; }
+
+static void box_grow(box *b, const box *o) {
+    for (int a = 0; a < 3; a++) {
+        b->lo[a] = o->lo[a] < b->lo[a] ? o->lo[a] : b->lo[a];
+        b->hi[a] = o->hi[a] > b->hi[a] ? o->hi[a] : b->hi[a];
+    }
+}
+
+static float box_area(const box *b) {
+    float x = b->hi[0] - b->lo[0], y = b->hi[1] - b->lo[1], z = b->hi[2] - b->lo[2];
+    return x < 0.0f ? 0.0f : x * y + y * z + z * x;
+}
+
+static float float_of(uint32_t u) {
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
+/* Levels a median-split subtree of n spheres needs below its root. */
+static uint32_t median_levels(uint32_t n) {
+    uint32_t levels = 0;
+    for (uint32_t leaves = (n + TZ_BVH_LEAF_MAX - 1) / TZ_BVH_LEAF_MAX; leaves > 1; leaves = (leaves + 1) / 2)
+        levels++;
+    return levels;
+}
+
+/* Reorders index[begin, end) so that the element at mid has the median centroid on axis, none
+ * before it greater and none after it smaller (Wirth's selection). */
+static void select_median(builder *b, uint32_t begin, uint32_t end, uint32_t mid, int axis) {
+    uint32_t *ix = b->index;
+    const float *c = b->centroid;
+    long lo = begin, hi = (long)end - 1, m = mid;
+    while (lo < hi) {
+        float pivot = c[3 * ix[m] + axis];
+        long i = lo, j = hi;
+        while (i <= j) {
+            while (c[3 * ix[i] + axis] < pivot) i++;
+            while (c[3 * ix[j] + axis] > pivot) j--;
+            if (i <= j) {
+                uint32_t t = ix[i];
+                ix[i++] = ix[j];
+                ix[j--] = t;
+            }
+        }
+        if (m <= j) hi = j;
+        else if (m >= i) lo = i;
+        else break;
+    }
+}
+
+/* Best binned-SAH split of [begin, end); returns the cost, *axis and *bin_split set, or INFINITY. */
+static float sah_split(const builder *b, uint32_t begin, uint32_t end, const box *cbox, int *axis,
+                       int *bin_split) {
+    float best = INFINITY;
+    for (int a = 0; a < 3; a++) {
+        float extent = cbox->hi[a] - cbox->lo[a];
+        if (!(extent > 0.0f)) continue;
+        box bins[BIN_COUNT];
+        uint32_t counts[BIN_COUNT] = {0};
+        for (int k = 0; k < BIN_COUNT; k++) bins[k] = box_empty();
+        float scale = BIN_COUNT / extent;
+        for (uint32_t k = begin; k < end; k++) {
+            uint32_t s = b->index[k];
+            int bin = (int)((b->centroid[3 * s + a] - cbox->lo[a]) * scale);
+            bin = bin < 0 ? 0 : bin >= BIN_COUNT ? BIN_COUNT - 1 : bin;
+            counts[bin]++;
+            box_grow(&bins[bin], &b->bounds[s]);
+        }
+        float right_area[BIN_COUNT];
+        uint32_t right_count[BIN_COUNT];
+        box acc = box_empty();
+        uint32_t n = 0;
+        for (int k = BIN_COUNT - 1; k > 0; k--) {
+            box_grow(&acc, &bins[k]);
+            n += counts[k];
+            right_area[k] = box_area(&acc);
+            right_count[k] = n;
+        }
+        acc = box_empty();
+        n = 0;
+        for (int k = 0; k < BIN_COUNT - 1; k++) {
+            box_grow(&acc, &bins[k]);
+            n += counts[k];
+            if (n == 0 || right_count[k + 1] == 0) continue;
+            float cost = box_area(&acc) * (float)n + right_area[k + 1] * (float)right_count[k + 1];
+            if (cost < best) {
+                best = cost;
+                *axis = a;
+                *bin_split = k + 1;
+            }
+        }
+    }
+    return best;
+}
+
+static uint32_t build_node(builder *b, uint32_t begin, uint32_t end, uint32_t depth) {
+    uint32_t id = b->node_count++;
+    uint32_t n = end - begin;
+    box bounds = box_empty(), cbox = box_empty();
+    for (uint32_t k = begin; k < end; k++) {
+        uint32_t s = b->index[k];
+        box_grow(&bounds, &b->bounds[s]);
+        const float *c = &b->centroid[3 * s];
+        box point = {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}};
+        box_grow(&cbox, &point);
+    }
+    if (depth > b->depth) b->depth = depth;
+    struct gpu_bvh_node *node = &b->nodes[id];
+    node->lo = (tz_vec4){bounds.lo[0], bounds.lo[1], bounds.lo[2], 0.0f};
+    node->hi = (tz_vec4){bounds.hi[0], bounds.hi[1], bounds.hi[2], 0.0f};
+
+    int axis = 0, bin_split = 0;
+    uint32_t mid = begin;
+    /* Near the depth limit only median splits, which halve the count, are sure to fit. */
+    bool must_median = depth + 1 + median_levels(n) >= b->max_depth;
+    float cost = n <= 1 || must_median ? INFINITY : sah_split(b, begin, end, &cbox, &axis, &bin_split);
+    float parent_area = box_area(&bounds);
+    bool leaf_ok = n <= TZ_BVH_LEAF_MAX;
+    if (leaf_ok && (n <= 1 || !(cost < INFINITY) ||
+                    TRAVERSAL_COST + cost / (parent_area > 0.0f ? parent_area : 1.0f) >= (float)n)) {
+        node->lo.w = float_of(begin);
+        node->hi.w = float_of(n);
+        return id;
+    }
+    if (cost < INFINITY) {
+        float scale = BIN_COUNT / (cbox.hi[axis] - cbox.lo[axis]);
+        uint32_t i = begin, j = end;
+        while (i < j) { /* partition by bin */
+            int bin = (int)((b->centroid[3 * b->index[i] + axis] - cbox.lo[axis]) * scale);
+            bin = bin < 0 ? 0 : bin >= BIN_COUNT ? BIN_COUNT - 1 : bin;
+            if (bin < bin_split) {
+                i++;
+            } else {
+                uint32_t t = b->index[i];
+                b->index[i] = b->index[--j];
+                b->index[j] = t;
+            }
+        }
+        mid = i;
+    }
+    if (mid == begin || mid == end) { /* no SAH split: the object median on the widest axis */
+        axis = 0;
+        for (int a = 1; a < 3; a++)
+            if (cbox.hi[a] - cbox.lo[a] > cbox.hi[axis] - cbox.lo[axis]) axis = a;
+        mid = begin + n / 2;
+        select_median(b, begin, end, mid, axis);
+    }
+    build_node(b, begin, mid, depth + 1);
+    uint32_t right = build_node(b, mid, end, depth + 1);
+    b->nodes[id].lo.w = float_of(right);
+    return id;
+}
+
+bool bvh_build(const struct gpu_sphere *spheres, uint32_t count, uint32_t max_depth, bvh *out) {
+    *out = (bvh){0};
+    builder b = {.spheres = spheres, .max_depth = max_depth};
+    size_t n = count ? count : 1;
+    b.bounds = malloc(n * sizeof *b.bounds);
+    b.centroid = malloc(3 * n * sizeof *b.centroid);
+    b.index = malloc(n * sizeof *b.index);
+    b.nodes = calloc(2 * n, sizeof *b.nodes);
+    if (!b.bounds || !b.centroid || !b.index || !b.nodes) {
+        log_error("out of memory building a BVH over %u spheres", count);
+        free(b.bounds), free(b.centroid), free(b.index), free(b.nodes);
+        return false;
+    }
+    for (uint32_t k = 0; k < count; k++) {
+        const tz_vec4 *c = &spheres[k].center_radius;
+        /* Pad by a few float ulps of the largest coordinate: a hit the sphere test accepts must
+         * never lie outside its box through rounding. */
+        float m = fabsf(c->x) > fabsf(c->y) ? fabsf(c->x) : fabsf(c->y);
+        m = m > fabsf(c->z) ? m : fabsf(c->z);
+        float r = c->w + (m + c->w) * 4e-6f;
+        b.bounds[k] = (box){{c->x - r, c->y - r, c->z - r}, {c->x + r, c->y + r, c->z + r}};
+        b.centroid[3 * k] = c->x, b.centroid[3 * k + 1] = c->y, b.centroid[3 * k + 2] = c->z;
+        b.index[k] = k;
+    }
+    if (count > 0) build_node(&b, 0, count, 0); /* no spheres, no nodes: nothing to traverse */
+    free(b.bounds);
+    free(b.centroid);
+    *out = (bvh){.nodes = b.nodes, .node_count = b.node_count, .depth = b.depth, .order = b.index};
+    return true;
+}
+
+void bvh_free(bvh *b) {
+    free(b->nodes);
+    free(b->order);
+    *b = (bvh){0};
+}

@@ -1,0 +1,26 @@
+/* bvh.h: the bounding volume hierarchy over spheres, built on the host with binned SAH and stored
+ * as one flat array of struct gpu_bvh_node (shaders/shared_layout.h) that both back ends
+ * traverse as is. */
+#ifndef TRAZADOR_BVH_H
+#define TRAZADOR_BVH_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "shared_layout.h"
+
+typedef struct bvh {
+    struct gpu_bvh_node *nodes;
+    uint32_t node_count;
+    uint32_t depth;  /* levels from the root to the deepest leaf, below the build's max_depth */
+    uint32_t *order; /* order[k]: the input sphere stored at position k (leaves are ranges) */
+} bvh;
+
+/* Builds the tree over count spheres (0 spheres: 0 nodes) with every leaf at depth < max_depth
+ * (TZ_BVH_MAX_DEPTH for rendering; at least 22 so that 2^24 spheres fit); false (logged) on
+ * out-of-memory. */
+bool bvh_build(const struct gpu_sphere *spheres, uint32_t count, uint32_t max_depth, bvh *out);
+/* Frees the tree; safe on a zeroed bvh. */
+void bvh_free(bvh *b);
+
+#endif

@@ -1,0 +1,192 @@
+/* test_bvh.c: the BVH against brute force: nearest hits and shadow tests of 100,000+ random rays
+ * on random scenes (overlapping and nested spheres, rays starting inside spheres and on their
+ * surfaces), the tree's invariants (depth bound, leaf sizes, every sphere in one leaf, boxes that
+ * hold their contents) on ordinary and pathological inputs, and build time for big scenes. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "bvh.h"
+#include "check.h"
+#include "integrator.h"
+#include "rng.h"
+
+static uint32_t rng_state = 12345u;
+static float uniform(float lo, float hi) { return lo + (hi - lo) * rng_next(&rng_state); }
+
+static vec3 random_direction(void) {
+    for (;;) {
+        vec3 v = v3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+        float l = v3_length(v);
+        if (l > 0.05f && l <= 1.0f) return v3_scale(v, 1.0f / l);
+    }
+}
+
+/* A scene of n spheres in a 20-unit box: sizes from tiny to big, so they overlap and nest. */
+static void random_scene(scene *s, int n) {
+    *s = (scene){.width = 1, .height = 1, .pixel_size = 1, .plane_width = 1, .plane_height = 1,
+                 .camera_direction = {0, 0, 1}, .camera_up = {0, 1, 0}, .samples = 1, .bounces = 5};
+    s->spheres = calloc((size_t)n, sizeof *s->spheres);
+    s->sphere_count = n;
+    for (int k = 0; k < n; k++) {
+        float r = rng_next(&rng_state) < 0.1f ? uniform(1.0f, 4.0f) : uniform(0.01f, 0.6f);
+        s->spheres[k] = (sphere){.center = v3(uniform(-10, 10), uniform(-10, 10), uniform(-10, 10)),
+                                 .radius = r, .color = {0.5f, 0.5f, 0.5f}, .ior = 1.0f};
+    }
+}
+
+/* The packed index of the sphere equal to input sphere k (the BVH reorders them). */
+static int packed_index(const packed_scene *p, const sphere *sp) {
+    for (uint32_t k = 0; k < p->frame.size.z; k++) {
+        const tz_vec4 *c = &p->spheres[k].center_radius;
+        if (c->x == sp->center.x && c->y == sp->center.y && c->z == sp->center.z && c->w == sp->radius)
+            return (int)k;
+    }
+    return -1;
+}
+
+static bool same_sphere(const packed_scene *a, int ia, const packed_scene *b, int ib) {
+    if (ia < 0 || ib < 0) return ia == ib;
+    return !memcmp(&a->spheres[ia].center_radius, &b->spheres[ib].center_radius, sizeof(tz_vec4));
+}
+
+static void compare_rays(int sphere_count, int rays) {
+    scene s;
+    random_scene(&s, sphere_count);
+    render_opts with = {.samples = 1}, without = {.samples = 1, .no_bvh = true};
+    packed_scene tree, brute;
+    if (!scene_pack(&s, &with, &tree) || !scene_pack(&s, &without, &brute)) {
+        CHECK(0, "pack failed");
+        return;
+    }
+    CHECK(tree.frame.settings.w > 0 && brute.frame.settings.w == 0, "BVH present only when asked");
+    int nearest_bad = 0, shadow_bad = 0, hits = 0;
+    for (int r = 0; r < rays; r++) {
+        vec3 o, d = random_direction();
+        int self_brute = -1, self_tree = -1;
+        if (r % 4 == 0) { /* start on a sphere's surface, leaving it (as every secondary ray does) */
+            int k = (int)(rng_next(&rng_state) * (float)sphere_count) % sphere_count;
+            const sphere *sp = &s.spheres[k];
+            o = v3_add(sp->center, v3_scale(random_direction(), sp->radius));
+            self_brute = packed_index(&brute, sp);
+            self_tree = packed_index(&tree, sp);
+        } else { /* anywhere, often inside one or more spheres */
+            o = v3(uniform(-12, 12), uniform(-12, 12), uniform(-12, 12));
+        }
+        float ta, tb;
+        int a = integrator_nearest(&brute, o, d, self_brute, &ta);
+        int b = integrator_nearest(&tree, o, d, self_tree, &tb);
+        hits += a >= 0;
+        if (!same_sphere(&brute, a, &tree, b) || ta != tb) {
+            if (nearest_bad++ < 5)
+                fprintf(stderr, "ray %d: brute %d t=%.9g, bvh %d t=%.9g\n", r, a, ta, b, tb);
+        }
+        float dist = uniform(0.0f, 15.0f);
+        if (integrator_occluded(&brute, o, d, dist, self_brute) !=
+            integrator_occluded(&tree, o, d, dist, self_tree))
+            shadow_bad++;
+    }
+    CHECK(nearest_bad == 0, "%d spheres: %d of %d nearest hits differ", sphere_count, nearest_bad, rays);
+    CHECK(shadow_bad == 0, "%d spheres: %d of %d shadow tests differ", sphere_count, shadow_bad, rays);
+    CHECK(hits > rays / 10, "%d spheres: only %d of %d rays hit anything", sphere_count, hits, rays);
+    packed_scene_free(&tree);
+    packed_scene_free(&brute);
+    scene_free(&s);
+}
+
+static uint32_t bits(float f) {
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+/* Walks the tree: leaf sizes, coverage, containment; returns the depth below node. */
+static uint32_t check_node(const bvh *t, const struct gpu_sphere *spheres, uint32_t node,
+                           uint32_t *seen, uint32_t count, int *bad) {
+    const struct gpu_bvh_node *n = &t->nodes[node];
+    uint32_t leaf = bits(n->hi.w);
+    if (leaf) {
+        uint32_t first = bits(n->lo.w);
+        if (leaf > TZ_BVH_LEAF_MAX || first + leaf > count) {
+            (*bad)++;
+            return 0;
+        }
+        for (uint32_t k = first; k < first + leaf; k++) {
+            seen[k]++;
+            const tz_vec4 *c = &spheres[t->order[k]].center_radius;
+            if (c->x - c->w < n->lo.x || c->x + c->w > n->hi.x || c->y - c->w < n->lo.y ||
+                c->y + c->w > n->hi.y || c->z - c->w < n->lo.z || c->z + c->w > n->hi.z)
+                (*bad)++;
+        }
+        return 0;
+    }
+    uint32_t kids[2] = {node + 1, bits(n->lo.w)}, depth = 0;
+    for (int k = 0; k < 2; k++) {
+        const struct gpu_bvh_node *c = &t->nodes[kids[k]];
+        if (kids[k] >= t->node_count || c->lo.x < n->lo.x || c->hi.x > n->hi.x ||
+            c->lo.y < n->lo.y || c->hi.y > n->hi.y || c->lo.z < n->lo.z || c->hi.z > n->hi.z) {
+            (*bad)++;
+            continue;
+        }
+        uint32_t d = 1 + check_node(t, spheres, kids[k], seen, count, bad);
+        depth = d > depth ? d : depth;
+    }
+    return depth;
+}
+
+static void check_tree(const char *name, const struct gpu_sphere *spheres, uint32_t count,
+                       uint32_t max_depth) {
+    bvh t;
+    clock_t start = clock();
+    CHECK(bvh_build(spheres, count, max_depth, &t), "%s: build failed", name);
+    double seconds = (double)(clock() - start) / CLOCKS_PER_SEC;
+    uint32_t *seen = calloc(count, sizeof *seen);
+    int bad = 0;
+    uint32_t depth = check_node(&t, spheres, 0, seen, count, &bad);
+    int coverage = 0;
+    for (uint32_t k = 0; k < count; k++) coverage += seen[k] != 1;
+    CHECK(bad == 0, "%s: %d nodes break an invariant", name, bad);
+    CHECK(coverage == 0, "%s: %d spheres not in exactly one leaf", name, coverage);
+    CHECK(depth == t.depth, "%s: depth %u, the build says %u", name, depth, t.depth);
+    CHECK(t.depth < max_depth, "%s: depth %u reaches the bound %u", name, t.depth, max_depth);
+    printf("%s: %u spheres, %u nodes, depth %u, %.3f s\n", name, count, t.node_count, t.depth, seconds);
+    free(seen);
+    bvh_free(&t);
+}
+
+int main(void) {
+    compare_rays(1, 20000);
+    compare_rays(7, 20000);
+    compare_rays(100, 30000);
+    compare_rays(3000, 40000);
+    /* Invariants on random input and on inputs that defeat SAH: a geometric progression (every
+     * split wants to peel off one sphere), identical centres, and a line of touching spheres. */
+    uint32_t n = 200000;
+    struct gpu_sphere *sp = calloc(n, sizeof *sp);
+    for (uint32_t k = 0; k < n; k++)
+        sp[k].center_radius = (tz_vec4){uniform(-100, 100), uniform(-100, 100), uniform(-100, 100), uniform(0.01f, 1)};
+    check_tree("random", sp, n, TZ_BVH_MAX_DEPTH);
+    for (uint32_t k = 0; k < 5000; k++)
+        sp[k].center_radius = (tz_vec4){powf(1.01f, (float)k), 0.0f, 0.0f, 0.001f * powf(1.01f, (float)k)};
+    check_tree("geometric", sp, 5000, TZ_BVH_MAX_DEPTH);
+    /* Each SAH split peels the largest sphere off (only it falls in the top bin): without the
+     * depth guard this is a chain of ~200 levels; with it the build turns to median splits. */
+    for (uint32_t k = 0; k < 200; k++) {
+        float x = powf(1.2f, (float)k);
+        sp[k].center_radius = (tz_vec4){x, 0.0f, 0.0f, 0.05f * x};
+    }
+    check_tree("exponential", sp, 200, TZ_BVH_MAX_DEPTH);
+    for (uint32_t k = 0; k < 1000; k++) sp[k].center_radius = (tz_vec4){1, 2, 3, 0.5f};
+    check_tree("coincident", sp, 1000, TZ_BVH_MAX_DEPTH);
+    for (uint32_t k = 0; k < 100000; k++) sp[k].center_radius = (tz_vec4){2.0f * (float)k, 0, 0, 1};
+    check_tree("line", sp, 100000, TZ_BVH_MAX_DEPTH);
+    check_tree("single", sp, 1, TZ_BVH_MAX_DEPTH);
+    /* The depth guard: binned SAH wants ~20 levels for 200,000 random spheres; under a bound of
+     * 16 the build must turn to median splits in time (2^15 leaves of 8 hold them all). */
+    for (uint32_t k = 0; k < n; k++)
+        sp[k].center_radius = (tz_vec4){uniform(-100, 100), uniform(-100, 100), uniform(-100, 100), uniform(0.01f, 1)};
+    check_tree("random, depth bound 16", sp, n, 16);
+    free(sp);
+    return check_summary("test_bvh");
+}
