@@ -8,7 +8,7 @@
 #include "log.h"
 
 #define BIN_COUNT 16
-#define TRAVERSAL_COST 1.0f /* relative to one sphere test */
+#define TRAVERSAL_COST 4.0f /* relative to one sphere test: a node visit tests two boxes */
 
 typedef struct box {
     float lo[3], hi[3];
