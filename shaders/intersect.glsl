@@ -44,18 +44,22 @@ float sphere_hit(int k, vec3 o, vec3 d, float tmin, int self) {
     return miss ? TZ_INFINITY : near;
 }
 
-/* Nearest sphere hit by o + t d with t > EPS, -1 on a miss; t_out is its distance. Spheres in
- * index order, the first of equal distances kept, as in the C integrator. [[unroll]] takes effect
- * when sphere_count() is a specialization constant. */
+/* Nearest sphere hit by o + t d with t > EPS, -1 on a miss; t_out is its distance. An exact tie
+ * goes to the sphere written first in the scene (params.w), as in leaf_hit() of the C integrator,
+ * whatever order the spheres are stored or visited in. [[unroll]] takes effect when
+ * sphere_count() is a specialization constant. */
 int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
     float tmin = ray_eps(o), best = TZ_INFINITY;
+    float best_written = -1.0; /* below every index: a miss never wins a tie at infinity */
     int id = -1;
     [[unroll]] for (uint k = 0u; k < sphere_count(); k++) {
         float t = sphere_hit(int(k), o, d, tmin, self);
-        if (t < best) {
-            best = t;
-            id = int(k);
-        }
+        float written = sphere_params(int(k)).w;
+        /* Selects, not branches: lavapipe runs both sides of a branch for the whole subgroup. */
+        bool take = t < best || (t == best && written < best_written);
+        best = take ? t : best;
+        id = take ? int(k) : id;
+        best_written = take ? written : best_written;
     }
     t_out = best;
     return id;

@@ -1,10 +1,12 @@
 /* vk_context.c: opens the Vulkan loader at run time, owns the instance / messenger / device /
  * queue / command pool of a render (vkcube-style: one context, reverse-order teardown, validation
  * errors decide the outcome), lists devices, and builds buffers and compute kernels. */
+#define _GNU_SOURCE /* dl_iterate_phdr, RTLD_NODELETE: see pin_loaded_libraries */
 #include "vk_context.h"
 
 #include <dlfcn.h>
 #include <inttypes.h>
+#include <link.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -168,6 +170,28 @@ static VKAPI_ATTR VkBool32 VKAPI_CALL on_debug_message(
     return VK_FALSE; /* never abort the call: the error count decides the outcome */
 }
 
+#if defined(__SANITIZE_ADDRESS__)
+/* The driver, LLVM and the validation layer keep some allocations past vkDestroyInstance, and the
+ * loader unmaps them, after which LeakSanitizer cannot name their module and tests/lsan.supp
+ * cannot match them. ASan builds keep every loaded library mapped to the end of the process. */
+static int collect_library(struct dl_phdr_info *info, size_t size, void *names) {
+    (void)size;
+    char **list = names;
+    for (int k = 0; k < 256; k++)
+        if (!list[k]) return info->dlpi_name[0] ? (list[k] = strdup(info->dlpi_name), 0) : 0;
+    return 1;
+}
+
+static void pin_loaded_libraries(void) {
+    char *names[257] = {0}; /* dlopen is not called while dl_iterate_phdr holds its lock */
+    dl_iterate_phdr(collect_library, names);
+    for (int k = 0; names[k]; k++) {
+        dlopen(names[k], RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+        free(names[k]);
+    }
+}
+#endif
+
 /* Creates an instance: Vulkan 1.1 or later, portability enumeration where offered (MoltenVK),
  * and with `messenger` (validation on) the Khronos layer, debug utils and synchronization
  * validation. Returns the VkResult; logs only the missing-validation case. */
@@ -232,7 +256,11 @@ static VkResult create_instance(const VkDebugUtilsMessengerCreateInfoEXT *messen
         .enabledExtensionCount = extension_count,
         .ppEnabledExtensionNames = extensions,
     };
-    return vkCreateInstance(&info, NULL, out);
+    VkResult result = vkCreateInstance(&info, NULL, out);
+#if defined(__SANITIZE_ADDRESS__)
+    if (result == VK_SUCCESS) pin_loaded_libraries();
+#endif
+    return result;
 }
 
 /* What trazador needs to know of one physical device to list or choose it. */

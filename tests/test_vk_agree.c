@@ -13,6 +13,7 @@
 #include "diff.h"
 #include "image.h"
 #include "render.h"
+#include "scene_pack.h"
 #include "vk_context.h"
 
 #define MIN_PSNR 50.0
@@ -200,6 +201,55 @@ static void test_example_scenes(void) {
     CHECK(count > 0, "no scene in %s", folder);
 }
 
+/* Two coincident spheres, red and green, written after five small ones: an exact tie on every
+ * ray to them, which goes to the sphere written first on both back ends. The BVH stores this
+ * pair in reverse (checked), so storage order alone would pick the wrong one. */
+static void test_ties(void) {
+    for (int red_first = 0; red_first <= 1; red_first++) {
+        sphere spheres[20];
+        for (int k = 0; k < 20; k++)
+            spheres[k] = (sphere){.center = {(float)(k < 5 ? k : k - 2) - 9.0f, 3.0f, 5.0f},
+                                  .radius = 0.3f, .material = MATERIAL_LAMBERTIAN,
+                                  .color = {0.5f, 0.5f, 0.5f}, .ior = 1.0f};
+        for (int k = 5; k < 7; k++) {
+            bool red = (k == 5) == (red_first == 1);
+            spheres[k] = (sphere){.center = {0.0f, 0.0f, 3.0f}, .radius = 1.0f,
+                                  .material = MATERIAL_LAMBERTIAN,
+                                  .color = {red ? 0.8f : 0.1f, red ? 0.1f : 0.8f, 0.1f},
+                                  .ior = 1.0f};
+        }
+        light lamp = {.position = {1.0f, 2.0f, -1.0f}, .power = 20.0f, .color = {1, 1, 1}};
+        scene s = {.camera_position = {0.0f, 0.0f, -2.0f}, .camera_direction = {0, 0, 1},
+                   .camera_up = {0, 1, 0}, .plane_width = 2.0f, .plane_height = 2.0f,
+                   .pixel_size = 0.125f, .width = 16, .height = 16, .samples = 2,
+                   .indirect = true, .bounces = 5, .seed = 5, .spheres = spheres,
+                   .sphere_count = 20, .lights = &lamp, .light_count = 1};
+        render_opts opts;
+        render_opts_from_scene(&s, &opts);
+        packed_scene packed;
+        if (scene_pack(&s, &opts, &packed)) {
+            int first = -1; /* the pair's first stored sphere */
+            for (int k = 0; k < 20 && first < 0; k++)
+                if (packed.spheres[k].center_radius.w == 1.0f) first = k;
+            CHECK(first >= 0 && packed.spheres[first].params.w == 6.0f,
+                  "ties: the BVH no longer stores the pair reversed; move it");
+            packed_scene_free(&packed);
+        }
+        film cpu = {0}, vk = {0};
+        if (render_both(&s, &opts, &cpu, &vk)) {
+            size_t centre = (8u * 16u + 8u) * 4u; /* a pixel on the pair */
+            bool red_seen = cpu.accum[centre] > cpu.accum[centre + 1];
+            CHECK(red_seen == (red_first == 1), "ties: the C back end saw the second sphere");
+            CHECK(!memcmp(cpu.accum, vk.accum, 16 * 16 * 4 * sizeof(float)),
+                  "ties (%s written first): the films differ", red_first ? "red" : "green");
+        } else {
+            CHECK(0, "ties: a back end failed");
+        }
+        film_free(&cpu);
+        film_free(&vk);
+    }
+}
+
 /* TRAZADOR_VK_STAGING=1 sends every buffer through staging copies, as on a discrete GPU. */
 static void test_staging(void) {
     scene s = materials_scene();
@@ -253,6 +303,7 @@ int main(void) {
     }
     test_built_scenes();
     test_example_scenes();
+    test_ties();
     test_staging();
     test_nonfinite();
     return check_summary("test_vk_agree");
