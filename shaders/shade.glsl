@@ -31,7 +31,8 @@ vec3 direct_light(int id, vec3 pos, vec3 n, vec3 wo) {
     precise vec3 sum = vec3(0.0);
     [[unroll]] for (uint k = 0u; k < light_count(); k++) {
         vec4 position_power = light_position_power(int(k));
-        /* Distance and angle from the true hit point; only the shadow ray starts off the surface. */
+        /* Distance and angle from the true hit point; only the shadow ray starts off the
+         * surface. */
         precise vec3 to_light = position_power.xyz - pos;
         precise float dist2 = v3_dot(to_light, to_light);
         precise float dist = sqrt(dist2);

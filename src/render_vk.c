@@ -17,11 +17,11 @@
 /* Tile side in pixels: one dispatch covers at most one tile, which bounds its duration on real
  * GPUs (watchdogs) and the accumulation band it binds (TILE_SIZE rows of the image). */
 #define TILE_SIZE 256u
-/* Loop iterations (about one ray/sphere test each) one dispatch may cost, so that a dispatch
- * stays well under a second on a GPU; samples per dispatch are chosen to fit. */
+/* Loop passes (about one ray/sphere test each) one dispatch may cost, so that a dispatch stays
+ * well under a second on a GPU; samples per dispatch are chosen to fit. */
 #define DISPATCH_BUDGET (UINT64_C(1) << 29)
-/* Loop iterations one submission may cost: a few seconds on lavapipe, the granularity of the
- * progress line and of the non-finite counter read-back. */
+/* Loop passes one submission may cost: a few seconds on lavapipe, the granularity of the progress
+ * line and of the non-finite counter read-back. */
 #define SUBMIT_BUDGET (UINT64_C(1) << 31)
 
 typedef struct vk_render {
@@ -40,14 +40,15 @@ static double seconds_now(void) {
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-/* Refuses what the device could not render right: buffers past maxStorageBufferRange, and on
- * lavapipe a sample whose worst-case loop work reaches the silent loop limit. */
+/* Refuses what the device could not render right: scene or accumulation buffers past its limits,
+ * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit. */
 static bool check_limits(const vk_context *ctx, const scene *s, uint64_t sample_iterations) {
     /* One sample an invocation: its passes and the sample loop's exit pass. */
     if (vk_context_is_lavapipe(ctx) && sample_iterations + 1u > VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
-        log_error("this scene needs up to %" PRIu64 " loop passes per sample, past lavapipe's "
-                  "safe limit of %u (its shaders stop loops silently after %u): use --backend cpu "
-                  "(a BVH will lift this limit)",
+        log_error("this scene needs up to %" PRIu64
+                  " loop passes per sample, past lavapipe's "
+                  "safe limit of %u (its shaders stop loops silently after %u; the Vulkan back "
+                  "end tests every sphere for every ray): use --backend cpu",
                   sample_iterations + 1u, VK_PROBE_LAVAPIPE_SAFE_ITERATIONS,
                   VK_PROBE_LAVAPIPE_LOOP_LIMIT);
         return false;
@@ -60,7 +61,8 @@ static bool check_limits(const vk_context *ctx, const scene *s, uint64_t sample_
     const char *what[] = {"texels of spheres", "texels of lights", "bytes of accumulation rows"};
     for (int k = 0; k < 3; k++) {
         if (need[k] > limit[k]) {
-            log_error("the scene needs %" PRIu64 " %s in one buffer, past this device's limit of "
+            log_error("the scene needs %" PRIu64
+                      " %s in one buffer, past this device's limit of "
                       "%" PRIu64 ": use --backend cpu",
                       need[k], what[k], limit[k]);
             return false;
@@ -142,11 +144,11 @@ static void record_passes(vk_render *r, const pass_plan *plan, uint32_t first, u
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.pipeline);
     for (uint32_t pass = first; pass < last; pass++) {
         /* Each pass reads and writes what the one before wrote: samples add in order. */
-        vk_commands_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                            VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                                VK_ACCESS_UNIFORM_READ_BIT);
+        vk_commands_barrier(
+            cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+            VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_UNIFORM_READ_BIT);
         uint32_t sample = pass * plan->per_dispatch;
         uint32_t count = plan->samples - sample < plan->per_dispatch ? plan->samples - sample
                                                                      : plan->per_dispatch;
@@ -196,12 +198,13 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
     const uint32_t *counter = r->counter.mapped ? r->counter.mapped : r->readback.mapped;
     *nonfinite = 0;
     for (uint32_t first = 0; first < passes; first += plan->passes_per_submit) {
-        uint32_t last = passes - first < plan->passes_per_submit ? passes
-                                                                  : first + plan->passes_per_submit;
+        uint32_t last =
+            passes - first < plan->passes_per_submit ? passes : first + plan->passes_per_submit;
         if (!vk_commands_begin(ctx, &r->cmd)) return false;
         /* The counter restarts each submission, so 32 bits never wrap: the previous
          * submission's atomics and copy are done (fence) and ordered before the fill. */
-        vk_commands_barrier(r->cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+        vk_commands_barrier(r->cmd,
+                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                             VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                             VK_ACCESS_TRANSFER_WRITE_BIT);
         if (first == 0) record_setup(r);
@@ -210,8 +213,7 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
         record_readback(r, plan, last == passes);
         if (!vk_commands_submit_wait(ctx, r->cmd, r->fence)) return false;
         *nonfinite += *counter;
-        if (opts->progress)
-            fprintf(stderr, "\rtrazador: rendering %5.1f%%", 100.0 * last / passes);
+        if (opts->progress) fprintf(stderr, "\rtrazador: rendering %5.1f%%", 100.0 * last / passes);
     }
     if (opts->progress) fprintf(stderr, "\r\033[K");
     return true;
@@ -220,7 +222,8 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
 /* Samples per dispatch and passes per submission, from the per-sample worst case. */
 static pass_plan plan_passes(const vk_context *ctx, const scene *s, const render_opts *opts,
                              uint64_t sample_iterations) {
-    pass_plan plan = {.width = (uint32_t)s->width, .height = (uint32_t)s->height,
+    pass_plan plan = {.width = (uint32_t)s->width,
+                      .height = (uint32_t)s->height,
                       .samples = (uint32_t)opts->samples};
     uint64_t tile_pixels = (uint64_t)TILE_SIZE * TILE_SIZE;
     uint64_t per_dispatch = DISPATCH_BUDGET / (tile_pixels * sample_iterations);
@@ -232,7 +235,8 @@ static pass_plan plan_passes(const vk_context *ctx, const scene *s, const render
     plan.per_dispatch = per_dispatch ? (uint32_t)per_dispatch : 1u;
     uint64_t pass_cost = (uint64_t)plan.width * plan.height * plan.per_dispatch * sample_iterations;
     uint64_t per_submit = SUBMIT_BUDGET / pass_cost;
-    plan.passes_per_submit = per_submit > 0 ? (uint32_t)(per_submit < UINT32_MAX ? per_submit : UINT32_MAX) : 1u;
+    plan.passes_per_submit =
+        per_submit > 0 ? (uint32_t)(per_submit < UINT32_MAX ? per_submit : UINT32_MAX) : 1u;
     return plan;
 }
 
@@ -243,8 +247,8 @@ static void render_destroy(vk_render *r) {
         if (r->fence) vkDestroyFence(ctx->device, r->fence, NULL);
         if (r->cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &r->cmd);
         vk_kernel_destroy(ctx, &r->kernel);
-        vk_buffer *buffers[] = {&r->readback, &r->upload, &r->counter, &r->accum,
-                                &r->lights, &r->spheres, &r->frame};
+        vk_buffer *buffers[] = {&r->readback, &r->upload,  &r->counter, &r->accum,
+                                &r->lights,   &r->spheres, &r->frame};
         for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; k++)
             vk_buffer_destroy(ctx, buffers[k]);
     }
@@ -285,13 +289,16 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
      * read of the scene a uniform load, and the loop bookkeeping disappears. The flags compile
      * out the indirect bounce when it is off. */
     uint32_t constants[3] = {
-        [TZ_SPEC_UNROLLED_SPHERES] = s->sphere_count <= TZ_UNROLL_MAX_SPHERES ? (uint32_t)s->sphere_count : 0u,
-        [TZ_SPEC_UNROLLED_LIGHTS] = s->light_count <= TZ_UNROLL_MAX_LIGHTS ? (uint32_t)s->light_count : 0u,
+        [TZ_SPEC_UNROLLED_SPHERES] =
+            s->sphere_count <= TZ_UNROLL_MAX_SPHERES ? (uint32_t)s->sphere_count : 0u,
+        [TZ_SPEC_UNROLLED_LIGHTS] =
+            s->light_count <= TZ_UNROLL_MAX_LIGHTS ? (uint32_t)s->light_count : 0u,
         [TZ_SPEC_FLAGS] = packed.frame.settings.z,
     };
     VkSpecializationMapEntry entries[3];
     for (uint32_t k = 0; k < 3; k++)
-        entries[k] = (VkSpecializationMapEntry){k, k * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
+        entries[k] =
+            (VkSpecializationMapEntry){k, k * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
     const VkSpecializationInfo spec = {3, entries, sizeof constants, constants};
     vk_kernel_desc kernel = {
         .spec = &spec,
@@ -306,8 +313,8 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
         !VK_CHECK(vkCreateFence(r.ctx.device, &fence_info, NULL, &r.fence)))
         goto done;
     const vk_buffer *buffers[] = {
-        [TZ_BINDING_FRAME] = &r.frame,     [TZ_BINDING_SPHERES] = &r.spheres,
-        [TZ_BINDING_LIGHTS] = &r.lights,   [TZ_BINDING_ACCUM] = &r.accum,
+        [TZ_BINDING_FRAME] = &r.frame,      [TZ_BINDING_SPHERES] = &r.spheres,
+        [TZ_BINDING_LIGHTS] = &r.lights,    [TZ_BINDING_ACCUM] = &r.accum,
         [TZ_BINDING_COUNTERS] = &r.counter,
     };
     const VkDeviceSize ranges[] = {
@@ -322,7 +329,8 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
     log_debug("vulkan: pipeline in %.1f ms", (t_pipeline - t_upload) * 1e3);
 
     pass_plan plan = plan_passes(&r.ctx, s, opts, sample_iterations);
-    log_debug("vulkan: %" PRIu64 " loop passes per sample at most, %u sample%s per dispatch, "
+    log_debug("vulkan: %" PRIu64
+              " loop passes per sample at most, %u sample%s per dispatch, "
               "%u pass%s per submission",
               sample_iterations, plan.per_dispatch, plan.per_dispatch == 1 ? "" : "s",
               plan.passes_per_submit, plan.passes_per_submit == 1 ? "" : "es");

@@ -15,7 +15,7 @@
 #include "log.h"
 
 #define VALIDATION_LAYER "VK_LAYER_KHRONOS_validation"
-#define NO_DEVICE_MESSAGE                                                                 \
+#define NO_DEVICE_MESSAGE                                                                     \
     "no Vulkan device found: install lavapipe (Debian: apt-get install mesa-vulkan-drivers) " \
     "or use --backend cpu"
 
@@ -80,8 +80,10 @@ static void loader_open(void) {
         void *handle = dlopen(names[k], RTLD_NOW | RTLD_LOCAL);
         if (!handle) continue;
         void *symbol = dlsym(handle, "vkGetInstanceProcAddr");
-        if (symbol) memcpy(&get_instance_proc, &symbol, sizeof get_instance_proc);
-        else dlclose(handle);
+        if (symbol)
+            memcpy(&get_instance_proc, &symbol, sizeof get_instance_proc);
+        else
+            dlclose(handle);
     }
     if (!get_instance_proc) return;
 #define LOAD(name) name = (PFN_##name)get_instance_proc(VK_NULL_HANDLE, #name);
@@ -103,11 +105,11 @@ static bool loader_ready(void) {
  * instance can load them; they are reloaded for each new instance all the same. */
 static bool load_instance_functions(VkInstance instance) {
     bool ok = true;
-#define LOAD(name)                                                  \
-    name = (PFN_##name)get_instance_proc(instance, #name);          \
-    if (!name) {                                                    \
+#define LOAD(name)                                                 \
+    name = (PFN_##name)get_instance_proc(instance, #name);         \
+    if (!name) {                                                   \
         log_error("the Vulkan loader does not provide %s", #name); \
-        ok = false;                                                 \
+        ok = false;                                                \
     }
     VK_CONTEXT_INSTANCE_FUNCTIONS(LOAD)
 #undef LOAD
@@ -140,7 +142,8 @@ static bool has_instance_extension(const char *layer, const char *name) {
 
 static bool has_device_extension(VkPhysicalDevice device, const char *name) {
     uint32_t count = 0;
-    if (vkEnumerateDeviceExtensionProperties(device, NULL, &count, NULL) != VK_SUCCESS || count == 0)
+    if (vkEnumerateDeviceExtensionProperties(device, NULL, &count, NULL) != VK_SUCCESS ||
+        count == 0)
         return false;
     VkExtensionProperties *exts = calloc(count, sizeof *exts);
     bool found = false;
@@ -222,9 +225,10 @@ static VkResult create_instance(const VkDebugUtilsMessengerCreateInfoEXT *messen
         /* A misspelt or missing layer would otherwise be skipped without a word by some
          * loaders: check that it is installed before asking for it. */
         if (!has_layer(VALIDATION_LAYER)) {
-            log_error("validation was requested but %s is not installed (Debian: apt-get install "
-                      "vulkan-validationlayers)",
-                      VALIDATION_LAYER);
+            log_error(
+                "validation was requested but %s is not installed (Debian: apt-get install "
+                "vulkan-validationlayers)",
+                VALIDATION_LAYER);
             return VK_ERROR_LAYER_NOT_PRESENT;
         }
         if (!has_instance_extension(NULL, VK_EXT_DEBUG_UTILS_EXTENSION_NAME) &&
@@ -299,8 +303,8 @@ static void query_device(VkPhysicalDevice device, device_info *out) {
             if (families[k].queueFlags & VK_QUEUE_COMPUTE_BIT) out->compute_family = k;
         free(families);
     }
-    out->usable = out->properties.apiVersion >= VK_API_VERSION_1_1 &&
-                  out->compute_family != UINT32_MAX;
+    out->usable =
+        out->properties.apiVersion >= VK_API_VERSION_1_1 && out->compute_family != UINT32_MAX;
 }
 
 /* Enumerates the instance's devices into a new array; false (nothing allocated) when none. */
@@ -352,11 +356,16 @@ int vk_context_device_count(void) {
 
 static const char *device_type_name(VkPhysicalDeviceType type) {
     switch (type) {
-        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
-        default: return "other";
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return "integrated GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return "discrete GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return "virtual GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return "CPU";
+        default:
+            return "other";
     }
 }
 
@@ -374,12 +383,11 @@ bool vk_context_print_devices(void) {
         device_info info;
         query_device(devices[k], &info);
         uint32_t v = info.properties.apiVersion;
-        printf("%c %u: %s (%s), driver %s%s%s, Vulkan %u.%u.%u%s\n",
-               (int)k == chosen ? '*' : ' ', k, info.properties.deviceName,
-               device_type_name(info.properties.deviceType),
-               info.driver_name[0] ? info.driver_name : "(unnamed)",
-               info.driver_info[0] ? " " : "", info.driver_info, VK_API_VERSION_MAJOR(v),
-               VK_API_VERSION_MINOR(v), VK_API_VERSION_PATCH(v),
+        printf("%c %u: %s (%s), driver %s%s%s, Vulkan %u.%u.%u%s\n", (int)k == chosen ? '*' : ' ',
+               k, info.properties.deviceName, device_type_name(info.properties.deviceType),
+               info.driver_name[0] ? info.driver_name : "(unnamed)", info.driver_info[0] ? " " : "",
+               info.driver_info, VK_API_VERSION_MAJOR(v), VK_API_VERSION_MINOR(v),
+               VK_API_VERSION_PATCH(v),
                info.usable ? "" : " (unusable: needs Vulkan 1.1 and a compute queue)");
     }
     if (chosen >= 0) printf("* the device `--device` defaults to\n");
@@ -410,9 +418,10 @@ static bool open_device(vk_context *ctx, int requested) {
         return false;
     }
     if (index < 0) {
-        log_error("no usable Vulkan device: none of the %u found has Vulkan 1.1 and a compute "
-                  "queue; use --backend cpu",
-                  count);
+        log_error(
+            "no usable Vulkan device: none of the %u found has Vulkan 1.1 and a compute "
+            "queue; use --backend cpu",
+            count);
         free(devices);
         return false;
     }
@@ -491,8 +500,8 @@ bool vk_context_init(vk_context *ctx, const vk_context_desc *desc) {
     if (!load_instance_functions(ctx->instance)) goto fail;
     if (ctx->validate) {
         PFN_vkCreateDebugUtilsMessengerEXT create =
-            (PFN_vkCreateDebugUtilsMessengerEXT)get_instance_proc(
-                ctx->instance, "vkCreateDebugUtilsMessengerEXT");
+            (PFN_vkCreateDebugUtilsMessengerEXT)get_instance_proc(ctx->instance,
+                                                                  "vkCreateDebugUtilsMessengerEXT");
         ctx->destroy_messenger = (PFN_vkDestroyDebugUtilsMessengerEXT)get_instance_proc(
             ctx->instance, "vkDestroyDebugUtilsMessengerEXT");
         if (!create || !ctx->destroy_messenger) {
@@ -537,7 +546,8 @@ static int find_memory_type(const vk_context *ctx, uint32_t type_bits,
     for (int pass = 0; pass < 2; pass++) {
         VkMemoryPropertyFlags want = pass == 0 ? required | preferred : required;
         for (uint32_t k = 0; k < ctx->memory.memoryTypeCount; k++)
-            if ((type_bits & (1u << k)) && (ctx->memory.memoryTypes[k].propertyFlags & want) == want)
+            if ((type_bits & (1u << k)) &&
+                (ctx->memory.memoryTypes[k].propertyFlags & want) == want)
                 return (int)k;
     }
     return -1;
@@ -555,14 +565,13 @@ bool vk_buffer_create(vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usa
     if (!VK_CHECK(vkCreateBuffer(ctx->device, &info, NULL, &out->buffer))) return false;
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(ctx->device, out->buffer, &req);
-    const VkMemoryPropertyFlags host = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-                                       VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    int type = use == VK_MEMORY_DEVICE
-                   ? find_memory_type(ctx, req.memoryTypeBits, 0,
-                                      VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)
-                   : find_memory_type(ctx, req.memoryTypeBits, host,
-                                      use == VK_MEMORY_READBACK ? VK_MEMORY_PROPERTY_HOST_CACHED_BIT
-                                                                : 0);
+    const VkMemoryPropertyFlags host =
+        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    int type =
+        use == VK_MEMORY_DEVICE
+            ? find_memory_type(ctx, req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)
+            : find_memory_type(ctx, req.memoryTypeBits, host,
+                               use == VK_MEMORY_READBACK ? VK_MEMORY_PROPERTY_HOST_CACHED_BIT : 0);
     if (type < 0) {
         log_error("no Vulkan memory type fits a %s buffer of %" PRIu64 " bytes",
                   use == VK_MEMORY_DEVICE ? "device" : "staging", (uint64_t)size);
@@ -583,10 +592,10 @@ bool vk_buffer_create(vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usa
      * coherent (lavapipe, integrated GPUs); a discrete GPU's BAR goes through staging. */
     VkMemoryPropertyFlags flags = ctx->memory.memoryTypes[type].propertyFlags;
     bool map = use != VK_MEMORY_DEVICE ||
-               (!ctx->force_staging &&
-                (flags & (host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT)) ==
-                    (host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT));
-    if (map && !VK_CHECK(vkMapMemory(ctx->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped))) {
+               (!ctx->force_staging && (flags & (host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT)) ==
+                                           (host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT));
+    if (map &&
+        !VK_CHECK(vkMapMemory(ctx->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped))) {
         vk_buffer_destroy(ctx, out);
         return false;
     }
@@ -671,7 +680,7 @@ bool vk_kernel_create(vk_context *ctx, const vk_kernel_desc *desc, vk_kernel *ou
             },
         .layout = out->layout,
     };
-    bool built = VK_CHECK(vkCreateComputePipelines(ctx->device, desc->cache, 1, &pipeline_info,
+    bool built = VK_CHECK(vkCreateComputePipelines(ctx->device, VK_NULL_HANDLE, 1, &pipeline_info,
                                                    NULL, &out->pipeline));
     vkDestroyShaderModule(ctx->device, module, NULL);
     if (!built) goto fail;
@@ -755,7 +764,8 @@ bool vk_commands_submit_wait(vk_context *ctx, VkCommandBuffer cmd, VkFence fence
         !VK_CHECK(vkWaitForFences(ctx->device, 1, &fence, VK_TRUE, UINT64_MAX)))
         return false;
     unsigned errors = vk_context_validation_errors(ctx);
-    if (errors) log_error("stopping after %u Vulkan validation error%s", errors, errors == 1 ? "" : "s");
+    if (errors)
+        log_error("stopping after %u Vulkan validation error%s", errors, errors == 1 ? "" : "s");
     return errors == 0;
 }
 

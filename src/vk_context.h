@@ -14,65 +14,62 @@
 #include <vulkan/vulkan.h>
 
 /* Every Vulkan function trazador calls, loaded through vkGetInstanceProcAddr. */
-#define VK_CONTEXT_GLOBAL_FUNCTIONS(X) \
-    X(vkCreateInstance)                \
-    X(vkEnumerateInstanceVersion)      \
+#define VK_CONTEXT_GLOBAL_FUNCTIONS(X)    \
+    X(vkCreateInstance)                   \
+    X(vkEnumerateInstanceVersion)         \
     X(vkEnumerateInstanceLayerProperties) \
     X(vkEnumerateInstanceExtensionProperties)
-#define VK_CONTEXT_INSTANCE_FUNCTIONS(X)    \
-    X(vkDestroyInstance)                    \
-    X(vkEnumeratePhysicalDevices)           \
-    X(vkGetPhysicalDeviceProperties)        \
-    X(vkGetPhysicalDeviceProperties2)       \
+#define VK_CONTEXT_INSTANCE_FUNCTIONS(X)        \
+    X(vkDestroyInstance)                        \
+    X(vkEnumeratePhysicalDevices)               \
+    X(vkGetPhysicalDeviceProperties)            \
+    X(vkGetPhysicalDeviceProperties2)           \
     X(vkGetPhysicalDeviceQueueFamilyProperties) \
-    X(vkGetPhysicalDeviceMemoryProperties)  \
-    X(vkEnumerateDeviceExtensionProperties) \
-    X(vkCreateDevice)                       \
-    X(vkDestroyDevice)                      \
-    X(vkGetDeviceQueue)                     \
-    X(vkDeviceWaitIdle)                     \
-    X(vkQueueSubmit)                        \
-    X(vkCreateCommandPool)                  \
-    X(vkDestroyCommandPool)                 \
-    X(vkAllocateCommandBuffers)             \
-    X(vkFreeCommandBuffers)                 \
-    X(vkBeginCommandBuffer)                 \
-    X(vkEndCommandBuffer)                   \
-    X(vkCreateFence)                        \
-    X(vkDestroyFence)                       \
-    X(vkWaitForFences)                      \
-    X(vkResetFences)                        \
-    X(vkCreateBuffer)                       \
-    X(vkDestroyBuffer)                      \
-    X(vkCreateBufferView)                   \
-    X(vkDestroyBufferView)                  \
-    X(vkGetBufferMemoryRequirements)        \
-    X(vkAllocateMemory)                     \
-    X(vkFreeMemory)                         \
-    X(vkBindBufferMemory)                   \
-    X(vkMapMemory)                          \
-    X(vkUnmapMemory)                        \
-    X(vkCreateShaderModule)                 \
-    X(vkDestroyShaderModule)                \
-    X(vkCreateDescriptorSetLayout)          \
-    X(vkDestroyDescriptorSetLayout)         \
-    X(vkCreatePipelineLayout)               \
-    X(vkDestroyPipelineLayout)              \
-    X(vkCreatePipelineCache)                \
-    X(vkDestroyPipelineCache)               \
-    X(vkGetPipelineCacheData)               \
-    X(vkCreateComputePipelines)             \
-    X(vkDestroyPipeline)                    \
-    X(vkCreateDescriptorPool)               \
-    X(vkDestroyDescriptorPool)              \
-    X(vkAllocateDescriptorSets)             \
-    X(vkUpdateDescriptorSets)               \
-    X(vkCmdBindPipeline)                    \
-    X(vkCmdBindDescriptorSets)              \
-    X(vkCmdPushConstants)                   \
-    X(vkCmdDispatch)                        \
-    X(vkCmdPipelineBarrier)                 \
-    X(vkCmdFillBuffer)                      \
+    X(vkGetPhysicalDeviceMemoryProperties)      \
+    X(vkEnumerateDeviceExtensionProperties)     \
+    X(vkCreateDevice)                           \
+    X(vkDestroyDevice)                          \
+    X(vkGetDeviceQueue)                         \
+    X(vkDeviceWaitIdle)                         \
+    X(vkQueueSubmit)                            \
+    X(vkCreateCommandPool)                      \
+    X(vkDestroyCommandPool)                     \
+    X(vkAllocateCommandBuffers)                 \
+    X(vkFreeCommandBuffers)                     \
+    X(vkBeginCommandBuffer)                     \
+    X(vkEndCommandBuffer)                       \
+    X(vkCreateFence)                            \
+    X(vkDestroyFence)                           \
+    X(vkWaitForFences)                          \
+    X(vkResetFences)                            \
+    X(vkCreateBuffer)                           \
+    X(vkDestroyBuffer)                          \
+    X(vkCreateBufferView)                       \
+    X(vkDestroyBufferView)                      \
+    X(vkGetBufferMemoryRequirements)            \
+    X(vkAllocateMemory)                         \
+    X(vkFreeMemory)                             \
+    X(vkBindBufferMemory)                       \
+    X(vkMapMemory)                              \
+    X(vkUnmapMemory)                            \
+    X(vkCreateShaderModule)                     \
+    X(vkDestroyShaderModule)                    \
+    X(vkCreateDescriptorSetLayout)              \
+    X(vkDestroyDescriptorSetLayout)             \
+    X(vkCreatePipelineLayout)                   \
+    X(vkDestroyPipelineLayout)                  \
+    X(vkCreateComputePipelines)                 \
+    X(vkDestroyPipeline)                        \
+    X(vkCreateDescriptorPool)                   \
+    X(vkDestroyDescriptorPool)                  \
+    X(vkAllocateDescriptorSets)                 \
+    X(vkUpdateDescriptorSets)                   \
+    X(vkCmdBindPipeline)                        \
+    X(vkCmdBindDescriptorSets)                  \
+    X(vkCmdPushConstants)                       \
+    X(vkCmdDispatch)                            \
+    X(vkCmdPipelineBarrier)                     \
+    X(vkCmdFillBuffer)                          \
     X(vkCmdCopyBuffer)
 
 #define VK_CONTEXT_DECLARE_FUNCTION(name) extern PFN_##name name;
@@ -107,8 +104,8 @@ typedef struct vk_context {
     VkQueue queue;
     VkCommandPool command_pool;
     bool validate;
-    bool force_staging;       /* TRAZADOR_VK_STAGING=1: copy through staging buffers even when
-                                 device memory is mappable, to exercise the discrete-GPU path */
+    bool force_staging; /* TRAZADOR_VK_STAGING=1: copy through staging buffers even when
+                           device memory is mappable, to exercise the discrete-GPU path */
     atomic_uint validation_errors;
 } vk_context;
 
@@ -157,9 +154,8 @@ typedef struct vk_kernel_desc {
     size_t code_size; /* bytes */
     const VkDescriptorType *types;
     uint32_t binding_count;
-    uint32_t push_size; /* bytes of push constants, 0 for none */
-    VkPipelineCache cache;              /* optional */
-    const VkSpecializationInfo *spec;   /* optional */
+    uint32_t push_size;               /* bytes of push constants, 0 for none */
+    const VkSpecializationInfo *spec; /* optional */
 } vk_kernel_desc;
 
 typedef struct vk_kernel {
@@ -183,7 +179,8 @@ void vk_kernel_bind(vk_context *ctx, vk_kernel *k, const vk_buffer *const *buffe
 /* Destroys the kernel; safe on a zeroed vk_kernel. */
 void vk_kernel_destroy(vk_context *ctx, vk_kernel *k);
 
-/* Allocates a primary command buffer and begins it (one-time submit); false (logged) on failure. */
+/* Begins *cmd for one submission, first allocating it from the context's pool when it is
+ * VK_NULL_HANDLE (a recorded buffer is reset and reused); false (logged) on failure. */
 bool vk_commands_begin(vk_context *ctx, VkCommandBuffer *cmd);
 /* Ends, submits and waits for cmd with fence (reset first), then checks validation; false
  * (logged) on any failure or on a validation error reported meanwhile. */

@@ -10,7 +10,8 @@
 
 #include "vk_context.h"
 
-/* Loop passes one lavapipe invocation may run (Mesa 22.3 with LLVM 15: LP_MAX_TGSI_LOOP_ITERATIONS). */
+/* Loop passes one lavapipe invocation may run (Mesa 22.3 with LLVM 15:
+ * LP_MAX_TGSI_LOOP_ITERATIONS). */
 #define VK_PROBE_LAVAPIPE_LOOP_LIMIT 65535u
 /* Loop passes the renderer allows one invocation on lavapipe, a margin below the budget. */
 #define VK_PROBE_LAVAPIPE_SAFE_ITERATIONS 60000u

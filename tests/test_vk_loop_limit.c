@@ -35,9 +35,9 @@ static void expected(bool lavapipe, const uint32_t n[2], uint32_t want[2]) {
 static void test_probe(vk_context *ctx) {
     bool lavapipe = vk_context_is_lavapipe(ctx);
     const uint32_t cases[][2] = {
-        {1000, 0}, {65535, 0}, {65536, 0}, {200000, 0},      /* one loop */
+        {1000, 0},      {65535, 0}, {65536, 0}, {200000, 0}, /* one loop */
         {40000, 40000}, {65534, 5}, {65535, 1}, {65535, 2},  /* the budget is shared */
-        {1000, 1000}, {0, 70000},
+        {1000, 1000},   {0, 70000},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         uint32_t least[2] = {0, 0}, most[2] = {0, 0}, want[2];
@@ -70,14 +70,26 @@ static void test_bound(void) {
 /* A scene of n tiny spheres in a row and one light, 8 x 8 pixels. */
 static scene row_of_spheres(int n, sphere *spheres, light *l) {
     for (int k = 0; k < n; k++)
-        spheres[k] = (sphere){.center = {(float)k * 0.01f, 0.0f, 5.0f}, .radius = 0.004f,
-                              .material = MATERIAL_LAMBERTIAN, .color = {0.5f, 0.5f, 0.5f},
+        spheres[k] = (sphere){.center = {(float)k * 0.01f, 0.0f, 5.0f},
+                              .radius = 0.004f,
+                              .material = MATERIAL_LAMBERTIAN,
+                              .color = {0.5f, 0.5f, 0.5f},
                               .ior = 1.0f};
     *l = (light){.position = {0.0f, 2.0f, 0.0f}, .power = 10.0f, .color = {1.0f, 1.0f, 1.0f}};
-    return (scene){.camera_position = {0.0f, 0.0f, 0.0f}, .camera_direction = {0.0f, 0.0f, 1.0f},
-                   .camera_up = {0.0f, 1.0f, 0.0f}, .plane_width = 0.08f, .plane_height = 0.08f,
-                   .pixel_size = 0.01f, .width = 8, .height = 8, .samples = 1, .bounces = 5,
-                   .seed = 1, .spheres = spheres, .sphere_count = n, .lights = l,
+    return (scene){.camera_position = {0.0f, 0.0f, 0.0f},
+                   .camera_direction = {0.0f, 0.0f, 1.0f},
+                   .camera_up = {0.0f, 1.0f, 0.0f},
+                   .plane_width = 0.08f,
+                   .plane_height = 0.08f,
+                   .pixel_size = 0.01f,
+                   .width = 8,
+                   .height = 8,
+                   .samples = 1,
+                   .bounces = 5,
+                   .seed = 1,
+                   .spheres = spheres,
+                   .sphere_count = n,
+                   .lights = l,
                    .light_count = 1};
 }
 
