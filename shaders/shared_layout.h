@@ -51,15 +51,12 @@ typedef struct tz_uvec4 {
 #define TZ_BINDING_COUNTERS 4 /* one uint: samples dropped as non-finite since the last reset */
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
- * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.size.z / .w;
- * and frame.settings.z (TZ_FLAG_*), so that code a render never runs is compiled out (lavapipe
- * pays for masked-off SIMD code). Unrolling stops at these counts, where compile time grows past
- * ~60 ms on lavapipe. */
+ * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.size.z / .w
+ * (src/render_vk.c decides); and frame.settings.z (TZ_FLAG_*), so that code a render never runs
+ * is compiled out (lavapipe pays for masked-off SIMD code). */
 #define TZ_SPEC_UNROLLED_SPHERES 0
 #define TZ_SPEC_UNROLLED_LIGHTS 1
 #define TZ_SPEC_FLAGS 2
-#define TZ_UNROLL_MAX_SPHERES 16
-#define TZ_UNROLL_MAX_LIGHTS 4
 
 /* One sphere, 48 bytes. material is stored as an exactly representable float. */
 struct gpu_sphere {

@@ -20,6 +20,15 @@
 /* Loop passes (about one ray/sphere test each) one dispatch may cost, so that a dispatch stays
  * well under a second on a GPU; samples per dispatch are chosen to fit. */
 #define DISPATCH_BUDGET (UINT64_C(1) << 29)
+/* Loops unrolled by specialization (TZ_SPEC_UNROLLED_*): about 20-30% fewer instructions on
+ * lavapipe, at the price of compile time, which grows with the copies of the sphere test,
+ * spheres x lights in the shadow rays. Measured cold on lavapipe (first dispatch, Mesa's shader
+ * cache empty): plain loops ~120 ms; 8 spheres 165 ms; 16 spheres 250-280 ms; 16 spheres x 4
+ * lights 550 ms, hence the cap on the product. */
+#define UNROLL_MAX_SPHERES 16u
+#define UNROLL_MAX_LIGHTS 4u
+#define UNROLL_MAX_SHADOW_TESTS 16u /* unrolled spheres x unrolled lights */
+
 /* Loop passes one submission may cost: a few seconds on lavapipe, the granularity of the progress
  * line and of the non-finite counter read-back. */
 #define SUBMIT_BUDGET (UINT64_C(1) << 31)
@@ -288,11 +297,14 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
     /* Small scenes get their sphere and light loops unrolled: constant indices make every
      * read of the scene a uniform load, and the loop bookkeeping disappears. The flags compile
      * out the indirect bounce when it is off. */
+    uint32_t spheres = (uint32_t)s->sphere_count, lights = (uint32_t)s->light_count;
+    uint32_t unrolled_spheres = spheres <= UNROLL_MAX_SPHERES ? spheres : 0u;
+    bool unroll_lights =
+        lights <= UNROLL_MAX_LIGHTS &&
+        (unrolled_spheres == 0u || unrolled_spheres * lights <= UNROLL_MAX_SHADOW_TESTS);
     uint32_t constants[3] = {
-        [TZ_SPEC_UNROLLED_SPHERES] =
-            s->sphere_count <= TZ_UNROLL_MAX_SPHERES ? (uint32_t)s->sphere_count : 0u,
-        [TZ_SPEC_UNROLLED_LIGHTS] =
-            s->light_count <= TZ_UNROLL_MAX_LIGHTS ? (uint32_t)s->light_count : 0u,
+        [TZ_SPEC_UNROLLED_SPHERES] = unrolled_spheres,
+        [TZ_SPEC_UNROLLED_LIGHTS] = unroll_lights ? lights : 0u,
         [TZ_SPEC_FLAGS] = packed.frame.settings.z,
     };
     VkSpecializationMapEntry entries[3];
