@@ -1,6 +1,7 @@
 /* intersect.glsl: ray offsets, ray/sphere intersection, nearest-hit and shadow queries over the
- * spheres; twin of the functions of the same names in src/integrator.c. The including shader
- * declares `frame`, sphere_center_radius() and sphere_count(). */
+ * spheres, by brute force or through the BVH; twin of the functions of the same names in
+ * src/integrator.c. The including shader declares `frame`, sphere_center_radius(),
+ * sphere_params(), sphere_count(), node_lo(), node_hi(), use_bvh() and WALK_BUDGET. */
 #ifndef TRAZADOR_INTERSECT_GLSL
 #define TRAZADOR_INTERSECT_GLSL
 
@@ -44,29 +45,105 @@ float sphere_hit(int k, vec3 o, vec3 d, float tmin, int self) {
     return miss ? TZ_INFINITY : near;
 }
 
-/* Nearest sphere hit by o + t d with t > EPS, -1 on a miss; t_out is its distance. An exact tie
- * goes to the sphere written first in the scene (params.w), as in leaf_hit() of the C integrator,
- * whatever order the spheres are stored or visited in. [[unroll]] takes effect when
- * sphere_count() is a specialization constant. */
+/* Set when a walk ran out of WALK_BUDGET passes: main() drops the sample instead of lavapipe
+ * silently cutting a loop short. */
+bool loop_overflow;
+
+/* Keeps in best/id the nearer of the current hit and sphere k at distance t; an exact tie goes to
+ * the sphere written first in the scene (params.w), whatever order spheres are stored or visited
+ * in. Selects, not branches: lavapipe runs both sides of a branch for the whole subgroup. */
+void keep_nearest(int k, float t, inout float best, inout int id, inout float best_written) {
+    float written = sphere_params(k).w;
+    bool take = t < best || (t == best && written < best_written);
+    best = take ? t : best;
+    id = take ? k : id;
+    best_written = take ? written : best_written;
+}
+
+/* Distance at which the ray enters the box of node k, infinity when it misses it or enters at or
+ * beyond tmax (slab test; inv = 1/d with zero components replaced by 1e30, so no NaN). */
+float box_entry(uint k, vec3 o, vec3 inv, float tmax) {
+    vec4 lo = node_lo(k), hi = node_hi(k);
+    precise vec3 t1 = (lo.xyz - o) * inv, t2 = (hi.xyz - o) * inv;
+    vec3 tn = min(t1, t2), tf = max(t1, t2);
+    float near = max(max(tn.x, tn.y), max(tn.z, 0.0));
+    float far = min(tf.x, min(tf.y, tf.z));
+    return near <= far && near < tmax ? near : TZ_INFINITY;
+}
+
+/* Nearest sphere hit below tmax through the BVH (t_out its distance), or with any_hit the first
+ * one found; -1 when none. Nearer child first, a stack of TZ_BVH_MAX_DEPTH (each level pushes at
+ * most one node). One loop, one unit of work a pass (a node visit, a pop or one sphere of a leaf),
+ * at most WALK_BUDGET passes. Finds the same sphere as trace_ray() in src/integrator.c (which
+ * tests a leaf's spheres at once): with the tie rule the nearest hit does not depend on the
+ * order of visits. */
+int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out) {
+    float tmin = ray_eps(o), best = tmax, best_written = -1.0;
+    int id = -1;
+    vec3 inv = vec3(d.x != 0.0 ? 1.0 / d.x : 1e30, d.y != 0.0 ? 1.0 / d.y : 1e30,
+                    d.z != 0.0 ? 1.0 / d.z : 1e30);
+    uint stack[TZ_BVH_MAX_DEPTH];
+    float stack_t[TZ_BVH_MAX_DEPTH];
+    int top = 0;
+    const uint none = 0xffffffffu;
+    uint node = 0u; /* the root's box holds every sphere: it is not tested */
+    uint sphere = 0u, leaf_end = 0u;
+    for (uint pass = 0u;; pass++) {
+        if (WALK_BUDGET > 0u && pass == WALK_BUDGET) {
+            loop_overflow = true;
+            break;
+        }
+        if (sphere < leaf_end) {
+            keep_nearest(int(sphere), sphere_hit(int(sphere), o, d, tmin, self), best, id,
+                         best_written);
+            sphere++;
+            if (any_hit && id >= 0) break;
+        } else if (node == none) {
+            if (top == 0) break;
+            top--;
+            if (stack_t[top] < best) node = stack[top];
+        } else {
+            vec4 lo = node_lo(node), hi = node_hi(node);
+            uint leaf_count = floatBitsToUint(hi.w);
+            if (leaf_count > 0u) {
+                sphere = floatBitsToUint(lo.w);
+                leaf_end = sphere + leaf_count;
+                node = none;
+            } else {
+                uint left = node + 1u, right = floatBitsToUint(lo.w);
+                float tl = box_entry(left, o, inv, best), tr = box_entry(right, o, inv, best);
+                bool left_first = tl <= tr;
+                float other_t = left_first ? tr : tl;
+                node = tl < TZ_INFINITY || tr < TZ_INFINITY ? (left_first ? left : right) : none;
+                if (other_t < TZ_INFINITY) {
+                    stack[top] = left_first ? right : left;
+                    stack_t[top] = other_t;
+                    top++;
+                }
+            }
+        }
+    }
+    t_out = best;
+    return id;
+}
+
+/* Nearest sphere hit by o + t d with t > EPS, -1 on a miss; t_out is its distance. Small scenes
+ * test every sphere with the loop unrolled (sphere_count() a specialization constant). */
 int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
+    if (use_bvh()) return trace_bvh(o, d, self, TZ_INFINITY, false, t_out);
     float tmin = ray_eps(o), best = TZ_INFINITY;
     float best_written = -1.0; /* below every index: a miss never wins a tie at infinity */
     int id = -1;
-    [[unroll]] for (uint k = 0u; k < sphere_count(); k++) {
-        float t = sphere_hit(int(k), o, d, tmin, self);
-        float written = sphere_params(int(k)).w;
-        /* Selects, not branches: lavapipe runs both sides of a branch for the whole subgroup. */
-        bool take = t < best || (t == best && written < best_written);
-        best = take ? t : best;
-        id = take ? int(k) : id;
-        best_written = take ? written : best_written;
-    }
+    [[unroll]] for (uint k = 0u; k < sphere_count(); k++)
+        keep_nearest(int(k), sphere_hit(int(k), o, d, tmin, self), best, id, best_written);
     t_out = best;
     return id;
 }
 
 /* True when a sphere blocks o + t d for EPS < t < dist; glass blocks too, as in the seed. */
 bool occluded(vec3 o, vec3 d, float dist, int self) {
+    float t;
+    if (use_bvh()) return trace_bvh(o, d, self, dist, true, t) >= 0;
     float tmin = ray_eps(o);
     [[unroll]] for (uint k = 0u; k < sphere_count(); k++)
         if (sphere_hit(int(k), o, d, tmin, self) < dist) return true;

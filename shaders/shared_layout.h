@@ -48,7 +48,9 @@ typedef struct tz_uvec4 {
 #define TZ_BINDING_SPHERES 1
 #define TZ_BINDING_LIGHTS 2
 #define TZ_BINDING_ACCUM 3    /* dynamic: bound at the first row of each band of tiles */
-#define TZ_BINDING_COUNTERS 4 /* one uint: samples dropped as non-finite since the last reset */
+#define TZ_BINDING_COUNTERS 4 /* two uints since the last reset: samples dropped as non-finite,
+                                 and samples dropped for running out of TZ_SPEC_WALK_BUDGET */
+#define TZ_BINDING_NODES 5    /* texels 2k, 2k+1: gpu_bvh_node k (one zeroed node without a BVH) */
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
  * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.size.z / .w
@@ -57,6 +59,11 @@ typedef struct tz_uvec4 {
 #define TZ_SPEC_UNROLLED_SPHERES 0
 #define TZ_SPEC_UNROLLED_LIGHTS 1
 #define TZ_SPEC_FLAGS 2
+/* Loop passes one ray's BVH walk may take (one node visit or one sphere test a pass) before the
+ * sample is dropped and counted, rather than cut short silently by lavapipe's loop limit, which
+ * counts the passes of a whole SIMD group: bounding every walk bounds the group's sum whatever
+ * the divergence. 0: unlimited (real GPUs have no such limit). */
+#define TZ_SPEC_WALK_BUDGET 3
 
 /* One sphere, 48 bytes. material is stored as an exactly representable float. */
 struct gpu_sphere {

@@ -17,11 +17,16 @@ layout(set = 0, binding = TZ_BINDING_LIGHTS) uniform samplerBuffer light_texels;
 /* Bound at the tile's first row (a dynamic offset): a band of rows, never the whole image, so
  * the range stays within maxStorageBufferRange for any image width up to 16384. */
 layout(std430, set = 0, binding = TZ_BINDING_ACCUM) buffer accum_block { vec4 accum[]; };
-layout(std430, set = 0, binding = TZ_BINDING_COUNTERS) buffer counter_block { uint nonfinite; };
+layout(std430, set = 0, binding = TZ_BINDING_COUNTERS) buffer counter_block {
+    uint nonfinite;
+    uint overflow;
+};
+layout(set = 0, binding = TZ_BINDING_NODES) uniform samplerBuffer node_texels;
 layout(push_constant) uniform pass_block { gpu_pass pass; };
 layout(constant_id = TZ_SPEC_UNROLLED_SPHERES) const uint UNROLLED_SPHERES = 0u;
 layout(constant_id = TZ_SPEC_UNROLLED_LIGHTS) const uint UNROLLED_LIGHTS = 0u;
 layout(constant_id = TZ_SPEC_FLAGS) const uint FLAGS = 0u; /* frame.settings.z */
+layout(constant_id = TZ_SPEC_WALK_BUDGET) const uint WALK_BUDGET = 0u;
 
 /* The fields of struct gpu_sphere k and gpu_light k (see TZ_BINDING_SPHERES). */
 vec4 sphere_center_radius(int k) { return texelFetch(sphere_texels, 3 * k); }
@@ -29,10 +34,14 @@ vec4 sphere_color_ks(int k) { return texelFetch(sphere_texels, 3 * k + 1); }
 vec4 sphere_params(int k) { return texelFetch(sphere_texels, 3 * k + 2); }
 vec4 light_position_power(int k) { return texelFetch(light_texels, 2 * k); }
 vec4 light_color(int k) { return texelFetch(light_texels, 2 * k + 1); }
+vec4 node_lo(uint k) { return texelFetch(node_texels, int(2u * k)); }
+vec4 node_hi(uint k) { return texelFetch(node_texels, int(2u * k + 1u)); }
 
 /* Loop counts: a specialization constant when small enough to unroll, else the frame's. */
 uint sphere_count() { return UNROLLED_SPHERES > 0u ? UNROLLED_SPHERES : frame.size.z; }
 uint light_count() { return UNROLLED_LIGHTS > 0u ? UNROLLED_LIGHTS : frame.size.w; }
+/* The BVH serves the scenes too big to unroll, when it was built (frame.settings.w nodes). */
+bool use_bvh() { return UNROLLED_SPHERES == 0u && frame.settings.w > 0u; }
 
 #include "shade.glsl"
 
@@ -82,12 +91,19 @@ void main() {
     if (i >= frame.size.x || j >= frame.size.y) return;
     uint slot = gl_GlobalInvocationID.y * frame.size.x + i;
     precise vec4 sum = accum[slot];
-    uint dropped = 0u;
+    uint dropped = 0u, overflowed = 0u;
+    loop_overflow = false;
     for (uint k = 0u; k < pass.tile.w; k++) {
         vec3 l = integrator_sample(i, j, pass.tile.z + k);
+        if (loop_overflow) { /* a walk was cut short: the sample would be wrong */
+            overflowed++;
+            loop_overflow = false;
+            continue;
+        }
         if (finite3(l)) sum = sum + vec4(l, 1.0);
         else dropped++;
     }
     accum[slot] = sum;
     if (dropped > 0u) atomicAdd(nonfinite, dropped);
+    if (overflowed > 0u) atomicAdd(overflow, overflowed);
 }

@@ -32,12 +32,14 @@
 /* Loop passes one submission may cost: a few seconds on lavapipe, the granularity of the progress
  * line and of the non-finite counter read-back. */
 #define SUBMIT_BUDGET (UINT64_C(1) << 31)
+/* Loop passes a ray's BVH walk must be allowed at least on lavapipe for a scene to be tried. */
+#define MIN_WALK_BUDGET 256u
 
 typedef struct vk_render {
     vk_context ctx;
-    vk_buffer frame, spheres, lights, accum, counter;
+    vk_buffer frame, spheres, lights, nodes, accum, counter;
     vk_buffer upload;   /* staging for the inputs when device memory is not mapped */
-    vk_buffer readback; /* staging: the counter at 0, the accumulation at 16 */
+    vk_buffer readback; /* staging: the two counters at 0, the accumulation at 16 */
     vk_kernel kernel;
     VkFence fence;
     VkCommandBuffer cmd;
@@ -51,29 +53,40 @@ static double seconds_now(void) {
 
 /* Refuses what the device could not render right: scene or accumulation buffers past its limits,
  * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit. */
-static bool check_limits(const vk_context *ctx, const scene *s, uint64_t sample_iterations) {
+static bool check_limits(const vk_context *ctx, const scene *s, uint64_t sample_iterations,
+                         uint32_t walk) {
+    bool use_bvh = walk != UINT32_MAX;
+    if (vk_context_is_lavapipe(ctx) && use_bvh && walk < MIN_WALK_BUDGET) {
+        log_error("with %d lights and this bounce limit a ray could walk the BVH only %u loop "
+                  "passes on lavapipe (its shaders stop loops silently after %u): use --backend cpu",
+                  s->light_count, walk, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+        return false;
+    }
     /* One sample an invocation: its passes and the sample loop's exit pass. */
-    if (vk_context_is_lavapipe(ctx) && sample_iterations + 1u > VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
+    if (vk_context_is_lavapipe(ctx) && !use_bvh &&
+        sample_iterations + 1u > VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
         log_error("this scene needs up to %" PRIu64
-                  " loop passes per sample, past lavapipe's "
-                  "safe limit of %u (its shaders stop loops silently after %u; the Vulkan back "
-                  "end tests every sphere for every ray): use --backend cpu",
+                  " loop passes per sample, past lavapipe's safe limit of %u (its shaders stop "
+                  "loops silently after %u; --no-bvh tests every sphere for every ray): use "
+                  "--backend cpu",
                   sample_iterations + 1u, VK_PROBE_LAVAPIPE_SAFE_ITERATIONS,
                   VK_PROBE_LAVAPIPE_LOOP_LIMIT);
         return false;
     }
     const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
-    uint64_t need[] = {(uint64_t)s->sphere_count * 3u, (uint64_t)s->light_count * 2u,
-                       (uint64_t)TILE_SIZE * (uint64_t)s->width * 4u * sizeof(float)};
+    uint64_t sizes[] = {(uint64_t)s->sphere_count * 3u, (uint64_t)s->light_count * 2u,
+                        (uint64_t)TILE_SIZE * (uint64_t)s->width * 4u * sizeof(float),
+                        use_bvh ? (uint64_t)s->sphere_count * 4u : 0u};
     uint64_t limit[] = {limits->maxTexelBufferElements, limits->maxTexelBufferElements,
-                        limits->maxStorageBufferRange};
-    const char *what[] = {"texels of spheres", "texels of lights", "bytes of accumulation rows"};
-    for (int k = 0; k < 3; k++) {
-        if (need[k] > limit[k]) {
+                        limits->maxStorageBufferRange, limits->maxTexelBufferElements};
+    const char *what[] = {"texels of spheres", "texels of lights", "bytes of accumulation rows",
+                          "texels of BVH nodes"};
+    for (int k = 0; k < 4; k++) {
+        if (sizes[k] > limit[k]) {
             log_error("the scene needs %" PRIu64
                       " %s in one buffer, past this device's limit of "
                       "%" PRIu64 ": use --backend cpu",
-                      need[k], what[k], limit[k]);
+                      sizes[k], what[k], limit[k]);
             return false;
         }
     }
@@ -89,6 +102,10 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     size_t sphere_bytes = (p->frame.size.z ? p->frame.size.z : 1u) * sizeof *p->spheres;
     size_t light_bytes = (p->frame.size.w ? p->frame.size.w : 1u) * sizeof *p->lights;
+    /* Without a BVH one zeroed node keeps the binding valid; the shader never reads it. */
+    static const struct gpu_bvh_node no_nodes[1];
+    const void *nodes = p->frame.settings.w ? (const void *)p->nodes : (const void *)no_nodes;
+    size_t node_bytes = (p->frame.settings.w ? p->frame.settings.w : 1u) * sizeof *p->nodes;
     /* Rows padded to whole tiles: every band binding of TILE_SIZE rows stays inside the buffer. */
     uint64_t rows = ((uint64_t)height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
     VkDeviceSize accum_bytes = rows * (uint64_t)width * 4u * sizeof(float);
@@ -99,8 +116,10 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
         !vk_buffer_create_view(ctx, &r->spheres, VK_FORMAT_R32G32B32A32_SFLOAT) ||
         !vk_buffer_create(ctx, light_bytes, texels, VK_MEMORY_DEVICE, &r->lights) ||
         !vk_buffer_create_view(ctx, &r->lights, VK_FORMAT_R32G32B32A32_SFLOAT) ||
+        !vk_buffer_create(ctx, node_bytes, texels, VK_MEMORY_DEVICE, &r->nodes) ||
+        !vk_buffer_create_view(ctx, &r->nodes, VK_FORMAT_R32G32B32A32_SFLOAT) ||
         !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum) ||
-        !vk_buffer_create(ctx, sizeof(uint32_t), storage, VK_MEMORY_DEVICE, &r->counter))
+        !vk_buffer_create(ctx, 2 * sizeof(uint32_t), storage, VK_MEMORY_DEVICE, &r->counter))
         return false;
     if (!r->accum.mapped || !r->counter.mapped) {
         VkDeviceSize bytes = 16u + (VkDeviceSize)width * (VkDeviceSize)height * 4u * sizeof(float);
@@ -108,18 +127,18 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
                               &r->readback))
             return false;
     }
-    const void *data[] = {&p->frame, p->spheres, p->lights};
-    vk_buffer *targets[] = {&r->frame, &r->spheres, &r->lights};
-    size_t sizes[] = {sizeof p->frame, sphere_bytes, light_bytes};
-    if (r->frame.mapped && r->spheres.mapped && r->lights.mapped) {
-        for (int k = 0; k < 3; k++) memcpy(targets[k]->mapped, data[k], sizes[k]);
+    const void *data[] = {&p->frame, p->spheres, p->lights, nodes};
+    vk_buffer *targets[] = {&r->frame, &r->spheres, &r->lights, &r->nodes};
+    size_t sizes[] = {sizeof p->frame, sphere_bytes, light_bytes, node_bytes};
+    if (r->frame.mapped && r->spheres.mapped && r->lights.mapped && r->nodes.mapped) {
+        for (int k = 0; k < 4; k++) memcpy(targets[k]->mapped, data[k], sizes[k]);
         return true;
     }
-    if (!vk_buffer_create(ctx, sizes[0] + sizes[1] + sizes[2], VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
-                          VK_MEMORY_UPLOAD, &r->upload))
+    if (!vk_buffer_create(ctx, sizes[0] + sizes[1] + sizes[2] + sizes[3],
+                          VK_BUFFER_USAGE_TRANSFER_SRC_BIT, VK_MEMORY_UPLOAD, &r->upload))
         return false;
     size_t offset = 0;
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < 4; k++) {
         memcpy((char *)r->upload.mapped + offset, data[k], sizes[k]);
         offset += sizes[k];
     }
@@ -129,9 +148,9 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
 /* Copies the staged inputs into place (when staged) and zeroes the accumulation buffer. */
 static void record_setup(vk_render *r) {
     if (r->upload.buffer) {
-        vk_buffer *targets[] = {&r->frame, &r->spheres, &r->lights};
+        vk_buffer *targets[] = {&r->frame, &r->spheres, &r->lights, &r->nodes};
         VkDeviceSize offset = 0;
-        for (int k = 0; k < 3; k++) {
+        for (int k = 0; k < 4; k++) {
             VkBufferCopy copy = {offset, 0, targets[k]->size};
             vkCmdCopyBuffer(r->cmd, r->upload.buffer, targets[k]->buffer, 1, &copy);
             offset += targets[k]->size;
@@ -187,7 +206,7 @@ static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
                         VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
                         VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_HOST_READ_BIT);
     if (!r->counter.mapped) {
-        VkBufferCopy copy = {0, 0, sizeof(uint32_t)};
+        VkBufferCopy copy = {0, 0, 2 * sizeof(uint32_t)};
         vkCmdCopyBuffer(cmd, r->counter.buffer, r->readback.buffer, 1, &copy);
     }
     if (final && !r->accum.mapped) {
@@ -199,7 +218,8 @@ static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
                             VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
 }
 
-/* Records and runs every pass, submission by submission; sums the non-finite counts. */
+/* Records and runs every pass, submission by submission; sums the non-finite counts. False when
+ * a sample ran out of loop budget (the image would be wrong) or on a Vulkan failure. */
 static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *opts,
                        uint64_t *nonfinite) {
     vk_context *ctx = &r->ctx;
@@ -221,7 +241,13 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
         record_passes(r, plan, first, last);
         record_readback(r, plan, last == passes);
         if (!vk_commands_submit_wait(ctx, r->cmd, r->fence)) return false;
-        *nonfinite += *counter;
+        *nonfinite += counter[0];
+        if (counter[1] > 0) {
+            log_error("%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
+                      "allows (its shaders stop loops silently past %u in all): use --backend cpu",
+                      counter[1], VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+            return false;
+        }
         if (opts->progress) fprintf(stderr, "\rtrazador: rendering %5.1f%%", 100.0 * last / passes);
     }
     if (opts->progress) fprintf(stderr, "\r\033[K");
@@ -231,8 +257,7 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
 /* Samples per dispatch and passes per submission, from the per-sample worst case. */
 static pass_plan plan_passes(const vk_context *ctx, const scene *s, const render_opts *opts,
                              uint64_t sample_iterations) {
-    pass_plan plan = {.width = (uint32_t)s->width,
-                      .height = (uint32_t)s->height,
+    pass_plan plan = {.width = (uint32_t)s->width, .height = (uint32_t)s->height,
                       .samples = (uint32_t)opts->samples};
     uint64_t tile_pixels = (uint64_t)TILE_SIZE * TILE_SIZE;
     uint64_t per_dispatch = DISPATCH_BUDGET / (tile_pixels * sample_iterations);
@@ -249,6 +274,16 @@ static pass_plan plan_passes(const vk_context *ctx, const scene *s, const render
     return plan;
 }
 
+/* The most passes one ray's BVH walk may take on lavapipe so that a sample, every ray walking
+ * that far, stays within the safe limit; 0 when even walks of no length do not fit. */
+static uint32_t walk_budget(const scene *s, const render_opts *opts) {
+    uint32_t lights = (uint32_t)s->light_count, bounces = (uint32_t)opts->bounces;
+    uint64_t fixed = vk_probe_sample_iterations(0u, lights, bounces, opts->indirect);
+    uint64_t rays = vk_probe_sample_iterations(1u, lights, bounces, opts->indirect) - fixed;
+    if (fixed + 1u >= VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) return 0u;
+    return (uint32_t)((VK_PROBE_LAVAPIPE_SAFE_ITERATIONS - 1u - fixed) / rays);
+}
+
 static void render_destroy(vk_render *r) {
     vk_context *ctx = &r->ctx;
     if (ctx->device) {
@@ -256,7 +291,7 @@ static void render_destroy(vk_render *r) {
         if (r->fence) vkDestroyFence(ctx->device, r->fence, NULL);
         if (r->cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &r->cmd);
         vk_kernel_destroy(ctx, &r->kernel);
-        vk_buffer *buffers[] = {&r->readback, &r->upload,  &r->counter, &r->accum,
+        vk_buffer *buffers[] = {&r->readback, &r->upload,  &r->counter, &r->accum, &r->nodes,
                                 &r->lights,   &r->spheres, &r->frame};
         for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; k++)
             vk_buffer_destroy(ctx, buffers[k]);
@@ -274,10 +309,20 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
     double t_init = seconds_now();
     log_debug("vulkan: device %d, %s (%s), instance and device in %.1f ms", r.ctx.device_index,
               r.ctx.properties.deviceName, r.ctx.driver_name, (t_init - t0) * 1e3);
+    /* Small scenes test every sphere in unrolled loops; bigger ones walk the BVH, each walk
+     * bounded on lavapipe by TZ_SPEC_WALK_BUDGET passes as if it tested that many spheres (a
+     * guess of 64 sizes the dispatches elsewhere). */
+    uint32_t spheres = (uint32_t)s->sphere_count, lights = (uint32_t)s->light_count;
+    uint32_t unrolled_spheres = spheres <= UNROLL_MAX_SPHERES ? spheres : 0u;
+    bool use_bvh = !opts->no_bvh && unrolled_spheres == 0u;
+    bool lavapipe = vk_context_is_lavapipe(&r.ctx);
+    uint32_t walk = use_bvh && lavapipe ? walk_budget(s, opts) : 0u;
     uint64_t sample_iterations =
-        vk_probe_sample_iterations((uint32_t)s->sphere_count, (uint32_t)s->light_count,
+        vk_probe_sample_iterations(use_bvh ? (lavapipe ? walk : 64u) : spheres, lights,
                                    (uint32_t)opts->bounces, opts->indirect);
-    if (!check_limits(&r.ctx, s, sample_iterations) || !scene_pack(s, opts, &packed)) goto done;
+    if (!check_limits(&r.ctx, s, sample_iterations, use_bvh ? walk : UINT32_MAX) ||
+        !scene_pack(s, opts, &packed))
+        goto done;
     if (!film_init(f, s->width, s->height)) {
         log_error("out of memory for a %d x %d film", s->width, s->height);
         goto done;
@@ -293,31 +338,32 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
         [TZ_BINDING_LIGHTS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         [TZ_BINDING_ACCUM] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC,
         [TZ_BINDING_COUNTERS] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        [TZ_BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
     };
     /* Small scenes get their sphere and light loops unrolled: constant indices make every
      * read of the scene a uniform load, and the loop bookkeeping disappears. The flags compile
      * out the indirect bounce when it is off. */
-    uint32_t spheres = (uint32_t)s->sphere_count, lights = (uint32_t)s->light_count;
-    uint32_t unrolled_spheres = spheres <= UNROLL_MAX_SPHERES ? spheres : 0u;
     bool unroll_lights =
         lights <= UNROLL_MAX_LIGHTS &&
         (unrolled_spheres == 0u || unrolled_spheres * lights <= UNROLL_MAX_SHADOW_TESTS);
-    uint32_t constants[3] = {
+    pass_plan plan = plan_passes(&r.ctx, s, opts, sample_iterations);
+    uint32_t constants[4] = {
         [TZ_SPEC_UNROLLED_SPHERES] = unrolled_spheres,
         [TZ_SPEC_UNROLLED_LIGHTS] = unroll_lights ? lights : 0u,
         [TZ_SPEC_FLAGS] = packed.frame.settings.z,
+        [TZ_SPEC_WALK_BUDGET] = walk,
     };
-    VkSpecializationMapEntry entries[3];
-    for (uint32_t k = 0; k < 3; k++)
+    VkSpecializationMapEntry entries[4];
+    for (uint32_t k = 0; k < 4; k++)
         entries[k] =
             (VkSpecializationMapEntry){k, k * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
-    const VkSpecializationInfo spec = {3, entries, sizeof constants, constants};
+    const VkSpecializationInfo spec = {4, entries, sizeof constants, constants};
     vk_kernel_desc kernel = {
         .spec = &spec,
         .code = trace_spv,
         .code_size = sizeof trace_spv,
         .types = types,
-        .binding_count = 5,
+        .binding_count = 6,
         .push_size = sizeof(struct gpu_pass),
     };
     VkFenceCreateInfo fence_info = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
@@ -327,7 +373,7 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
     const vk_buffer *buffers[] = {
         [TZ_BINDING_FRAME] = &r.frame,      [TZ_BINDING_SPHERES] = &r.spheres,
         [TZ_BINDING_LIGHTS] = &r.lights,    [TZ_BINDING_ACCUM] = &r.accum,
-        [TZ_BINDING_COUNTERS] = &r.counter,
+        [TZ_BINDING_COUNTERS] = &r.counter, [TZ_BINDING_NODES] = &r.nodes,
     };
     const VkDeviceSize ranges[] = {
         [TZ_BINDING_FRAME] = VK_WHOLE_SIZE,
@@ -335,12 +381,12 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
         [TZ_BINDING_LIGHTS] = VK_WHOLE_SIZE,
         [TZ_BINDING_ACCUM] = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)s->width * 4u * sizeof(float),
         [TZ_BINDING_COUNTERS] = VK_WHOLE_SIZE,
+        [TZ_BINDING_NODES] = VK_WHOLE_SIZE,
     };
     vk_kernel_bind(&r.ctx, &r.kernel, buffers, ranges);
     double t_pipeline = seconds_now();
     log_debug("vulkan: pipeline in %.1f ms", (t_pipeline - t_upload) * 1e3);
 
-    pass_plan plan = plan_passes(&r.ctx, s, opts, sample_iterations);
     log_debug("vulkan: %" PRIu64
               " loop passes per sample at most, %u sample%s per dispatch, "
               "%u pass%s per submission",

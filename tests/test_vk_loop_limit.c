@@ -3,6 +3,7 @@
  * loops together, and then every loop stops silently; elsewhere every iteration runs. Also checks
  * the per-sample bound and that the renderer refuses a scene past the safe limit on lavapipe.
  * Validation is on; exits 77 only when no Vulkan device exists. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -93,7 +94,19 @@ static scene row_of_spheres(int n, sphere *spheres, light *l) {
                    .light_count = 1};
 }
 
-/* On lavapipe a scene past the safe limit is refused (false, no film); below it, it renders. */
+/* Largest relative difference of the two films' pixel means (1 when their sizes differ). */
+static double film_difference(const film *a, const film *b) {
+    if (!a->accum || !b->accum || a->width != b->width || a->height != b->height) return 1.0;
+    double worst = 0.0;
+    for (int k = 0; k < a->width * a->height * 4; k++) {
+        double x = a->accum[k], y = b->accum[k], d = fabs(x - y) / (fabs(x) > 1e-3 ? fabs(x) : 1e-3);
+        worst = d > worst ? d : worst;
+    }
+    return worst;
+}
+
+/* Brute force (--no-bvh) past the safe limit is refused on lavapipe (false, no film); through the
+ * BVH the same scene renders and matches the C renderer. */
 static void test_guard(vk_context *ctx) {
     enum { BIG = 4500 }; /* 2 x (7 x 4502 + 1) + 1 = 63031 passes a sample: past 60000 */
     sphere *spheres = calloc(BIG, sizeof *spheres);
@@ -103,7 +116,8 @@ static void test_guard(vk_context *ctx) {
     render_opts opts;
     render_opts_from_scene(&big, &opts);
     opts.indirect = true;
-    film f = {0};
+    opts.no_bvh = true;
+    film f = {0}, reference = {0};
     bool rendered = render_vk(&big, &opts, &f);
     if (vk_context_is_lavapipe(ctx))
         CHECK(!rendered && !f.accum, "lavapipe rendered a scene of %llu iterations per sample",
@@ -112,6 +126,38 @@ static void test_guard(vk_context *ctx) {
         CHECK(rendered, "a %d-sphere scene failed off lavapipe", BIG);
     film_free(&f);
     CHECK(render_vk(&small, &opts, &f), "a %d-sphere scene failed", BIG / 2);
+    film_free(&f);
+    opts.no_bvh = false;
+    CHECK(render_vk(&big, &opts, &f), "the %d-sphere scene failed through the BVH", BIG);
+    CHECK(render_cpu(&big, &opts, &reference), "the C renderer failed");
+    double diff = film_difference(&reference, &f);
+    CHECK(diff < 1e-3, "the BVH render differs from the C renderer by %g relative", diff);
+    film_free(&f);
+    film_free(&reference);
+    free(spheres);
+}
+
+/* A pile of coincident spheres on the axis: a ray down the middle must visit every leaf, a walk
+ * longer than any loop budget. lavapipe must refuse it (the shader runs out of its budget and
+ * says so) rather than cut the walk short; other devices render it. */
+static void test_walk_budget(vk_context *ctx) {
+    enum { PILE = 70000 };
+    sphere *spheres = calloc(PILE, sizeof *spheres);
+    light l;
+    if (!spheres) return;
+    scene pile = row_of_spheres(PILE, spheres, &l);
+    for (int k = 0; k < PILE; k++) spheres[k].center = v3(0.0f, 0.0f, 5.0f);
+    pile.width = pile.height = 1;
+    pile.plane_width = pile.plane_height = pile.pixel_size = 0.01f;
+    render_opts opts;
+    render_opts_from_scene(&pile, &opts);
+    opts.no_jitter = true; /* the ray down the axis */
+    film f = {0};
+    bool rendered = render_vk(&pile, &opts, &f);
+    if (vk_context_is_lavapipe(ctx))
+        CHECK(!rendered && !f.accum, "lavapipe rendered a walk past its loop budget");
+    else
+        CHECK(rendered, "a pile of %d spheres failed off lavapipe", PILE);
     film_free(&f);
     free(spheres);
 }
@@ -127,6 +173,7 @@ int main(void) {
     if (ctx.device) {
         test_probe(&ctx);
         test_guard(&ctx);
+        test_walk_budget(&ctx);
     }
     CHECK(vk_context_destroy(&ctx), "the validation layer reported errors");
     test_bound();
