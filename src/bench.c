@@ -1,10 +1,12 @@
 /* bench.c: `trazador bench`, fixed workloads timed on each back end (a benchmark, not a test). */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
 #include "cli.h"
 #include "default_scene.h"
+#include "gen.h"
 #include "log.h"
 #include "vk_context.h"
 
@@ -26,6 +28,11 @@ static double seconds_now(void) {
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
+/* Scene sizes of the scaling table: the same camera and image, more and more spheres. */
+static const long scaling_counts[] = {10, 1000, 100000, 1000000};
+#define SCALING_SIZE 256
+#define SCALING_SAMPLES 4
+
 /* Renders the workload once and returns Msamples/s, or a negative number on failure. */
 static double run_workload(const scene *base, const workload *w, backend_choice backend, int spp) {
     scene s = *base;
@@ -43,6 +50,81 @@ static double run_workload(const scene *base, const workload *w, backend_choice 
     double elapsed = seconds_now() - start;
     film_free(&f);
     return ok ? (double)w->size * w->size * opts.samples / elapsed * 1e-6 : -1.0;
+}
+
+/* A random-spheres scene (trazador gen random) of `count` spheres in all, ground included; false
+ * on failure. */
+static bool scaling_scene(long count, scene *out) {
+    gen_desc desc = {.kind = GEN_RANDOM, .count = 1, .seed = 1};
+    desc.count = count - (gen_sphere_count(&desc) - 1); /* the fixed spheres come on top */
+    char *text = NULL;
+    size_t length = 0;
+    FILE *fp = open_memstream(&text, &length);
+    bool ok = fp && gen_write(&desc, fp);
+    if (fp) fclose(fp);
+    scene_error err;
+    ok = ok && scene_parse_string(text, length, "gen random", out, &err);
+    free(text);
+    return ok;
+}
+
+/* Renders s with the back end at the scaling table's size; Msamples/s of the sample passes alone
+ * (BVH build and, for Vulkan, device and pipeline set-up excluded), or -1 on failure. */
+static double run_scaling(const scene *s, backend_choice backend, render_stats *stats) {
+    render_opts opts;
+    render_opts_from_scene(s, &opts);
+    opts.samples = SCALING_SAMPLES;
+    opts.indirect = true;
+    opts.stats = stats;
+    film f = {0};
+    const char *used;
+    bool ok = cli_render(s, &opts, backend, &f, &used);
+    film_free(&f);
+    return ok ? (double)s->width * s->height * opts.samples / stats->render_seconds * 1e-6 : -1.0;
+}
+
+/* The scaling table: cost per sample against the sphere count, both back ends. */
+static int bench_scaling(bool want_cpu, bool want_vk) {
+    printf("\nscaling: random spheres, %dx%d, %d spp, indirect on; Msamples/s of the passes alone\n",
+           SCALING_SIZE, SCALING_SIZE, SCALING_SAMPLES);
+    printf("%10s %9s %7s %10s %14s %14s %11s %11s\n", "spheres", "build s", "B/sph", "depth",
+           "cpu Msamples/s", "vk Msamples/s", "cpu vs 10", "vk vs 10");
+    int failures = 0;
+    double cpu_base = 0.0, vk_base = 0.0;
+    vec3 position = {0}, direction = {0}, up = {0};
+    for (size_t k = 0; k < sizeof scaling_counts / sizeof scaling_counts[0]; k++) {
+        scene s;
+        if (!scaling_scene(scaling_counts[k], &s)) {
+            printf("%10ld  could not generate the scene\n", scaling_counts[k]);
+            failures++;
+            continue;
+        }
+        if (k == 0) { /* every row keeps the first row's camera */
+            position = s.camera_position, direction = s.camera_direction, up = s.camera_up;
+        }
+        s.camera_position = position, s.camera_direction = direction, s.camera_up = up;
+        s.plane_height = s.plane_width;
+        s.pixel_size = s.plane_width / (float)SCALING_SIZE;
+        s.width = s.height = SCALING_SIZE;
+        render_stats cpu_stats = {0}, vk_stats = {0};
+        double cpu = want_cpu ? run_scaling(&s, BACKEND_CPU, &cpu_stats) : 0.0;
+        double vk = 0.0;
+        /* Twice: lavapipe compiles the shader at its first dispatch (then Mesa caches it). */
+        for (int run = 0; want_vk && run < 2; run++) {
+            double msps = run_scaling(&s, BACKEND_VULKAN, &vk_stats);
+            vk = run == 0 || msps < 0.0 || (vk >= 0.0 && msps > vk) ? msps : vk;
+        }
+        failures += cpu < 0.0 || vk < 0.0;
+        const render_stats *st = want_cpu ? &cpu_stats : &vk_stats;
+        if (k == 0) cpu_base = cpu, vk_base = vk;
+        /* Cost per sample relative to the 10-sphere scene: how much slower each sample is. */
+        printf("%10d %9.3f %7.1f %10u %14.2f %14.2f %10.2fx %10.2fx\n", s.sphere_count,
+               st->bvh_seconds, (double)st->scene_bytes / s.sphere_count, st->bvh_depth, cpu, vk,
+               cpu > 0.0 ? cpu_base / cpu : 0.0, vk > 0.0 ? vk_base / vk : 0.0);
+        fflush(stdout);
+        scene_free(&s);
+    }
+    return failures;
 }
 
 int bench_command(int argc, char **argv) {
@@ -85,5 +167,6 @@ int bench_command(int argc, char **argv) {
         fflush(stdout);
     }
     scene_free(&s);
+    failures += bench_scaling(want_cpu, want_vk);
     return failures ? 1 : 0;
 }

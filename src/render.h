@@ -7,6 +7,15 @@
 
 #include "scene.h"
 
+/* What a render measured, for --verbose and bench. */
+typedef struct render_stats {
+    double pack_seconds;   /* struct scene -> GPU layout, BVH build included */
+    double bvh_seconds;    /* BVH build alone */
+    double render_seconds; /* the sample passes alone */
+    uint32_t bvh_nodes, bvh_depth;
+    uint64_t scene_bytes; /* spheres, lights and BVH nodes as the shaders read them */
+} render_stats;
+
 typedef struct render_opts {
     int samples;   /* samples per pixel */
     uint32_t seed;
@@ -19,6 +28,7 @@ typedef struct render_opts {
     bool no_bvh;   /* test every sphere for every ray (debugging, comparisons) */
     bool progress; /* progress line on stderr */
     bool verbose;
+    render_stats *stats; /* filled by the back end when not NULL */
 } render_opts;
 
 /* Per-pixel accumulation: 4 floats a pixel, RGB sums and the count of finite samples. */

@@ -76,9 +76,17 @@ static void report_progress(cpu_job *job) {
     fprintf(stderr, "\r\033[K");
 }
 
+static double seconds_now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
 bool render_cpu(const scene *s, const render_opts *opts, film *f) {
     packed_scene packed;
+    double start = seconds_now();
     if (!scene_pack(s, opts, &packed)) return false;
+    scene_pack_report(&packed, opts, start);
     if (!film_init(f, s->width, s->height)) {
         log_error("out of memory for a %d x %d film", s->width, s->height);
         packed_scene_free(&packed);
@@ -91,6 +99,7 @@ bool render_cpu(const scene *s, const render_opts *opts, film *f) {
     atomic_init(&job.tiles_done, 0);
     atomic_init(&job.nonfinite, 0);
     int n = thread_count(opts->threads);
+    double render_start = seconds_now();
     pthread_t threads[MAX_THREADS];
     int started = 0;
     while (started < n && pthread_create(&threads[started], NULL, worker, &job) == 0) started++;
@@ -98,6 +107,7 @@ bool render_cpu(const scene *s, const render_opts *opts, film *f) {
     if (opts->progress) report_progress(&job);
     for (int k = 0; k < started; k++) pthread_join(threads[k], NULL);
     f->nonfinite = atomic_load(&job.nonfinite);
+    if (opts->stats) opts->stats->render_seconds = seconds_now() - render_start;
     packed_scene_free(&packed);
     return true;
 }

@@ -320,9 +320,11 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
     uint64_t sample_iterations =
         vk_probe_sample_iterations(use_bvh ? (lavapipe ? walk : 64u) : spheres, lights,
                                    (uint32_t)opts->bounces, opts->indirect);
+    double t_pack = seconds_now();
     if (!check_limits(&r.ctx, s, sample_iterations, use_bvh ? walk : UINT32_MAX) ||
         !scene_pack(s, opts, &packed))
         goto done;
+    scene_pack_report(&packed, opts, t_pack);
     if (!film_init(f, s->width, s->height)) {
         log_error("out of memory for a %d x %d film", s->width, s->height);
         goto done;
@@ -394,6 +396,7 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
               plan.passes_per_submit, plan.passes_per_submit == 1 ? "" : "es");
     if (!run_passes(&r, &plan, opts, &f->nonfinite)) goto done;
     double t_render = seconds_now();
+    if (opts->stats) opts->stats->render_seconds = t_render - t_pipeline;
     const char *sums = r.accum.mapped ? r.accum.mapped : (const char *)r.readback.mapped + 16;
     memcpy(f->accum, sums, (size_t)s->width * (size_t)s->height * 4u * sizeof(float));
     double t_read = seconds_now();

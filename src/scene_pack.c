@@ -127,6 +127,21 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     return true;
 }
 
+void scene_pack_report(const packed_scene *p, const render_opts *opts, double pack_start) {
+    if (!opts->stats) return;
+    render_stats *st = opts->stats;
+    st->pack_seconds = seconds_now() - pack_start;
+    st->bvh_seconds = p->bvh_seconds;
+    st->bvh_nodes = p->frame.settings.w;
+    st->bvh_depth = p->bvh_depth;
+    st->scene_bytes = (uint64_t)p->frame.size.z * sizeof *p->spheres +
+                      (uint64_t)p->frame.size.w * sizeof *p->lights +
+                      (uint64_t)p->frame.settings.w * sizeof *p->nodes;
+    log_debug("scene: %u spheres, %u BVH nodes (depth %u) built in %.3f s, %.1f MB for the "
+              "shaders", p->frame.size.z, st->bvh_nodes, st->bvh_depth, st->bvh_seconds,
+              (double)st->scene_bytes * 1e-6);
+}
+
 void packed_scene_free(packed_scene *p) {
     free(p->spheres);
     free(p->lights);

@@ -20,12 +20,14 @@ typedef struct packed_scene {
     sphere_soa soa; /* the C back end's copy of spheres[].center_radius */
     struct gpu_bvh_node *nodes; /* frame.settings.w of them; NULL (0) without a BVH */
     uint32_t bvh_depth;
-    double bvh_seconds; /* build time, for --verbose and bench */
+    double bvh_seconds; /* build time */
 } packed_scene;
 
 /* Packs the scene with the options applied, spheres in BVH order unless opts->no_bvh;
  * false (logged) on out-of-memory. */
 bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out);
+/* Records the packing's figures (time since pack_start, BVH, sizes) into opts->stats if any. */
+void scene_pack_report(const packed_scene *p, const render_opts *opts, double pack_start);
 /* Frees the packed arrays; safe on a zeroed packed_scene. */
 void packed_scene_free(packed_scene *p);
 
