@@ -2,9 +2,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "cli.h"
+#include "clock.h"
 #include "default_scene.h"
 #include "gen.h"
 #include "log.h"
@@ -12,7 +12,7 @@
 
 typedef struct workload {
     const char *name;
-    int size;     /* square image side in pixels */
+    int size; /* square image side in pixels */
     int samples;
     bool indirect;
 } workload;
@@ -21,12 +21,6 @@ static const workload workloads[] = {
     {"cornell 512x512 indirect", 512, 16, true},
     {"cornell 512x512 direct", 512, 16, false},
 };
-
-static double seconds_now(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 /* Scene sizes of the scaling table: the same camera and image, more and more spheres. */
 static const long scaling_counts[] = {10, 1000, 100000, 1000000};
@@ -45,9 +39,9 @@ static double run_workload(const scene *base, const workload *w, backend_choice 
     opts.indirect = w->indirect;
     film f = {0};
     const char *used;
-    double start = seconds_now();
+    double start = clock_seconds();
     bool ok = cli_render(&s, &opts, backend, &f, &used);
-    double elapsed = seconds_now() - start;
+    double elapsed = clock_seconds() - start;
     film_free(&f);
     return ok ? (double)w->size * w->size * opts.samples / elapsed * 1e-6 : -1.0;
 }
@@ -85,8 +79,9 @@ static double run_scaling(const scene *s, backend_choice backend, render_stats *
 
 /* The scaling table: cost per sample against the sphere count, both back ends. */
 static int bench_scaling(bool want_cpu, bool want_vk) {
-    printf("\nscaling: random spheres, %dx%d, %d spp, indirect on; Msamples/s of the passes alone\n",
-           SCALING_SIZE, SCALING_SIZE, SCALING_SAMPLES);
+    printf(
+        "\nscaling: random spheres, %dx%d, %d spp, indirect on; Msamples/s of the passes alone\n",
+        SCALING_SIZE, SCALING_SIZE, SCALING_SAMPLES);
     printf("%10s %9s %7s %10s %14s %14s %11s %11s\n", "spheres", "build s", "B/sph", "depth",
            "cpu Msamples/s", "vk Msamples/s", "cpu vs 10", "vk vs 10");
     int failures = 0;
@@ -144,14 +139,16 @@ int bench_command(int argc, char **argv) {
         } else if (!strcmp(argv[k], "--spp") && cli_parse_int(value, 1, 65536, &spp)) {
             k++;
         } else {
-            fprintf(stderr, "trazador: usage: trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n");
+            fprintf(stderr,
+                    "trazador: usage: trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n");
             return 2;
         }
     }
     scene s;
     scene_error err;
-    if (!scene_parse_string(default_scene_text, strlen(default_scene_text), "cornell.scene", &s, &err)) {
-        fprintf(stderr, "%s:%d:%d: %s\n", err.file, err.line, err.col, err.message);
+    if (!scene_parse_string(default_scene_text, strlen(default_scene_text), "cornell.scene", &s,
+                            &err)) {
+        scene_error_print(&err);
         return 1;
     }
     int failures = 0;

@@ -16,16 +16,18 @@ typedef struct box {
 
 typedef struct builder {
     const struct gpu_sphere *spheres;
-    box *bounds;      /* per input sphere, padded for rounding */
-    float *centroid;  /* 3 per input sphere */
-    uint32_t *index;  /* the permutation being built */
+    box *bounds;     /* per input sphere, padded for rounding */
+    float *centroid; /* 3 per input sphere */
+    uint32_t *index; /* the permutation being built */
     struct gpu_bvh_node *nodes;
     uint32_t node_count;
     uint32_t depth;
     uint32_t max_depth;
 } builder;
 
-static box box_empty(void) { return (box){{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}}; }
+static box box_empty(void) {
+    return (box){{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+}
 
 static void box_grow(box *b, const box *o) {
     for (int a = 0; a < 3; a++) {
@@ -48,7 +50,8 @@ static float float_of(uint32_t u) {
 /* Levels a median-split subtree of n spheres needs below its root. */
 static uint32_t median_levels(uint32_t n) {
     uint32_t levels = 0;
-    for (uint32_t leaves = (n + TZ_BVH_LEAF_MAX - 1) / TZ_BVH_LEAF_MAX; leaves > 1; leaves = (leaves + 1) / 2)
+    for (uint32_t leaves = (n + TZ_BVH_LEAF_MAX - 1) / TZ_BVH_LEAF_MAX; leaves > 1;
+         leaves = (leaves + 1) / 2)
         levels++;
     return levels;
 }
@@ -71,13 +74,17 @@ static void select_median(builder *b, uint32_t begin, uint32_t end, uint32_t mid
                 ix[j--] = t;
             }
         }
-        if (m <= j) hi = j;
-        else if (m >= i) lo = i;
-        else break;
+        if (m <= j)
+            hi = j;
+        else if (m >= i)
+            lo = i;
+        else
+            break;
     }
 }
 
-/* Best binned-SAH split of [begin, end); returns the cost, *axis and *bin_split set, or INFINITY. */
+/* Best binned-SAH split of [begin, end); returns the cost, *axis and *bin_split set, or INFINITY.
+ */
 static float sah_split(const builder *b, uint32_t begin, uint32_t end, const box *cbox, int *axis,
                        int *bin_split) {
     float best = INFINITY;
@@ -142,11 +149,13 @@ static uint32_t build_node(builder *b, uint32_t begin, uint32_t end, uint32_t de
     uint32_t mid = begin;
     /* Near the depth limit only median splits, which halve the count, are sure to fit. */
     bool must_median = depth + 1 + median_levels(n) >= b->max_depth;
-    float cost = n <= 1 || must_median ? INFINITY : sah_split(b, begin, end, &cbox, &axis, &bin_split);
+    float cost =
+        n <= 1 || must_median ? INFINITY : sah_split(b, begin, end, &cbox, &axis, &bin_split);
     float parent_area = box_area(&bounds);
     bool leaf_ok = n <= TZ_BVH_LEAF_MAX;
-    if (leaf_ok && (n <= 1 || !(cost < INFINITY) ||
-                    TRAVERSAL_COST + cost / (parent_area > 0.0f ? parent_area : 1.0f) >= (float)n)) {
+    if (leaf_ok &&
+        (n <= 1 || !(cost < INFINITY) ||
+         TRAVERSAL_COST + cost / (parent_area > 0.0f ? parent_area : 1.0f) >= (float)n)) {
         node->lo.w = float_of(begin);
         node->hi.w = float_of(n);
         return id;

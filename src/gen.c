@@ -16,9 +16,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
+#include "atomic_file.h"
 #include "log.h"
 #include "rng.h"
 #include "scene.h"
@@ -426,30 +425,7 @@ bool gen_write(const gen_desc *desc, FILE *fp) {
     return !err;
 }
 
-/* Fills the open temporary file and closes it; 0 or an errno value, *step names what failed. */
-static int fill_temp(int fd, const gen_desc *desc, const char **step) {
-    *step = "set the file mode";
-    if (fchmod(fd, 0644) != 0) { /* mkstemp makes 0600 */
-        int err = errno;
-        close(fd);
-        return err;
-    }
-    *step = "write";
-    FILE *fp = fdopen(fd, "wb");
-    if (!fp) {
-        int err = errno;
-        close(fd);
-        return err;
-    }
-    int err = generate(desc, fp);
-    if (!err && fflush(fp) != 0) err = errno ? errno : EIO;
-    if (!err && fsync(fileno(fp)) != 0) {
-        *step = "sync";
-        err = errno;
-    }
-    if (fclose(fp) != 0 && !err) err = errno ? errno : EIO;
-    return err;
-}
+static int write_scene(FILE *fp, const void *context) { return generate(context, fp); }
 
 bool gen_write_file(const gen_desc *desc, const char *path) {
     if (!path || !strcmp(path, "-")) return gen_write(desc, stdout);
@@ -457,34 +433,8 @@ bool gen_write_file(const gen_desc *desc, const char *path) {
         log_error("gen: invalid generator settings");
         return false;
     }
-    /* Same scheme as image_write: a temporary in the same folder, renamed over the destination
-       only once complete, so a failed run leaves no truncated scene and the old file intact. */
-    size_t len = strlen(path);
-    char *tmp = malloc(len + sizeof ".XXXXXX");
-    if (!tmp) {
-        log_error("gen: %s: %s", path, strerror(ENOMEM));
-        return false;
-    }
-    memcpy(tmp, path, len);
-    memcpy(tmp + len, ".XXXXXX", sizeof ".XXXXXX");
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
-        log_error("gen: %s: cannot create a temporary file: %s", path, strerror(errno));
-        free(tmp);
-        return false;
-    }
-    const char *step = "write";
-    int err = fill_temp(fd, desc, &step);
-    if (!err && rename(tmp, path) != 0) {
-        err = errno;
-        step = "rename the temporary file over it";
-    }
-    if (err) {
-        unlink(tmp);
-        log_error("gen: %s: cannot %s: %s", path, step, strerror(err));
-    }
-    free(tmp);
-    return !err;
+    /* A failed run leaves no truncated scene and any old file intact. */
+    return atomic_file_write(path, write_scene, desc);
 }
 
 /* ---- command line ---- */

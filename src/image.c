@@ -11,8 +11,8 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
+#include "atomic_file.h"
 #include "log.h"
 
 typedef enum image_format { FORMAT_NONE, FORMAT_PPM, FORMAT_PNG, FORMAT_PFM } image_format;
@@ -157,29 +157,15 @@ static int write_pfm(FILE *fp, const image *img, tonemap tm) {
 static int (*const writers[])(FILE *, const image *, tonemap) = {
     [FORMAT_PPM] = write_ppm, [FORMAT_PNG] = write_png, [FORMAT_PFM] = write_pfm};
 
-/* Fills the open temporary file and closes it; 0 or an errno value, *step names what failed. */
-static int fill_temp(int fd, image_format fmt, const image *img, tonemap tm, const char **step) {
-    *step = "set the file mode";
-    if (fchmod(fd, 0644) != 0) { /* mkstemp makes 0600 */
-        int err = errno;
-        close(fd);
-        return err;
-    }
-    *step = "write";
-    FILE *fp = fdopen(fd, "wb");
-    if (!fp) {
-        int err = errno;
-        close(fd);
-        return err;
-    }
-    int err = writers[fmt](fp, img, tm);
-    if (!err && fflush(fp) != 0) err = write_error();
-    if (!err && fsync(fileno(fp)) != 0) {
-        *step = "sync";
-        err = write_error();
-    }
-    if (fclose(fp) != 0 && !err) err = write_error();
-    return err;
+typedef struct image_sink {
+    image_format format;
+    const image *img;
+    tonemap tm;
+} image_sink;
+
+static int write_image(FILE *fp, const void *context) {
+    const image_sink *sink = context;
+    return writers[sink->format](fp, sink->img, sink->tm);
 }
 
 bool image_write(const char *path, const image *img, tonemap tm) {
@@ -192,34 +178,9 @@ bool image_write(const char *path, const image *img, tonemap tm) {
         log_error("%s: cannot write an invalid %dx%d image", path, img->width, img->height);
         return false;
     }
-    /* A temporary in the same folder, renamed over the destination only once complete, so a
-       failed or interrupted write never leaves a truncated image nor destroys an existing one. */
-    size_t len = strlen(path);
-    char *tmp = malloc(len + sizeof ".XXXXXX");
-    if (!tmp) {
-        log_error("%s: %s", path, strerror(ENOMEM));
-        return false;
-    }
-    memcpy(tmp, path, len);
-    memcpy(tmp + len, ".XXXXXX", sizeof ".XXXXXX");
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
-        log_error("%s: cannot create a temporary file: %s", path, strerror(errno));
-        free(tmp);
-        return false;
-    }
-    const char *step = "write";
-    int err = fill_temp(fd, fmt, img, tm, &step);
-    if (!err && rename(tmp, path) != 0) {
-        err = errno;
-        step = "rename the temporary file over it";
-    }
-    if (err) {
-        unlink(tmp);
-        log_error("%s: cannot %s: %s", path, step, strerror(err));
-    }
-    free(tmp);
-    return !err;
+    /* A failed or interrupted write never leaves a truncated image nor destroys an existing one. */
+    image_sink sink = {fmt, img, tm};
+    return atomic_file_write(path, write_image, &sink);
 }
 
 /* ---- reading: each reader logs its own errors; image_read frees out on failure ---- */

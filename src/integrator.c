@@ -15,18 +15,20 @@ static float ray_eps(vec3 p) {
     return TZ_EPS * (m > 1.0f ? m : 1.0f);
 }
 
-/* Ray-sphere distances of spheres [begin, begin + SOA_LANES) into t[], INFINITY for a miss or past end: the nearest root
- * greater than tmin, after Haines et al., Ray Tracing Gems ch. 7: disc = r^2 - |oc - b d|^2 and
- * q = -b - sign(b) sqrt(disc), roots c/q and q; c = |oc|^2 - r^2 is taken on the largest
- * component of oc, (|m| - r)(|m| + r) + the other two squared, exact when a huge wall sphere's
- * centre lies along an axis from the ray origin. The sphere `self` that the ray leaves is its own
- * origin: moving inward (b < 0) only its far root counts, moving outward it cannot be hit again.
- * Branch-free over SOA_LANES spheres of the padded structure-of-arrays (past `count`: INFINITY),
- * so that it compiles to 8-wide SIMD; each lane does the very operations of the shader's
+/* Ray-sphere distances of spheres [begin, begin + SOA_LANES) into t[], INFINITY for a miss or past
+ * end: the nearest root greater than tmin, after Haines et al., Ray Tracing Gems ch. 7: disc = r^2
+ * - |oc - b d|^2 and q = -b - sign(b) sqrt(disc), roots c/q and q; c = |oc|^2 - r^2 is taken on the
+ * largest component of oc, (|m| - r)(|m| + r) + the other two squared, exact when a huge wall
+ * sphere's centre lies along an axis from the ray origin. The sphere `self` that the ray leaves is
+ * its own origin: moving inward (b < 0) only its far root counts, moving outward it cannot be hit
+ * again. Branch-free over SOA_LANES spheres of the padded structure-of-arrays (past `count`:
+ * INFINITY), so that it compiles to 8-wide SIMD; each lane does the very operations of the shader's
  * sphere_hit, in the same order. */
-__attribute__((target_clones("avx2", "default"))) static void spheres_hit(
-    const sphere_soa *sp, int begin, int end, vec3 o, vec3 d, float tmin, int self,
-    float *restrict t) {
+__attribute__((target_clones("avx2", "default"))) static void spheres_hit(const sphere_soa *sp,
+                                                                          int begin, int end,
+                                                                          vec3 o, vec3 d,
+                                                                          float tmin, int self,
+                                                                          float *restrict t) {
     for (int lane = 0; lane < SOA_LANES; lane++) { /* a fixed trip count: one AVX2 iteration */
         int k = begin + lane;
         float ocx = o.x - sp->cx[k], ocy = o.y - sp->cy[k], ocz = o.z - sp->cz[k];
@@ -63,8 +65,8 @@ static void leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end, vec3 o
     spheres_hit(&p->soa, (int)begin, (int)end, o, d, tmin, self, t);
     for (int lane = 0; lane < SOA_LANES; lane++) {
         int k = (int)begin + lane;
-        if (t[lane] < *best || (t[lane] == *best && *id >= 0 &&
-                                p->spheres[k].params.w < p->spheres[*id].params.w)) {
+        if (t[lane] < *best ||
+            (t[lane] == *best && *id >= 0 && p->spheres[k].params.w < p->spheres[*id].params.w)) {
             *best = t[lane];
             *id = k;
         }
@@ -115,7 +117,8 @@ static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self, float tmax
     float stack_t[TZ_BVH_MAX_DEPTH];
     int top = 0;
     uint32_t node = 0;
-    int go = 1; /* the root's box holds every sphere: testing it would only repeat the leaves' work */
+    int go =
+        1; /* the root's box holds every sphere: testing it would only repeat the leaves' work */
     while (go) {
         const struct gpu_bvh_node *n = &p->nodes[node];
         uint32_t leaf_count = uint_bits(n->hi.w);
@@ -181,7 +184,8 @@ static vec3 direct_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3 w
     uint32_t count = p->frame.size.w;
     for (uint32_t k = 0; k < count; k++) {
         const struct gpu_light *l = &p->lights[k];
-        /* Distance and angle from the true hit point; only the shadow ray starts off the surface. */
+        /* Distance and angle from the true hit point; only the shadow ray starts off the surface.
+         */
         vec3 to_light = v3_sub(xyz(l->position_power), pos);
         float dist2 = v3_dot(to_light, to_light);
         float dist = sqrtf(dist2);
@@ -258,7 +262,8 @@ static vec3 radiance_direct_only(const packed_scene *p, vec3 o, vec3 d, int self
 
 /* One cosine-weighted bounce at a diffuse hit: theta = acos(sqrt(1 - y1)), phi = 2 pi y2,
  * pdf = cos(theta) / pi; returns f_r * L_direct * cos / pdf. */
-static vec3 indirect_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3 wo, uint32_t *rng) {
+static vec3 indirect_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3 wo,
+                           uint32_t *rng) {
     float y1 = rng_next(rng), y2 = rng_next(rng);
     float cos_t = sqrtf(1.0f - y1), sin_t = sqrtf(y1), phi = 2.0f * TZ_PI * y2;
     vec3 t, b;

@@ -6,10 +6,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "cli.h"
+#include "clock.h"
 #include "default_scene.h"
 #include "diff.h"
 #include "gen.h"
@@ -51,7 +51,8 @@ bool cli_parse_int(const char *text, long long min, long long max, long long *ou
 
 static bool has_image_extension(const char *path) {
     const char *dot = strrchr(path, '.');
-    return dot && (!strcasecmp(dot, ".png") || !strcasecmp(dot, ".ppm") || !strcasecmp(dot, ".pfm"));
+    return dot &&
+           (!strcasecmp(dot, ".png") || !strcasecmp(dot, ".ppm") || !strcasecmp(dot, ".pfm"));
 }
 
 bool cli_render(const scene *s, const render_opts *opts, backend_choice backend, film *f,
@@ -71,14 +72,20 @@ typedef struct render_args {
     tonemap tm;
     bool quiet;
     long long spp, seed, bounces, threads, device, width; /* -1: not given */
-    int indirect;                                  /* -1 not given, 0 off, 1 on */
+    int indirect;                                         /* -1 not given, 0 off, 1 on */
     bool no_jitter, validate, verbose, no_bvh;
 } render_args;
 
 /* Parses `render` arguments; returns 0 to go on, else the exit code (2 usage, 0 for --help). */
 static int parse_render_args(int argc, char **argv, render_args *a) {
-    *a = (render_args){.output = "render.png", .spp = -1, .seed = -1, .bounces = -1,
-                       .threads = -1, .device = -1, .width = -1, .indirect = -1};
+    *a = (render_args){.output = "render.png",
+                       .spp = -1,
+                       .seed = -1,
+                       .bounces = -1,
+                       .threads = -1,
+                       .device = -1,
+                       .width = -1,
+                       .indirect = -1};
     for (int k = 1; k < argc; k++) {
         const char *arg = argv[k];
         const char *value = k + 1 < argc ? argv[k + 1] : NULL;
@@ -90,44 +97,70 @@ static int parse_render_args(int argc, char **argv, render_args *a) {
             if (!value) return usage_error("%s needs a file name", arg);
             a->output = value;
         } else if (!strcmp(arg, "--backend")) {
-            if (value && !strcmp(value, "vulkan")) a->backend = BACKEND_VULKAN;
-            else if (value && !strcmp(value, "cpu")) a->backend = BACKEND_CPU;
-            else if (value && !strcmp(value, "auto")) a->backend = BACKEND_AUTO;
-            else return usage_error("--backend takes auto, vulkan or cpu, got '%s'", value ? value : "");
+            if (value && !strcmp(value, "vulkan"))
+                a->backend = BACKEND_VULKAN;
+            else if (value && !strcmp(value, "cpu"))
+                a->backend = BACKEND_CPU;
+            else if (value && !strcmp(value, "auto"))
+                a->backend = BACKEND_AUTO;
+            else
+                return usage_error("--backend takes auto, vulkan or cpu, got '%s'",
+                                   value ? value : "");
         } else if (!strcmp(arg, "--tonemap")) {
-            if (value && !strcmp(value, "srgb")) a->tm = TONEMAP_SRGB;
-            else if (value && !strcmp(value, "linear")) a->tm = TONEMAP_LINEAR;
-            else return usage_error("--tonemap takes srgb or linear, got '%s'", value ? value : "");
+            if (value && !strcmp(value, "srgb"))
+                a->tm = TONEMAP_SRGB;
+            else if (value && !strcmp(value, "linear"))
+                a->tm = TONEMAP_LINEAR;
+            else
+                return usage_error("--tonemap takes srgb or linear, got '%s'", value ? value : "");
         } else if (!strcmp(arg, "--spp")) {
             if (!cli_parse_int(value, 1, SCENE_MAX_SAMPLES, &a->spp))
-                return usage_error("--spp takes a whole number from 1 to 1048576, got '%s'", value ? value : "");
+                return usage_error("--spp takes a whole number from 1 to 1048576, got '%s'",
+                                   value ? value : "");
         } else if (!strcmp(arg, "--seed")) {
             if (!cli_parse_int(value, 0, 4294967295LL, &a->seed))
-                return usage_error("--seed takes a whole number from 0 to 4294967295, got '%s'", value ? value : "");
+                return usage_error("--seed takes a whole number from 0 to 4294967295, got '%s'",
+                                   value ? value : "");
         } else if (!strcmp(arg, "--bounces")) {
             if (!cli_parse_int(value, 0, SCENE_MAX_BOUNCES, &a->bounces))
-                return usage_error("--bounces takes a whole number from 0 to 64, got '%s'", value ? value : "");
+                return usage_error("--bounces takes a whole number from 0 to 64, got '%s'",
+                                   value ? value : "");
         } else if (!strcmp(arg, "--threads")) {
             if (!cli_parse_int(value, 1, 256, &a->threads))
-                return usage_error("--threads takes a whole number from 1 to 256, got '%s'", value ? value : "");
+                return usage_error("--threads takes a whole number from 1 to 256, got '%s'",
+                                   value ? value : "");
         } else if (!strcmp(arg, "--width")) {
             if (!cli_parse_int(value, 1, SCENE_MAX_RESOLUTION, &a->width))
-                return usage_error("--width takes a whole number of pixels from 1 to 16384, got '%s'", value ? value : "");
+                return usage_error(
+                    "--width takes a whole number of pixels from 1 to 16384, got '%s'",
+                    value ? value : "");
         } else if (!strcmp(arg, "--device")) {
             if (!cli_parse_int(value, 0, 255, &a->device))
-                return usage_error("--device takes a device index (see `trazador devices`), got '%s'", value ? value : "");
+                return usage_error(
+                    "--device takes a device index (see `trazador devices`), got '%s'",
+                    value ? value : "");
         } else {
             takes_value = false;
-            if (!strcmp(arg, "--no-jitter")) a->no_jitter = true;
-            else if (!strcmp(arg, "--no-indirect")) a->indirect = 0;
-            else if (!strcmp(arg, "--indirect")) a->indirect = 1;
-            else if (!strcmp(arg, "--validate")) a->validate = true;
-            else if (!strcmp(arg, "--no-bvh")) a->no_bvh = true;
-            else if (!strcmp(arg, "--quiet") || !strcmp(arg, "-q")) a->quiet = true;
-            else if (!strcmp(arg, "--verbose") || !strcmp(arg, "-v")) a->verbose = true;
-            else if (arg[0] == '-' && arg[1]) return usage_error("unknown option '%s'", arg);
-            else if (!a->scene_path) a->scene_path = arg;
-            else return usage_error("more than one scene given ('%s')", arg);
+            if (!strcmp(arg, "--no-jitter"))
+                a->no_jitter = true;
+            else if (!strcmp(arg, "--no-indirect"))
+                a->indirect = 0;
+            else if (!strcmp(arg, "--indirect"))
+                a->indirect = 1;
+            else if (!strcmp(arg, "--validate"))
+                a->validate = true;
+            else if (!strcmp(arg, "--no-bvh"))
+                a->no_bvh = true;
+            else if (!strcmp(arg, "--quiet") || !strcmp(arg, "-q"))
+                a->quiet = true;
+            else if (!strcmp(arg, "--verbose") || !strcmp(arg, "-v"))
+                a->verbose = true;
+            else if (arg[0] == '-' && arg[1])
+                return usage_error("unknown option '%s'", arg);
+            else if (!a->scene_path)
+                a->scene_path = arg;
+            else
+                return usage_error("more than one scene given ('%s')", arg);
         }
         if (takes_value) k++;
     }
@@ -143,8 +176,10 @@ static bool apply_width(long long width, scene *s) {
     double height = (double)s->plane_height / pixel;
     long long rows = llround(height);
     if (rows < 1 || rows > SCENE_MAX_RESOLUTION || fabs(height - (double)rows) > 1e-6 * height) {
-        fprintf(stderr, "trazador: --width %lld gives a height of %.4g pixels for a %g x %g plane; "
-                "pick a width that makes it whole\n", width, height, s->plane_width, s->plane_height);
+        fprintf(stderr,
+                "trazador: --width %lld gives a height of %.4g pixels for a %g x %g plane; "
+                "pick a width that makes it whole\n",
+                width, height, s->plane_width, s->plane_height);
         return false;
     }
     s->pixel_size = (float)pixel;
@@ -167,12 +202,6 @@ static void apply_overrides(const render_args *a, render_opts *o) {
     o->progress = !a->quiet && isatty(STDERR_FILENO);
 }
 
-static double seconds_now(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 static int render_command(int argc, char **argv) {
     render_args a;
     int rc = parse_render_args(argc, argv, &a);
@@ -181,12 +210,11 @@ static int render_command(int argc, char **argv) {
     if (a.quiet) log_set_level(LOG_WARN);
     scene s;
     scene_error err;
-    bool parsed = a.scene_path
-                      ? scene_parse_file(a.scene_path, &s, &err)
-                      : scene_parse_string(default_scene_text, strlen(default_scene_text),
-                                           "scenes/cornell.scene (embedded)", &s, &err);
+    bool parsed = a.scene_path ? scene_parse_file(a.scene_path, &s, &err)
+                               : scene_parse_string(default_scene_text, strlen(default_scene_text),
+                                                    "scenes/cornell.scene (embedded)", &s, &err);
     if (!parsed) {
-        fprintf(stderr, "%s:%d:%d: %s\n", err.file, err.line, err.col, err.message);
+        scene_error_print(&err);
         return 2;
     }
     if (!apply_width(a.width, &s)) {
@@ -199,9 +227,9 @@ static int render_command(int argc, char **argv) {
     film f = {0};
     image img = {0};
     const char *used = "";
-    double start = seconds_now();
+    double start = clock_seconds();
     bool ok = cli_render(&s, &opts, a.backend, &f, &used);
-    double elapsed = seconds_now() - start;
+    double elapsed = clock_seconds() - start;
     if (ok && f.nonfinite)
         log_warn("%llu samples had non-finite radiance and were not accumulated",
                  (unsigned long long)f.nonfinite);

@@ -17,7 +17,7 @@ typedef struct render_stats {
 } render_stats;
 
 typedef struct render_opts {
-    int samples;   /* samples per pixel */
+    int samples; /* samples per pixel */
     uint32_t seed;
     bool no_jitter; /* zero is default: jitter on */
     bool indirect;

@@ -8,6 +8,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "clock.h"
 #include "integrator.h"
 #include "log.h"
 #include "render.h"
@@ -76,15 +77,9 @@ static void report_progress(cpu_job *job) {
     fprintf(stderr, "\r\033[K");
 }
 
-static double seconds_now(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
 bool render_cpu(const scene *s, const render_opts *opts, film *f) {
     packed_scene packed;
-    double start = seconds_now();
+    double start = clock_seconds();
     if (!scene_pack(s, opts, &packed)) return false;
     scene_pack_report(&packed, opts, start);
     if (!film_init(f, s->width, s->height)) {
@@ -99,7 +94,7 @@ bool render_cpu(const scene *s, const render_opts *opts, film *f) {
     atomic_init(&job.tiles_done, 0);
     atomic_init(&job.nonfinite, 0);
     int n = thread_count(opts->threads);
-    double render_start = seconds_now();
+    double render_start = clock_seconds();
     pthread_t threads[MAX_THREADS];
     int started = 0;
     while (started < n && pthread_create(&threads[started], NULL, worker, &job) == 0) started++;
@@ -107,7 +102,7 @@ bool render_cpu(const scene *s, const render_opts *opts, film *f) {
     if (opts->progress) report_progress(&job);
     for (int k = 0; k < started; k++) pthread_join(threads[k], NULL);
     f->nonfinite = atomic_load(&job.nonfinite);
-    if (opts->stats) opts->stats->render_seconds = seconds_now() - render_start;
+    if (opts->stats) opts->stats->render_seconds = clock_seconds() - render_start;
     packed_scene_free(&packed);
     return true;
 }

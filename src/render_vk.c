@@ -5,8 +5,8 @@
 #include <inttypes.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 
+#include "clock.h"
 #include "log.h"
 #include "render.h"
 #include "scene_pack.h"
@@ -45,21 +45,16 @@ typedef struct vk_render {
     VkCommandBuffer cmd;
 } vk_render;
 
-static double seconds_now(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
 /* Refuses what the device could not render right: scene or accumulation buffers past its limits,
  * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit. */
 static bool check_limits(const vk_context *ctx, const scene *s, uint64_t sample_iterations,
                          uint32_t walk) {
     bool use_bvh = walk != UINT32_MAX;
     if (vk_context_is_lavapipe(ctx) && use_bvh && walk < MIN_WALK_BUDGET) {
-        log_error("with %d lights and this bounce limit a ray could walk the BVH only %u loop "
-                  "passes on lavapipe (its shaders stop loops silently after %u): use --backend cpu",
-                  s->light_count, walk, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+        log_error(
+            "with %d lights and this bounce limit a ray could walk the BVH only %u loop "
+            "passes on lavapipe (its shaders stop loops silently after %u): use --backend cpu",
+            s->light_count, walk, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
         return false;
     }
     /* One sample an invocation: its passes and the sample loop's exit pass. */
@@ -243,9 +238,10 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
         if (!vk_commands_submit_wait(ctx, r->cmd, r->fence)) return false;
         *nonfinite += counter[0];
         if (counter[1] > 0) {
-            log_error("%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
-                      "allows (its shaders stop loops silently past %u in all): use --backend cpu",
-                      counter[1], VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+            log_error(
+                "%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
+                "allows (its shaders stop loops silently past %u in all): use --backend cpu",
+                counter[1], VK_PROBE_LAVAPIPE_LOOP_LIMIT);
             return false;
         }
         if (opts->progress) fprintf(stderr, "\rtrazador: rendering %5.1f%%", 100.0 * last / passes);
@@ -257,7 +253,8 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
 /* Samples per dispatch and passes per submission, from the per-sample worst case. */
 static pass_plan plan_passes(const vk_context *ctx, const scene *s, const render_opts *opts,
                              uint64_t sample_iterations) {
-    pass_plan plan = {.width = (uint32_t)s->width, .height = (uint32_t)s->height,
+    pass_plan plan = {.width = (uint32_t)s->width,
+                      .height = (uint32_t)s->height,
                       .samples = (uint32_t)opts->samples};
     uint64_t tile_pixels = (uint64_t)TILE_SIZE * TILE_SIZE;
     uint64_t per_dispatch = DISPATCH_BUDGET / (tile_pixels * sample_iterations);
@@ -291,8 +288,8 @@ static void render_destroy(vk_render *r) {
         if (r->fence) vkDestroyFence(ctx->device, r->fence, NULL);
         if (r->cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &r->cmd);
         vk_kernel_destroy(ctx, &r->kernel);
-        vk_buffer *buffers[] = {&r->readback, &r->upload,  &r->counter, &r->accum, &r->nodes,
-                                &r->lights,   &r->spheres, &r->frame};
+        vk_buffer *buffers[] = {&r->readback, &r->upload, &r->counter, &r->accum,
+                                &r->nodes,    &r->lights, &r->spheres, &r->frame};
         for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; k++)
             vk_buffer_destroy(ctx, buffers[k]);
     }
@@ -303,10 +300,10 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
     vk_render r = {0};
     packed_scene packed = {0};
     bool ok = false;
-    double t0 = seconds_now();
+    double t0 = clock_seconds();
     vk_context_desc desc = {.device = opts->device, .validate = opts->validate};
     if (!vk_context_init(&r.ctx, &desc)) return false;
-    double t_init = seconds_now();
+    double t_init = clock_seconds();
     log_debug("vulkan: device %d, %s (%s), instance and device in %.1f ms", r.ctx.device_index,
               r.ctx.properties.deviceName, r.ctx.driver_name, (t_init - t0) * 1e3);
     /* Small scenes test every sphere in unrolled loops; bigger ones walk the BVH, each walk
@@ -320,7 +317,7 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
     uint64_t sample_iterations =
         vk_probe_sample_iterations(use_bvh ? (lavapipe ? walk : 64u) : spheres, lights,
                                    (uint32_t)opts->bounces, opts->indirect);
-    double t_pack = seconds_now();
+    double t_pack = clock_seconds();
     if (!check_limits(&r.ctx, s, sample_iterations, use_bvh ? walk : UINT32_MAX) ||
         !scene_pack(s, opts, &packed))
         goto done;
@@ -330,7 +327,7 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
         goto done;
     }
     if (!create_buffers(&r, &packed, s->width, s->height)) goto done;
-    double t_upload = seconds_now();
+    double t_upload = clock_seconds();
     log_debug("vulkan: buffers and upload in %.1f ms (%s)", (t_upload - t_init) * 1e3,
               r.accum.mapped ? "mapped device memory" : "staging copies");
 
@@ -386,7 +383,7 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
         [TZ_BINDING_NODES] = VK_WHOLE_SIZE,
     };
     vk_kernel_bind(&r.ctx, &r.kernel, buffers, ranges);
-    double t_pipeline = seconds_now();
+    double t_pipeline = clock_seconds();
     log_debug("vulkan: pipeline in %.1f ms", (t_pipeline - t_upload) * 1e3);
 
     log_debug("vulkan: %" PRIu64
@@ -395,11 +392,11 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
               sample_iterations, plan.per_dispatch, plan.per_dispatch == 1 ? "" : "s",
               plan.passes_per_submit, plan.passes_per_submit == 1 ? "" : "es");
     if (!run_passes(&r, &plan, opts, &f->nonfinite)) goto done;
-    double t_render = seconds_now();
+    double t_render = clock_seconds();
     if (opts->stats) opts->stats->render_seconds = t_render - t_pipeline;
     const char *sums = r.accum.mapped ? r.accum.mapped : (const char *)r.readback.mapped + 16;
     memcpy(f->accum, sums, (size_t)s->width * (size_t)s->height * 4u * sizeof(float));
-    double t_read = seconds_now();
+    double t_read = clock_seconds();
     log_debug("vulkan: rendering in %.1f ms, read-back in %.1f ms", (t_render - t_pipeline) * 1e3,
               (t_read - t_render) * 1e3);
     ok = true;

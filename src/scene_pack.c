@@ -3,9 +3,9 @@
 
 #include <stddef.h>
 #include <stdlib.h>
-#include <time.h>
 
 #include "bvh.h"
+#include "clock.h"
 #include "log.h"
 
 /* std430 with vec4 members only: the C structs must have no padding of their own. */
@@ -31,17 +31,11 @@ _Static_assert(sizeof(struct gpu_pass) == 16, "gpu_pass is 16 bytes");
 _Static_assert(sizeof(struct gpu_bvh_node) == 32, "gpu_bvh_node is 32 bytes");
 _Static_assert(offsetof(struct gpu_bvh_node, hi) == 16, "gpu_bvh_node layout");
 
-static double seconds_now(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 static tz_vec4 vec4_from(vec3 v, float w) { return (tz_vec4){v.x, v.y, v.z, w}; }
 
 /* Sorts the spheres into BVH order and keeps the tree; false on out-of-memory. */
 static bool pack_bvh(packed_scene *out, uint32_t count) {
-    double start = seconds_now();
+    double start = clock_seconds();
     bvh tree;
     if (!bvh_build(out->spheres, count, TZ_BVH_MAX_DEPTH, &tree)) return false;
     struct gpu_sphere *sorted = malloc((count ? count : 1) * sizeof *sorted);
@@ -56,7 +50,7 @@ static bool pack_bvh(packed_scene *out, uint32_t count) {
     out->bvh_depth = tree.depth;
     out->frame.settings.w = tree.node_count;
     free(tree.order);
-    out->bvh_seconds = seconds_now() - start;
+    out->bvh_seconds = clock_seconds() - start;
     return true;
 }
 
@@ -108,7 +102,8 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     vec3 f = v3_normalize(s->camera_direction);
     vec3 r = v3_normalize(v3_cross(s->camera_up, f));
     vec3 u = v3_cross(f, r);
-    uint32_t flags = (opts->no_jitter ? 0u : TZ_FLAG_JITTER) | (opts->indirect ? TZ_FLAG_INDIRECT : 0u);
+    uint32_t flags =
+        (opts->no_jitter ? 0u : TZ_FLAG_JITTER) | (opts->indirect ? TZ_FLAG_INDIRECT : 0u);
     out->frame = (struct gpu_frame){
         .origin = vec4_from(s->camera_position, s->pixel_size),
         .right = vec4_from(r, -0.5f * s->plane_width),
@@ -130,16 +125,18 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
 void scene_pack_report(const packed_scene *p, const render_opts *opts, double pack_start) {
     if (!opts->stats) return;
     render_stats *st = opts->stats;
-    st->pack_seconds = seconds_now() - pack_start;
+    st->pack_seconds = clock_seconds() - pack_start;
     st->bvh_seconds = p->bvh_seconds;
     st->bvh_nodes = p->frame.settings.w;
     st->bvh_depth = p->bvh_depth;
     st->scene_bytes = (uint64_t)p->frame.size.z * sizeof *p->spheres +
                       (uint64_t)p->frame.size.w * sizeof *p->lights +
                       (uint64_t)p->frame.settings.w * sizeof *p->nodes;
-    log_debug("scene: %u spheres, %u BVH nodes (depth %u) built in %.3f s, %.1f MB for the "
-              "shaders", p->frame.size.z, st->bvh_nodes, st->bvh_depth, st->bvh_seconds,
-              (double)st->scene_bytes * 1e-6);
+    log_debug(
+        "scene: %u spheres, %u BVH nodes (depth %u) built in %.3f s, %.1f MB for the "
+        "shaders",
+        p->frame.size.z, st->bvh_nodes, st->bvh_depth, st->bvh_seconds,
+        (double)st->scene_bytes * 1e-6);
 }
 
 void packed_scene_free(packed_scene *p) {

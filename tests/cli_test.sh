@@ -50,7 +50,7 @@ echo "precious" > keep.png
 run bad-scene-keeps 2 "$tz" render bad.scene --backend cpu -o keep.png
 [ "$(cat keep.png)" = precious ] && ok || bad "bad-scene-keeps: keep.png was overwritten"
 run missing-scene 2 "$tz" render nowhere.scene --backend cpu
-has missing-scene err "nowhere.scene"
+has missing-scene err "nowhere.scene: cannot open"
 
 # A render into a folder that does not exist fails with 1 and leaves nothing behind.
 run missing-folder 1 "$tz" render --backend cpu --spp 1 --width 20 -o no/such/dir/out.png

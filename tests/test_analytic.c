@@ -1,5 +1,5 @@
-/* test_analytic.c: closed-form checks of the seed integrator (DESIGN section 8), run on the back end
- * named by argv[1] ("cpu" or "vulkan"; Vulkan exits 77 when no device exists). Every expected
+/* test_analytic.c: closed-form checks of the seed integrator (DESIGN section 8), run on the back
+ * end named by argv[1] ("cpu" or "vulkan"; Vulkan exits 77 when no device exists). Every expected
  * value is computed here from the formula, with the tolerance it needs stated beside it. */
 #include <math.h>
 #include <stdlib.h>
@@ -20,7 +20,7 @@ static bool render_text(const char *text, film *f, int bounces) {
     scene s;
     scene_error err;
     if (!scene_parse_string(text, strlen(text), "test", &s, &err)) {
-        fprintf(stderr, "%s:%d:%d: %s\n", err.file, err.line, err.col, err.message);
+        scene_error_print(&err);
         return false;
     }
     render_opts o;
@@ -49,7 +49,8 @@ static const char *const camera_21 =
 
 /* Checks the centre pixel against want[3]; the ray offset EPS (1e-4 relative) moves the shadow
  * ray origin by at most 1e-4 of the 4-unit light distance, so 2e-4 relative covers it. */
-static void check_centre(const char *name, const char *scene_rest, const double want[3], int bounces) {
+static void check_centre(const char *name, const char *scene_rest, const double want[3],
+                         int bounces) {
     char text[2048];
     snprintf(text, sizeof text, "%s%s", camera_21, scene_rest);
     film f = {0};
@@ -65,18 +66,22 @@ static void test_lambertian(void) {
     /* kd/pi * power / d^2 with d = 4 (hit at z = -1, light at z = -5), cos = 1. */
     double kd[3] = {0.2, 0.5, 0.8}, want[3];
     for (int c = 0; c < 3; c++) want[c] = kd[c] / PI * 10.0 / 16.0;
-    check_centre("lambertian", "light position 0 0 -5 power 10\n"
+    check_centre("lambertian",
+                 "light position 0 0 -5 power 10\n"
                  "sphere lambertian center 0 0 0 radius 1 color 0.2 0.5 0.8\n"
-                 "render samples 1 indirect on\n", want, -1);
+                 "render samples 1 indirect on\n",
+                 want, -1);
 }
 
 static void test_phong(void) {
     /* wo = wi = N, so wr = N and wo.wr = 1: f = kd/pi + ks (alpha + 2) / (2 pi). */
     double kd[3] = {0.2, 0.5, 0.8}, want[3];
     for (int c = 0; c < 3; c++) want[c] = (kd[c] / PI + 0.4 * 22.0 / (2.0 * PI)) * 10.0 / 16.0;
-    check_centre("phong", "light position 0 0 -5 power 10\n"
+    check_centre("phong",
+                 "light position 0 0 -5 power 10\n"
                  "sphere phong center 0 0 0 radius 1 color 0.2 0.5 0.8 ks 0.4 alpha 20\n"
-                 "render samples 1 indirect off\n", want, -1);
+                 "render samples 1 indirect off\n",
+                 want, -1);
 }
 
 /* A mirror at z = 0 sends the centre ray straight back past the camera to a sphere behind it,
@@ -102,10 +107,12 @@ static void test_refractive(void) {
      * tint^2 * kd/pi * power / 16. A mirror would see black, a Lambertian its own light. */
     double tint[3] = {0.9, 0.8, 0.7}, want[3];
     for (int c = 0; c < 3; c++) want[c] = tint[c] * tint[c] * 0.6 / PI * 10.0 / 16.0;
-    check_centre("refractive", "light position 0 0 4 power 10\n"
+    check_centre("refractive",
+                 "light position 0 0 4 power 10\n"
                  "sphere refractive center 0 0 0 radius 1 ior 1.5 color 0.9 0.8 0.7\n"
                  "sphere lambertian center 0 0 10 radius 2 color 0.6 0.6 0.6\n"
-                 "render samples 1 indirect off\n", want, -1);
+                 "render samples 1 indirect off\n",
+                 want, -1);
 }
 
 /* Refracts unit d at unit normal n facing it, eta = n1/n2 (DESIGN section 3), in double. */
@@ -152,12 +159,14 @@ static void test_refraction_direction(void) {
  * view. Ray offsets move paths by ~1e-4, so pixels agree to 1e-3 relative except for at most a
  * few silhouette pixels. */
 static void test_ior_one(void) {
-    const char *base = "camera position 0 0.3 -10\nplane width 4 height 3 pixel 0.05\n"
-                       "light position 0.5 0.5 5 power 10\n"
-                       "sphere lambertian center 0 0 11 radius 3 color 0.7 0.5 0.3\n"
-                       "render samples 1 indirect off\n";
+    const char *base =
+        "camera position 0 0.3 -10\nplane width 4 height 3 pixel 0.05\n"
+        "light position 0.5 0.5 5 power 10\n"
+        "sphere lambertian center 0 0 11 radius 3 color 0.7 0.5 0.3\n"
+        "render samples 1 indirect off\n";
     char with_glass[1024];
-    snprintf(with_glass, sizeof with_glass, "%ssphere refractive center 0.2 0.4 0 radius 1.2 ior 1\n", base);
+    snprintf(with_glass, sizeof with_glass,
+             "%ssphere refractive center 0.2 0.4 0 radius 1.2 ior 1\n", base);
     film a = {0}, b = {0};
     CHECK(render_text(base, &a, -1) && render_text(with_glass, &b, -1), "ior 1: render failed");
     if (!a.accum || !b.accum) return;
@@ -187,7 +196,8 @@ static void test_closed_sphere(void) {
                  "plane width 2 height 2 pixel 0.1\n"
                  "light position 0 0 0 power 10\n"
                  "sphere lambertian center 0 0 0 radius 2 color 0.6 0.6 0.6\n"
-                 "render samples 4 indirect %s\n", indirect ? "on" : "off");
+                 "render samples 4 indirect %s\n",
+                 indirect ? "on" : "off");
         film f = {0};
         CHECK(render_text(text, &f, -1), "closed sphere: render failed");
         if (!f.accum) continue;
@@ -203,10 +213,11 @@ static void test_closed_sphere(void) {
 
 /* Inside a mirror sphere every path bounces until the limit: black, never the background. */
 static void test_bounce_limit(void) {
-    const char *text = "camera position 0 0 0\nplane width 1 height 1 pixel 0.1\n"
-                       "light position 0 0.5 0 power 10\n"
-                       "sphere mirror center 0 0 0 radius 3\nbackground 1 1 1\n"
-                       "render samples 2 indirect off\n";
+    const char *text =
+        "camera position 0 0 0\nplane width 1 height 1 pixel 0.1\n"
+        "light position 0 0.5 0 power 10\n"
+        "sphere mirror center 0 0 0 radius 3\nbackground 1 1 1\n"
+        "render samples 2 indirect off\n";
     film f = {0};
     CHECK(render_text(text, &f, -1), "bounce limit: render failed");
     if (!f.accum) return;
@@ -224,17 +235,18 @@ static void test_huge_walls(void) {
     for (int k = 0; k < 2; k++) {
         double r = radius[k];
         char text[2048];
-        snprintf(text, sizeof text,
-                 "camera position 0 0 -6.9\nplane width 4 height 4 pixel 0.05\n"
-                 "light position 0 0.8 0.6 power 9\n"
-                 "sphere lambertian center %.0f 0 0 radius %.0f color 0.75 0.12 0.10\n"
-                 "sphere lambertian center %.0f 0 0 radius %.0f color 0.12 0.70 0.15\n"
-                 "sphere lambertian center 0 %.0f 0 radius %.0f color 0.75 0.75 0.75\n"
-                 "sphere lambertian center 0 %.0f 0 radius %.0f color 0.75 0.75 0.75\n"
-                 "sphere lambertian center 0 0 %.0f radius %.0f color 0.75 0.75 0.75\n"
-                 "sphere phong center -0.85 -1.3 1.4 radius 0.7 color 0.85 0.85 0.85 ks 0.25 alpha 40\n"
-                 "render samples 1 indirect off\n",
-                 -2 - r, r, 2 + r, r, -2 - r, r, 2 + r, r, 3 + r, r);
+        snprintf(
+            text, sizeof text,
+            "camera position 0 0 -6.9\nplane width 4 height 4 pixel 0.05\n"
+            "light position 0 0.8 0.6 power 9\n"
+            "sphere lambertian center %.0f 0 0 radius %.0f color 0.75 0.12 0.10\n"
+            "sphere lambertian center %.0f 0 0 radius %.0f color 0.12 0.70 0.15\n"
+            "sphere lambertian center 0 %.0f 0 radius %.0f color 0.75 0.75 0.75\n"
+            "sphere lambertian center 0 %.0f 0 radius %.0f color 0.75 0.75 0.75\n"
+            "sphere lambertian center 0 0 %.0f radius %.0f color 0.75 0.75 0.75\n"
+            "sphere phong center -0.85 -1.3 1.4 radius 0.7 color 0.85 0.85 0.85 ks 0.25 alpha 40\n"
+            "render samples 1 indirect off\n",
+            -2 - r, r, 2 + r, r, -2 - r, r, 2 + r, r, 3 + r, r);
         CHECK(render_text(text, &films[k], -1), "huge walls: render of radius %g failed", r);
     }
     /* Radius-1e3 walls sag by x^2 / 2R <= 0.002 over the room: that moves hard shadow edges by a

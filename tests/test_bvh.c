@@ -25,14 +25,23 @@ static vec3 random_direction(void) {
 
 /* A scene of n spheres in a 20-unit box: sizes from tiny to big, so they overlap and nest. */
 static void random_scene(scene *s, int n) {
-    *s = (scene){.width = 1, .height = 1, .pixel_size = 1, .plane_width = 1, .plane_height = 1,
-                 .camera_direction = {0, 0, 1}, .camera_up = {0, 1, 0}, .samples = 1, .bounces = 5};
+    *s = (scene){.width = 1,
+                 .height = 1,
+                 .pixel_size = 1,
+                 .plane_width = 1,
+                 .plane_height = 1,
+                 .camera_direction = {0, 0, 1},
+                 .camera_up = {0, 1, 0},
+                 .samples = 1,
+                 .bounces = 5};
     s->spheres = calloc((size_t)n, sizeof *s->spheres);
     s->sphere_count = n;
     for (int k = 0; k < n; k++) {
         float r = rng_next(&rng_state) < 0.1f ? uniform(1.0f, 4.0f) : uniform(0.01f, 0.6f);
         s->spheres[k] = (sphere){.center = v3(uniform(-10, 10), uniform(-10, 10), uniform(-10, 10)),
-                                 .radius = r, .color = {0.5f, 0.5f, 0.5f}, .ior = 1.0f};
+                                 .radius = r,
+                                 .color = {0.5f, 0.5f, 0.5f},
+                                 .ior = 1.0f};
     }
 }
 
@@ -40,7 +49,8 @@ static void random_scene(scene *s, int n) {
 static int packed_index(const packed_scene *p, const sphere *sp) {
     for (uint32_t k = 0; k < p->frame.size.z; k++) {
         const tz_vec4 *c = &p->spheres[k].center_radius;
-        if (c->x == sp->center.x && c->y == sp->center.y && c->z == sp->center.z && c->w == sp->radius)
+        if (c->x == sp->center.x && c->y == sp->center.y && c->z == sp->center.z &&
+            c->w == sp->radius)
             return (int)k;
     }
     return -1;
@@ -65,7 +75,8 @@ static void compare_rays(int sphere_count, int rays) {
     for (int r = 0; r < rays; r++) {
         vec3 o, d = random_direction();
         int self_brute = -1, self_tree = -1;
-        if (r % 4 == 0) { /* start on a sphere's surface, leaving it (as every secondary ray does) */
+        if (r % 4 ==
+            0) { /* start on a sphere's surface, leaving it (as every secondary ray does) */
             int k = (int)(rng_next(&rng_state) * (float)sphere_count) % sphere_count;
             const sphere *sp = &s.spheres[k];
             o = v3_add(sp->center, v3_scale(random_direction(), sp->radius));
@@ -87,9 +98,12 @@ static void compare_rays(int sphere_count, int rays) {
             integrator_occluded(&tree, o, d, dist, self_tree))
             shadow_bad++;
     }
-    CHECK(nearest_bad == 0, "%d spheres: %d of %d nearest hits differ", sphere_count, nearest_bad, rays);
-    CHECK(shadow_bad == 0, "%d spheres: %d of %d shadow tests differ", sphere_count, shadow_bad, rays);
-    CHECK(hits > rays / 10, "%d spheres: only %d of %d rays hit anything", sphere_count, hits, rays);
+    CHECK(nearest_bad == 0, "%d spheres: %d of %d nearest hits differ", sphere_count, nearest_bad,
+          rays);
+    CHECK(shadow_bad == 0, "%d spheres: %d of %d shadow tests differ", sphere_count, shadow_bad,
+          rays);
+    CHECK(hits > rays / 10, "%d spheres: only %d of %d rays hit anything", sphere_count, hits,
+          rays);
     packed_scene_free(&tree);
     packed_scene_free(&brute);
     scene_free(&s);
@@ -150,7 +164,8 @@ static void check_tree(const char *name, const struct gpu_sphere *spheres, uint3
     CHECK(coverage == 0, "%s: %d spheres not in exactly one leaf", name, coverage);
     CHECK(depth == t.depth, "%s: depth %u, the build says %u", name, depth, t.depth);
     CHECK(t.depth < max_depth, "%s: depth %u reaches the bound %u", name, t.depth, max_depth);
-    printf("%s: %u spheres, %u nodes, depth %u, %.3f s\n", name, count, t.node_count, t.depth, seconds);
+    printf("%s: %u spheres, %u nodes, depth %u, %.3f s\n", name, count, t.node_count, t.depth,
+           seconds);
     free(seen);
     bvh_free(&t);
 }
@@ -165,10 +180,12 @@ int main(void) {
     uint32_t n = 200000;
     struct gpu_sphere *sp = calloc(n, sizeof *sp);
     for (uint32_t k = 0; k < n; k++)
-        sp[k].center_radius = (tz_vec4){uniform(-100, 100), uniform(-100, 100), uniform(-100, 100), uniform(0.01f, 1)};
+        sp[k].center_radius = (tz_vec4){uniform(-100, 100), uniform(-100, 100), uniform(-100, 100),
+                                        uniform(0.01f, 1)};
     check_tree("random", sp, n, TZ_BVH_MAX_DEPTH);
     for (uint32_t k = 0; k < 5000; k++)
-        sp[k].center_radius = (tz_vec4){powf(1.01f, (float)k), 0.0f, 0.0f, 0.001f * powf(1.01f, (float)k)};
+        sp[k].center_radius =
+            (tz_vec4){powf(1.01f, (float)k), 0.0f, 0.0f, 0.001f * powf(1.01f, (float)k)};
     check_tree("geometric", sp, 5000, TZ_BVH_MAX_DEPTH);
     /* Each SAH split peels the largest sphere off (only it falls in the top bin): without the
      * depth guard this is a chain of ~200 levels; with it the build turns to median splits. */
@@ -185,7 +202,8 @@ int main(void) {
     /* The depth guard: binned SAH wants ~20 levels for 200,000 random spheres; under a bound of
      * 16 the build must turn to median splits in time (2^15 leaves of 8 hold them all). */
     for (uint32_t k = 0; k < n; k++)
-        sp[k].center_radius = (tz_vec4){uniform(-100, 100), uniform(-100, 100), uniform(-100, 100), uniform(0.01f, 1)};
+        sp[k].center_radius = (tz_vec4){uniform(-100, 100), uniform(-100, 100), uniform(-100, 100),
+                                        uniform(0.01f, 1)};
     check_tree("random, depth bound 16", sp, n, 16);
     free(sp);
     return check_summary("test_bvh");

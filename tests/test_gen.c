@@ -80,7 +80,7 @@ static int tmpdir_entries(void) {
 static bool parse(const char *path, scene *s) {
     scene_error err;
     if (scene_parse_file(path, s, &err)) return true;
-    fprintf(stderr, "%s:%d:%d: %s\n", err.file, err.line, err.col, err.message);
+    scene_error_print(&err);
     return false;
 }
 

@@ -10,7 +10,7 @@ int main(void) {
     scene s;
     scene_error err;
     if (!scene_parse_file(TRAZADOR_SOURCE_DIR "/scenes/cornell.scene", &s, &err)) {
-        fprintf(stderr, "%s:%d:%d: %s\n", err.file, err.line, err.col, err.message);
+        scene_error_print(&err);
         return 1;
     }
     /* 100 x 100 of the default scene, indirect light on, 8 samples. */

@@ -99,7 +99,8 @@ static double film_difference(const film *a, const film *b) {
     if (!a->accum || !b->accum || a->width != b->width || a->height != b->height) return 1.0;
     double worst = 0.0;
     for (int k = 0; k < a->width * a->height * 4; k++) {
-        double x = a->accum[k], y = b->accum[k], d = fabs(x - y) / (fabs(x) > 1e-3 ? fabs(x) : 1e-3);
+        double x = a->accum[k], y = b->accum[k],
+               d = fabs(x - y) / (fabs(x) > 1e-3 ? fabs(x) : 1e-3);
         worst = d > worst ? d : worst;
     }
     return worst;

@@ -1,0 +1,67 @@
+/* atomic_file.c: all-or-nothing file writes (temporary file, fsync, rename). */
+#include "atomic_file.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "log.h"
+
+static int last_error(void) { return errno ? errno : EIO; }
+
+/* Fills the open temporary file and closes it; 0 or an errno value, *step names what failed. */
+static int fill_temp(int fd, atomic_file_fill fill, const void *context, const char **step) {
+    *step = "set the file mode";
+    if (fchmod(fd, 0644) != 0) { /* mkstemp makes 0600 */
+        int err = errno;
+        close(fd);
+        return err;
+    }
+    *step = "write";
+    FILE *fp = fdopen(fd, "wb");
+    if (!fp) {
+        int err = errno;
+        close(fd);
+        return err;
+    }
+    errno = 0;
+    int err = fill(fp, context);
+    if (!err && fflush(fp) != 0) err = last_error();
+    if (!err && fsync(fileno(fp)) != 0) {
+        *step = "sync";
+        err = last_error();
+    }
+    if (fclose(fp) != 0 && !err) err = last_error();
+    return err;
+}
+
+bool atomic_file_write(const char *path, atomic_file_fill fill, const void *context) {
+    size_t len = strlen(path);
+    char *tmp = malloc(len + sizeof ".XXXXXX");
+    if (!tmp) {
+        log_error("%s: %s", path, strerror(ENOMEM));
+        return false;
+    }
+    memcpy(tmp, path, len);
+    memcpy(tmp + len, ".XXXXXX", sizeof ".XXXXXX");
+    int fd = mkstemp(tmp);
+    if (fd < 0) {
+        log_error("%s: cannot create a temporary file: %s", path, strerror(errno));
+        free(tmp);
+        return false;
+    }
+    const char *step = "write";
+    int err = fill_temp(fd, fill, context, &step);
+    if (!err && rename(tmp, path) != 0) {
+        err = errno;
+        step = "rename the temporary file over it";
+    }
+    if (err) {
+        unlink(tmp);
+        log_error("%s: cannot %s: %s", path, step, strerror(err));
+    }
+    free(tmp);
+    return !err;
+}

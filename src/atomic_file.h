@@ -1,0 +1,16 @@
+/* atomic_file.h: writing a file all or nothing: through a temporary file in the same folder that
+ * is renamed over the destination only once complete and synced. */
+#ifndef TRAZADOR_ATOMIC_FILE_H
+#define TRAZADOR_ATOMIC_FILE_H
+
+#include <stdbool.h>
+#include <stdio.h>
+
+/* Writes the whole content to fp; returns 0 or an errno value. */
+typedef int (*atomic_file_fill)(FILE *fp, const void *context);
+
+/* Writes path (mode 0644) with fill(fp, context); false (logged) on any failure, which leaves
+ * neither a temporary nor a truncated file, and any existing file intact. */
+bool atomic_file_write(const char *path, atomic_file_fill fill, const void *context);
+
+#endif
