@@ -57,13 +57,20 @@ static bool has_image_extension(const char *path) {
 
 bool cli_render(const scene *s, const render_opts *opts, backend_choice backend, film *f,
                 const char **used) {
-    if (backend == BACKEND_AUTO) {
-        backend = vk_context_device_count() > 0 ? BACKEND_VULKAN : BACKEND_CPU;
-        if (backend == BACKEND_CPU)
-            log_info("no Vulkan device found; rendering with the CPU back end");
-    }
     *used = backend == BACKEND_VULKAN ? "vulkan" : "cpu";
-    return backend == BACKEND_VULKAN ? render_vk(s, opts, f) : render_cpu(s, opts, f);
+    if (backend == BACKEND_CPU) return render_cpu(s, opts, f);
+    if (backend == BACKEND_VULKAN) return render_vk(s, opts, f);
+    /* auto: Vulkan when a device exists and can render the scene, else the C renderer. */
+    if (vk_context_device_count() == 0) {
+        log_info("no Vulkan device found; rendering with the CPU back end");
+    } else {
+        *used = "vulkan";
+        if (render_vk(s, opts, f)) return true;
+        if (opts->validate) return false; /* validation was asked for: its verdict stands */
+        log_info("rendering with the CPU back end instead");
+    }
+    *used = "cpu";
+    return render_cpu(s, opts, f);
 }
 
 typedef struct render_args {

@@ -80,6 +80,16 @@ cmp -s lin.ppm q.ppm && bad "tonemap linear: same bytes as srgb" || ok
 run no-jitter 0 "$tz" render --backend cpu --spp 1 --width 40 -q -o nj.ppm --no-jitter --no-indirect
 cmp -s nj.ppm q.ppm && bad "no-jitter no-indirect: same bytes as the default" || ok
 
+# A scene the Vulkan back end refuses on lavapipe (4096 lights leave a BVH walk no loop budget):
+# auto still renders it, with the CPU back end.
+{
+    printf 'camera position 0 2 -10\nplane width 0.4 height 0.3 pixel 0.1\n'
+    for k in $(seq 1 4096); do printf 'light position %d 3 -2 power 0.01\n' $((k % 7)); done
+    for k in $(seq 1 30); do printf 'sphere lambertian center %d 0 %d radius 0.4\n' $((k % 6)) $((k / 6)); done
+} > lights.scene
+run many-lights-auto 0 "$tz" render lights.scene --spp 1 -o lights.png
+[ -s lights.png ] && ok || bad "many-lights-auto: no image"
+
 # No Vulkan driver at all: an explicit Vulkan request fails with the advice; auto falls back.
 export VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json
 run no-device 1 "$tz" render --backend vulkan --spp 1 --width 20 -o v.png
