@@ -47,10 +47,13 @@ typedef struct tz_uvec4 {
 #define TZ_BINDING_FRAME 0
 #define TZ_BINDING_SPHERES 1
 #define TZ_BINDING_LIGHTS 2
-#define TZ_BINDING_ACCUM 3    /* dynamic: bound at the first row of each band of tiles */
-#define TZ_BINDING_COUNTERS 4 /* two uints since the last reset: samples dropped as non-finite,
-                                 and samples dropped for running out of TZ_SPEC_WALK_BUDGET */
-#define TZ_BINDING_NODES 5    /* texels 2k, 2k+1: gpu_bvh_node k (one zeroed node without a BVH) */
+/* Dynamic: bound at the first row of each band of tiles. */
+#define TZ_BINDING_ACCUM 3
+/* Two uints since the last reset: samples dropped as non-finite, and samples dropped for running
+ * out of TZ_SPEC_WALK_BUDGET. */
+#define TZ_BINDING_COUNTERS 4
+/* Texels 2k, 2k+1: gpu_bvh_node k (one zeroed node without a BVH). */
+#define TZ_BINDING_NODES 5
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
  * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.size.z / .w
