@@ -60,10 +60,9 @@ void keep_nearest(int k, float t, inout float best, inout int id, inout float be
     best_written = take ? written : best_written;
 }
 
-/* Distance at which the ray enters the box of node k, infinity when it misses it or enters at or
+/* Distance at which the ray enters the box lo..hi, infinity when it misses it or enters at or
  * beyond tmax (slab test; inv = 1/d with zero components replaced by 1e30, so no NaN). */
-float box_entry(uint k, vec3 o, vec3 inv, float tmax) {
-    vec4 lo = node_lo(k), hi = node_hi(k);
+float box_entry(vec4 lo, vec4 hi, vec3 o, vec3 inv, float tmax) {
     precise vec3 t1 = (lo.xyz - o) * inv, t2 = (hi.xyz - o) * inv;
     vec3 tn = min(t1, t2), tf = max(t1, t2);
     float near = max(max(tn.x, tn.y), max(tn.z, 0.0));
@@ -73,8 +72,8 @@ float box_entry(uint k, vec3 o, vec3 inv, float tmax) {
 
 /* Nearest sphere hit below tmax through the BVH (t_out its distance), or with any_hit the first
  * one found; -1 when none. Nearer child first, a stack of TZ_BVH_MAX_DEPTH (each level pushes at
- * most one node). One loop, one unit of work a pass (a node visit, a pop or one sphere of a leaf),
- * at most WALK_BUDGET passes. Finds the same sphere as trace_ray() in src/integrator.c (which
+ * most one node). One loop of at most WALK_BUDGET passes, each doing all it can: a pop when idle,
+ * a node visit (the nearer child set up at once when it is a leaf), one sphere of the leaf. Finds the same sphere as trace_ray() in src/integrator.c (which
  * tests a leaf's spheres at once): with the tie rule the nearest hit does not depend on the
  * order of visits. */
 int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out) {
@@ -87,40 +86,54 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
     int top = 0;
     const uint none = 0xffffffffu;
     uint node = 0u; /* the root's box holds every sphere: it is not tested */
-    uint sphere = 0u, leaf_end = 0u;
+    uint sphere = 0u, leaf_end = 0u; /* the leaf's spheres still to test */
     for (uint pass = 0u;; pass++) {
         if (WALK_BUDGET > 0u && pass == WALK_BUDGET) {
             loop_overflow = true;
             break;
+        }
+        /* A pass pops a node when there is nothing else to do, visits a node (setting up the
+         * nearer child at once when it is a leaf) and tests one sphere of the current leaf. */
+        if (sphere >= leaf_end && node == none) {
+            if (top == 0) break;
+            top--;
+            if (stack_t[top] < best) node = stack[top];
+        }
+        if (sphere >= leaf_end && node != none) {
+            vec4 lo = node_lo(node), hi = node_hi(node);
+            uint leaf_count = floatBitsToUint(hi.w);
+            uint left = node + 1u, right = floatBitsToUint(lo.w);
+            node = none;
+            if (leaf_count > 0u) { /* the root, or a leaf from the stack */
+                sphere = floatBitsToUint(lo.w);
+                leaf_end = sphere + leaf_count;
+            } else {
+                vec4 left_lo = node_lo(left), left_hi = node_hi(left);
+                vec4 right_lo = node_lo(right), right_hi = node_hi(right);
+                float tl = box_entry(left_lo, left_hi, o, inv, best);
+                float tr = box_entry(right_lo, right_hi, o, inv, best);
+                bool left_first = tl <= tr;
+                float near_t = left_first ? tl : tr, far_t = left_first ? tr : tl;
+                vec4 near_lo = left_first ? left_lo : right_lo;
+                uint near_count = floatBitsToUint(left_first ? left_hi.w : right_hi.w);
+                if (near_t < TZ_INFINITY && near_count > 0u) {
+                    sphere = floatBitsToUint(near_lo.w);
+                    leaf_end = sphere + near_count;
+                } else if (near_t < TZ_INFINITY) {
+                    node = left_first ? left : right;
+                }
+                if (far_t < TZ_INFINITY) {
+                    stack[top] = left_first ? right : left;
+                    stack_t[top] = far_t;
+                    top++;
+                }
+            }
         }
         if (sphere < leaf_end) {
             keep_nearest(int(sphere), sphere_hit(int(sphere), o, d, tmin, self), best, id,
                          best_written);
             sphere++;
             if (any_hit && id >= 0) break;
-        } else if (node == none) {
-            if (top == 0) break;
-            top--;
-            if (stack_t[top] < best) node = stack[top];
-        } else {
-            vec4 lo = node_lo(node), hi = node_hi(node);
-            uint leaf_count = floatBitsToUint(hi.w);
-            if (leaf_count > 0u) {
-                sphere = floatBitsToUint(lo.w);
-                leaf_end = sphere + leaf_count;
-                node = none;
-            } else {
-                uint left = node + 1u, right = floatBitsToUint(lo.w);
-                float tl = box_entry(left, o, inv, best), tr = box_entry(right, o, inv, best);
-                bool left_first = tl <= tr;
-                float other_t = left_first ? tr : tl;
-                node = tl < TZ_INFINITY || tr < TZ_INFINITY ? (left_first ? left : right) : none;
-                if (other_t < TZ_INFINITY) {
-                    stack[top] = left_first ? right : left;
-                    stack_t[top] = other_t;
-                    top++;
-                }
-            }
         }
     }
     t_out = best;
