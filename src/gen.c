@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "atomic_file.h"
+#include "cli.h"
 #include "log.h"
 #include "rng.h"
 #include "scene.h"
@@ -457,17 +458,6 @@ static int usage_error(const char *fmt, const char *arg) {
     return 2;
 }
 
-/* Parses a whole decimal number in [min, max]; false on anything else. */
-static bool parse_whole(const char *text, long long min, long long max, long long *out_value) {
-    if (!text || !*text) return false;
-    char *end;
-    errno = 0;
-    long long v = strtoll(text, &end, 10);
-    if (errno || *end || v < min || v > max) return false;
-    *out_value = v;
-    return true;
-}
-
 int gen_command(int argc, char **argv) {
     if (argc < 2) return usage_error("expected a generator: sphereflake or random", NULL);
     const char *name = argv[1];
@@ -493,17 +483,17 @@ int gen_command(int argc, char **argv) {
             if (!value || !*value) return usage_error("%s needs a file name", arg);
             path = value;
         } else if (!strcmp(arg, "--seed")) {
-            if (!parse_whole(value, 0, 4294967295LL, &v))
+            if (!cli_parse_int(value, 0, 4294967295LL, &v))
                 return usage_error("--seed takes a whole number from 0 to 4294967295, got '%s'",
                                    value ? value : "");
             desc.seed = (uint32_t)v;
         } else if (desc.kind == GEN_SPHEREFLAKE && !strcmp(arg, "--depth")) {
-            if (!parse_whole(value, 0, GEN_MAX_DEPTH, &v))
+            if (!cli_parse_int(value, 0, GEN_MAX_DEPTH, &v))
                 return usage_error("--depth takes a whole number from 0 to 7, got '%s'",
                                    value ? value : "");
             desc.depth = (int)v;
         } else if (desc.kind == GEN_RANDOM && !strcmp(arg, "--count")) {
-            if (!parse_whole(value, 1, GEN_MAX_COUNT, &v))
+            if (!cli_parse_int(value, 1, GEN_MAX_COUNT, &v))
                 return usage_error("--count takes a whole number from 1 to 16000000, got '%s'",
                                    value ? value : "");
             desc.count = (long)v;

@@ -1,6 +1,5 @@
 /* main.c: the command line: subcommands, flags and exit codes (the only file that exits).
  * Exit codes: 0 success, 1 runtime failure, 2 usage or scene error. */
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -37,16 +36,6 @@ static int usage_error(const char *fmt, const char *arg) {
     fprintf(stderr, fmt, arg);
     fprintf(stderr, "\n%s", usage_text);
     return 2;
-}
-
-bool cli_parse_int(const char *text, long long min, long long max, long long *out) {
-    if (!text || !*text) return false;
-    char *end;
-    errno = 0;
-    long long v = strtoll(text, &end, 10);
-    if (errno || *end || v < min || v > max) return false;
-    *out = v;
-    return true;
 }
 
 static bool has_image_extension(const char *path) {
