@@ -50,14 +50,13 @@ float sphere_hit(int k, vec3 o, vec3 d, float tmin, int self) {
 bool loop_overflow;
 
 /* Keeps in best/id the nearer of the current hit and sphere k at distance t; an exact tie goes to
- * the sphere written first in the scene (params.w), whatever order spheres are stored or visited
- * in. Selects, not branches: lavapipe runs both sides of a branch for the whole subgroup. */
-void keep_nearest(int k, float t, inout float best, inout int id, inout float best_written) {
-    float written = sphere_params(k).w;
-    bool take = t < best || (t == best && written < best_written);
+ * the lower index, whatever order spheres are visited in (both back ends store them in the same
+ * BVH order, --no-bvh too). Selects, not branches: lavapipe runs both sides of a branch for the
+ * whole subgroup. */
+void keep_nearest(int k, float t, inout float best, inout int id) {
+    bool take = t < best || (t == best && id >= 0 && k < id);
     best = take ? t : best;
     id = take ? k : id;
-    best_written = take ? written : best_written;
 }
 
 /* Distance at which the ray enters the box lo..hi, infinity when it misses it or enters at or
@@ -77,7 +76,7 @@ float box_entry(vec4 lo, vec4 hi, vec3 o, vec3 inv, float tmax) {
  * tests a leaf's spheres at once): with the tie rule the nearest hit does not depend on the
  * order of visits. */
 int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out) {
-    float tmin = ray_eps(o), best = tmax, best_written = -1.0;
+    float tmin = ray_eps(o), best = tmax;
     int id = -1;
     vec3 inv = vec3(d.x != 0.0 ? 1.0 / d.x : 1e30, d.y != 0.0 ? 1.0 / d.y : 1e30,
                     d.z != 0.0 ? 1.0 / d.z : 1e30);
@@ -130,9 +129,12 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
             }
         }
         if (sphere < leaf_end) {
-            keep_nearest(int(sphere), sphere_hit(int(sphere), o, d, tmin, self), best, id,
-                         best_written);
+            keep_nearest(int(sphere), sphere_hit(int(sphere), o, d, tmin, self), best, id);
             sphere++;
+            if (sphere < leaf_end) {
+                keep_nearest(int(sphere), sphere_hit(int(sphere), o, d, tmin, self), best, id);
+                sphere++;
+            }
             if (any_hit && id >= 0) break;
         }
     }
@@ -145,10 +147,9 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
 int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
     if (use_bvh()) return trace_bvh(o, d, self, TZ_INFINITY, false, t_out);
     float tmin = ray_eps(o), best = TZ_INFINITY;
-    float best_written = -1.0; /* below every index: a miss never wins a tie at infinity */
     int id = -1;
     [[unroll]] for (uint k = 0u; k < sphere_count(); k++)
-        keep_nearest(int(k), sphere_hit(int(k), o, d, tmin, self), best, id, best_written);
+        keep_nearest(int(k), sphere_hit(int(k), o, d, tmin, self), best, id);
     t_out = best;
     return id;
 }

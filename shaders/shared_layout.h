@@ -72,8 +72,7 @@ typedef struct tz_uvec4 {
 struct gpu_sphere {
     TZ_VEC4 center_radius; /* xyz centre, w radius */
     TZ_VEC4 color_ks;      /* rgb kd or tint, w phong ks */
-    TZ_VEC4 params;        /* x phong alpha, y ior, z material, w index in the scene file
-                              (exact below 2^24): an exact tie in distance goes to the lower */
+    TZ_VEC4 params;        /* x phong alpha, y ior, z material, w unused (0) */
 };
 
 /* One point light, 32 bytes. */

@@ -57,16 +57,15 @@ __attribute__((target_clones("avx2", "default"))) static void spheres_hit(const 
 }
 
 /* Tests spheres [begin, end) (at most SOA_LANES) and keeps the nearest hit below *best. An exact
- * tie goes to the sphere written first in the scene (params.w), so that the BVH's order of visits
- * never changes which sphere is seen. */
+ * tie goes to the lower index, so the order of visits never changes which sphere is seen (both
+ * back ends store spheres in the same BVH order, --no-bvh too). */
 static void leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end, vec3 o, vec3 d,
                      float tmin, int self, float *best, int *id) {
     float t[SOA_LANES];
     spheres_hit(&p->soa, (int)begin, (int)end, o, d, tmin, self, t);
     for (int lane = 0; lane < SOA_LANES; lane++) {
         int k = (int)begin + lane;
-        if (t[lane] < *best ||
-            (t[lane] == *best && *id >= 0 && p->spheres[k].params.w < p->spheres[*id].params.w)) {
+        if (t[lane] < *best || (t[lane] == *best && *id >= 0 && k < *id)) {
             *best = t[lane];
             *id = k;
         }

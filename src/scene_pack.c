@@ -33,8 +33,10 @@ _Static_assert(offsetof(struct gpu_bvh_node, hi) == 16, "gpu_bvh_node layout");
 
 static tz_vec4 vec4_from(vec3 v, float w) { return (tz_vec4){v.x, v.y, v.z, w}; }
 
-/* Sorts the spheres into BVH order and keeps the tree; false on out-of-memory. */
-static bool pack_bvh(packed_scene *out, uint32_t count) {
+/* Sorts the spheres into BVH order and keeps the tree unless no_bvh (the order stays: exact ties
+ * go to the lower index, so the same order gives the same image with and without the tree);
+ * false on out-of-memory. */
+static bool pack_bvh(packed_scene *out, uint32_t count, bool no_bvh) {
     double start = clock_seconds();
     bvh tree;
     if (!bvh_build(out->spheres, count, TZ_BVH_MAX_DEPTH, &tree)) return false;
@@ -46,10 +48,14 @@ static bool pack_bvh(packed_scene *out, uint32_t count) {
     for (uint32_t k = 0; k < count; k++) sorted[k] = out->spheres[tree.order[k]];
     free(out->spheres);
     out->spheres = sorted;
-    out->nodes = tree.nodes;
-    out->bvh_depth = tree.depth;
-    out->frame.settings.w = tree.node_count;
     free(tree.order);
+    if (no_bvh) {
+        free(tree.nodes);
+    } else {
+        out->nodes = tree.nodes;
+        out->bvh_depth = tree.depth;
+        out->frame.settings.w = tree.node_count;
+    }
     out->bvh_seconds = clock_seconds() - start;
     return true;
 }
@@ -88,7 +94,7 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         out->spheres[k] = (struct gpu_sphere){
             .center_radius = vec4_from(sp->center, sp->radius),
             .color_ks = vec4_from(sp->color, sp->ks),
-            .params = {sp->alpha, sp->ior, (float)sp->material, (float)k},
+            .params = {sp->alpha, sp->ior, (float)sp->material, 0.0f},
         };
     }
     for (int k = 0; k < s->light_count; k++) {
@@ -114,7 +120,7 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
                  (uint32_t)s->light_count},
         .settings = {opts->seed, (uint32_t)opts->bounces, flags, 0u},
     };
-    if ((!opts->no_bvh && !pack_bvh(out, count)) || !pack_soa(out, count)) {
+    if (!pack_bvh(out, count, opts->no_bvh) || !pack_soa(out, count)) {
         log_error("out of memory packing %u spheres", count);
         packed_scene_free(out);
         return false;
