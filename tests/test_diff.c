@@ -11,6 +11,7 @@
 #include "diff.h"
 #include "image.h"
 #include "log.h"
+#include "tmp_dir.h"
 
 static const char *test_name;
 static int test_failures;
@@ -22,16 +23,6 @@ static int test_failures;
             printf("FAIL %s: %s (line %d)\n", test_name, #cond, __LINE__); \
         }                                                                  \
     } while (0)
-
-static char tmpdir[] = "/tmp/test_diff.XXXXXX";
-
-static const char *tmp_path(const char *name) {
-    static char bufs[8][512];
-    static int next;
-    char *p = bufs[next++ % 8];
-    snprintf(p, sizeof bufs[0], "%s/%s", tmpdir, name);
-    return p;
-}
 
 static bool near(double got, double want, double tol) { return fabs(got - want) <= tol; }
 
@@ -304,7 +295,7 @@ static void run(const char *name, void (*fn)(void), int *passed, int *failed) {
 }
 
 int main(void) {
-    if (!mkdtemp(tmpdir)) {
+    if (!tmp_dir_make("test_diff")) {
         perror("mkdtemp");
         return 1;
     }

@@ -12,16 +12,7 @@
 #include "check.h"
 #include "gen.h"
 #include "render.h"
-
-static char tmpdir[] = "/tmp/test_gen.XXXXXX";
-
-static const char *tmp_path(const char *name) {
-    static char bufs[4][512];
-    static int next;
-    char *p = bufs[next++ % 4];
-    snprintf(p, sizeof bufs[0], "%s/%s", tmpdir, name);
-    return p;
-}
+#include "tmp_dir.h"
 
 /* Runs gen_command on a NULL-terminated argument list (argv[0] = "gen" is added). */
 static int run_gen(const char *arg, ...) {
@@ -433,7 +424,7 @@ static void remove_tree(void) {
 }
 
 int main(void) {
-    if (!mkdtemp(tmpdir)) {
+    if (!tmp_dir_make("test_gen")) {
         perror("mkdtemp");
         return 1;
     }

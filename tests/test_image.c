@@ -13,6 +13,7 @@
 
 #include "image.h"
 #include "log.h"
+#include "tmp_dir.h"
 
 static const char *test_name;
 static int test_failures;
@@ -24,17 +25,6 @@ static int test_failures;
             printf("FAIL %s: %s (line %d)\n", test_name, #cond, __LINE__); \
         }                                                                  \
     } while (0)
-
-static char tmpdir[] = "/tmp/test_image.XXXXXX";
-
-/* tmpdir/name, from a small ring of buffers so that a few can be alive at once. */
-static const char *tmp_path(const char *name) {
-    static char bufs[8][512];
-    static int next;
-    char *p = bufs[next++ % 8];
-    snprintf(p, sizeof bufs[0], "%s/%s", tmpdir, name);
-    return p;
-}
 
 static void write_file(const char *path, const void *data, size_t len) {
     FILE *fp = fopen(path, "wb");
@@ -551,7 +541,7 @@ static void run(const char *name, void (*fn)(void), int *passed, int *failed) {
 }
 
 int main(void) {
-    if (!mkdtemp(tmpdir)) {
+    if (!tmp_dir_make("test_image")) {
         perror("mkdtemp");
         return 1;
     }
