@@ -49,6 +49,9 @@ float sphere_hit(int k, vec3 o, vec3 d, float tmin, int self) {
  * silently cutting a loop short. */
 bool loop_overflow;
 
+/* Rays this invocation traced (nearest-hit and shadow), for Mrays/s. */
+uint rays_traced;
+
 /* Keeps in best/id the nearer of the current hit and sphere k at distance t; an exact tie goes to
  * the lower index, whatever order spheres are visited in (both back ends store them in the same
  * BVH order, --no-bvh too). Selects, not branches: lavapipe runs both sides of a branch for the
@@ -145,6 +148,7 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
 /* Nearest sphere hit by o + t d with t > EPS, -1 on a miss; t_out is its distance. Small scenes
  * test every sphere with the loop unrolled (sphere_count() a specialization constant). */
 int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
+    rays_traced++;
     if (use_bvh()) return trace_bvh(o, d, self, TZ_INFINITY, false, t_out);
     float tmin = ray_eps(o), best = TZ_INFINITY;
     int id = -1;
@@ -156,6 +160,7 @@ int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
 
 /* True when a sphere blocks o + t d for EPS < t < dist; glass blocks too, as in the seed. */
 bool occluded(vec3 o, vec3 d, float dist, int self) {
+    rays_traced++;
     float t;
     if (use_bvh()) return trace_bvh(o, d, self, dist, true, t) >= 0;
     float tmin = ray_eps(o);

@@ -49,8 +49,8 @@ typedef struct tz_uvec4 {
 #define TZ_BINDING_LIGHTS 2
 /* Dynamic: bound at the first row of each band of tiles. */
 #define TZ_BINDING_ACCUM 3
-/* Two uints since the last reset: samples dropped as non-finite, and samples dropped for running
- * out of TZ_SPEC_WALK_BUDGET. */
+/* Three uints since the last reset: samples dropped as non-finite, samples dropped for running
+ * out of TZ_SPEC_WALK_BUDGET, and rays traced. */
 #define TZ_BINDING_COUNTERS 4
 /* Texels 2k, 2k+1: gpu_bvh_node k (one zeroed node without a BVH). */
 #define TZ_BINDING_NODES 5

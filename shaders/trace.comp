@@ -20,6 +20,7 @@ layout(std430, set = 0, binding = TZ_BINDING_ACCUM) buffer accum_block { vec4 ac
 layout(std430, set = 0, binding = TZ_BINDING_COUNTERS) buffer counter_block {
     uint nonfinite;
     uint overflow;
+    uint rays;
 };
 layout(set = 0, binding = TZ_BINDING_NODES) uniform samplerBuffer node_texels;
 layout(push_constant) uniform pass_block { gpu_pass pass; };
@@ -93,6 +94,7 @@ void main() {
     precise vec4 sum = accum[slot];
     uint dropped = 0u, overflowed = 0u;
     loop_overflow = false;
+    rays_traced = 0u;
     for (uint k = 0u; k < pass.tile.w; k++) {
         vec3 l = integrator_sample(i, j, pass.tile.z + k);
         if (loop_overflow) { /* a walk was cut short: the sample would be wrong */
@@ -106,4 +108,5 @@ void main() {
     accum[slot] = sum;
     if (dropped > 0u) atomicAdd(nonfinite, dropped);
     if (overflowed > 0u) atomicAdd(overflow, overflowed);
+    atomicAdd(rays, rays_traced);
 }

@@ -27,8 +27,10 @@ static const long scaling_counts[] = {10, 1000, 100000, 1000000};
 #define SCALING_SIZE 256
 #define SCALING_SAMPLES 4
 
-/* Renders the workload once and returns Msamples/s, or a negative number on failure. */
-static double run_workload(const scene *base, const workload *w, backend_choice backend, int spp) {
+/* Renders the workload once, end to end; returns Msamples/s (and *mrays Mrays/s), or a negative
+ * number on failure. */
+static double run_workload(const scene *base, const workload *w, backend_choice backend, int spp,
+                           double *mrays) {
     scene s = *base;
     s.plane_height = s.plane_width;
     s.pixel_size = s.plane_width / (float)w->size;
@@ -37,12 +39,15 @@ static double run_workload(const scene *base, const workload *w, backend_choice 
     render_opts_from_scene(&s, &opts);
     opts.samples = spp > 0 ? spp : w->samples;
     opts.indirect = w->indirect;
+    render_stats stats = {0};
+    opts.stats = &stats;
     film f = {0};
     const char *used;
     double start = clock_seconds();
     bool ok = cli_render(&s, &opts, backend, &f, &used);
     double elapsed = clock_seconds() - start;
     film_free(&f);
+    *mrays = (double)stats.rays / elapsed * 1e-6;
     return ok ? (double)w->size * w->size * opts.samples / elapsed * 1e-6 : -1.0;
 }
 
@@ -152,14 +157,16 @@ int bench_command(int argc, char **argv) {
         return 1;
     }
     int failures = 0;
-    printf("%-28s %14s %14s %8s\n", "workload", "cpu Msamples/s", "vk Msamples/s", "vk/cpu");
+    printf("%-26s %15s %12s %15s %12s %7s\n", "workload (end to end)", "cpu Msamples/s",
+           "cpu Mrays/s", "vk Msamples/s", "vk Mrays/s", "vk/cpu");
     for (size_t k = 0; k < sizeof workloads / sizeof workloads[0]; k++) {
         const workload *w = &workloads[k];
-        double cpu = want_cpu ? run_workload(&s, w, BACKEND_CPU, (int)spp) : 0.0;
-        double vk = want_vk ? run_workload(&s, w, BACKEND_VULKAN, (int)spp) : 0.0;
+        double cpu_rays = 0.0, vk_rays = 0.0;
+        double cpu = want_cpu ? run_workload(&s, w, BACKEND_CPU, (int)spp, &cpu_rays) : 0.0;
+        double vk = want_vk ? run_workload(&s, w, BACKEND_VULKAN, (int)spp, &vk_rays) : 0.0;
         failures += cpu < 0.0 || vk < 0.0;
-        printf("%-28s %14.2f %14.2f", w->name, cpu, vk);
-        if (cpu > 0.0 && vk > 0.0) printf(" %8.2f", vk / cpu);
+        printf("%-26s %15.2f %12.2f %15.2f %12.2f", w->name, cpu, cpu_rays, vk, vk_rays);
+        if (cpu > 0.0 && vk > 0.0) printf(" %7.2f", vk / cpu);
         printf("\n");
         fflush(stdout);
     }

@@ -98,8 +98,14 @@ static float box_entry(const struct gpu_bvh_node *n, vec3 o, vec3 inv, float tma
 /* Nearest sphere hit below tmax (*t = its distance), or with any_hit the first one found; -1 when
  * none. Walks the BVH nearer child first with a stack of TZ_BVH_MAX_DEPTH (each level pushes at
  * most one node), or, without a BVH, every sphere SOA_LANES at a time. */
+/* Rays traced by this thread, for Mrays/s (render_cpu sums the threads'). */
+static _Thread_local uint64_t rays_traced;
+
+uint64_t integrator_rays_traced(void) { return rays_traced; }
+
 static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self, float tmax, int any_hit,
                      float *t) {
+    rays_traced++;
     float tmin = ray_eps(o), best = tmax;
     int id = -1;
     uint32_t count = p->frame.size.z, node_count = p->frame.settings.w;

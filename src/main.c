@@ -220,6 +220,8 @@ static int render_command(int argc, char **argv) {
     render_opts opts;
     render_opts_from_scene(&s, &opts);
     apply_overrides(&a, &opts);
+    render_stats stats = {0};
+    opts.stats = &stats;
     film f = {0};
     image img = {0};
     const char *used = "";
@@ -232,8 +234,9 @@ static int render_command(int argc, char **argv) {
     ok = ok && image_from_film(&f, &img) && image_write(a.output, &img, a.tm);
     if (ok && !a.quiet) {
         double samples = (double)s.width * s.height * opts.samples;
-        log_info("%s: %dx%d, %d spp, %s back end, %.3f s, %.2f Msamples/s", a.output, s.width,
-                 s.height, opts.samples, used, elapsed, samples / elapsed * 1e-6);
+        log_info("%s: %dx%d, %d spp, %s back end, %.3f s, %.2f Msamples/s, %.1f Mrays/s", a.output,
+                 s.width, s.height, opts.samples, used, elapsed, samples / elapsed * 1e-6,
+                 (double)stats.rays / elapsed * 1e-6);
     }
     image_free(&img);
     film_free(&f);

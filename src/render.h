@@ -12,6 +12,7 @@ typedef struct render_stats {
     double pack_seconds;   /* struct scene -> GPU layout, BVH build included */
     double bvh_seconds;    /* BVH build alone */
     double render_seconds; /* the sample passes alone */
+    uint64_t rays;         /* nearest-hit and shadow rays traced */
     uint32_t bvh_nodes, bvh_depth;
     uint64_t scene_bytes; /* spheres, lights and BVH nodes as the shaders read them */
 } render_stats;

@@ -24,6 +24,7 @@ typedef struct cpu_job {
     atomic_int next_tile;
     atomic_int tiles_done;
     atomic_ullong nonfinite;
+    atomic_ullong rays;
 } cpu_job;
 
 static void render_tile(cpu_job *job, int tile) {
@@ -52,9 +53,13 @@ static void render_tile(cpu_job *job, int tile) {
 
 static void *worker(void *arg) {
     cpu_job *job = arg;
+    uint64_t rays_before = integrator_rays_traced();
     for (;;) {
         int tile = atomic_fetch_add(&job->next_tile, 1);
-        if (tile >= job->tile_count) return NULL;
+        if (tile >= job->tile_count) {
+            atomic_fetch_add(&job->rays, integrator_rays_traced() - rays_before);
+            return NULL;
+        }
         render_tile(job, tile);
         atomic_fetch_add(&job->tiles_done, 1);
     }
@@ -93,6 +98,7 @@ bool render_cpu(const scene *s, const render_opts *opts, film *f) {
     atomic_init(&job.next_tile, 0);
     atomic_init(&job.tiles_done, 0);
     atomic_init(&job.nonfinite, 0);
+    atomic_init(&job.rays, 0);
     int n = thread_count(opts->threads);
     double render_start = clock_seconds();
     pthread_t threads[MAX_THREADS];
@@ -102,7 +108,10 @@ bool render_cpu(const scene *s, const render_opts *opts, film *f) {
     if (opts->progress) report_progress(&job);
     for (int k = 0; k < started; k++) pthread_join(threads[k], NULL);
     f->nonfinite = atomic_load(&job.nonfinite);
-    if (opts->stats) opts->stats->render_seconds = clock_seconds() - render_start;
+    if (opts->stats) {
+        opts->stats->render_seconds = clock_seconds() - render_start;
+        opts->stats->rays = atomic_load(&job.rays);
+    }
     packed_scene_free(&packed);
     return true;
 }

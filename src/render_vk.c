@@ -39,7 +39,7 @@ typedef struct vk_render {
     vk_context ctx;
     vk_buffer frame, spheres, lights, nodes, accum, counter;
     vk_buffer upload;   /* staging for the inputs when device memory is not mapped */
-    vk_buffer readback; /* staging: the two counters at 0, the accumulation at 16 */
+    vk_buffer readback; /* staging: the three counters at 0, the accumulation at 16 */
     vk_kernel kernel;
     VkFence fence;
     VkCommandBuffer cmd;
@@ -114,7 +114,7 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
         !vk_buffer_create(ctx, node_bytes, texels, VK_MEMORY_DEVICE, &r->nodes) ||
         !vk_buffer_create_view(ctx, &r->nodes, VK_FORMAT_R32G32B32A32_SFLOAT) ||
         !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum) ||
-        !vk_buffer_create(ctx, 2 * sizeof(uint32_t), storage, VK_MEMORY_DEVICE, &r->counter))
+        !vk_buffer_create(ctx, 3 * sizeof(uint32_t), storage, VK_MEMORY_DEVICE, &r->counter))
         return false;
     if (!r->accum.mapped || !r->counter.mapped) {
         VkDeviceSize bytes = 16u + (VkDeviceSize)width * (VkDeviceSize)height * 4u * sizeof(float);
@@ -201,7 +201,7 @@ static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
                         VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
                         VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_HOST_READ_BIT);
     if (!r->counter.mapped) {
-        VkBufferCopy copy = {0, 0, 2 * sizeof(uint32_t)};
+        VkBufferCopy copy = {0, 0, 3 * sizeof(uint32_t)};
         vkCmdCopyBuffer(cmd, r->counter.buffer, r->readback.buffer, 1, &copy);
     }
     if (final && !r->accum.mapped) {
@@ -216,7 +216,7 @@ static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
 /* Records and runs every pass, submission by submission; sums the non-finite counts. False when
  * a sample ran out of loop budget (the image would be wrong) or on a Vulkan failure. */
 static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *opts,
-                       uint64_t *nonfinite) {
+                       uint64_t *nonfinite, uint64_t *rays) {
     vk_context *ctx = &r->ctx;
     uint32_t passes = (plan->samples + plan->per_dispatch - 1u) / plan->per_dispatch;
     const uint32_t *counter = r->counter.mapped ? r->counter.mapped : r->readback.mapped;
@@ -237,6 +237,7 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
         record_readback(r, plan, last == passes);
         if (!vk_commands_submit_wait(ctx, r->cmd, r->fence)) return false;
         *nonfinite += counter[0];
+        *rays += counter[2];
         if (counter[1] > 0) {
             log_error(
                 "%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
@@ -391,9 +392,13 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
               "%u pass%s per submission",
               sample_iterations, plan.per_dispatch, plan.per_dispatch == 1 ? "" : "s",
               plan.passes_per_submit, plan.passes_per_submit == 1 ? "" : "es");
-    if (!run_passes(&r, &plan, opts, &f->nonfinite)) goto done;
+    uint64_t rays = 0;
+    if (!run_passes(&r, &plan, opts, &f->nonfinite, &rays)) goto done;
     double t_render = clock_seconds();
-    if (opts->stats) opts->stats->render_seconds = t_render - t_pipeline;
+    if (opts->stats) {
+        opts->stats->render_seconds = t_render - t_pipeline;
+        opts->stats->rays = rays;
+    }
     const char *sums = r.accum.mapped ? r.accum.mapped : (const char *)r.readback.mapped + 16;
     memcpy(f->accum, sums, (size_t)s->width * (size_t)s->height * 4u * sizeof(float));
     double t_read = clock_seconds();

@@ -14,6 +14,7 @@
 #define PI 3.14159265358979323846
 
 static bool use_vulkan;
+static render_stats last_stats; /* of the last render_text() */
 
 /* Renders scene text with its own settings (no jitter) into f; false on a parse or render error. */
 static bool render_text(const char *text, film *f, int bounces) {
@@ -27,6 +28,8 @@ static bool render_text(const char *text, film *f, int bounces) {
     render_opts_from_scene(&s, &o);
     o.no_jitter = true;
     o.validate = true;
+    last_stats = (render_stats){0};
+    o.stats = &last_stats;
     if (bounces >= 0) o.bounces = bounces;
     bool ok = use_vulkan ? render_vk(&s, &o, f) : render_cpu(&s, &o, f);
     scene_free(&s);
@@ -207,6 +210,11 @@ static void test_closed_sphere(void) {
             for (int i = 0; i < f.width; i++) bad += !near(pixel(&f, i, j, 0), want, 2e-4);
         CHECK(bad == 0, "closed sphere (indirect %d): %d pixels differ from %.7g, e.g. %.7g",
               indirect, bad, want, pixel(&f, 0, 0, 0));
+        /* Every ray hits the wall: a camera ray and its shadow ray, and with the bounce an
+         * indirect ray and its shadow ray, per sample. */
+        uint64_t want_rays = (uint64_t)f.width * f.height * 4u * (indirect ? 4u : 2u);
+        CHECK(last_stats.rays == want_rays, "closed sphere (indirect %d): %llu rays, want %llu",
+              indirect, (unsigned long long)last_stats.rays, (unsigned long long)want_rays);
         film_free(&f);
     }
 }
