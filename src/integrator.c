@@ -7,6 +7,9 @@
 
 #include "rng.h"
 
+/* The sphere loop in an AVX2 clone too, chosen at load time where the processor has it. */
+#define SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+
 static vec3 xyz(tz_vec4 v) { return v3(v.x, v.y, v.z); }
 
 /* Ray offset distance at a point: EPS scaled with the point's magnitude. */
@@ -21,14 +24,11 @@ static float ray_eps(vec3 p) {
  * largest component of oc, (|m| - r)(|m| + r) + the other two squared, exact when a huge wall
  * sphere's centre lies along an axis from the ray origin. The sphere `self` that the ray leaves is
  * its own origin: moving inward (b < 0) only its far root counts, moving outward it cannot be hit
- * again. Branch-free over SOA_LANES spheres of the padded structure-of-arrays (past `count`:
+ * again. Branch-free over SOA_LANES spheres of the padded structure-of-arrays (past `end`:
  * INFINITY), so that it compiles to 8-wide SIMD; each lane does the very operations of the shader's
  * sphere_hit, in the same order. */
-__attribute__((target_clones("avx2", "default"))) static void spheres_hit(const sphere_soa *sp,
-                                                                          int begin, int end,
-                                                                          vec3 o, vec3 d,
-                                                                          float tmin, int self,
-                                                                          float *restrict t) {
+SIMD_CLONES static void spheres_hit(const sphere_soa *sp, int begin, int end, vec3 o, vec3 d,
+                                    float tmin, int self, float *restrict t) {
     for (int lane = 0; lane < SOA_LANES; lane++) { /* a fixed trip count: one AVX2 iteration */
         int k = begin + lane;
         float ocx = o.x - sp->cx[k], ocy = o.y - sp->cy[k], ocz = o.z - sp->cz[k];
@@ -95,14 +95,14 @@ static float box_entry(const struct gpu_bvh_node *n, vec3 o, vec3 inv, float tma
     return near <= far && near < tmax ? near : INFINITY;
 }
 
-/* Nearest sphere hit below tmax (*t = its distance), or with any_hit the first one found; -1 when
- * none. Walks the BVH nearer child first with a stack of TZ_BVH_MAX_DEPTH (each level pushes at
- * most one node), or, without a BVH, every sphere SOA_LANES at a time. */
 /* Rays traced by this thread, for Mrays/s (render_cpu sums the threads'). */
 static _Thread_local uint64_t rays_traced;
 
 uint64_t integrator_rays_traced(void) { return rays_traced; }
 
+/* Nearest sphere hit below tmax (*t = its distance), or with any_hit the first one found; -1 when
+ * none. Walks the BVH nearer child first with a stack of TZ_BVH_MAX_DEPTH (each level pushes at
+ * most one node), or, without a BVH, every sphere SOA_LANES at a time. */
 static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self, float tmax, int any_hit,
                      float *t) {
     rays_traced++;
@@ -121,9 +121,9 @@ static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self, float tmax
     uint32_t stack[TZ_BVH_MAX_DEPTH];
     float stack_t[TZ_BVH_MAX_DEPTH];
     int top = 0;
+    /* The root's box holds every sphere: testing it would only repeat the leaves' work. */
     uint32_t node = 0;
-    int go =
-        1; /* the root's box holds every sphere: testing it would only repeat the leaves' work */
+    int go = 1;
     while (go) {
         const struct gpu_bvh_node *n = &p->nodes[node];
         uint32_t leaf_count = uint_bits(n->hi.w);
