@@ -93,7 +93,8 @@ static void make_8bit_image(image *img, tonemap tm) {
 }
 
 static float test_float(int x, int y, int c) {
-    return (float)(y * 100 + x * 10 + c) * 0.37f - 3.0f;
+    float scaled = (float)(y * 100 + x * 10 + c) * 0.37f; /* two statements: never fused */
+    return scaled - 3.0f;
 }
 
 static void make_float_image(image *img) {
