@@ -10,11 +10,25 @@
 /* Radiance of sample `sample_index` of pixel (i, j), i to the right and j down; never fails. */
 vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
 
+/* Samples integrator_sample_packet takes at once. */
+#define PACKET_LANES 8
+
+/* out[k] = integrator_sample(p, i + k, j, sample_index) for k < lanes (<= PACKET_LANES), bit for
+ * bit, computed for all of them at once; never fails. */
+void integrator_sample_packet(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                              uint32_t sample_index, vec3 out[PACKET_LANES]);
+
 /* Nearest sphere hit by the ray o + t d (|d| = 1) with t > EPS, -1 on a miss; `self` is the
  * sphere the ray leaves (-1 for none): its near root is the ray's own origin and is ignored. */
 int integrator_nearest(const packed_scene *p, vec3 o, vec3 d, int self, float *t_out);
+/* Nearest sphere hit below tmax (*t its distance), or with any_hit the first one found; -1 when
+ * none. Through the BVH when the scene has one, else over every sphere. */
+int integrator_trace(const packed_scene *p, vec3 o, vec3 d, int self, float tmax, int any_hit,
+                     float *t);
 /* Rays (nearest-hit and shadow) the calling thread has traced so far; never fails. */
 uint64_t integrator_rays_traced(void);
+/* Adds n rays to the calling thread's count. */
+void integrator_count_rays(uint64_t n);
 /* 1 when a sphere (glass too, as in the seed) blocks o + t d for EPS < t < dist, else 0. */
 int integrator_occluded(const packed_scene *p, vec3 o, vec3 d, float dist, int self);
 

@@ -33,18 +33,24 @@ static void render_tile(cpu_job *job, int tile) {
     int y1 = y0 + TILE_SIZE < job->film->height ? y0 + TILE_SIZE : job->film->height;
     unsigned long long dropped = 0;
     for (int j = y0; j < y1; j++) {
-        for (int i = x0; i < x1; i++) {
-            float *px = &job->film->accum[((size_t)j * (size_t)job->film->width + (size_t)i) * 4];
+        for (int i = x0; i < x1; i += PACKET_LANES) {
+            uint32_t lanes = (uint32_t)(x1 - i < PACKET_LANES ? x1 - i : PACKET_LANES);
+            float *row = &job->film->accum[((size_t)j * (size_t)job->film->width + (size_t)i) * 4];
             for (int s = 0; s < job->samples; s++) {
-                vec3 l = integrator_sample(job->packed, (uint32_t)i, (uint32_t)j, (uint32_t)s);
-                if (!isfinite(l.x) || !isfinite(l.y) || !isfinite(l.z)) {
-                    dropped++;
-                    continue;
+                vec3 l[PACKET_LANES];
+                integrator_sample_packet(job->packed, (uint32_t)i, (uint32_t)j, lanes,
+                                         (uint32_t)s, l);
+                for (uint32_t k = 0; k < lanes; k++) {
+                    if (!isfinite(l[k].x) || !isfinite(l[k].y) || !isfinite(l[k].z)) {
+                        dropped++;
+                        continue;
+                    }
+                    float *px = row + 4 * k;
+                    px[0] += l[k].x;
+                    px[1] += l[k].y;
+                    px[2] += l[k].z;
+                    px[3] += 1.0f;
                 }
-                px[0] += l.x;
-                px[1] += l.y;
-                px[2] += l.z;
-                px[3] += 1.0f;
             }
         }
     }

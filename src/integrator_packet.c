@@ -1,0 +1,274 @@
+/* integrator_packet.c: the C integrator over a packet of PACKET_LANES samples at once (the same
+ * sample of a run of pixels in one row). Each lane does the very operations of integrator.c,
+ * through the shared steps of integrator_steps.h, so the images are bit-identical to it (tested);
+ * the loops over lanes compile to SIMD, the lanes' diverging paths become selects. */
+#include <math.h>
+
+#include "integrator.h"
+#include "integrator_steps.h"
+#include "rng.h"
+
+#define LANES PACKET_LANES
+/* Scenes of at most this many spheres are intersected packet against every sphere; bigger ones
+ * lane by lane through the BVH (integrator_trace). */
+#define PACKET_BRUTE_FORCE_MAX 16
+
+/* The whole packet path is inlined into one function compiled twice, plain and with AVX2. */
+#define LANE_FN static inline __attribute__((always_inline))
+#define SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+
+/* One vec3 per lane, structure of arrays. */
+typedef struct lanes3 {
+    float x[LANES], y[LANES], z[LANES];
+} lanes3;
+
+LANE_FN vec3 get3(const lanes3 *a, int k) { return v3(a->x[k], a->y[k], a->z[k]); }
+
+LANE_FN void set3(lanes3 *a, int k, vec3 v) {
+    a->x[k] = v.x;
+    a->y[k] = v.y;
+    a->z[k] = v.z;
+}
+
+LANE_FN vec3 select3(int c, vec3 a, vec3 b) {
+    return v3(c ? a.x : b.x, c ? a.y : b.y, c ? a.z : b.z);
+}
+
+LANE_FN int any_lane(const int *mask) {
+    int any = 0;
+    for (int k = 0; k < LANES; k++) any |= mask[k];
+    return any;
+}
+
+/* Hits of the active lanes' rays below tmax: id[k] the nearest sphere (-1 none) at t[k], or with
+ * any_hit some sphere nearer than tmax[k]. Small scenes test every sphere for all lanes at once,
+ * in stored order, so a strict "nearer" keeps the lower index on a tie as integrator_trace does. */
+LANE_FN void packet_trace(const packed_scene *p, const lanes3 *o, const lanes3 *d, const int *self,
+                          const float *tmax, const int *active, int any_hit, int *id, float *t) {
+    uint32_t count = p->frame.size.z;
+    if (p->frame.settings.w > 0 && count > PACKET_BRUTE_FORCE_MAX) {
+        for (int k = 0; k < LANES; k++)
+            id[k] = active[k] ? integrator_trace(p, get3(o, k), get3(d, k), self[k], tmax[k],
+                                                 any_hit, &t[k])
+                              : -1;
+        return;
+    }
+    float tmin[LANES];
+    int rays = 0;
+    for (int k = 0; k < LANES; k++) {
+        tmin[k] = ray_eps(get3(o, k));
+        t[k] = tmax[k];
+        id[k] = -1;
+        rays += active[k];
+    }
+    integrator_count_rays((uint64_t)rays);
+    const sphere_soa *sp = &p->soa;
+    for (uint32_t s = 0; s < count; s++) {
+        float cx = sp->cx[s], cy = sp->cy[s], cz = sp->cz[s], r = sp->r[s];
+        for (int k = 0; k < LANES; k++) {
+            float ts = sphere_distance(cx, cy, cz, r, get3(o, k), get3(d, k), tmin[k],
+                                       (int)s == self[k]);
+            int nearer = ts < t[k];
+            t[k] = nearer ? ts : t[k];
+            id[k] = nearer ? (int)s : id[k];
+        }
+    }
+}
+
+/* A packet's rays followed through mirrors and glass (follow_specular of integrator.c, lane by
+ * lane): result[k] the diffuse sphere reached, -1 on a miss, -2 past the bounce limit (-1 for
+ * inactive lanes); o, d become the last rays, weight the tints, pos and n the diffuse hits. */
+LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d, int *self,
+                                    const int *active_in, lanes3 *weight, lanes3 *pos, lanes3 *n,
+                                    int *result) {
+    uint32_t bounces = p->frame.settings.y;
+    int active[LANES];
+    float tmax[LANES];
+    for (int k = 0; k < LANES; k++) {
+        active[k] = active_in[k];
+        tmax[k] = INFINITY;
+        result[k] = -1;
+        set3(pos, k, v3(0.0f, 0.0f, 0.0f));
+        set3(n, k, v3(0.0f, 0.0f, 0.0f));
+    }
+    for (uint32_t chain = 0; any_lane(active); chain++) {
+        int id[LANES], material[LANES];
+        float t[LANES], ior[LANES];
+        lanes3 center, tint;
+        float radius[LANES];
+        packet_trace(p, o, d, self, tmax, active, 0, id, t);
+        for (int k = 0; k < LANES; k++) { /* gather the hit spheres */
+            const struct gpu_sphere *s = &p->spheres[id[k] >= 0 ? id[k] : 0];
+            set3(&center, k, xyz(s->center_radius));
+            radius[k] = s->center_radius.w;
+            set3(&tint, k, xyz(s->color_ks));
+            material[k] = (int)s->params.z;
+            ior[k] = s->params.y;
+        }
+        for (int k = 0; k < LANES; k++) {
+            vec3 dk = get3(d, k);
+            vec3 hit_pos = v3_add(get3(o, k), v3_scale(dk, t[k]));
+            vec3 nout = v3_scale(v3_sub(hit_pos, get3(&center, k)), 1.0f / radius[k]);
+            int hit = active[k] & (id[k] >= 0);
+            int diffuse = hit & ((material[k] == TZ_MATERIAL_LAMBERTIAN) |
+                                 (material[k] == TZ_MATERIAL_PHONG));
+            int onward = hit & !diffuse & (chain != bounces);
+            int done = active[k] & !onward;
+            result[k] = done ? (diffuse ? id[k] : hit ? -2 : -1) : result[k];
+            set3(pos, k, select3(diffuse, hit_pos, get3(pos, k)));
+            set3(n, k, select3(diffuse, facing_normal(nout, dk), get3(n, k)));
+            vec3 next_o, next_d;
+            specular_next(hit_pos, nout, dk, material[k] == TZ_MATERIAL_REFRACTIVE, ior[k],
+                          &next_o, &next_d);
+            set3(weight, k, select3(onward, v3_mul(get3(weight, k), get3(&tint, k)),
+                                    get3(weight, k)));
+            set3(o, k, select3(onward, next_o, get3(o, k)));
+            set3(d, k, select3(onward, next_d, dk));
+            self[k] = onward ? id[k] : self[k];
+            active[k] = onward;
+        }
+    }
+}
+
+/* Normalized Phong BRDF per lane for sphere id[k] (phong_brdf of integrator.c); powf only where a
+ * lane needs it. */
+LANE_FN void packet_phong(const packed_scene *p, const int *id, const lanes3 *n, const lanes3 *wi,
+                          const lanes3 *wo, const int *active, lanes3 *f) {
+    float x[LANES], ks[LANES], alpha[LANES], lobe[LANES];
+    lanes3 kd;
+    for (int k = 0; k < LANES; k++) {
+        const struct gpu_sphere *s = &p->spheres[id[k] >= 0 ? id[k] : 0];
+        set3(&kd, k, xyz(s->color_ks));
+        ks[k] = s->color_ks.w;
+        alpha[k] = s->params.x;
+    }
+    for (int k = 0; k < LANES; k++) x[k] = phong_lobe_cos(get3(n, k), get3(wi, k), get3(wo, k));
+    for (int k = 0; k < LANES; k++)
+        lobe[k] = active[k] && ks[k] > 0.0f ? phong_lobe(x[k], alpha[k]) : 0.0f;
+    for (int k = 0; k < LANES; k++)
+        set3(f, k, phong_from_lobe(get3(&kd, k), ks[k], alpha[k], lobe[k]));
+}
+
+/* Direct light from every point light at the active lanes' diffuse hits (direct_light of
+ * integrator.c, lane by lane) into sum. */
+LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lanes3 *pos,
+                                 const lanes3 *n, const lanes3 *wo, const int *active,
+                                 lanes3 *sum) {
+    lanes3 o;
+    for (int k = 0; k < LANES; k++) {
+        vec3 pk = get3(pos, k);
+        set3(&o, k, v3_add(pk, v3_scale(get3(n, k), ray_eps(pk))));
+        set3(sum, k, v3(0.0f, 0.0f, 0.0f));
+    }
+    for (uint32_t l = 0; l < p->frame.size.w; l++) {
+        lanes3 wi, light, f;
+        float dist[LANES], cos_i;
+        int facing[LANES], blocker[LANES];
+        float blocker_t[LANES];
+        for (int k = 0; k < LANES; k++) {
+            vec3 wik;
+            set3(&light, k, point_light(&p->lights[l], get3(pos, k), get3(n, k), &wik, &dist[k],
+                                        &cos_i));
+            set3(&wi, k, wik);
+            facing[k] = active[k] & !(cos_i <= 0.0f);
+        }
+        if (!any_lane(facing)) continue;
+        packet_trace(p, &o, &wi, id, dist, facing, 1, blocker, blocker_t);
+        packet_phong(p, id, n, &wi, wo, facing, &f);
+        for (int k = 0; k < LANES; k++) {
+            int lit = facing[k] & (blocker[k] < 0);
+            vec3 s = get3(sum, k);
+            set3(sum, k, select3(lit, v3_add(s, v3_mul(get3(&f, k), get3(&light, k))), s));
+        }
+    }
+}
+
+/* Radiance arriving along the active lanes' rays (radiance_direct_only of integrator.c). */
+LANE_FN void packet_radiance_direct_only(const packed_scene *p, lanes3 *o, lanes3 *d, int *self,
+                                         const int *active, lanes3 *radiance) {
+    lanes3 weight, pos, n, wo, direct;
+    int id[LANES];
+    for (int k = 0; k < LANES; k++) set3(&weight, k, v3(1.0f, 1.0f, 1.0f));
+    packet_follow_specular(p, o, d, self, active, &weight, &pos, &n, id);
+    int diffuse[LANES];
+    for (int k = 0; k < LANES; k++) {
+        diffuse[k] = active[k] & (id[k] >= 0);
+        set3(&wo, k, v3_scale(get3(d, k), -1.0f));
+    }
+    packet_direct_light(p, id, &pos, &n, &wo, diffuse, &direct);
+    vec3 background = xyz(p->frame.background);
+    for (int k = 0; k < LANES; k++) {
+        vec3 w = get3(&weight, k);
+        vec3 lit = id[k] == -1 ? v3_mul(w, background) : v3_mul(w, get3(&direct, k));
+        set3(radiance, k, id[k] == -2 ? v3(0.0f, 0.0f, 0.0f) : lit);
+    }
+}
+
+/* One cosine-weighted bounce at the active lanes' diffuse hits (indirect_light of integrator.c),
+ * added to radiance. */
+LANE_FN void packet_indirect_light(const packed_scene *p, const int *id, const lanes3 *pos,
+                                   const lanes3 *n, const lanes3 *wo, const int *active,
+                                   uint32_t *rng, lanes3 *radiance) {
+    float y1[LANES], phi[LANES], cos_phi[LANES], sin_phi[LANES], cos_t[LANES];
+    for (int k = 0; k < LANES; k++) {
+        y1[k] = rng_next(&rng[k]);
+        float y2 = rng_next(&rng[k]);
+        cos_t[k] = sqrtf(1.0f - y1[k]);
+        phi[k] = 2.0f * TZ_PI * y2;
+    }
+    for (int k = 0; k < LANES; k++) {
+        cos_phi[k] = active[k] ? cosf(phi[k]) : 1.0f;
+        sin_phi[k] = active[k] ? sinf(phi[k]) : 0.0f;
+    }
+    lanes3 o, wi, incoming, f;
+    int self[LANES];
+    for (int k = 0; k < LANES; k++) {
+        vec3 nk = get3(n, k), pk = get3(pos, k);
+        set3(&wi, k, cosine_direction(nk, y1[k], cos_phi[k], sin_phi[k]));
+        set3(&o, k, v3_add(pk, v3_scale(nk, ray_eps(pk))));
+        self[k] = id[k];
+    }
+    packet_phong(p, id, n, &wi, wo, active, &f); /* before the walk below turns wi into its last ray */
+    packet_radiance_direct_only(p, &o, &wi, self, active, &incoming);
+    for (int k = 0; k < LANES; k++) {
+        float pdf = cos_t[k] / TZ_PI;
+        vec3 light = v3_mul(get3(&f, k), v3_scale(get3(&incoming, k), cos_t[k] / pdf));
+        vec3 r = get3(radiance, k);
+        set3(radiance, k, select3(active[k], v3_add(r, light), r));
+    }
+}
+
+SIMD_CLONES void integrator_sample_packet(const packed_scene *p, uint32_t i, uint32_t j,
+                                          uint32_t lanes, uint32_t sample_index,
+                                          vec3 out[PACKET_LANES]) {
+    const struct gpu_frame *fr = &p->frame;
+    uint32_t rng[LANES];
+    int active[LANES], self[LANES], id[LANES];
+    lanes3 o, d, weight, pos, n, wo, radiance;
+    for (int k = 0; k < LANES; k++) {
+        active[k] = (uint32_t)k < lanes;
+        rng[k] = rng_seed(fr->settings.x, j * fr->size.x + i + (uint32_t)k, sample_index);
+        /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag. */
+        float u = rng_next(&rng[k]), v = rng_next(&rng[k]);
+        if (!(fr->settings.z & TZ_FLAG_JITTER)) u = v = 0.5f;
+        set3(&o, k, xyz(fr->origin));
+        set3(&d, k, camera_direction(fr, i + (uint32_t)k, j, u, v));
+        set3(&weight, k, v3(1.0f, 1.0f, 1.0f));
+        self[k] = -1;
+    }
+    packet_follow_specular(p, &o, &d, self, active, &weight, &pos, &n, id);
+    int diffuse[LANES];
+    for (int k = 0; k < LANES; k++) {
+        diffuse[k] = active[k] & (id[k] >= 0);
+        set3(&wo, k, v3_scale(get3(&d, k), -1.0f));
+    }
+    packet_direct_light(p, id, &pos, &n, &wo, diffuse, &radiance);
+    if (fr->settings.z & TZ_FLAG_INDIRECT)
+        packet_indirect_light(p, id, &pos, &n, &wo, diffuse, rng, &radiance);
+    vec3 background = xyz(fr->background);
+    for (int k = 0; k < LANES; k++) {
+        vec3 w = get3(&weight, k);
+        vec3 lit = id[k] == -1 ? v3_mul(w, background) : v3_mul(w, get3(&radiance, k));
+        out[k] = id[k] == -2 ? v3(0.0f, 0.0f, 0.0f) : lit;
+    }
+}
