@@ -1,0 +1,141 @@
+/* test_packet.c: the packet integrator (integrator_sample_packet, what the CPU back end renders
+ * with) returns bit for bit what the one-sample reference integrator_sample returns, and traces
+ * the same rays, on every scene of scenes/, generated scenes on both of its intersection paths
+ * (every sphere, BVH lane by lane), and a scene of nested and overlapping spheres with the camera
+ * inside glass; under every option that changes the integrator's path. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "gen.h"
+#include "integrator.h"
+#include "render.h"
+#include "scene_pack.h"
+
+#define SIDE 64 /* pixels of the square test image */
+
+/* Nested, overlapping and touching spheres of every material; the camera sits in a glass ball. */
+static const char tangle[] =
+    "camera position 0 0 0 direction 0.1 0 1 up 0 1 0\n"
+    "plane width 4 height 4 pixel 0.1\n"
+    "light position 0 3 2 power 20\n"
+    "light position -2 -1 6 power 5 color 1 0.5 0.2\n"
+    "sphere refractive center 0 0 0 radius 1.5 ior 1.33\n"
+    "sphere mirror center 0.6 0 5 radius 1 color 0.9 0.8 0.7\n"
+    "sphere refractive center -0.4 0.2 4.5 radius 0.8 ior 1.7\n"
+    "sphere refractive center -0.4 0.2 4.5 radius 0.4 ior 1.2\n"
+    "sphere phong center 1.5 -0.5 4 radius 0.7 ks 0.6 alpha 12\n"
+    "sphere lambertian center 0 -1001.5 0 radius 1000 color 0.7 0.7 0.7\n"
+    "sphere lambertian center 0 0 1010 radius 1000 color 0.2 0.4 0.8\n"
+    "background 0.1 0.2 0.3\n";
+
+static int bits_equal(vec3 a, vec3 b) { return memcmp(&a, &b, sizeof a) == 0; }
+
+/* Every pixel of a SIDE x SIDE render, packets of every width from 1 to PACKET_LANES; with
+ * want_light, a quarter of the pixels at least must not be black. */
+static void compare(const char *name, const scene *s, const render_opts *o, bool want_light) {
+    packed_scene p;
+    CHECK(scene_pack(s, o, &p), "%s: pack failed", name);
+    int differing = 0, lit = 0;
+    uint64_t rays_one = 0, rays_packet = 0;
+    for (uint32_t j = 0; j < SIDE; j++) {
+        uint32_t lanes = 1 + j % PACKET_LANES;
+        for (uint32_t i = 0; i < SIDE; i += lanes) {
+            uint32_t n = SIDE - i < lanes ? SIDE - i : lanes;
+            uint32_t sample = (i + j) % 3;
+            vec3 out[PACKET_LANES];
+            uint64_t before = integrator_rays_traced();
+            integrator_sample_packet(&p, i, j, n, sample, out);
+            rays_packet += integrator_rays_traced() - before;
+            for (uint32_t k = 0; k < n; k++) {
+                before = integrator_rays_traced();
+                vec3 one = integrator_sample(&p, i + k, j, sample);
+                rays_one += integrator_rays_traced() - before;
+                if (!bits_equal(one, out[k]) && differing++ < 3)
+                    fprintf(stderr, "%s: pixel %u,%u: %.9g %.9g %.9g (one) vs %.9g %.9g %.9g\n",
+                            name, i + k, j, one.x, one.y, one.z, out[k].x, out[k].y, out[k].z);
+                lit += one.x + one.y + one.z > 0.0f;
+            }
+        }
+    }
+    CHECK(differing == 0, "%s: %d pixels differ", name, differing);
+    CHECK(rays_one == rays_packet, "%s: %llu rays one at a time, %llu in packets", name,
+          (unsigned long long)rays_one, (unsigned long long)rays_packet);
+    CHECK(!want_light || lit > SIDE * SIDE / 4, "%s: only %d pixels have light", name, lit);
+    packed_scene_free(&p);
+}
+
+/* The scene's own settings, then each option that changes the path a sample takes. */
+static void compare_variants(const char *name, scene *s) {
+    s->pixel_size = s->plane_width / (float)SIDE;
+    s->plane_height = s->plane_width;
+    s->width = s->height = SIDE;
+    render_opts o;
+    render_opts_from_scene(s, &o);
+    compare(name, s, &o, true);
+    render_opts v = o;
+    v.indirect = !o.indirect;
+    compare(name, s, &v, false);
+    v = o;
+    v.no_jitter = true;
+    v.bounces = 1;
+    compare(name, s, &v, true);
+    v = o;
+    v.bounces = 0;
+    v.seed = 7;
+    compare(name, s, &v, false);
+    v = o;
+    v.no_bvh = true;
+    compare(name, s, &v, true);
+}
+
+static void compare_file(const char *file) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/scenes/%s", TRAZADOR_SOURCE_DIR, file);
+    scene s;
+    scene_error err;
+    if (!scene_parse_file(path, &s, &err)) {
+        scene_error_print(&err);
+        CHECK(0, "%s does not parse", path);
+        return;
+    }
+    compare_variants(file, &s);
+    scene_free(&s);
+}
+
+static void compare_generated(const char *name, gen_desc desc) {
+    char *text = NULL;
+    size_t length = 0;
+    FILE *fp = open_memstream(&text, &length);
+    CHECK(fp && gen_write(&desc, fp), "%s: generation failed", name);
+    if (fp) fclose(fp);
+    scene s;
+    scene_error err;
+    if (text && scene_parse_string(text, length, name, &s, &err)) {
+        compare_variants(name, &s);
+        scene_free(&s);
+    } else {
+        CHECK(0, "%s does not parse", name);
+    }
+    free(text);
+}
+
+int main(void) {
+    const char *files[] = {"cornell.scene", "shadows.scene",    "phong.scene",
+                           "mirror.scene",  "refraction.scene", "all.scene"};
+    for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) compare_file(files[k]);
+    /* 10 spheres: every sphere per packet; 91 and 300: the BVH, lane by lane. */
+    compare_generated("sphereflake depth 1", (gen_desc){.kind = GEN_SPHEREFLAKE, .depth = 1});
+    compare_generated("sphereflake depth 2", (gen_desc){.kind = GEN_SPHEREFLAKE, .depth = 2});
+    compare_generated("random 300", (gen_desc){.kind = GEN_RANDOM, .count = 300, .seed = 5});
+    scene s;
+    scene_error err;
+    if (scene_parse_string(tangle, sizeof tangle - 1, "tangle", &s, &err)) {
+        compare_variants("tangle", &s);
+        scene_free(&s);
+    } else {
+        scene_error_print(&err);
+        CHECK(0, "the tangle scene does not parse");
+    }
+    return check_summary("test_packet");
+}
