@@ -30,10 +30,6 @@ LANE_FN void set3(lanes3 *a, int k, vec3 v) {
     a->z[k] = v.z;
 }
 
-LANE_FN vec3 select3(int c, vec3 a, vec3 b) {
-    return v3(c ? a.x : b.x, c ? a.y : b.y, c ? a.z : b.z);
-}
-
 LANE_FN int any_lane(const int *mask) {
     int any = 0;
     for (int k = 0; k < LANES; k++) any |= mask[k];
@@ -105,27 +101,32 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
             material[k] = (int)s->params.z;
             ior[k] = s->params.y;
         }
+        lanes3 hit_pos, nout;
+        int onward[LANES];
         for (int k = 0; k < LANES; k++) {
-            vec3 dk = get3(d, k);
-            vec3 hit_pos = v3_add(get3(o, k), v3_scale(dk, t[k]));
-            vec3 nout = v3_scale(v3_sub(hit_pos, get3(&center, k)), 1.0f / radius[k]);
+            vec3 dk = get3(d, k), pk = v3_add(get3(o, k), v3_scale(dk, t[k]));
+            vec3 nk = v3_scale(v3_sub(pk, get3(&center, k)), 1.0f / radius[k]);
             int hit = active[k] & (id[k] >= 0);
             int diffuse = hit & ((material[k] == TZ_MATERIAL_LAMBERTIAN) |
                                  (material[k] == TZ_MATERIAL_PHONG));
-            int onward = hit & !diffuse & (chain != bounces);
-            int done = active[k] & !onward;
+            onward[k] = hit & !diffuse & (chain != bounces);
+            int done = active[k] & !onward[k];
             result[k] = done ? (diffuse ? id[k] : hit ? -2 : -1) : result[k];
-            set3(pos, k, select3(diffuse, hit_pos, get3(pos, k)));
-            set3(n, k, select3(diffuse, facing_normal(nout, dk), get3(n, k)));
+            set3(pos, k, select3(diffuse, pk, get3(pos, k)));
+            set3(n, k, select3(diffuse, facing_normal(nk, dk), get3(n, k)));
+            set3(&hit_pos, k, pk);
+            set3(&nout, k, nk);
+        }
+        for (int k = 0; k < LANES; k++) { /* mirror and glass lanes go on */
             vec3 next_o, next_d;
-            specular_next(hit_pos, nout, dk, material[k] == TZ_MATERIAL_REFRACTIVE, ior[k],
-                          &next_o, &next_d);
-            set3(weight, k, select3(onward, v3_mul(get3(weight, k), get3(&tint, k)),
+            specular_next(get3(&hit_pos, k), get3(&nout, k), get3(d, k),
+                          material[k] == TZ_MATERIAL_REFRACTIVE, ior[k], &next_o, &next_d);
+            set3(weight, k, select3(onward[k], v3_mul(get3(weight, k), get3(&tint, k)),
                                     get3(weight, k)));
-            set3(o, k, select3(onward, next_o, get3(o, k)));
-            set3(d, k, select3(onward, next_d, dk));
-            self[k] = onward ? id[k] : self[k];
-            active[k] = onward;
+            set3(o, k, select3(onward[k], next_o, get3(o, k)));
+            set3(d, k, select3(onward[k], next_d, get3(d, k)));
+            self[k] = onward[k] ? id[k] : self[k];
+            active[k] = onward[k];
         }
     }
 }

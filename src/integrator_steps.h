@@ -12,6 +12,11 @@
 /* xyz of a packed vec4. */
 static inline vec3 xyz(tz_vec4 v) { return v3(v.x, v.y, v.z); }
 
+/* a where c is true, else b, component by component (selects, not branches: SIMD-friendly). */
+static inline vec3 select3(int c, vec3 a, vec3 b) {
+    return v3(c ? a.x : b.x, c ? a.y : b.y, c ? a.z : b.z);
+}
+
 /* Ray offset distance at a point: EPS scaled with the point's magnitude. */
 static inline float ray_eps(vec3 p) {
     float m = v3_max_abs(p);
@@ -52,7 +57,7 @@ static inline float sphere_distance(float cx, float cy, float cz, float r, vec3 
 
 /* Normal of an opaque (two-sided) surface facing the ray d, from the outward normal. */
 static inline vec3 facing_normal(vec3 nout, vec3 d) {
-    return v3_dot(nout, d) < 0.0f ? nout : v3_scale(nout, -1.0f);
+    return select3(v3_dot(nout, d) < 0.0f, nout, v3_scale(nout, -1.0f));
 }
 
 /* The ray leaving a mirror or glass hit at pos (outward normal nout, incoming d): the mirror ray,
@@ -62,19 +67,16 @@ static inline void specular_next(vec3 pos, vec3 nout, vec3 d, int refractive, fl
                                  vec3 *next_o, vec3 *next_d) {
     float eps = ray_eps(pos);
     int entering = v3_dot(d, nout) < 0.0f;
-    vec3 side = entering ? nout : v3_scale(nout, -1.0f); /* faces the incoming ray */
-    *next_d = v3_sub(d, v3_scale(side, 2.0f * v3_dot(side, d)));
-    *next_o = v3_add(pos, v3_scale(side, eps));
-    if (refractive) {
-        float eta = entering ? 1.0f / ior : ior;
-        float c1 = -v3_dot(d, side);
-        float k = 1.0f - eta * eta * (1.0f - c1 * c1);
-        if (k >= 0.0f) { /* otherwise total internal reflection: keep the mirror ray */
-            vec3 t = v3_add(v3_scale(d, eta), v3_scale(side, eta * c1 - sqrtf(k)));
-            *next_d = v3_normalize(t);
-            *next_o = v3_sub(pos, v3_scale(side, eps));
-        }
-    }
+    vec3 side = select3(entering, nout, v3_scale(nout, -1.0f)); /* faces the incoming ray */
+    vec3 mirror_d = v3_sub(d, v3_scale(side, 2.0f * v3_dot(side, d)));
+    float eta = entering ? 1.0f / ior : ior;
+    float c1 = -v3_dot(d, side);
+    float k = 1.0f - eta * eta * (1.0f - c1 * c1);
+    /* k < 0: total internal reflection, the mirror ray (the refracted one is NaN, unused). */
+    int refracts = refractive & (k >= 0.0f);
+    vec3 refracted_d = v3_normalize(v3_add(v3_scale(d, eta), v3_scale(side, eta * c1 - sqrtf(k))));
+    *next_d = select3(refracts, refracted_d, mirror_d);
+    *next_o = v3_add(pos, v3_scale(side, refracts ? -eps : eps));
 }
 
 /* Cosine of the Phong lobe angle: wo . wr with wr = 2(n.wi)n - wi. */
