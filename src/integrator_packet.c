@@ -3,6 +3,7 @@
  * through the shared steps of integrator_steps.h, so the images are bit-identical to it (tested);
  * the loops over lanes compile to SIMD, the lanes' diverging paths become selects. */
 #include <math.h>
+#include <string.h>
 
 #include "integrator.h"
 #include "integrator_steps.h"
@@ -30,6 +31,25 @@ LANE_FN void set3(lanes3 *a, int k, vec3 v) {
     a->z[k] = v.z;
 }
 
+/* Vector registers of PACKET_LANES floats and ints (GCC and clang vector extensions). */
+typedef float float_lanes __attribute__((vector_size(LANES * sizeof(float))));
+typedef int32_t int_lanes __attribute__((vector_size(LANES * sizeof(int32_t))));
+
+/* best[k], id[k] = ts[k], s where ts[k] < best[k]. In vector registers: the equivalent loop over
+ * lanes compiles to masked stores, whose reloads stall the next sphere's update. */
+LANE_FN void keep_nearer(float *best, int *id, const float *ts, int s) {
+    float_lanes b, t;
+    int_lanes i;
+    memcpy(&b, best, sizeof b);
+    memcpy(&t, ts, sizeof t);
+    memcpy(&i, id, sizeof i);
+    int_lanes nearer = t < b;
+    b = (float_lanes)(((int_lanes)t & nearer) | ((int_lanes)b & ~nearer));
+    i = (i & ~nearer) | (s & nearer);
+    memcpy(best, &b, sizeof b);
+    memcpy(id, &i, sizeof i);
+}
+
 LANE_FN int any_lane(const int *mask) {
     int any = 0;
     for (int k = 0; k < LANES; k++) any |= mask[k];
@@ -49,25 +69,26 @@ LANE_FN void packet_trace(const packed_scene *p, const lanes3 *o, const lanes3 *
                               : -1;
         return;
     }
-    float tmin[LANES];
-    int rays = 0;
+    float tmin[LANES], best[LANES];
+    int nearest[LANES], rays = 0;
     for (int k = 0; k < LANES; k++) {
         tmin[k] = ray_eps(get3(o, k));
-        t[k] = tmax[k];
-        id[k] = -1;
+        best[k] = tmax[k];
+        nearest[k] = -1;
         rays += active[k];
     }
     integrator_count_rays((uint64_t)rays);
     const sphere_soa *sp = &p->soa;
     for (uint32_t s = 0; s < count; s++) {
-        float cx = sp->cx[s], cy = sp->cy[s], cz = sp->cz[s], r = sp->r[s];
-        for (int k = 0; k < LANES; k++) {
-            float ts = sphere_distance(cx, cy, cz, r, get3(o, k), get3(d, k), tmin[k],
-                                       (int)s == self[k]);
-            int nearer = ts < t[k];
-            t[k] = nearer ? ts : t[k];
-            id[k] = nearer ? (int)s : id[k];
-        }
+        float cx = sp->cx[s], cy = sp->cy[s], cz = sp->cz[s], r = sp->r[s], ts[LANES];
+        for (int k = 0; k < LANES; k++)
+            ts[k] = sphere_distance(cx, cy, cz, r, get3(o, k), get3(d, k), tmin[k],
+                                    (int)s == self[k]);
+        keep_nearer(best, nearest, ts, (int)s);
+    }
+    for (int k = 0; k < LANES; k++) {
+        t[k] = best[k];
+        id[k] = nearest[k];
     }
 }
 
