@@ -7,9 +7,7 @@
 
 #include "integrator_steps.h"
 #include "rng.h"
-
-/* The sphere loop in an AVX2 clone too, chosen at load time where the processor has it. */
-#define SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#include "simd_clones.h"
 
 /* Distances to spheres [begin, begin + SOA_LANES) into t[] (sphere_distance), INFINITY past
  * end: a fixed trip count over the padded structure-of-arrays, so it compiles to 8-wide SIMD. */

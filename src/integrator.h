@@ -11,7 +11,7 @@
 vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
 
 /* Samples integrator_sample_packet takes at once. */
-#define PACKET_LANES 8
+#define PACKET_LANES 16
 
 /* out[k] = integrator_sample(p, i + k, j, sample_index) for k < lanes (<= PACKET_LANES), bit for
  * bit, computed for all of them at once; never fails. */

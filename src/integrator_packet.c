@@ -8,15 +8,15 @@
 #include "integrator.h"
 #include "integrator_steps.h"
 #include "rng.h"
+#include "simd_clones.h"
 
 #define LANES PACKET_LANES
 /* Scenes of at most this many spheres are intersected packet against every sphere; bigger ones
  * lane by lane through the BVH (integrator_trace). */
 #define PACKET_BRUTE_FORCE_MAX 16
 
-/* The whole packet path is inlined into one function compiled twice, plain and with AVX2. */
+/* The whole packet path is inlined into one function, compiled per vector level (SIMD_CLONES). */
 #define LANE_FN static inline __attribute__((always_inline))
-#define SIMD_CLONES __attribute__((target_clones("avx2", "default")))
 
 /* One vec3 per lane, structure of arrays. */
 typedef struct lanes3 {
