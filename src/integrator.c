@@ -3,7 +3,6 @@
 #include "integrator.h"
 
 #include <math.h>
-#include <string.h>
 
 #include "integrator_steps.h"
 #include "rng.h"
@@ -37,29 +36,6 @@ static void leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end, vec3 o
     }
 }
 
-static uint32_t uint_bits(float f) {
-    uint32_t u;
-    memcpy(&u, &f, sizeof u);
-    return u;
-}
-
-/* Distance at which the ray enters the node's box, INFINITY when it misses it or enters at or
- * beyond tmax (slab test; inv = 1/d with zero components replaced by 1e30, so no NaN). */
-static float box_entry(const struct gpu_bvh_node *n, vec3 o, vec3 inv, float tmax) {
-    float x1 = (n->lo.x - o.x) * inv.x, x2 = (n->hi.x - o.x) * inv.x;
-    float y1 = (n->lo.y - o.y) * inv.y, y2 = (n->hi.y - o.y) * inv.y;
-    float z1 = (n->lo.z - o.z) * inv.z, z2 = (n->hi.z - o.z) * inv.z;
-    float near = x1 < x2 ? x1 : x2, far = x1 < x2 ? x2 : x1;
-    float ny = y1 < y2 ? y1 : y2, fy = y1 < y2 ? y2 : y1;
-    float nz = z1 < z2 ? z1 : z2, fz = z1 < z2 ? z2 : z1;
-    near = near > ny ? near : ny;
-    near = near > nz ? near : nz;
-    near = near > 0.0f ? near : 0.0f;
-    far = far < fy ? far : fy;
-    far = far < fz ? far : fz;
-    return near <= far && near < tmax ? near : INFINITY;
-}
-
 /* Rays traced by this thread, for Mrays/s (render_cpu sums the threads'). */
 static _Thread_local uint64_t rays_traced;
 
@@ -71,7 +47,6 @@ void integrator_count_rays(uint64_t n) { rays_traced += n; }
  * most one node), or, without a BVH, every sphere SOA_LANES at a time. */
 int integrator_trace(const packed_scene *p, vec3 o, vec3 d, int self, float tmax, int any_hit,
                      float *t) {
-    rays_traced++;
     float tmin = ray_eps(o), best = tmax;
     int id = -1;
     uint32_t count = p->frame.size.z, node_count = p->frame.settings.w;
@@ -82,8 +57,7 @@ int integrator_trace(const packed_scene *p, vec3 o, vec3 d, int self, float tmax
         *t = best;
         return id;
     }
-    vec3 inv = v3(d.x != 0.0f ? 1.0f / d.x : 1e30f, d.y != 0.0f ? 1.0f / d.y : 1e30f,
-                  d.z != 0.0f ? 1.0f / d.z : 1e30f);
+    vec3 inv = inverse_direction(d);
     uint32_t stack[TZ_BVH_MAX_DEPTH];
     float stack_t[TZ_BVH_MAX_DEPTH];
     int top = 0;
@@ -124,11 +98,13 @@ int integrator_trace(const packed_scene *p, vec3 o, vec3 d, int self, float tmax
 }
 
 int integrator_nearest(const packed_scene *p, vec3 o, vec3 d, int self, float *t_out) {
+    rays_traced++;
     return integrator_trace(p, o, d, self, INFINITY, 0, t_out);
 }
 
 int integrator_occluded(const packed_scene *p, vec3 o, vec3 d, float dist, int self) {
     float t;
+    rays_traced++;
     return integrator_trace(p, o, d, self, dist, 1, &t) >= 0;
 }
 

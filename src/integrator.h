@@ -22,10 +22,11 @@ void integrator_sample_packet(const packed_scene *p, uint32_t i, uint32_t j, uin
  * sphere the ray leaves (-1 for none): its near root is the ray's own origin and is ignored. */
 int integrator_nearest(const packed_scene *p, vec3 o, vec3 d, int self, float *t_out);
 /* Nearest sphere hit below tmax (*t its distance), or with any_hit the first one found; -1 when
- * none. Through the BVH when the scene has one, else over every sphere. */
+ * none. Through the BVH when the scene has one, else over every sphere; counts no ray. */
 int integrator_trace(const packed_scene *p, vec3 o, vec3 d, int self, float tmax, int any_hit,
                      float *t);
-/* Rays (nearest-hit and shadow) the calling thread has traced so far; never fails. */
+/* Rays (nearest-hit and shadow) the calling thread has traced so far, counted by
+ * integrator_nearest, integrator_occluded and integrator_count_rays; never fails. */
 uint64_t integrator_rays_traced(void);
 /* Adds n rays to the calling thread's count. */
 void integrator_count_rays(uint64_t n);

@@ -12,8 +12,11 @@
 
 #define LANES PACKET_LANES
 /* Scenes of at most this many spheres are intersected packet against every sphere; bigger ones
- * lane by lane through the BVH (integrator_trace). */
+ * through the BVH. */
 #define PACKET_BRUTE_FORCE_MAX 16
+/* Lanes whose directions share an octant walk the BVH together when there are at least this many
+ * (fewer walk it one by one: measured, a walk of a few lanes costs more than their own walks). */
+#define WALK_GROUP_MIN 12
 
 /* The whole packet path is inlined into one function, compiled per vector level (SIMD_CLONES). */
 #define LANE_FN static inline __attribute__((always_inline))
@@ -35,8 +38,9 @@ LANE_FN void set3(lanes3 *a, int k, vec3 v) {
 typedef float float_lanes __attribute__((vector_size(LANES * sizeof(float))));
 typedef int32_t int_lanes __attribute__((vector_size(LANES * sizeof(int32_t))));
 
-/* best[k], id[k] = ts[k], s where ts[k] < best[k]. In vector registers: the equivalent loop over
- * lanes compiles to masked stores, whose reloads stall the next sphere's update. */
+/* best[k], id[k] = ts[k], s where ts[k] < best[k]: sphere s is nearer than the hit so far. In
+ * vector registers: the equivalent loop over lanes compiles to masked stores, whose reloads stall
+ * the next sphere's update. */
 LANE_FN void keep_nearer(float *best, int *id, const float *ts, int s) {
     float_lanes b, t;
     int_lanes i;
@@ -50,46 +54,148 @@ LANE_FN void keep_nearer(float *best, int *id, const float *ts, int s) {
     memcpy(id, &i, sizeof i);
 }
 
+/* keep_nearer with the tie rule of integrator.c's leaf_hit: sphere s also wins a tie with a
+ * higher index, so the order of a walk's leaves cannot change the hit. */
+LANE_FN void keep_nearer_tie(float *best, int *id, const float *ts, int s) {
+    float nearer[LANES];
+    for (int k = 0; k < LANES; k++)
+        nearer[k] = ts[k] < best[k] || (ts[k] == best[k] && id[k] >= 0 && s < id[k]) ? ts[k]
+                                                                                   : INFINITY;
+    keep_nearer(best, id, nearer, s);
+}
+
 LANE_FN int any_lane(const int *mask) {
     int any = 0;
     for (int k = 0; k < LANES; k++) any |= mask[k];
     return any;
 }
 
+/* Tests sphere s against every lane's ray, keeping the nearest hits in best and id (the tie rule
+ * too with tie; without, spheres must come in increasing order). */
+LANE_FN void packet_sphere(const packed_scene *p, uint32_t s, const lanes3 *o, const lanes3 *d,
+                           const int *self, const float *tmin, int tie, float *best, int *id) {
+    float cx = p->soa.cx[s], cy = p->soa.cy[s], cz = p->soa.cz[s], r = p->soa.r[s], ts[LANES];
+    for (int k = 0; k < LANES; k++)
+        ts[k] = sphere_distance(cx, cy, cz, r, get3(o, k), get3(d, k), tmin[k], (int)s == self[k]);
+    if (tie)
+        keep_nearer_tie(best, id, ts, (int)s);
+    else
+        keep_nearer(best, id, ts, (int)s);
+}
+
+/* 1 when every active lane has a hit. */
+LANE_FN int all_hit(const int *id, const int *active) {
+    int all = 1;
+    for (int k = 0; k < LANES; k++) all &= !active[k] | (id[k] >= 0);
+    return all;
+}
+
+/* The octant of each lane's direction (its signs as 3 bits): rays of one octant walk the BVH
+ * well together. */
+LANE_FN void octants(const lanes3 *d, int *octant) {
+    for (int k = 0; k < LANES; k++)
+        octant[k] = (d->x[k] < 0.0f) | (d->y[k] < 0.0f) << 1 | (d->z[k] < 0.0f) << 2;
+}
+
+/* The whole packet walks the BVH, as integrator_trace walks it with one ray: a node is entered
+ * when a lane's ray enters its box before that lane's hit so far, nearer child (over the lanes)
+ * first, each level pushing at most one node; every entered leaf is tested against every lane.
+ * With the tie rule, the spheres tested beyond one lane's own walk cannot change its hit. */
+LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d, const int *self,
+                         const float *tmin, const int *active, int any_hit, float *best,
+                         int *id) {
+    lanes3 inv;
+    for (int k = 0; k < LANES; k++) set3(&inv, k, inverse_direction(get3(d, k)));
+    uint32_t stack[TZ_BVH_MAX_DEPTH];
+    float stack_t[TZ_BVH_MAX_DEPTH][LANES];
+    int top = 0;
+    uint32_t node = 0; /* the root's box holds every sphere: no test */
+    for (;;) {
+        const struct gpu_bvh_node *n = &p->nodes[node];
+        uint32_t leaf_count = uint_bits(n->hi.w);
+        if (leaf_count > 0) {
+            uint32_t first = uint_bits(n->lo.w);
+            for (uint32_t s = first; s < first + leaf_count; s++)
+                packet_sphere(p, s, o, d, self, tmin, 1, best, id);
+            if (any_hit && all_hit(id, active)) return;
+        } else {
+            uint32_t left = node + 1, right = uint_bits(n->lo.w);
+            float tl[LANES], tr[LANES], near_l = INFINITY, near_r = INFINITY;
+            for (int k = 0; k < LANES; k++) {
+                tl[k] = box_entry(&p->nodes[left], get3(o, k), get3(&inv, k), best[k]);
+                tr[k] = box_entry(&p->nodes[right], get3(o, k), get3(&inv, k), best[k]);
+            }
+            for (int k = 0; k < LANES; k++) {
+                near_l = tl[k] < near_l ? tl[k] : near_l;
+                near_r = tr[k] < near_r ? tr[k] : near_r;
+            }
+            if (near_l < INFINITY || near_r < INFINITY) {
+                int left_first = near_l <= near_r;
+                node = left_first ? left : right;
+                if ((left_first ? near_r : near_l) < INFINITY) {
+                    stack[top] = left_first ? right : left;
+                    memcpy(stack_t[top++], left_first ? tr : tl, sizeof tl);
+                }
+                continue;
+            }
+        }
+        /* pop the next pending node that a lane can still find a nearer hit in */
+        int go = 0;
+        while (top > 0 && !go) {
+            top--;
+            node = stack[top];
+            for (int k = 0; k < LANES; k++) go |= stack_t[top][k] < best[k];
+        }
+        if (!go) return;
+    }
+}
+
 /* Hits of the active lanes' rays below tmax: id[k] the nearest sphere (-1 none) at t[k], or with
- * any_hit some sphere nearer than tmax[k]. Small scenes test every sphere for all lanes at once,
- * in stored order, so a strict "nearer" keeps the lower index on a tie as integrator_trace does. */
+ * any_hit some sphere nearer than tmax[k]. Small scenes test every sphere for all lanes at once;
+ * in others the lanes of each octant of directions walk the BVH together (WALK_GROUP_MIN). */
 LANE_FN void packet_trace(const packed_scene *p, const lanes3 *o, const lanes3 *d, const int *self,
                           const float *tmax, const int *active, int any_hit, int *id, float *t) {
-    uint32_t count = p->frame.size.z;
-    if (p->frame.settings.w > 0 && count > PACKET_BRUTE_FORCE_MAX) {
-        for (int k = 0; k < LANES; k++)
-            id[k] = active[k] ? integrator_trace(p, get3(o, k), get3(d, k), self[k], tmax[k],
-                                                 any_hit, &t[k])
-                              : -1;
-        return;
-    }
-    float tmin[LANES], best[LANES];
-    int nearest[LANES], rays = 0;
+    float tmin[LANES];
+    int rays = 0;
     for (int k = 0; k < LANES; k++) {
         tmin[k] = ray_eps(get3(o, k));
-        best[k] = tmax[k];
-        nearest[k] = -1;
+        t[k] = active[k] ? tmax[k] : -INFINITY; /* nothing is nearer than -inf: lane idle */
+        id[k] = -1;
         rays += active[k];
     }
     integrator_count_rays((uint64_t)rays);
-    const sphere_soa *sp = &p->soa;
-    for (uint32_t s = 0; s < count; s++) {
-        float cx = sp->cx[s], cy = sp->cy[s], cz = sp->cz[s], r = sp->r[s], ts[LANES];
-        for (int k = 0; k < LANES; k++)
-            ts[k] = sphere_distance(cx, cy, cz, r, get3(o, k), get3(d, k), tmin[k],
-                                    (int)s == self[k]);
-        keep_nearer(best, nearest, ts, (int)s);
+    uint32_t count = p->frame.size.z;
+    if (p->frame.settings.w == 0 || count <= PACKET_BRUTE_FORCE_MAX) {
+        for (uint32_t s = 0; s < count; s++) packet_sphere(p, s, o, d, self, tmin, 0, t, id);
+    } else {
+        int octant[LANES], present = 0;
+        octants(d, octant);
+        for (int k = 0; k < LANES; k++) present |= active[k] << octant[k];
+        for (int q = 0; q < 8; q++) {
+            if (!(present >> q & 1)) continue;
+            int group[LANES], group_id[LANES], size = 0;
+            float group_t[LANES];
+            for (int k = 0; k < LANES; k++) {
+                group[k] = active[k] & (octant[k] == q);
+                group_t[k] = group[k] ? t[k] : -INFINITY;
+                group_id[k] = -1;
+                size += group[k];
+            }
+            if (size >= WALK_GROUP_MIN) {
+                packet_walk(p, o, d, self, tmin, group, any_hit, group_t, group_id);
+            } else {
+                for (int k = 0; k < LANES; k++)
+                    if (group[k])
+                        group_id[k] = integrator_trace(p, get3(o, k), get3(d, k), self[k], t[k],
+                                                       any_hit, &group_t[k]);
+            }
+            for (int k = 0; k < LANES; k++) {
+                t[k] = group[k] ? group_t[k] : t[k];
+                id[k] = group[k] ? group_id[k] : id[k];
+            }
+        }
     }
-    for (int k = 0; k < LANES; k++) {
-        t[k] = best[k];
-        id[k] = nearest[k];
-    }
+    for (int k = 0; k < LANES; k++) t[k] = active[k] ? t[k] : INFINITY;
 }
 
 /* A packet's rays followed through mirrors and glass (follow_specular of integrator.c, lane by

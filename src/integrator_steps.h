@@ -5,6 +5,8 @@
 #define TRAZADOR_INTEGRATOR_STEPS_H
 
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 
 #include "shared_layout.h"
 #include "vec3.h"
@@ -53,6 +55,36 @@ static inline float sphere_distance(float cx, float cy, float cz, float r, vec3 
     float near = near_ok ? t0 : far_ok ? t1 : INFINITY;
     int miss = ((c > 0.0f) & (b > 0.0f)) | (disc < 0.0f) | (q == 0.0f);
     return miss ? INFINITY : near;
+}
+
+/* The bits of a float (the BVH stores indices in floats' places). */
+static inline uint32_t uint_bits(float f) {
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+/* 1/d with zero components of d replaced by 1e30 first, so the slab test has no NaN. */
+static inline vec3 inverse_direction(vec3 d) {
+    return v3(d.x != 0.0f ? 1.0f / d.x : 1e30f, d.y != 0.0f ? 1.0f / d.y : 1e30f,
+              d.z != 0.0f ? 1.0f / d.z : 1e30f);
+}
+
+/* Distance at which the ray enters the node's box, INFINITY when it misses it or enters at or
+ * beyond tmax (slab test; inv from inverse_direction). */
+static inline float box_entry(const struct gpu_bvh_node *n, vec3 o, vec3 inv, float tmax) {
+    float x1 = (n->lo.x - o.x) * inv.x, x2 = (n->hi.x - o.x) * inv.x;
+    float y1 = (n->lo.y - o.y) * inv.y, y2 = (n->hi.y - o.y) * inv.y;
+    float z1 = (n->lo.z - o.z) * inv.z, z2 = (n->hi.z - o.z) * inv.z;
+    float near = x1 < x2 ? x1 : x2, far = x1 < x2 ? x2 : x1;
+    float ny = y1 < y2 ? y1 : y2, fy = y1 < y2 ? y2 : y1;
+    float nz = z1 < z2 ? z1 : z2, fz = z1 < z2 ? z2 : z1;
+    near = near > ny ? near : ny;
+    near = near > nz ? near : nz;
+    near = near > 0.0f ? near : 0.0f;
+    far = far < fy ? far : fy;
+    far = far < fz ? far : fz;
+    return near <= far && near < tmax ? near : INFINITY;
 }
 
 /* Normal of an opaque (two-sided) surface facing the ray d, from the outward normal. */
