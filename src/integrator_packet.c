@@ -366,9 +366,11 @@ LANE_FN void packet_indirect_light(const packed_scene *p, const int *id, const l
     }
 }
 
-SIMD_CLONES void integrator_sample_packet(const packed_scene *p, uint32_t i, uint32_t j,
-                                          uint32_t lanes, uint32_t sample_index,
-                                          vec3 out[PACKET_LANES]) {
+/* integrator_sample_packet, compiled per vector level (static: clang 14 cannot clone an exported
+ * function). */
+SIMD_CLONES static void sample_packet(const packed_scene *p, uint32_t i, uint32_t j,
+                                      uint32_t lanes, uint32_t sample_index,
+                                      vec3 out[PACKET_LANES]) {
     const struct gpu_frame *fr = &p->frame;
     uint32_t rng[LANES];
     int active[LANES], self[LANES], id[LANES];
@@ -399,4 +401,9 @@ SIMD_CLONES void integrator_sample_packet(const packed_scene *p, uint32_t i, uin
         vec3 lit = id[k] == -1 ? v3_mul(w, background) : v3_mul(w, get3(&radiance, k));
         out[k] = id[k] == -2 ? v3(0.0f, 0.0f, 0.0f) : lit;
     }
+}
+
+void integrator_sample_packet(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                              uint32_t sample_index, vec3 out[PACKET_LANES]) {
+    sample_packet(p, i, j, lanes, sample_index, out);
 }
