@@ -67,6 +67,13 @@ typedef struct tz_uvec4 {
  * counts the passes of a whole SIMD group: bounding every walk bounds the group's sum whatever
  * the divergence. 0: unlimited (real GPUs have no such limit). */
 #define TZ_SPEC_WALK_BUDGET 3
+/* The most spheres and lights whose loops are unrolled. Their data are specialization constants
+ * too, the floats of struct gpu_unrolled from constant_id TZ_SPEC_SCENE on, so that lavapipe
+ * compiles the unrolled tests with immediate operands: no texel fetch (a call that spills every
+ * live register) and no per-lane gather. */
+#define TZ_UNROLL_MAX_SPHERES 16
+#define TZ_UNROLL_MAX_LIGHTS 4
+#define TZ_SPEC_SCENE 4
 
 /* One sphere, 48 bytes. material is stored as an exactly representable float. */
 struct gpu_sphere {
@@ -95,6 +102,13 @@ struct gpu_frame {
 /* Push constants of one dispatch: which tile and which samples (count >= 1, taken in order). */
 struct gpu_pass {
     TZ_UVEC4 tile; /* x0, y0 of the tile in pixels, first sample index, sample count */
+};
+
+/* The spheres and lights of an unrolled scene in the texel layout of TZ_BINDING_SPHERES and
+ * TZ_BINDING_LIGHTS (sphere k: vec4s 3k..3k+2, light k: 2k, 2k+1), zero past the scene's. */
+struct gpu_unrolled {
+    TZ_VEC4 spheres[3 * TZ_UNROLL_MAX_SPHERES];
+    TZ_VEC4 lights[2 * TZ_UNROLL_MAX_LIGHTS];
 };
 
 /* BVH: a depth-first flat array; an inner node's first child is the next node. The w fields hold

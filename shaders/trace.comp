@@ -29,12 +29,25 @@ layout(constant_id = TZ_SPEC_UNROLLED_LIGHTS) const uint UNROLLED_LIGHTS = 0u;
 layout(constant_id = TZ_SPEC_FLAGS) const uint FLAGS = 0u; /* frame.settings.z */
 layout(constant_id = TZ_SPEC_WALK_BUDGET) const uint WALK_BUDGET = 0u;
 
-/* The fields of struct gpu_sphere k and gpu_light k (see TZ_BINDING_SPHERES). */
-vec4 sphere_center_radius(int k) { return texelFetch(sphere_texels, 3 * k); }
-vec4 sphere_color_ks(int k) { return texelFetch(sphere_texels, 3 * k + 1); }
-vec4 sphere_params(int k) { return texelFetch(sphere_texels, 3 * k + 2); }
-vec4 light_position_power(int k) { return texelFetch(light_texels, 2 * k); }
-vec4 light_color(int k) { return texelFetch(light_texels, 2 * k + 1); }
+#include "spec_scene.glsl"
+
+/* The fields of struct gpu_sphere k and gpu_light k: specialization constants when their loops
+ * are unrolled, else from the texel buffers (see TZ_BINDING_SPHERES). */
+vec4 sphere_center_radius(int k) {
+    return UNROLLED_SPHERES > 0u ? spec_sphere_center_radius(k) : texelFetch(sphere_texels, 3 * k);
+}
+vec4 sphere_color_ks(int k) {
+    return UNROLLED_SPHERES > 0u ? spec_sphere_color_ks(k) : texelFetch(sphere_texels, 3 * k + 1);
+}
+vec4 sphere_params(int k) {
+    return UNROLLED_SPHERES > 0u ? spec_sphere_params(k) : texelFetch(sphere_texels, 3 * k + 2);
+}
+vec4 light_position_power(int k) {
+    return UNROLLED_LIGHTS > 0u ? spec_light_position_power(k) : texelFetch(light_texels, 2 * k);
+}
+vec4 light_color(int k) {
+    return UNROLLED_LIGHTS > 0u ? spec_light_color(k) : texelFetch(light_texels, 2 * k + 1);
+}
 vec4 node_lo(uint k) { return texelFetch(node_texels, int(2u * k)); }
 vec4 node_hi(uint k) { return texelFetch(node_texels, int(2u * k + 1u)); }
 

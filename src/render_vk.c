@@ -3,6 +3,7 @@
  * accumulation buffer in sample order (a barrier between passes), and reads the sums back into
  * the film once at the end. The film matches render_cpu's, sample for sample. */
 #include <inttypes.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -20,13 +21,11 @@
 /* Loop passes (about one ray/sphere test each) one dispatch may cost, so that a dispatch stays
  * well under a second on a GPU; samples per dispatch are chosen to fit. */
 #define DISPATCH_BUDGET (UINT64_C(1) << 29)
-/* Loops unrolled by specialization (TZ_SPEC_UNROLLED_*): about 20-30% fewer instructions on
- * lavapipe, at the price of compile time, which grows with the copies of the sphere test,
- * spheres x lights in the shadow rays. Measured cold on lavapipe (first dispatch, Mesa's shader
- * cache empty): plain loops ~120 ms; 8 spheres 165 ms; 16 spheres 250-280 ms; 16 spheres x 4
- * lights 550 ms, hence the cap on the product. */
-#define UNROLL_MAX_SPHERES 16u
-#define UNROLL_MAX_LIGHTS 4u
+/* Loops unrolled by specialization (TZ_SPEC_UNROLLED_*, at most TZ_UNROLL_MAX_*): about 20-30%
+ * fewer instructions on lavapipe, at the price of compile time, which grows with the copies of
+ * the sphere test, spheres x lights in the shadow rays. Measured cold on lavapipe (first
+ * dispatch, Mesa's shader cache empty): plain loops ~120 ms; 8 spheres 165 ms; 16 spheres
+ * 250-280 ms; 16 spheres x 4 lights 550 ms, hence the cap on the product. */
 #define UNROLL_MAX_SHADOW_TESTS 16u /* unrolled spheres x unrolled lights */
 
 /* Loop passes one submission may cost: a few seconds on lavapipe, the granularity of the progress
@@ -34,6 +33,15 @@
 #define SUBMIT_BUDGET (UINT64_C(1) << 31)
 /* Loop passes a ray's BVH walk must be allowed at least on lavapipe for a scene to be tried. */
 #define MIN_WALK_BUDGET 256u
+
+/* The specialization constants of trace.comp in constant_id order, one 32-bit word each. */
+typedef struct spec_data {
+    uint32_t words[TZ_SPEC_SCENE];
+    struct gpu_unrolled scene;
+} spec_data;
+#define SPEC_COUNT (sizeof(spec_data) / sizeof(uint32_t))
+_Static_assert(offsetof(spec_data, scene) == TZ_SPEC_SCENE * sizeof(uint32_t),
+               "scene data start at constant_id TZ_SPEC_SCENE");
 
 typedef struct vk_render {
     vk_context ctx;
@@ -311,7 +319,7 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
      * bounded on lavapipe by TZ_SPEC_WALK_BUDGET passes as if it tested that many spheres (a
      * guess of 64 sizes the dispatches elsewhere). */
     uint32_t spheres = (uint32_t)s->sphere_count, lights = (uint32_t)s->light_count;
-    uint32_t unrolled_spheres = spheres <= UNROLL_MAX_SPHERES ? spheres : 0u;
+    uint32_t unrolled_spheres = spheres <= TZ_UNROLL_MAX_SPHERES ? spheres : 0u;
     bool use_bvh = !opts->no_bvh && unrolled_spheres == 0u;
     bool lavapipe = vk_context_is_lavapipe(&r.ctx);
     uint32_t walk = use_bvh && lavapipe ? walk_budget(s, opts) : 0u;
@@ -340,24 +348,29 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
         [TZ_BINDING_COUNTERS] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
         [TZ_BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
     };
-    /* Small scenes get their sphere and light loops unrolled: constant indices make every
-     * read of the scene a uniform load, and the loop bookkeeping disappears. The flags compile
-     * out the indirect bounce when it is off. */
+    /* Small scenes get their sphere and light loops unrolled, and their spheres and lights
+     * become specialization constants: the unrolled tests read immediates, and the loop
+     * bookkeeping disappears (each such scene compiles its own pipeline, which Mesa's shader
+     * cache keeps). The flags compile out the indirect bounce when it is off. */
     bool unroll_lights =
-        lights <= UNROLL_MAX_LIGHTS &&
+        lights <= TZ_UNROLL_MAX_LIGHTS &&
         (unrolled_spheres == 0u || unrolled_spheres * lights <= UNROLL_MAX_SHADOW_TESTS);
     pass_plan plan = plan_passes(&r.ctx, s, opts, sample_iterations);
-    uint32_t constants[4] = {
-        [TZ_SPEC_UNROLLED_SPHERES] = unrolled_spheres,
-        [TZ_SPEC_UNROLLED_LIGHTS] = unroll_lights ? lights : 0u,
-        [TZ_SPEC_FLAGS] = packed.frame.settings.z,
-        [TZ_SPEC_WALK_BUDGET] = walk,
-    };
-    VkSpecializationMapEntry entries[4];
-    for (uint32_t k = 0; k < 4; k++)
+    spec_data constants = {.words = {
+                               [TZ_SPEC_UNROLLED_SPHERES] = unrolled_spheres,
+                               [TZ_SPEC_UNROLLED_LIGHTS] = unroll_lights ? lights : 0u,
+                               [TZ_SPEC_FLAGS] = packed.frame.settings.z,
+                               [TZ_SPEC_WALK_BUDGET] = walk,
+                           }};
+    /* The unrolled spheres and lights, zero past the scene's (the shader reads none of those). */
+    memcpy(constants.scene.spheres, packed.spheres, unrolled_spheres * sizeof *packed.spheres);
+    if (unroll_lights)
+        memcpy(constants.scene.lights, packed.lights, lights * sizeof *packed.lights);
+    VkSpecializationMapEntry entries[SPEC_COUNT];
+    for (uint32_t k = 0; k < SPEC_COUNT; k++)
         entries[k] =
             (VkSpecializationMapEntry){k, k * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
-    const VkSpecializationInfo spec = {4, entries, sizeof constants, constants};
+    const VkSpecializationInfo spec = {SPEC_COUNT, entries, sizeof constants, &constants};
     vk_kernel_desc kernel = {
         .spec = &spec,
         .code = trace_spv,

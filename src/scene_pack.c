@@ -28,6 +28,12 @@ _Static_assert(offsetof(struct gpu_frame, size) == 80, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, settings) == 96, "gpu_frame layout");
 _Static_assert(sizeof(struct gpu_pass) == 16, "gpu_pass is 16 bytes");
 
+_Static_assert(sizeof(struct gpu_unrolled) == TZ_UNROLL_MAX_SPHERES * sizeof(struct gpu_sphere) +
+                                                  TZ_UNROLL_MAX_LIGHTS * sizeof(struct gpu_light),
+               "gpu_unrolled is its spheres and lights");
+_Static_assert(offsetof(struct gpu_unrolled, lights) ==
+                   TZ_UNROLL_MAX_SPHERES * sizeof(struct gpu_sphere),
+               "gpu_unrolled layout");
 _Static_assert(sizeof(struct gpu_bvh_node) == 32, "gpu_bvh_node is 32 bytes");
 _Static_assert(offsetof(struct gpu_bvh_node, hi) == 16, "gpu_bvh_node layout");
 
