@@ -10,12 +10,12 @@
 
 /* Distances to spheres [begin, begin + SOA_LANES) into t[] (sphere_distance), INFINITY past
  * end: a fixed trip count over the padded structure-of-arrays, so it compiles to 8-wide SIMD. */
-SIMD_CLONES static void spheres_hit(const sphere_soa *sp, int begin, int end, vec3 o, vec3 d,
-                                    float tmin, int self, float *restrict t) {
+static inline void spheres_hit(const sphere_soa *sp, int begin, int end, vec3 o, vec3 d, float tmin,
+                               int self, float *restrict t) {
     for (int lane = 0; lane < SOA_LANES; lane++) {
         int k = begin + lane;
-        float near = sphere_distance(sp->cx[k], sp->cy[k], sp->cz[k], sp->r[k], o, d, tmin,
-                                     k == self);
+        float near =
+            sphere_distance(sp->cx[k], sp->cy[k], sp->cz[k], sp->r[k], o, d, tmin, k == self);
         t[lane] = k >= end ? INFINITY : near;
     }
 }
@@ -23,17 +23,20 @@ SIMD_CLONES static void spheres_hit(const sphere_soa *sp, int begin, int end, ve
 /* Tests spheres [begin, end) (at most SOA_LANES) and keeps the nearest hit below *best. An exact
  * tie goes to the lower index, so the order of visits never changes which sphere is seen (both
  * back ends store spheres in the same BVH order, --no-bvh too). */
-static void leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end, vec3 o, vec3 d,
-                     float tmin, int self, float *best, int *id) {
+static inline void leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end, vec3 o, vec3 d,
+                            float tmin, int self, float *best, int *id) {
     float t[SOA_LANES];
     spheres_hit(&p->soa, (int)begin, (int)end, o, d, tmin, self, t);
-    for (int lane = 0; lane < SOA_LANES; lane++) {
+    float b = *best;
+    int i = *id;
+    for (int lane = 0; lane < SOA_LANES; lane++) { /* selects: which lane wins is unpredictable */
         int k = (int)begin + lane;
-        if (t[lane] < *best || (t[lane] == *best && *id >= 0 && k < *id)) {
-            *best = t[lane];
-            *id = k;
-        }
+        int take = (t[lane] < b) | ((t[lane] == b) & (i >= 0) & (k < i));
+        b = take ? t[lane] : b;
+        i = take ? k : i;
     }
+    *best = b;
+    *id = i;
 }
 
 /* Rays traced by this thread, for Mrays/s (render_cpu sums the threads'). */
@@ -45,8 +48,8 @@ void integrator_count_rays(uint64_t n) { rays_traced += n; }
 
 /* Walks the BVH nearer child first with a stack of TZ_BVH_MAX_DEPTH (each level pushes at
  * most one node), or, without a BVH, every sphere SOA_LANES at a time. */
-int integrator_trace(const packed_scene *p, vec3 o, vec3 d, int self, float tmax, int any_hit,
-                     float *t) {
+SIMD_CLONES static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self, float tmax,
+                                 int any_hit, float *t) {
     float tmin = ray_eps(o), best = tmax;
     int id = -1;
     uint32_t count = p->frame.size.z, node_count = p->frame.settings.w;
@@ -95,6 +98,11 @@ int integrator_trace(const packed_scene *p, vec3 o, vec3 d, int self, float tmax
     }
     *t = best;
     return id;
+}
+
+int integrator_trace(const packed_scene *p, vec3 o, vec3 d, int self, float tmax, int any_hit,
+                     float *t) {
+    return trace_ray(p, o, d, self, tmax, any_hit, t);
 }
 
 int integrator_nearest(const packed_scene *p, vec3 o, vec3 d, int self, float *t_out) {

@@ -59,8 +59,8 @@ LANE_FN void keep_nearer(float *best, int *id, const float *ts, int s) {
 LANE_FN void keep_nearer_tie(float *best, int *id, const float *ts, int s) {
     float nearer[LANES];
     for (int k = 0; k < LANES; k++)
-        nearer[k] = ts[k] < best[k] || (ts[k] == best[k] && id[k] >= 0 && s < id[k]) ? ts[k]
-                                                                                   : INFINITY;
+        nearer[k] =
+            ts[k] < best[k] || (ts[k] == best[k] && id[k] >= 0 && s < id[k]) ? ts[k] : INFINITY;
     keep_nearer(best, id, nearer, s);
 }
 
@@ -102,8 +102,7 @@ LANE_FN void octants(const lanes3 *d, int *octant) {
  * first, each level pushing at most one node; every entered leaf is tested against every lane.
  * With the tie rule, the spheres tested beyond one lane's own walk cannot change its hit. */
 LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d, const int *self,
-                         const float *tmin, const int *active, int any_hit, float *best,
-                         int *id) {
+                         const float *tmin, const int *active, int any_hit, float *best, int *id) {
     lanes3 inv;
     for (int k = 0; k < LANES; k++) set3(&inv, k, inverse_direction(get3(d, k)));
     uint32_t stack[TZ_BVH_MAX_DEPTH];
@@ -248,8 +247,8 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
             vec3 next_o, next_d;
             specular_next(get3(&hit_pos, k), get3(&nout, k), get3(d, k),
                           material[k] == TZ_MATERIAL_REFRACTIVE, ior[k], &next_o, &next_d);
-            set3(weight, k, select3(onward[k], v3_mul(get3(weight, k), get3(&tint, k)),
-                                    get3(weight, k)));
+            set3(weight, k,
+                 select3(onward[k], v3_mul(get3(weight, k), get3(&tint, k)), get3(weight, k)));
             set3(o, k, select3(onward[k], next_o, get3(o, k)));
             set3(d, k, select3(onward[k], next_d, get3(d, k)));
             self[k] = onward[k] ? id[k] : self[k];
@@ -295,8 +294,8 @@ LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lan
         float blocker_t[LANES];
         for (int k = 0; k < LANES; k++) {
             vec3 wik;
-            set3(&light, k, point_light(&p->lights[l], get3(pos, k), get3(n, k), &wik, &dist[k],
-                                        &cos_i));
+            set3(&light, k,
+                 point_light(&p->lights[l], get3(pos, k), get3(n, k), &wik, &dist[k], &cos_i));
             set3(&wi, k, wik);
             facing[k] = active[k] & !(cos_i <= 0.0f);
         }
@@ -356,7 +355,8 @@ LANE_FN void packet_indirect_light(const packed_scene *p, const int *id, const l
         set3(&o, k, v3_add(pk, v3_scale(nk, ray_eps(pk))));
         self[k] = id[k];
     }
-    packet_phong(p, id, n, &wi, wo, active, &f); /* before the walk below turns wi into its last ray */
+    packet_phong(p, id, n, &wi, wo, active,
+                 &f); /* before the walk below turns wi into its last ray */
     packet_radiance_direct_only(p, &o, &wi, self, active, &incoming);
     for (int k = 0; k < LANES; k++) {
         float pdf = cos_t[k] / TZ_PI;
@@ -368,9 +368,8 @@ LANE_FN void packet_indirect_light(const packed_scene *p, const int *id, const l
 
 /* integrator_sample_packet, compiled per vector level (static: clang 14 cannot clone an exported
  * function). */
-SIMD_CLONES static void sample_packet(const packed_scene *p, uint32_t i, uint32_t j,
-                                      uint32_t lanes, uint32_t sample_index,
-                                      vec3 out[PACKET_LANES]) {
+SIMD_CLONES static void sample_packet(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                                      uint32_t sample_index, vec3 out[PACKET_LANES]) {
     const struct gpu_frame *fr = &p->frame;
     uint32_t rng[LANES];
     int active[LANES], self[LANES], id[LANES];
@@ -378,7 +377,8 @@ SIMD_CLONES static void sample_packet(const packed_scene *p, uint32_t i, uint32_
     for (int k = 0; k < LANES; k++) {
         active[k] = (uint32_t)k < lanes;
         rng[k] = rng_seed(fr->settings.x, j * fr->size.x + i + (uint32_t)k, sample_index);
-        /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag. */
+        /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag.
+         */
         float u = rng_next(&rng[k]), v = rng_next(&rng[k]);
         if (!(fr->settings.z & TZ_FLAG_JITTER)) u = v = 0.5f;
         set3(&o, k, xyz(fr->origin));

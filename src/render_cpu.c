@@ -38,8 +38,8 @@ static void render_tile(cpu_job *job, int tile) {
             float *row = &job->film->accum[((size_t)j * (size_t)job->film->width + (size_t)i) * 4];
             for (int s = 0; s < job->samples; s++) {
                 vec3 l[PACKET_LANES];
-                integrator_sample_packet(job->packed, (uint32_t)i, (uint32_t)j, lanes,
-                                         (uint32_t)s, l);
+                integrator_sample_packet(job->packed, (uint32_t)i, (uint32_t)j, lanes, (uint32_t)s,
+                                         l);
                 for (uint32_t k = 0; k < lanes; k++) {
                     if (!isfinite(l[k].x) || !isfinite(l[k].y) || !isfinite(l[k].z)) {
                         dropped++;

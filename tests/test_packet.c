@@ -136,11 +136,13 @@ static void compare_cloud(void) {
     FILE *fp = open_memstream(&text, &length);
     CHECK(fp != NULL, "open_memstream failed");
     if (!fp) return;
-    fprintf(fp, "camera position 0.3 0.2 -7 direction 0 0 1 up 0 1 0\n"
-                "plane width 4 height 4 pixel 0.1\n"
-                "light position 3 4 -5 power 60\nlight position -4 1 -3 power 30\n"
-                "background 0.2 0.3 0.4\n");
-    const char *materials[] = {"lambertian", "phong ks 0.4 alpha 20", "mirror", "refractive ior 1.4"};
+    fprintf(fp,
+            "camera position 0.3 0.2 -7 direction 0 0 1 up 0 1 0\n"
+            "plane width 4 height 4 pixel 0.1\n"
+            "light position 3 4 -5 power 60\nlight position -4 1 -3 power 30\n"
+            "background 0.2 0.3 0.4\n");
+    const char *materials[] = {"lambertian", "phong ks 0.4 alpha 20", "mirror",
+                               "refractive ior 1.4"};
     uint32_t state = 12345;
     for (int k = 0; k < 150; k++) {
         float v[4];
