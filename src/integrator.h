@@ -10,13 +10,23 @@
 /* Radiance of sample `sample_index` of pixel (i, j), i to the right and j down; never fails. */
 vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
 
-/* Samples integrator_sample_packet takes at once. */
-#define PACKET_LANES 16
+/* The widest packet of any packet integrator. */
+#define PACKET_LANES_MAX 16
+/* The most packet integrators a build has. */
+#define PACKET_VARIANTS_MAX 3
 
-/* out[k] = integrator_sample(p, i + k, j, sample_index) for k < lanes (<= PACKET_LANES), bit for
- * bit, computed for all of them at once; never fails. */
-void integrator_sample_packet(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
-                              uint32_t sample_index, vec3 out[PACKET_LANES]);
+/* A build of the packet integrator (src/integrator_packet.c) for one vector level: sample(p, i, j,
+ * lanes, sample_index, out) sets out[k] = integrator_sample(p, i + k, j, sample_index) for
+ * k < lanes (<= width), bit for bit, computing all of them at once; never fails. */
+typedef struct packet_integrator {
+    const char *name; /* its vector level, e.g. "x86-64-v4" */
+    uint32_t width;
+    void (*sample)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                   uint32_t sample_index, vec3 *out);
+} packet_integrator;
+
+/* The packet integrators this processor runs into list, fastest first; returns how many (>= 1). */
+int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]);
 
 /* Nearest sphere hit by the ray o + t d (|d| = 1) with t > EPS, -1 on a miss; `self` is the
  * sphere the ray leaves (-1 for none): its near root is the ray's own origin and is ignored. */

@@ -8,9 +8,16 @@
 #include "integrator.h"
 #include "integrator_steps.h"
 #include "rng.h"
-#include "simd_clones.h"
 
+/* Built once per vector level (CMakeLists.txt): PACKET_LANES lanes, the entry point named
+ * integrator_sample_packet_<PACKET_VARIANT>; src/integrator_dispatch.c picks one at run time. */
+#ifndef PACKET_LANES
+#define PACKET_LANES 8
+#define PACKET_VARIANT baseline
+#endif
 #define LANES PACKET_LANES
+#define PACKET_ENTRY_NAME(variant) integrator_sample_packet_##variant
+#define PACKET_ENTRY(variant) PACKET_ENTRY_NAME(variant)
 /* Scenes of at most this many spheres are intersected packet against every sphere; bigger ones
  * through the BVH. */
 #define PACKET_BRUTE_FORCE_MAX 16
@@ -18,7 +25,7 @@
  * (fewer walk it one by one: measured, a walk of a few lanes costs more than their own walks). */
 #define WALK_GROUP_MIN 12
 
-/* The whole packet path is inlined into one function, compiled per vector level (SIMD_CLONES). */
+/* The whole packet path is inlined into its entry point. */
 #define LANE_FN static inline __attribute__((always_inline))
 
 /* One vec3 per lane, structure of arrays. */
@@ -366,10 +373,12 @@ LANE_FN void packet_indirect_light(const packed_scene *p, const int *id, const l
     }
 }
 
-/* integrator_sample_packet, compiled per vector level (static: clang 14 cannot clone an exported
- * function). */
-SIMD_CLONES static void sample_packet(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
-                                      uint32_t sample_index, vec3 out[PACKET_LANES]) {
+/* The packet_integrator sample function of this build (integrator.h). */
+void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                                  uint32_t sample_index, vec3 *out);
+
+void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                                  uint32_t sample_index, vec3 *out) {
     const struct gpu_frame *fr = &p->frame;
     uint32_t rng[LANES];
     int active[LANES], self[LANES], id[LANES];
@@ -401,9 +410,4 @@ SIMD_CLONES static void sample_packet(const packed_scene *p, uint32_t i, uint32_
         vec3 lit = id[k] == -1 ? v3_mul(w, background) : v3_mul(w, get3(&radiance, k));
         out[k] = id[k] == -2 ? v3(0.0f, 0.0f, 0.0f) : lit;
     }
-}
-
-void integrator_sample_packet(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
-                              uint32_t sample_index, vec3 out[PACKET_LANES]) {
-    sample_packet(p, i, j, lanes, sample_index, out);
 }

@@ -18,6 +18,7 @@
 
 typedef struct cpu_job {
     const packed_scene *packed;
+    packet_integrator packet; /* the fastest this processor runs */
     film *film;
     int samples;
     int tiles_x, tile_count;
@@ -32,14 +33,15 @@ static void render_tile(cpu_job *job, int tile) {
     int x1 = x0 + TILE_SIZE < job->film->width ? x0 + TILE_SIZE : job->film->width;
     int y1 = y0 + TILE_SIZE < job->film->height ? y0 + TILE_SIZE : job->film->height;
     unsigned long long dropped = 0;
+    const packet_integrator *pk = &job->packet;
+    int width = (int)pk->width;
     for (int j = y0; j < y1; j++) {
-        for (int i = x0; i < x1; i += PACKET_LANES) {
-            uint32_t lanes = (uint32_t)(x1 - i < PACKET_LANES ? x1 - i : PACKET_LANES);
+        for (int i = x0; i < x1; i += width) {
+            uint32_t lanes = (uint32_t)(x1 - i < width ? x1 - i : width);
             float *row = &job->film->accum[((size_t)j * (size_t)job->film->width + (size_t)i) * 4];
             for (int s = 0; s < job->samples; s++) {
-                vec3 l[PACKET_LANES];
-                integrator_sample_packet(job->packed, (uint32_t)i, (uint32_t)j, lanes, (uint32_t)s,
-                                         l);
+                vec3 l[PACKET_LANES_MAX];
+                pk->sample(job->packed, (uint32_t)i, (uint32_t)j, lanes, (uint32_t)s, l);
                 for (uint32_t k = 0; k < lanes; k++) {
                     if (!isfinite(l[k].x) || !isfinite(l[k].y) || !isfinite(l[k].z)) {
                         dropped++;
@@ -99,6 +101,9 @@ bool render_cpu(const scene *s, const render_opts *opts, film *f) {
         return false;
     }
     cpu_job job = {.packed = &packed, .film = f, .samples = opts->samples};
+    packet_integrator builds[PACKET_VARIANTS_MAX];
+    integrator_packet_list(builds);
+    job.packet = builds[0];
     job.tiles_x = (s->width + TILE_SIZE - 1) / TILE_SIZE;
     job.tile_count = job.tiles_x * ((s->height + TILE_SIZE - 1) / TILE_SIZE);
     atomic_init(&job.next_tile, 0);

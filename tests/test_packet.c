@@ -1,5 +1,6 @@
-/* test_packet.c: the packet integrator (integrator_sample_packet, what the CPU back end renders
- * with) returns bit for bit what the one-sample reference integrator_sample returns, and traces
+/* test_packet.c: every build of the packet integrator this machine runs (the CPU back end renders
+ * with the fastest) returns bit for bit what the one-sample reference integrator_sample returns,
+ * and traces
  * the same rays, on every scene of scenes/, generated scenes on both of its intersection paths
  * (every sphere, the BVH), a scene of nested and overlapping spheres with the camera inside glass
  * and a cloud of overlapping spheres with exact duplicates; under every option that changes the
@@ -32,37 +33,47 @@ static const char tangle[] =
 
 static int bits_equal(vec3 a, vec3 b) { return memcmp(&a, &b, sizeof a) == 0; }
 
-/* Every pixel of a SIDE x SIDE render, packets of every width from 1 to PACKET_LANES; with
+static packet_integrator builds[PACKET_VARIANTS_MAX];
+static int build_count;
+
+/* Every pixel of a SIDE x SIDE render by build b, packets of every width from 1 to its own; with
  * want_light, a quarter of the pixels at least must not be black. */
-static void compare(const char *name, const scene *s, const render_opts *o, bool want_light) {
-    packed_scene p;
-    CHECK(scene_pack(s, o, &p), "%s: pack failed", name);
+static void compare_build(const char *name, const packed_scene *p, const packet_integrator *b,
+                          bool want_light) {
     int differing = 0, lit = 0;
     uint64_t rays_one = 0, rays_packet = 0;
     for (uint32_t j = 0; j < SIDE; j++) {
-        uint32_t lanes = 1 + j % PACKET_LANES;
+        uint32_t lanes = 1 + j % b->width;
         for (uint32_t i = 0; i < SIDE; i += lanes) {
             uint32_t n = SIDE - i < lanes ? SIDE - i : lanes;
             uint32_t sample = (i + j) % 3;
-            vec3 out[PACKET_LANES];
+            vec3 out[PACKET_LANES_MAX];
             uint64_t before = integrator_rays_traced();
-            integrator_sample_packet(&p, i, j, n, sample, out);
+            b->sample(p, i, j, n, sample, out);
             rays_packet += integrator_rays_traced() - before;
             for (uint32_t k = 0; k < n; k++) {
                 before = integrator_rays_traced();
-                vec3 one = integrator_sample(&p, i + k, j, sample);
+                vec3 one = integrator_sample(p, i + k, j, sample);
                 rays_one += integrator_rays_traced() - before;
                 if (!bits_equal(one, out[k]) && differing++ < 3)
-                    fprintf(stderr, "%s: pixel %u,%u: %.9g %.9g %.9g (one) vs %.9g %.9g %.9g\n",
-                            name, i + k, j, one.x, one.y, one.z, out[k].x, out[k].y, out[k].z);
+                    fprintf(stderr, "%s, %s: pixel %u,%u: %.9g %.9g %.9g (one) vs %.9g %.9g %.9g\n",
+                            name, b->name, i + k, j, one.x, one.y, one.z, out[k].x, out[k].y,
+                            out[k].z);
                 lit += one.x + one.y + one.z > 0.0f;
             }
         }
     }
-    CHECK(differing == 0, "%s: %d pixels differ", name, differing);
-    CHECK(rays_one == rays_packet, "%s: %llu rays one at a time, %llu in packets", name,
-          (unsigned long long)rays_one, (unsigned long long)rays_packet);
+    CHECK(differing == 0, "%s, %s: %d pixels differ", name, b->name, differing);
+    CHECK(rays_one == rays_packet, "%s, %s: %llu rays one at a time, %llu in packets", name,
+          b->name, (unsigned long long)rays_one, (unsigned long long)rays_packet);
     CHECK(!want_light || lit > SIDE * SIDE / 4, "%s: only %d pixels have light", name, lit);
+}
+
+/* The scene with these options through every build. */
+static void compare(const char *name, const scene *s, const render_opts *o, bool want_light) {
+    packed_scene p;
+    CHECK(scene_pack(s, o, &p), "%s: pack failed", name);
+    for (int b = 0; b < build_count; b++) compare_build(name, &p, &builds[b], want_light);
     packed_scene_free(&p);
 }
 
@@ -163,6 +174,10 @@ static void compare_cloud(void) {
 }
 
 int main(void) {
+    build_count = integrator_packet_list(builds);
+    for (int b = 0; b < build_count; b++)
+        printf("packet integrator build %s, %u lanes\n", builds[b].name, builds[b].width);
+    CHECK(!strcmp(builds[build_count - 1].name, "baseline"), "the baseline build is not listed");
     const char *files[] = {"cornell.scene", "shadows.scene",    "phong.scene",
                            "mirror.scene",  "refraction.scene", "all.scene"};
     for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) compare_file(files[k]);

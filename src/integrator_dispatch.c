@@ -1,0 +1,36 @@
+/* integrator_dispatch.c: the builds of the packet integrator (src/integrator_packet.c, one per
+ * vector level, see CMakeLists.txt) and which of them this processor runs. */
+#include "integrator.h"
+
+typedef void packet_sample_fn(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                              uint32_t sample_index, vec3 *out);
+
+packet_sample_fn integrator_sample_packet_baseline;
+#ifdef TRAZADOR_PACKET_X86
+packet_sample_fn integrator_sample_packet_x86_64_v4, integrator_sample_packet_avx2;
+
+/* AVX-512 F, BW, CD, DQ and VL with AVX2, FMA and BMI2 (x86-64-v4), state saved by the OS. */
+static bool runs_x86_64_v4(void) {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+           __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("avx512dq") &&
+           __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx2") &&
+           __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi2");
+}
+
+static bool runs_avx2(void) {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2");
+}
+#endif
+
+int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]) {
+    int n = 0;
+#ifdef TRAZADOR_PACKET_X86
+    if (runs_x86_64_v4())
+        list[n++] = (packet_integrator){"x86-64-v4", 16, integrator_sample_packet_x86_64_v4};
+    if (runs_avx2()) list[n++] = (packet_integrator){"avx2", 8, integrator_sample_packet_avx2};
+#endif
+    list[n++] = (packet_integrator){"baseline", 8, integrator_sample_packet_baseline};
+    return n;
+}
