@@ -104,6 +104,8 @@ bool render_cpu(const scene *s, const render_opts *opts, film *f) {
     packet_integrator builds[PACKET_VARIANTS_MAX];
     integrator_packet_list(builds);
     job.packet = builds[0];
+    log_debug("cpu back end: packet integrator build %s, %u lanes", job.packet.name,
+              job.packet.width);
     job.tiles_x = (s->width + TILE_SIZE - 1) / TILE_SIZE;
     job.tile_count = job.tiles_x * ((s->height + TILE_SIZE - 1) / TILE_SIZE);
     atomic_init(&job.next_tile, 0);

@@ -28,6 +28,8 @@ run help 0 "$tz" --help
 has help out "usage: trazador render"
 run version 0 "$tz" --version
 has version out "trazador 0."
+run verbose 0 "$tz" render --backend cpu --width 32 --spp 1 --verbose -o verbose.png
+has verbose err "cpu back end: packet integrator build"
 run no-args 2 "$tz"
 run unknown-command 2 "$tz" paint
 has unknown-command err "unknown command 'paint'"
