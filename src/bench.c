@@ -7,6 +7,7 @@
 #include "clock.h"
 #include "default_scene.h"
 #include "gen.h"
+#include "integrator.h"
 #include "log.h"
 #include "vk_context.h"
 
@@ -157,6 +158,11 @@ int bench_command(int argc, char **argv) {
         return 1;
     }
     int failures = 0;
+    if (want_cpu) {
+        packet_integrator builds[PACKET_VARIANTS_MAX];
+        integrator_packet_list(builds);
+        printf("cpu: packet integrator build %s, %u lanes\n", builds[0].name, builds[0].width);
+    }
     printf("%-26s %15s %12s %15s %12s %7s\n", "workload (end to end)", "cpu Msamples/s",
            "cpu Mrays/s", "vk Msamples/s", "vk Mrays/s", "vk/cpu");
     for (size_t k = 0; k < sizeof workloads / sizeof workloads[0]; k++) {
