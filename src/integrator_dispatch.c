@@ -6,8 +6,8 @@ typedef void packet_sample_fn(const packed_scene *p, uint32_t i, uint32_t j, uin
                               uint32_t sample_index, vec3 *out);
 
 packet_sample_fn integrator_sample_packet_baseline;
-#ifdef TRAZADOR_PACKET_X86
-packet_sample_fn integrator_sample_packet_x86_64_v4, integrator_sample_packet_avx2;
+#ifdef TRAZADOR_PACKET_X86_64_V4
+packet_sample_fn integrator_sample_packet_x86_64_v4;
 
 /* AVX-512 F, BW, CD, DQ and VL with AVX2, FMA and BMI2 (x86-64-v4), state saved by the OS. */
 static bool runs_x86_64_v4(void) {
@@ -17,7 +17,11 @@ static bool runs_x86_64_v4(void) {
            __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx2") &&
            __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi2");
 }
+#endif
+#ifdef TRAZADOR_PACKET_AVX2
+packet_sample_fn integrator_sample_packet_avx2;
 
+/* AVX2, state saved by the OS. */
 static bool runs_avx2(void) {
     __builtin_cpu_init();
     return __builtin_cpu_supports("avx2");
@@ -26,9 +30,11 @@ static bool runs_avx2(void) {
 
 int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]) {
     int n = 0;
-#ifdef TRAZADOR_PACKET_X86
+#ifdef TRAZADOR_PACKET_X86_64_V4
     if (runs_x86_64_v4())
         list[n++] = (packet_integrator){"x86-64-v4", 16, integrator_sample_packet_x86_64_v4};
+#endif
+#ifdef TRAZADOR_PACKET_AVX2
     if (runs_avx2()) list[n++] = (packet_integrator){"avx2", 8, integrator_sample_packet_avx2};
 #endif
     list[n++] = (packet_integrator){"baseline", 8, integrator_sample_packet_baseline};

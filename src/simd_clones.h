@@ -4,7 +4,9 @@
 #ifndef TRAZADOR_SIMD_CLONES_H
 #define TRAZADOR_SIMD_CLONES_H
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+/* target_clones with x86-64-v4 needs GCC 11 or clang 14. */
+#if defined(__x86_64__) && ((defined(__clang__) && __clang_major__ >= 14) || \
+                            (!defined(__clang__) && defined(__GNUC__) && __GNUC__ >= 11))
 #define SIMD_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
 #else
 #define SIMD_CLONES
