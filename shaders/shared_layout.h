@@ -34,8 +34,8 @@ typedef struct tz_uvec4 {
 #define TZ_FLAG_JITTER 1u
 #define TZ_FLAG_INDIRECT 2u
 
-/* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (2 x 4 pixel blocks keep a
- * subgroup's rays coherent), 32 lanes on real GPUs. */
+/* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
+ * pixels, whose rays stay coherent; 4 x 8 runs twice the instructions), 32 lanes on real GPUs. */
 #define TZ_GROUP_X 8
 #define TZ_GROUP_Y 4
 
