@@ -18,6 +18,20 @@ static int check_passed, check_failed;
         }                                                                   \
     } while (0)
 
+/* The case check_case is running (NULL: none), named in EXPECT's failures. */
+static const char *check_case_name;
+
+/* CHECK with no message of its own: a failure names the running case. */
+#define EXPECT(cond) CHECK(cond, "in %s", check_case_name ? check_case_name : "main")
+
+/* Runs fn as the case `name`. */
+static inline void check_case(const char *name, void (*fn)(void)) {
+    check_case_name = name;
+    fn();
+    check_case_name = NULL;
+}
+#define CHECK_CASE(fn) check_case(#fn, fn)
+
 /* Prints the closing "name: N passed, N failed" line; returns the exit code. */
 static inline int check_summary(const char *name) {
     printf("%s: %d passed, %d failed\n", name, check_passed, check_failed);

@@ -8,21 +8,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "check.h"
 #include "diff.h"
 #include "image.h"
 #include "log.h"
 #include "tmp_dir.h"
-
-static const char *test_name;
-static int test_failures;
-
-#define CHECK(cond)                                                        \
-    do {                                                                   \
-        if (!(cond)) {                                                     \
-            test_failures++;                                               \
-            printf("FAIL %s: %s (line %d)\n", test_name, #cond, __LINE__); \
-        }                                                                  \
-    } while (0)
 
 static bool near(double got, double want, double tol) { return fabs(got - want) <= tol; }
 
@@ -48,11 +38,11 @@ static void test_identical(void) {
     copy_image(&b, &a);
     b.rgb[5] = a.rgb[5] = INFINITY; /* equal infinities count as equal */
     diff_stats s;
-    CHECK(diff_images(&a, &b, &s));
-    CHECK(s.rmse == 0.0);
-    CHECK(isinf(s.psnr) && s.psnr > 0);
-    CHECK(s.max_diff == 0.0);
-    CHECK(s.differ_share == 0.0 && s.differ_count == 0);
+    EXPECT(diff_images(&a, &b, &s));
+    EXPECT(s.rmse == 0.0);
+    EXPECT(isinf(s.psnr) && s.psnr > 0);
+    EXPECT(s.max_diff == 0.0);
+    EXPECT(s.differ_share == 0.0 && s.differ_count == 0);
     image_free(&a);
     image_free(&b);
 }
@@ -63,17 +53,17 @@ static void test_constant_offset(void) {
     copy_image(&b, &a);
     for (int i = 0; i < W * H * 3; i++) b.rgb[i] += 0.01f;
     diff_stats s;
-    CHECK(diff_images(&a, &b, &s));
-    CHECK(near(s.rmse, 0.01, 1e-6)); /* sqrt(mean(0.01^2)) */
-    CHECK(near(s.max_diff, 0.01, 1e-6));
-    CHECK(isfinite(s.psnr) && s.psnr > 20 && s.psnr < 60);
+    EXPECT(diff_images(&a, &b, &s));
+    EXPECT(near(s.rmse, 0.01, 1e-6)); /* sqrt(mean(0.01^2)) */
+    EXPECT(near(s.max_diff, 0.01, 1e-6));
+    EXPECT(isfinite(s.psnr) && s.psnr > 20 && s.psnr < 60);
     /* 0.01 linear is over 1/255 after sRGB encoding everywhere in [0.2, 0.7] */
-    CHECK(s.differ_count == W * H && s.differ_share == 1.0);
+    EXPECT(s.differ_count == W * H && s.differ_share == 1.0);
 
     for (int i = 0; i < W * H * 3; i++) b.rgb[i] = a.rgb[i] + 1e-4f; /* below 1/255 displayed */
-    CHECK(diff_images(&a, &b, &s));
-    CHECK(near(s.rmse, 1e-4, 1e-7));
-    CHECK(s.differ_count == 0 && s.differ_share == 0.0);
+    EXPECT(diff_images(&a, &b, &s));
+    EXPECT(near(s.rmse, 1e-4, 1e-7));
+    EXPECT(s.differ_count == 0 && s.differ_share == 0.0);
     image_free(&a);
     image_free(&b);
 }
@@ -88,9 +78,9 @@ static void test_psnr_known(void) {
         b.rgb[i] = tonemap_decode((uint8_t)(12 + i), TONEMAP_SRGB);
     }
     diff_stats s;
-    CHECK(diff_images(&a, &b, &s));
-    CHECK(near(s.psnr, 10.0 * log10(255.0 * 255.0 / 4.0), 1e-9));
-    CHECK(s.differ_count == W * H);
+    EXPECT(diff_images(&a, &b, &s));
+    EXPECT(near(s.psnr, 10.0 * log10(255.0 * 255.0 / 4.0), 1e-9));
+    EXPECT(s.differ_count == W * H);
     image_free(&a);
     image_free(&b);
 }
@@ -101,11 +91,11 @@ static void test_single_pixel(void) {
     copy_image(&b, &a);
     b.rgb[(2 * W + 3) * 3 + 1] += 0.2f;
     diff_stats s;
-    CHECK(diff_images(&a, &b, &s));
-    CHECK(s.differ_count == 1);
-    CHECK(s.differ_share == 1.0 / (W * H));
-    CHECK(near(s.rmse, sqrt(0.04 / (W * H * 3)), 1e-6));
-    CHECK(near(s.max_diff, 0.2, 1e-6));
+    EXPECT(diff_images(&a, &b, &s));
+    EXPECT(s.differ_count == 1);
+    EXPECT(s.differ_share == 1.0 / (W * H));
+    EXPECT(near(s.rmse, sqrt(0.04 / (W * H * 3)), 1e-6));
+    EXPECT(near(s.max_diff, 0.2, 1e-6));
     image_free(&a);
     image_free(&b);
 }
@@ -116,8 +106,8 @@ static void test_nonfinite(void) {
     copy_image(&b, &a);
     b.rgb[7] = NAN;
     diff_stats s;
-    CHECK(diff_images(&a, &b, &s));
-    CHECK(isnan(s.rmse) && isnan(s.max_diff)); /* so that every threshold on them fails */
+    EXPECT(diff_images(&a, &b, &s));
+    EXPECT(isnan(s.rmse) && isnan(s.max_diff)); /* so that every threshold on them fails */
     image_free(&a);
     image_free(&b);
 }
@@ -127,10 +117,10 @@ static void test_size_mismatch(void) {
     image_init(&a, W, H);
     image_init(&b, H, W);
     diff_stats s;
-    CHECK(!diff_images(&a, &b, &s));
+    EXPECT(!diff_images(&a, &b, &s));
     image_free(&b);
     image_init(&b, W, H + 1);
-    CHECK(!diff_images(&a, &b, &s));
+    EXPECT(!diff_images(&a, &b, &s));
     image_free(&a);
     image_free(&b);
 }
@@ -208,90 +198,80 @@ static void write_fixtures(void) {
 
 static void test_command_metrics(void) {
     const char *a = tmp_path("a.pfm"), *ppm = tmp_path("a.ppm"), *png = tmp_path("a.png");
-    CHECK(run_diff(a, a, NULL) == 0);
-    CHECK(strstr(cmd_out, "rmse 0\n") && strstr(cmd_out, "psnr inf dB\n"));
-    CHECK(strstr(cmd_out, "max_diff 0\n") && strstr(cmd_out, "differ 0.0000% (0 of 30 pixels)\n"));
+    EXPECT(run_diff(a, a, NULL) == 0);
+    EXPECT(strstr(cmd_out, "rmse 0\n") && strstr(cmd_out, "psnr inf dB\n"));
+    EXPECT(strstr(cmd_out, "max_diff 0\n") && strstr(cmd_out, "differ 0.0000% (0 of 30 pixels)\n"));
     /* the 8-bit files hold exactly the same linear values */
-    CHECK(run_diff(a, ppm, "--min-psnr", "inf", "--max-rmse", "0", NULL) == 0);
-    CHECK(run_diff(png, a, "--min-psnr", "inf", "--max-diff-share", "0", NULL) == 0);
-    CHECK(run_diff(a, tmp_path("pixel.pfm"), NULL) == 0);
-    CHECK(strstr(cmd_out, "differ 3.3333% (1 of 30 pixels)\n") != NULL);
-    CHECK(strstr(cmd_out, "max_diff 0.2") != NULL);
-    CHECK(strstr(cmd_out, "FAIL") == NULL);
+    EXPECT(run_diff(a, ppm, "--min-psnr", "inf", "--max-rmse", "0", NULL) == 0);
+    EXPECT(run_diff(png, a, "--min-psnr", "inf", "--max-diff-share", "0", NULL) == 0);
+    EXPECT(run_diff(a, tmp_path("pixel.pfm"), NULL) == 0);
+    EXPECT(strstr(cmd_out, "differ 3.3333% (1 of 30 pixels)\n") != NULL);
+    EXPECT(strstr(cmd_out, "max_diff 0.2") != NULL);
+    EXPECT(strstr(cmd_out, "FAIL") == NULL);
 }
 
 static void test_command_thresholds(void) {
     const char *a = tmp_path("a.pfm"), *off = tmp_path("offset.pfm");
     const char *px = tmp_path("pixel.pfm");
-    CHECK(run_diff(a, off, "--max-rmse", "0.1", NULL) == 0);
-    CHECK(run_diff(a, off, "--max-rmse", "0.001", NULL) == 1);
-    CHECK(strstr(cmd_out, "FAIL: rmse 0.0") && strstr(cmd_out, " > 0.001\n"));
-    CHECK(run_diff(a, a, "--min-psnr", "100", NULL) == 0);
-    CHECK(run_diff(a, off, "--min-psnr", "10", NULL) == 0);
-    CHECK(run_diff(a, off, "--min-psnr", "100", NULL) == 1);
-    CHECK(strstr(cmd_out, "FAIL: psnr ") && strstr(cmd_out, " dB < 100\n"));
-    CHECK(run_diff(a, px, "--max-diff-share", "0.05", NULL) == 0);
-    CHECK(run_diff(a, px, "--max-diff-share", "0.01", NULL) == 1);
-    CHECK(strstr(cmd_out, "FAIL: differ 3.3333% > 1%\n") != NULL);
-    CHECK(run_diff(a, off, "--max-diff-share", "1", NULL) == 0);
+    EXPECT(run_diff(a, off, "--max-rmse", "0.1", NULL) == 0);
+    EXPECT(run_diff(a, off, "--max-rmse", "0.001", NULL) == 1);
+    EXPECT(strstr(cmd_out, "FAIL: rmse 0.0") && strstr(cmd_out, " > 0.001\n"));
+    EXPECT(run_diff(a, a, "--min-psnr", "100", NULL) == 0);
+    EXPECT(run_diff(a, off, "--min-psnr", "10", NULL) == 0);
+    EXPECT(run_diff(a, off, "--min-psnr", "100", NULL) == 1);
+    EXPECT(strstr(cmd_out, "FAIL: psnr ") && strstr(cmd_out, " dB < 100\n"));
+    EXPECT(run_diff(a, px, "--max-diff-share", "0.05", NULL) == 0);
+    EXPECT(run_diff(a, px, "--max-diff-share", "0.01", NULL) == 1);
+    EXPECT(strstr(cmd_out, "FAIL: differ 3.3333% > 1%\n") != NULL);
+    EXPECT(run_diff(a, off, "--max-diff-share", "1", NULL) == 0);
     /* thresholds just either side of the measured values */
     image ia, ib;
     diff_stats s;
-    CHECK(image_read(a, &ia, TONEMAP_SRGB) && image_read(off, &ib, TONEMAP_SRGB));
-    CHECK(diff_images(&ia, &ib, &s));
+    EXPECT(image_read(a, &ia, TONEMAP_SRGB) && image_read(off, &ib, TONEMAP_SRGB));
+    EXPECT(diff_images(&ia, &ib, &s));
     image_free(&ia);
     image_free(&ib);
     char below[64], above[64];
     snprintf(below, sizeof below, "%.17g", s.psnr - 0.01);
     snprintf(above, sizeof above, "%.17g", s.psnr + 0.01);
-    CHECK(run_diff(a, off, "--min-psnr", below, NULL) == 0);
-    CHECK(run_diff(a, off, "--min-psnr", above, NULL) == 1);
+    EXPECT(run_diff(a, off, "--min-psnr", below, NULL) == 0);
+    EXPECT(run_diff(a, off, "--min-psnr", above, NULL) == 1);
     snprintf(below, sizeof below, "%.17g", s.rmse * 0.999);
     snprintf(above, sizeof above, "%.17g", s.rmse * 1.001);
-    CHECK(run_diff(a, off, "--max-rmse", below, NULL) == 1);
-    CHECK(run_diff(a, off, "--max-rmse", above, NULL) == 0);
+    EXPECT(run_diff(a, off, "--max-rmse", below, NULL) == 1);
+    EXPECT(run_diff(a, off, "--max-rmse", above, NULL) == 0);
     /* all three, only the last one failing */
-    CHECK(run_diff("--max-rmse", "0.5", a, "--min-psnr", "5", px, "--max-diff-share", "0", NULL) ==
-          1);
-    CHECK(!strstr(cmd_out, "FAIL: rmse") && !strstr(cmd_out, "FAIL: psnr"));
-    CHECK(strstr(cmd_out, "FAIL: differ") != NULL);
+    EXPECT(run_diff("--max-rmse", "0.5", a, "--min-psnr", "5", px, "--max-diff-share", "0", NULL) ==
+           1);
+    EXPECT(!strstr(cmd_out, "FAIL: rmse") && !strstr(cmd_out, "FAIL: psnr"));
+    EXPECT(strstr(cmd_out, "FAIL: differ") != NULL);
 }
 
 static void test_command_failures(void) {
     const char *a = tmp_path("a.pfm");
-    CHECK(run_diff(a, tmp_path("wide.pfm"), NULL) == 1);
-    CHECK(strstr(cmd_err, "6x5") && strstr(cmd_err, "7x5"));
-    CHECK(cmd_out[0] == '\0');
-    CHECK(run_diff(a, tmp_path("missing.pfm"), NULL) == 1);
-    CHECK(run_diff(tmp_path("bad.ppm"), a, NULL) == 1);
-    CHECK(run_diff(a, tmp_path("a.bmp"), NULL) == 1);
+    EXPECT(run_diff(a, tmp_path("wide.pfm"), NULL) == 1);
+    EXPECT(strstr(cmd_err, "6x5") && strstr(cmd_err, "7x5"));
+    EXPECT(cmd_out[0] == '\0');
+    EXPECT(run_diff(a, tmp_path("missing.pfm"), NULL) == 1);
+    EXPECT(run_diff(tmp_path("bad.ppm"), a, NULL) == 1);
+    EXPECT(run_diff(a, tmp_path("a.bmp"), NULL) == 1);
 }
 
 static void test_command_usage(void) {
     const char *a = tmp_path("a.pfm");
-    CHECK(run_diff(NULL) == 2 && strstr(cmd_err, "usage: trazador diff"));
-    CHECK(run_diff(a, NULL) == 2 && strstr(cmd_err, "usage:"));
-    CHECK(run_diff(a, a, a, NULL) == 2 && strstr(cmd_err, "usage:"));
-    CHECK(run_diff(a, a, "--max-rmse", NULL) == 2 && strstr(cmd_err, "usage:"));
-    CHECK(run_diff(a, a, "--max-rmse", "abc", NULL) == 2 && strstr(cmd_err, "abc"));
-    CHECK(run_diff(a, a, "--max-rmse", "0.1x", NULL) == 2);
-    CHECK(run_diff(a, a, "--max-rmse", "", NULL) == 2);
-    CHECK(run_diff(a, a, "--min-psnr", "nan", NULL) == 2);
-    CHECK(run_diff(a, a, "--max-diff-share", NULL) == 2);
-    CHECK(run_diff(a, a, "--bogus", NULL) == 2 && strstr(cmd_err, "--bogus"));
-    CHECK(run_diff(a, a, "--max-rmse=0.1", NULL) == 2);
-    CHECK(cmd_out[0] == '\0'); /* nothing read, nothing printed */
-    CHECK(run_diff("--help", NULL) == 0 && strstr(cmd_out, "usage:"));
-}
-
-static void run(const char *name, void (*fn)(void), int *passed, int *failed) {
-    test_name = name;
-    test_failures = 0;
-    fn();
-    if (test_failures)
-        ++*failed;
-    else
-        ++*passed;
+    EXPECT(run_diff(NULL) == 2 && strstr(cmd_err, "usage: trazador diff"));
+    EXPECT(run_diff(a, NULL) == 2 && strstr(cmd_err, "usage:"));
+    EXPECT(run_diff(a, a, a, NULL) == 2 && strstr(cmd_err, "usage:"));
+    EXPECT(run_diff(a, a, "--max-rmse", NULL) == 2 && strstr(cmd_err, "usage:"));
+    EXPECT(run_diff(a, a, "--max-rmse", "abc", NULL) == 2 && strstr(cmd_err, "abc"));
+    EXPECT(run_diff(a, a, "--max-rmse", "0.1x", NULL) == 2);
+    EXPECT(run_diff(a, a, "--max-rmse", "", NULL) == 2);
+    EXPECT(run_diff(a, a, "--min-psnr", "nan", NULL) == 2);
+    EXPECT(run_diff(a, a, "--max-diff-share", NULL) == 2);
+    EXPECT(run_diff(a, a, "--bogus", NULL) == 2 && strstr(cmd_err, "--bogus"));
+    EXPECT(run_diff(a, a, "--max-rmse=0.1", NULL) == 2);
+    EXPECT(cmd_out[0] == '\0'); /* nothing read, nothing printed */
+    EXPECT(run_diff("--help", NULL) == 0 && strstr(cmd_out, "usage:"));
 }
 
 int main(void) {
@@ -303,22 +283,19 @@ int main(void) {
     if (!getenv("TRAZADOR_TEST_VERBOSE")) quiet_level = (log_level)(LOG_ERROR + 1);
     log_set_level(quiet_level);
     write_fixtures();
-    int passed = 0, failed = 0;
-#define RUN(fn) run(#fn, fn, &passed, &failed)
-    RUN(test_identical);
-    RUN(test_constant_offset);
-    RUN(test_psnr_known);
-    RUN(test_single_pixel);
-    RUN(test_nonfinite);
-    RUN(test_size_mismatch);
-    RUN(test_command_metrics);
-    RUN(test_command_thresholds);
-    RUN(test_command_failures);
-    RUN(test_command_usage);
+    CHECK_CASE(test_identical);
+    CHECK_CASE(test_constant_offset);
+    CHECK_CASE(test_psnr_known);
+    CHECK_CASE(test_single_pixel);
+    CHECK_CASE(test_nonfinite);
+    CHECK_CASE(test_size_mismatch);
+    CHECK_CASE(test_command_metrics);
+    CHECK_CASE(test_command_thresholds);
+    CHECK_CASE(test_command_failures);
+    CHECK_CASE(test_command_usage);
     const char *files[] = {"a.pfm",    "a.ppm",   "a.png",      "offset.pfm", "pixel.pfm",
                            "wide.pfm", "bad.ppm", "stdout.txt", "stderr.txt"};
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) unlink(tmp_path(files[i]));
     rmdir(tmpdir);
-    printf("test_diff: %d passed, %d failed\n", passed, failed);
-    return failed ? 1 : 0;
+    return check_summary("test_diff");
 }

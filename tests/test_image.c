@@ -11,20 +11,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "check.h"
 #include "image.h"
 #include "log.h"
 #include "tmp_dir.h"
-
-static const char *test_name;
-static int test_failures;
-
-#define CHECK(cond)                                                        \
-    do {                                                                   \
-        if (!(cond)) {                                                     \
-            test_failures++;                                               \
-            printf("FAIL %s: %s (line %d)\n", test_name, #cond, __LINE__); \
-        }                                                                  \
-    } while (0)
 
 static void write_file(const char *path, const void *data, size_t len) {
     FILE *fp = fopen(path, "wb");
@@ -107,14 +97,14 @@ static void make_float_image(image *img) {
 /* Same size and bit-identical values; prints the first difference. */
 static bool same_image(const image *got, const image *want) {
     if (got->width != want->width || got->height != want->height || !got->rgb) {
-        printf("  %s: size %dx%d, want %dx%d\n", test_name, got->width, got->height, want->width,
-               want->height);
+        printf("  %s: size %dx%d, want %dx%d\n", check_case_name, got->width, got->height,
+               want->width, want->height);
         return false;
     }
     for (int i = 0; i < want->width * want->height * 3; i++) {
         if (memcmp(&got->rgb[i], &want->rgb[i], sizeof(float)) != 0) {
             int p = i / 3;
-            printf("  %s: pixel (%d,%d) channel %d is %.9g, want %.9g\n", test_name,
+            printf("  %s: pixel (%d,%d) channel %d is %.9g, want %.9g\n", check_case_name,
                    p % want->width, p / want->width, i % 3, got->rgb[i], want->rgb[i]);
             return false;
         }
@@ -123,36 +113,37 @@ static bool same_image(const image *got, const image *want) {
 }
 
 static void test_tonemap_known(void) {
-    CHECK(tonemap_channel(0.0f, TONEMAP_SRGB) == 0);
-    CHECK(tonemap_channel(1.0f, TONEMAP_SRGB) == 255);
-    CHECK(tonemap_channel(0.5f, TONEMAP_SRGB) == 188);
-    CHECK(tonemap_channel(0.5f, TONEMAP_LINEAR) == 128);
-    CHECK(tonemap_channel(0.2f, TONEMAP_LINEAR) == 51);
-    CHECK(tonemap_channel(0.0031308f, TONEMAP_SRGB) == 10); /* 12.92 * 0.0031308 * 255 = 10.3 */
-    CHECK(tonemap_channel(0.0031307f, TONEMAP_SRGB) == 10);
-    CHECK(tonemap_channel(0.0031309f, TONEMAP_SRGB) == 10);
-    CHECK(tonemap_channel(0.001f, TONEMAP_SRGB) == 3);   /* 12.92 * 0.001 * 255 = 3.29 */
-    CHECK(tonemap_channel(0.0035f, TONEMAP_SRGB) == 11); /* power curve 11.48; the line: 11.53 */
-    CHECK(fabs(tonemap_encode(0.003f, TONEMAP_SRGB) - 12.92 * (double)0.003f) < 1e-9);
-    CHECK(fabs(tonemap_encode(0.0035f, TONEMAP_SRGB) - (1.055 * pow(0.0035f, 1 / 2.4) - 0.055)) <
-          1e-9);
-    CHECK(tonemap_channel(0.18f, TONEMAP_SRGB) == 118);
-    CHECK(tonemap_channel(-0.5f, TONEMAP_SRGB) == 0);
-    CHECK(tonemap_channel(-0.5f, TONEMAP_LINEAR) == 0);
-    CHECK(tonemap_channel(7.0f, TONEMAP_SRGB) == 255);
-    CHECK(tonemap_channel(7.0f, TONEMAP_LINEAR) == 255);
-    CHECK(tonemap_channel(NAN, TONEMAP_SRGB) == 0);
-    CHECK(tonemap_channel(NAN, TONEMAP_LINEAR) == 0);
-    CHECK(tonemap_channel(INFINITY, TONEMAP_SRGB) == 255);
-    CHECK(tonemap_channel(-INFINITY, TONEMAP_SRGB) == 0);
-    CHECK(fabs(tonemap_encode(0.5f, TONEMAP_SRGB) - 0.735356983) < 1e-6);
-    CHECK(tonemap_encode(0.25f, TONEMAP_LINEAR) == 0.25);
-    CHECK(tonemap_encode(2.0f, TONEMAP_SRGB) <= 1.0);
+    EXPECT(tonemap_channel(0.0f, TONEMAP_SRGB) == 0);
+    EXPECT(tonemap_channel(1.0f, TONEMAP_SRGB) == 255);
+    EXPECT(tonemap_channel(0.5f, TONEMAP_SRGB) == 188);
+    EXPECT(tonemap_channel(0.5f, TONEMAP_LINEAR) == 128);
+    EXPECT(tonemap_channel(0.2f, TONEMAP_LINEAR) == 51);
+    EXPECT(tonemap_channel(0.0031308f, TONEMAP_SRGB) == 10); /* 12.92 * 0.0031308 * 255 = 10.3 */
+    EXPECT(tonemap_channel(0.0031307f, TONEMAP_SRGB) == 10);
+    EXPECT(tonemap_channel(0.0031309f, TONEMAP_SRGB) == 10);
+    EXPECT(tonemap_channel(0.001f, TONEMAP_SRGB) == 3);   /* 12.92 * 0.001 * 255 = 3.29 */
+    EXPECT(tonemap_channel(0.0035f, TONEMAP_SRGB) == 11); /* power curve 11.48; the line: 11.53 */
+    EXPECT(fabs(tonemap_encode(0.003f, TONEMAP_SRGB) - 12.92 * (double)0.003f) < 1e-9);
+    EXPECT(fabs(tonemap_encode(0.0035f, TONEMAP_SRGB) - (1.055 * pow(0.0035f, 1 / 2.4) - 0.055)) <
+           1e-9);
+    EXPECT(tonemap_channel(0.18f, TONEMAP_SRGB) == 118);
+    EXPECT(tonemap_channel(-0.5f, TONEMAP_SRGB) == 0);
+    EXPECT(tonemap_channel(-0.5f, TONEMAP_LINEAR) == 0);
+    EXPECT(tonemap_channel(7.0f, TONEMAP_SRGB) == 255);
+    EXPECT(tonemap_channel(7.0f, TONEMAP_LINEAR) == 255);
+    EXPECT(tonemap_channel(NAN, TONEMAP_SRGB) == 0);
+    EXPECT(tonemap_channel(NAN, TONEMAP_LINEAR) == 0);
+    EXPECT(tonemap_channel(INFINITY, TONEMAP_SRGB) == 255);
+    EXPECT(tonemap_channel(-INFINITY, TONEMAP_SRGB) == 0);
+    EXPECT(fabs(tonemap_encode(0.5f, TONEMAP_SRGB) - 0.735356983) < 1e-6);
+    EXPECT(tonemap_encode(0.25f, TONEMAP_LINEAR) == 0.25);
+    EXPECT(tonemap_encode(2.0f, TONEMAP_SRGB) <= 1.0);
     /* the inverse: linear segment up to byte 10, the power curve from 11 */
-    CHECK(tonemap_decode(10, TONEMAP_SRGB) == (float)(10.0 / 255.0 / 12.92));
-    CHECK(fabs(tonemap_decode(11, TONEMAP_SRGB) - pow((11.0 / 255.0 + 0.055) / 1.055, 2.4)) < 1e-9);
-    CHECK(fabs(tonemap_decode(188, TONEMAP_SRGB) - 0.502886) < 1e-6);
-    CHECK(tonemap_decode(51, TONEMAP_LINEAR) == 0.2f);
+    EXPECT(tonemap_decode(10, TONEMAP_SRGB) == (float)(10.0 / 255.0 / 12.92));
+    EXPECT(fabs(tonemap_decode(11, TONEMAP_SRGB) - pow((11.0 / 255.0 + 0.055) / 1.055, 2.4)) <
+           1e-9);
+    EXPECT(fabs(tonemap_decode(188, TONEMAP_SRGB) - 0.502886) < 1e-6);
+    EXPECT(tonemap_decode(51, TONEMAP_LINEAR) == 0.2f);
 }
 
 static void test_tonemap_decode_all_bytes(void) {
@@ -161,15 +152,15 @@ static void test_tonemap_decode_all_bytes(void) {
         for (int b = 0; b < 256; b++) {
             float v = tonemap_decode((uint8_t)b, (tonemap)tm);
             if (tonemap_channel(v, (tonemap)tm) != b || !(v > prev)) {
-                printf("  %s: tonemap %d byte %d decodes to %.9g, re-encodes to %d\n", test_name,
-                       tm, b, v, tonemap_channel(v, (tonemap)tm));
-                CHECK(!"decode then encode gives back every byte, increasing");
+                printf("  %s: tonemap %d byte %d decodes to %.9g, re-encodes to %d\n",
+                       check_case_name, tm, b, v, tonemap_channel(v, (tonemap)tm));
+                EXPECT(!"decode then encode gives back every byte, increasing");
                 break;
             }
             prev = v;
         }
-        CHECK(tonemap_decode(0, (tonemap)tm) == 0.0f);
-        CHECK(tonemap_decode(255, (tonemap)tm) == 1.0f);
+        EXPECT(tonemap_decode(0, (tonemap)tm) == 0.0f);
+        EXPECT(tonemap_decode(255, (tonemap)tm) == 1.0f);
     }
 }
 
@@ -179,22 +170,22 @@ static void test_film_average(void) {
                      0.0f, 3.0f, 0.0f, 3.0f, 0.0f, 0.0f, 0.0f, 0.0f, -1.f, 2.0f, 8.0f, 2.0f};
     film f = {3, 2, accum, 0};
     image img;
-    CHECK(image_from_film(&f, &img));
+    EXPECT(image_from_film(&f, &img));
     float want[] = {0.5f, 1.0f, 1.5f, 1.0f, 0.5f, 0.25f, 0.0f,  0.0f, 0.0f,
                     0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 0.0f,  -0.5f, 1.0f, 4.0f};
     image ref = {3, 2, want};
-    CHECK(same_image(&img, &ref));
+    EXPECT(same_image(&img, &ref));
     image_free(&img);
-    CHECK(img.rgb == NULL && img.width == 0);
+    EXPECT(img.rgb == NULL && img.width == 0);
     image_free(&img); /* safe twice */
 }
 
 static void test_init_limits(void) {
     image img;
-    CHECK(!image_init(&img, 0, 5) && img.rgb == NULL);
-    CHECK(!image_init(&img, 5, -1) && img.rgb == NULL);
-    CHECK(!image_init(&img, IMAGE_MAX_DIM + 1, 1) && img.rgb == NULL);
-    CHECK(image_init(&img, 2, 3) && img.rgb && img.rgb[17] == 0.0f);
+    EXPECT(!image_init(&img, 0, 5) && img.rgb == NULL);
+    EXPECT(!image_init(&img, 5, -1) && img.rgb == NULL);
+    EXPECT(!image_init(&img, IMAGE_MAX_DIM + 1, 1) && img.rgb == NULL);
+    EXPECT(image_init(&img, 2, 3) && img.rgb && img.rgb[17] == 0.0f);
     image_free(&img);
 }
 
@@ -202,16 +193,16 @@ static void roundtrip_8bit(const char *name, tonemap tm) {
     image src, back;
     make_8bit_image(&src, tm);
     const char *path = tmp_path(name);
-    CHECK(image_write(path, &src, tm));
-    CHECK(image_read(path, &back, tm));
-    CHECK(same_image(&back, &src));
+    EXPECT(image_write(path, &src, tm));
+    EXPECT(image_read(path, &back, tm));
+    EXPECT(same_image(&back, &src));
     bool bytes_ok = back.rgb != NULL;
     for (int y = 0; y < H && bytes_ok; y++)
         for (int x = 0; x < W; x++)
             for (int c = 0; c < 3; c++)
                 if (tonemap_channel(back.rgb[(y * W + x) * 3 + c], tm) != test_byte(x, y, c))
                     bytes_ok = false;
-    CHECK(bytes_ok);
+    EXPECT(bytes_ok);
     image_free(&src);
     image_free(&back);
 }
@@ -233,9 +224,9 @@ static void test_roundtrip_pfm(void) {
     src.rgb[7] = 3e38f;
     src.rgb[11] = -0.0f;
     src.rgb[13] = INFINITY;
-    CHECK(image_write(tmp_path("rt.pfm"), &src, TONEMAP_SRGB));
-    CHECK(image_read(tmp_path("rt.pfm"), &back, TONEMAP_LINEAR));
-    CHECK(same_image(&back, &src));
+    EXPECT(image_write(tmp_path("rt.pfm"), &src, TONEMAP_SRGB));
+    EXPECT(image_read(tmp_path("rt.pfm"), &back, TONEMAP_LINEAR));
+    EXPECT(same_image(&back, &src));
     image_free(&src);
     image_free(&back);
 }
@@ -248,9 +239,9 @@ static void test_all_bytes_through_files(void) {
             image_init(&src, 256, 1);
             for (int i = 0; i < 256 * 3; i++)
                 src.rgb[i] = tonemap_decode((uint8_t)((i / 3 + 85 * (i % 3)) % 256), (tonemap)tm);
-            CHECK(image_write(tmp_path(names[k]), &src, (tonemap)tm));
-            CHECK(image_read(tmp_path(names[k]), &back, (tonemap)tm));
-            CHECK(same_image(&back, &src));
+            EXPECT(image_write(tmp_path(names[k]), &src, (tonemap)tm));
+            EXPECT(image_read(tmp_path(names[k]), &back, (tonemap)tm));
+            EXPECT(same_image(&back, &src));
             image_free(&src);
             image_free(&back);
         }
@@ -260,20 +251,20 @@ static void test_all_bytes_through_files(void) {
 static void test_ppm_bytes(void) {
     image src;
     make_8bit_image(&src, TONEMAP_SRGB);
-    CHECK(image_write(tmp_path("bytes.ppm"), &src, TONEMAP_SRGB));
+    EXPECT(image_write(tmp_path("bytes.ppm"), &src, TONEMAP_SRGB));
     size_t len;
     unsigned char *data = slurp(tmp_path("bytes.ppm"), &len);
     const char header[] = "P6\n6 5\n255\n";
     size_t hl = sizeof header - 1;
-    CHECK(data && len == hl + W * H * 3);
+    EXPECT(data && len == hl + W * H * 3);
     if (data && len == hl + W * H * 3) {
-        CHECK(memcmp(data, header, hl) == 0);
+        EXPECT(memcmp(data, header, hl) == 0);
         bool ok = true; /* top row first, RGB order */
         for (int y = 0; y < H; y++)
             for (int x = 0; x < W; x++)
                 for (int c = 0; c < 3; c++)
                     ok = ok && data[hl + (size_t)(y * W + x) * 3 + c] == test_byte(x, y, c);
-        CHECK(ok);
+        EXPECT(ok);
     }
     free(data);
     image_free(&src);
@@ -289,22 +280,22 @@ static float le_float(const unsigned char *b) {
 static void test_pfm_bytes(void) {
     image src;
     make_float_image(&src);
-    CHECK(image_write(tmp_path("bytes.pfm"), &src, TONEMAP_SRGB));
+    EXPECT(image_write(tmp_path("bytes.pfm"), &src, TONEMAP_SRGB));
     size_t len;
     unsigned char *data = slurp(tmp_path("bytes.pfm"), &len);
     const char header[] = "PF\n6 5\n-1.0\n";
     size_t hl = sizeof header - 1;
-    CHECK(data && len == hl + W * H * 12);
+    EXPECT(data && len == hl + W * H * 12);
     if (data && len == hl + W * H * 12) {
-        CHECK(memcmp(data, header, hl) == 0);
-        CHECK(le_float(data + hl) == test_float(0, H - 1, 0)); /* bottom-left red first */
+        EXPECT(memcmp(data, header, hl) == 0);
+        EXPECT(le_float(data + hl) == test_float(0, H - 1, 0)); /* bottom-left red first */
         bool ok = true;
         for (int r = 0; r < H; r++)
             for (int x = 0; x < W; x++)
                 for (int c = 0; c < 3; c++)
                     ok = ok && le_float(data + hl + (size_t)((r * W + x) * 3 + c) * 4) ==
                                    test_float(x, H - 1 - r, c);
-        CHECK(ok);
+        EXPECT(ok);
     }
     free(data);
     image_free(&src);
@@ -318,10 +309,10 @@ static void test_pfm_big_endian_and_gray(void) {
         "\xc0\x80\x00\x00\x3f\x00\x00\x00\x3e\x80\x00\x00";
     write_file(tmp_path("be.pfm"), be, sizeof be - 1);
     image img;
-    CHECK(image_read(tmp_path("be.pfm"), &img, TONEMAP_SRGB));
+    EXPECT(image_read(tmp_path("be.pfm"), &img, TONEMAP_SRGB));
     float want_be[] = {1.0f, 2.0f, 3.0f, -4.0f, 0.5f, 0.25f};
     image ref_be = {2, 1, want_be};
-    CHECK(same_image(&img, &ref_be));
+    EXPECT(same_image(&img, &ref_be));
     image_free(&img);
 
     /* little-endian Pf, 2x2, bottom row (1, 2) first, then top row (3, 4) */
@@ -329,10 +320,10 @@ static void test_pfm_big_endian_and_gray(void) {
         "Pf\n2 2\n-1\n"
         "\x00\x00\x80\x3f\x00\x00\x00\x40\x00\x00\x40\x40\x00\x00\x80\x40";
     write_file(tmp_path("gray.pfm"), gray, sizeof gray - 1);
-    CHECK(image_read(tmp_path("gray.pfm"), &img, TONEMAP_SRGB));
+    EXPECT(image_read(tmp_path("gray.pfm"), &img, TONEMAP_SRGB));
     float want_gray[] = {3, 3, 3, 4, 4, 4, 1, 1, 1, 2, 2, 2};
     image ref_gray = {2, 2, want_gray};
-    CHECK(same_image(&img, &ref_gray));
+    EXPECT(same_image(&img, &ref_gray));
     image_free(&img);
 }
 
@@ -343,25 +334,25 @@ static void test_ppm_comments_and_p3(void) {
     const uint8_t bytes[] = {0, 128, 255, 1, 2, 3};
     for (int i = 0; i < 6; i++) want[i] = tonemap_decode(bytes[i], TONEMAP_LINEAR);
     image ref = {2, 1, want}, img;
-    CHECK(image_read(tmp_path("comments.ppm"), &img, TONEMAP_LINEAR));
-    CHECK(same_image(&img, &ref));
+    EXPECT(image_read(tmp_path("comments.ppm"), &img, TONEMAP_LINEAR));
+    EXPECT(same_image(&img, &ref));
     image_free(&img);
 
     const char p3[] = "P3\n# ascii\n2 1\n255\n0 128 255\n1 2 3\n";
     write_file(tmp_path("ascii.ppm"), p3, sizeof p3 - 1);
-    CHECK(image_read(tmp_path("ascii.ppm"), &img, TONEMAP_LINEAR));
-    CHECK(same_image(&img, &ref));
+    EXPECT(image_read(tmp_path("ascii.ppm"), &img, TONEMAP_LINEAR));
+    EXPECT(same_image(&img, &ref));
     image_free(&img);
 }
 
 static void test_extension_case(void) {
     image src, back;
     make_8bit_image(&src, TONEMAP_SRGB);
-    CHECK(image_write(tmp_path("UPPER.PPM"), &src, TONEMAP_SRGB));
-    CHECK(image_write(tmp_path("mixed.Png"), &src, TONEMAP_SRGB));
-    CHECK(image_read(tmp_path("UPPER.PPM"), &back, TONEMAP_SRGB) && same_image(&back, &src));
+    EXPECT(image_write(tmp_path("UPPER.PPM"), &src, TONEMAP_SRGB));
+    EXPECT(image_write(tmp_path("mixed.Png"), &src, TONEMAP_SRGB));
+    EXPECT(image_read(tmp_path("UPPER.PPM"), &back, TONEMAP_SRGB) && same_image(&back, &src));
     image_free(&back);
-    CHECK(image_read(tmp_path("mixed.Png"), &back, TONEMAP_SRGB) && same_image(&back, &src));
+    EXPECT(image_read(tmp_path("mixed.Png"), &back, TONEMAP_SRGB) && same_image(&back, &src));
     image_free(&back);
     image_free(&src);
 }
@@ -390,16 +381,16 @@ static void test_write_errors(void) {
 
     image src;
     make_8bit_image(&src, TONEMAP_SRGB);
-    CHECK(!image_write(keep, &src, TONEMAP_SRGB));
-    CHECK(!image_write(noext, &src, TONEMAP_SRGB));
-    CHECK(!image_write(missing, &src, TONEMAP_SRGB));
-    CHECK(!image_write(blocked, &src, TONEMAP_SRGB));
+    EXPECT(!image_write(keep, &src, TONEMAP_SRGB));
+    EXPECT(!image_write(noext, &src, TONEMAP_SRGB));
+    EXPECT(!image_write(missing, &src, TONEMAP_SRGB));
+    EXPECT(!image_write(blocked, &src, TONEMAP_SRGB));
     image empty = {0};
-    CHECK(!image_write(keep, &empty, TONEMAP_SRGB));
-    CHECK(file_is(keep, "original"));
-    CHECK(file_is(noext, "original"));
-    CHECK(file_is(inner, "x"));
-    CHECK(count_entries(dir) == 3); /* keep.bmp, noext, blocked.ppm: no temporaries */
+    EXPECT(!image_write(keep, &empty, TONEMAP_SRGB));
+    EXPECT(file_is(keep, "original"));
+    EXPECT(file_is(noext, "original"));
+    EXPECT(file_is(inner, "x"));
+    EXPECT(count_entries(dir) == 3); /* keep.bmp, noext, blocked.ppm: no temporaries */
     image_free(&src);
 }
 
@@ -431,11 +422,11 @@ static void test_write_interrupted(void) {
             _exit(image_write(dest, &big, TONEMAP_SRGB) ? 0 : 3);
         }
         int status = 0;
-        CHECK(pid > 0 && waitpid(pid, &status, 0) == pid);
-        CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 3);
-        CHECK(file_is(dest, "original"));
+        EXPECT(pid > 0 && waitpid(pid, &status, 0) == pid);
+        EXPECT(WIFEXITED(status) && WEXITSTATUS(status) == 3);
+        EXPECT(file_is(dest, "original"));
     }
-    CHECK(count_entries(dir) == 3);
+    EXPECT(count_entries(dir) == 3);
 }
 
 static void test_overwrite(void) {
@@ -449,13 +440,13 @@ static void test_overwrite(void) {
         snprintf(path, sizeof path, "%s/%s", dir, names[k]);
         write_file(path, "original", 8);
         chmod(path, 0600);
-        CHECK(image_write(path, &src, TONEMAP_SRGB));
-        CHECK(image_read(path, &back, TONEMAP_SRGB) && same_image(&back, &src));
+        EXPECT(image_write(path, &src, TONEMAP_SRGB));
+        EXPECT(image_read(path, &back, TONEMAP_SRGB) && same_image(&back, &src));
         image_free(&back);
         struct stat st;
-        CHECK(stat(path, &st) == 0 && (st.st_mode & 0777) == 0644);
+        EXPECT(stat(path, &st) == 0 && (st.st_mode & 0777) == 0644);
     }
-    CHECK(count_entries(dir) == 3);
+    EXPECT(count_entries(dir) == 3);
     image_free(&src);
 }
 
@@ -466,8 +457,8 @@ static void expect_bad(const char *name, const void *data, size_t len) {
     image img = {7, 7, NULL};
     bool ok = image_read(path, &img, TONEMAP_SRGB);
     if (ok || img.rgb || img.width || img.height) {
-        printf("  %s: %s was accepted\n", test_name, name);
-        CHECK(!"malformed file rejected");
+        printf("  %s: %s was accepted\n", check_case_name, name);
+        EXPECT(!"malformed file rejected");
     }
     image_free(&img);
 }
@@ -510,11 +501,11 @@ static void test_malformed(void) {
     /* a real PNG cut in half, and one whose header claims 20000 x 20000 */
     image src;
     make_8bit_image(&src, TONEMAP_SRGB);
-    CHECK(image_write(tmp_path("whole.png"), &src, TONEMAP_SRGB));
+    EXPECT(image_write(tmp_path("whole.png"), &src, TONEMAP_SRGB));
     image_free(&src);
     size_t len;
     unsigned char *png = slurp(tmp_path("whole.png"), &len);
-    CHECK(png && len > 40);
+    EXPECT(png && len > 40);
     if (png && len > 40) {
         expect_bad("half.png", png, len / 2);
         expect_bad("header.png", png, 30);
@@ -526,19 +517,9 @@ static void test_malformed(void) {
     free(png);
 
     image img;
-    CHECK(!image_read(tmp_path("does_not_exist.ppm"), &img, TONEMAP_SRGB) && !img.rgb);
+    EXPECT(!image_read(tmp_path("does_not_exist.ppm"), &img, TONEMAP_SRGB) && !img.rgb);
     mkdir(tmp_path("folder.ppm"), 0755);
-    CHECK(!image_read(tmp_path("folder.ppm"), &img, TONEMAP_SRGB) && !img.rgb);
-}
-
-static void run(const char *name, void (*fn)(void), int *passed, int *failed) {
-    test_name = name;
-    test_failures = 0;
-    fn();
-    if (test_failures)
-        ++*failed;
-    else
-        ++*passed;
+    EXPECT(!image_read(tmp_path("folder.ppm"), &img, TONEMAP_SRGB) && !img.rgb);
 }
 
 int main(void) {
@@ -548,26 +529,23 @@ int main(void) {
     }
     /* the expected errors are noise; TRAZADOR_TEST_VERBOSE=1 shows them */
     if (!getenv("TRAZADOR_TEST_VERBOSE")) log_set_level((log_level)(LOG_ERROR + 1));
-    int passed = 0, failed = 0;
-#define RUN(fn) run(#fn, fn, &passed, &failed)
-    RUN(test_tonemap_known);
-    RUN(test_tonemap_decode_all_bytes);
-    RUN(test_film_average);
-    RUN(test_init_limits);
-    RUN(test_roundtrip_ppm);
-    RUN(test_roundtrip_png);
-    RUN(test_roundtrip_pfm);
-    RUN(test_all_bytes_through_files);
-    RUN(test_ppm_bytes);
-    RUN(test_pfm_bytes);
-    RUN(test_pfm_big_endian_and_gray);
-    RUN(test_ppm_comments_and_p3);
-    RUN(test_extension_case);
-    RUN(test_write_errors);
-    RUN(test_write_interrupted);
-    RUN(test_overwrite);
-    RUN(test_malformed);
+    CHECK_CASE(test_tonemap_known);
+    CHECK_CASE(test_tonemap_decode_all_bytes);
+    CHECK_CASE(test_film_average);
+    CHECK_CASE(test_init_limits);
+    CHECK_CASE(test_roundtrip_ppm);
+    CHECK_CASE(test_roundtrip_png);
+    CHECK_CASE(test_roundtrip_pfm);
+    CHECK_CASE(test_all_bytes_through_files);
+    CHECK_CASE(test_ppm_bytes);
+    CHECK_CASE(test_pfm_bytes);
+    CHECK_CASE(test_pfm_big_endian_and_gray);
+    CHECK_CASE(test_ppm_comments_and_p3);
+    CHECK_CASE(test_extension_case);
+    CHECK_CASE(test_write_errors);
+    CHECK_CASE(test_write_interrupted);
+    CHECK_CASE(test_overwrite);
+    CHECK_CASE(test_malformed);
     remove_tree(tmpdir);
-    printf("test_image: %d passed, %d failed\n", passed, failed);
-    return failed ? 1 : 0;
+    return check_summary("test_image");
 }
