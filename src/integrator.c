@@ -31,7 +31,7 @@ static inline void leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end,
     int i = *id;
     for (int lane = 0; lane < SOA_LANES; lane++) { /* selects: which lane wins is unpredictable */
         int k = (int)begin + lane;
-        int take = (t[lane] < b) | ((t[lane] == b) & (i >= 0) & (k < i));
+        int take = nearer_hit(t[lane], k, b, i);
         b = take ? t[lane] : b;
         i = take ? k : i;
     }
@@ -125,7 +125,7 @@ static vec3 phong_brdf(const struct gpu_sphere *s, vec3 n, vec3 wi, vec3 wo) {
 
 /* Direct light from every point light at p (shading normal n, facing wo) on sphere id. */
 static vec3 direct_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3 wo) {
-    vec3 o = v3_add(pos, v3_scale(n, ray_eps(pos)));
+    vec3 o = offset_origin(pos, n);
     vec3 sum = v3(0.0f, 0.0f, 0.0f);
     for (uint32_t k = 0; k < p->frame.size.w; k++) {
         /* Distance and angle from the true hit point; only the shadow ray starts off the surface.
@@ -180,7 +180,7 @@ static vec3 indirect_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3
     float y1 = rng_next(rng), y2 = rng_next(rng);
     float cos_t = sqrtf(1.0f - y1), phi = 2.0f * TZ_PI * y2;
     vec3 wi = cosine_direction(n, y1, cosf(phi), sinf(phi));
-    vec3 o = v3_add(pos, v3_scale(n, ray_eps(pos)));
+    vec3 o = offset_origin(pos, n);
     vec3 incoming = radiance_direct_only(p, o, wi, id);
     float pdf = cos_t / TZ_PI;
     vec3 f = phong_brdf(&p->spheres[id], n, wi, wo);

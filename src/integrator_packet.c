@@ -45,9 +45,16 @@ LANE_FN void set3(lanes3 *a, int k, vec3 v) {
 typedef float float_lanes __attribute__((vector_size(LANES * sizeof(float))));
 typedef int32_t int_lanes __attribute__((vector_size(LANES * sizeof(int32_t))));
 
-/* best[k], id[k] = ts[k], s where ts[k] < best[k]: sphere s is nearer than the hit so far. In
- * vector registers: the equivalent loop over lanes compiles to masked stores, whose reloads stall
- * the next sphere's update. */
+/* best, id = ts, s in the lanes where take has all bits set. */
+LANE_FN void blend_hits(float_lanes *best, int_lanes *id, const float_lanes *ts,
+                        const int_lanes *take, int s) {
+    *best = (float_lanes)(((int_lanes)*ts & *take) | ((int_lanes)*best & ~*take));
+    *id = (*id & ~*take) | (s & *take);
+}
+
+/* best[k], id[k] = ts[k], s where ts[k] < best[k]: sphere s is nearer than the hit so far (spheres
+ * must come in increasing order for the tie rule to hold). In vector registers: the equivalent
+ * loop over lanes compiles to masked stores, whose reloads stall the next sphere's update. */
 LANE_FN void keep_nearer(float *best, int *id, const float *ts, int s) {
     float_lanes b, t;
     int_lanes i;
@@ -55,20 +62,26 @@ LANE_FN void keep_nearer(float *best, int *id, const float *ts, int s) {
     memcpy(&t, ts, sizeof t);
     memcpy(&i, id, sizeof i);
     int_lanes nearer = t < b;
-    b = (float_lanes)(((int_lanes)t & nearer) | ((int_lanes)b & ~nearer));
-    i = (i & ~nearer) | (s & nearer);
+    blend_hits(&b, &i, &t, &nearer, s);
     memcpy(best, &b, sizeof b);
     memcpy(id, &i, sizeof i);
 }
 
-/* keep_nearer with the tie rule of integrator.c's leaf_hit: sphere s also wins a tie with a
- * higher index, so the order of a walk's leaves cannot change the hit. */
+/* keep_nearer with the whole tie rule (nearer_hit): sphere s also wins a tie with a higher index,
+ * so the order of a walk's leaves cannot change the hit. The rule is taken lane by lane: as one
+ * vector expression gcc 12 scalarizes the loops around it. */
 LANE_FN void keep_nearer_tie(float *best, int *id, const float *ts, int s) {
-    float nearer[LANES];
-    for (int k = 0; k < LANES; k++)
-        nearer[k] =
-            ts[k] < best[k] || (ts[k] == best[k] && id[k] >= 0 && s < id[k]) ? ts[k] : INFINITY;
-    keep_nearer(best, id, nearer, s);
+    int32_t takes[LANES];
+    for (int k = 0; k < LANES; k++) takes[k] = -nearer_hit(ts[k], s, best[k], id[k]);
+    float_lanes b, t;
+    int_lanes i, take;
+    memcpy(&b, best, sizeof b);
+    memcpy(&t, ts, sizeof t);
+    memcpy(&i, id, sizeof i);
+    memcpy(&take, takes, sizeof take);
+    blend_hits(&b, &i, &t, &take, s);
+    memcpy(best, &b, sizeof b);
+    memcpy(id, &i, sizeof i);
 }
 
 LANE_FN int any_lane(const int *mask) {
@@ -291,7 +304,7 @@ LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lan
     lanes3 o;
     for (int k = 0; k < LANES; k++) {
         vec3 pk = get3(pos, k);
-        set3(&o, k, v3_add(pk, v3_scale(get3(n, k), ray_eps(pk))));
+        set3(&o, k, offset_origin(pk, get3(n, k)));
         set3(sum, k, v3(0.0f, 0.0f, 0.0f));
     }
     for (uint32_t l = 0; l < p->frame.size.w; l++) {
@@ -359,7 +372,7 @@ LANE_FN void packet_indirect_light(const packed_scene *p, const int *id, const l
     for (int k = 0; k < LANES; k++) {
         vec3 nk = get3(n, k), pk = get3(pos, k);
         set3(&wi, k, cosine_direction(nk, y1[k], cos_phi[k], sin_phi[k]));
-        set3(&o, k, v3_add(pk, v3_scale(nk, ray_eps(pk))));
+        set3(&o, k, offset_origin(pk, nk));
         self[k] = id[k];
     }
     packet_phong(p, id, n, &wi, wo, active,

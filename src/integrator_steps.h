@@ -57,6 +57,15 @@ static inline float sphere_distance(float cx, float cy, float cz, float r, vec3 
     return miss ? INFINITY : near;
 }
 
+/* The origin of a ray leaving surface point p on the side its normal n points to. */
+static inline vec3 offset_origin(vec3 p, vec3 n) { return v3_add(p, v3_scale(n, ray_eps(p))); }
+
+/* 1 when sphere k at distance t replaces the nearest hit so far (id at best): nearer, or as near
+ * with a lower index, so the order of visits never changes which sphere is seen. */
+static inline int nearer_hit(float t, int k, float best, int id) {
+    return (t < best) | ((t == best) & (id >= 0) & (k < id));
+}
+
 /* The bits of a float (the BVH stores indices in floats' places). */
 static inline uint32_t uint_bits(float f) {
     uint32_t u;

@@ -173,6 +173,28 @@ static void compare_cloud(void) {
     free(text);
 }
 
+/* 24 coincident spheres of different colours (more than a leaf holds, so the BVH splits them over
+ * leaves): every hit is an exact tie, which the lowest index must win whatever leaf the walk
+ * enters first. */
+static void compare_coincident(void) {
+    char *text = NULL;
+    size_t length = 0;
+    FILE *fp = open_memstream(&text, &length);
+    CHECK(fp != NULL, "open_memstream failed");
+    if (!fp) return;
+    fprintf(fp,
+            "camera position 0 0 -5 direction 0 0 1 up 0 1 0\n"
+            "plane width 4 height 4 pixel 0.1\n"
+            "light position 2 3 -4 power 40\n"
+            "sphere lambertian center 0 -1001.5 0 radius 1000 color 0.5 0.5 0.5\n");
+    for (int k = 0; k < 24; k++)
+        fprintf(fp, "sphere lambertian center 0 0 0 radius 1.2 color %.3f %.3f 0.5\n",
+                0.1f + 0.035f * (float)k, 0.9f - 0.03f * (float)k);
+    fclose(fp);
+    compare_text("coincident", text, length);
+    free(text);
+}
+
 int main(void) {
     build_count = integrator_packet_list(builds);
     for (int b = 0; b < build_count; b++)
@@ -187,5 +209,6 @@ int main(void) {
     compare_generated("random 300", (gen_desc){.kind = GEN_RANDOM, .count = 300, .seed = 5});
     compare_text("tangle", tangle, sizeof tangle - 1);
     compare_cloud();
+    compare_coincident();
     return check_summary("test_packet");
 }
