@@ -277,23 +277,48 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
     }
 }
 
-/* Normalized Phong BRDF per lane for sphere id[k] (phong_brdf of integrator.c); powf only where a
- * lane needs it. */
-LANE_FN void packet_phong(const packed_scene *p, const int *id, const lanes3 *n, const lanes3 *wi,
-                          const lanes3 *wo, const int *active, lanes3 *f) {
-    float x[LANES], ks[LANES], alpha[LANES], lobe[LANES];
+/* The Phong parameters of each lane's sphere id[k], gathered once for all the BRDF evaluations
+ * at that hit. */
+typedef struct phong_lanes {
     lanes3 kd;
+    float ks[LANES], alpha[LANES];
+} phong_lanes;
+
+LANE_FN void packet_gather_phong(const packed_scene *p, const int *id, phong_lanes *m) {
     for (int k = 0; k < LANES; k++) {
         const struct gpu_sphere *s = &p->spheres[id[k] >= 0 ? id[k] : 0];
-        set3(&kd, k, xyz(s->color_ks));
-        ks[k] = s->color_ks.w;
-        alpha[k] = s->params.x;
+        set3(&m->kd, k, xyz(s->color_ks));
+        m->ks[k] = s->color_ks.w;
+        m->alpha[k] = s->params.x;
     }
+}
+
+/* Normalized Phong BRDF per lane (phong_brdf of integrator.c); powf only where a lane needs it. */
+LANE_FN void packet_phong(const phong_lanes *m, const lanes3 *n, const lanes3 *wi, const lanes3 *wo,
+                          const int *active, lanes3 *f) {
+    float x[LANES], lobe[LANES];
     for (int k = 0; k < LANES; k++) x[k] = phong_lobe_cos(get3(n, k), get3(wi, k), get3(wo, k));
     for (int k = 0; k < LANES; k++)
-        lobe[k] = active[k] && ks[k] > 0.0f ? phong_lobe(x[k], alpha[k]) : 0.0f;
+        lobe[k] = active[k] && m->ks[k] > 0.0f ? phong_lobe(x[k], m->alpha[k]) : 0.0f;
     for (int k = 0; k < LANES; k++)
-        set3(f, k, phong_from_lobe(get3(&kd, k), ks[k], alpha[k], lobe[k]));
+        set3(f, k, phong_from_lobe(get3(&m->kd, k), m->ks[k], m->alpha[k], lobe[k]));
+}
+
+/* The lanes whose path reached a diffuse hit (id[k] >= 0), and wo, the way back along their last
+ * rays d. */
+LANE_FN void packet_diffuse_hits(const int *active, const int *id, const lanes3 *d, int *diffuse,
+                                 lanes3 *wo) {
+    for (int k = 0; k < LANES; k++) {
+        diffuse[k] = active[k] & (id[k] >= 0);
+        set3(wo, k, v3_scale(get3(d, k), -1.0f));
+    }
+}
+
+/* What a path ending as id brings back: its weight times the background on a miss (-1), black
+ * past the bounce limit (-2), else its weight times the light found at its diffuse hit. */
+LANE_FN vec3 path_radiance(int id, vec3 weight, vec3 background, vec3 found) {
+    vec3 lit = id == -1 ? v3_mul(weight, background) : v3_mul(weight, found);
+    return id == -2 ? v3(0.0f, 0.0f, 0.0f) : lit;
 }
 
 /* Direct light from every point light at the active lanes' diffuse hits (direct_light of
@@ -302,6 +327,8 @@ LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lan
                                  const lanes3 *n, const lanes3 *wo, const int *active,
                                  lanes3 *sum) {
     lanes3 o;
+    phong_lanes m;
+    packet_gather_phong(p, id, &m);
     for (int k = 0; k < LANES; k++) {
         vec3 pk = get3(pos, k);
         set3(&o, k, offset_origin(pk, get3(n, k)));
@@ -321,7 +348,7 @@ LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lan
         }
         if (!any_lane(facing)) continue;
         packet_trace(p, &o, &wi, id, dist, facing, 1, blocker, blocker_t);
-        packet_phong(p, id, n, &wi, wo, facing, &f);
+        packet_phong(&m, n, &wi, wo, facing, &f);
         for (int k = 0; k < LANES; k++) {
             int lit = facing[k] & (blocker[k] < 0);
             vec3 s = get3(sum, k);
@@ -338,17 +365,11 @@ LANE_FN void packet_radiance_direct_only(const packed_scene *p, lanes3 *o, lanes
     for (int k = 0; k < LANES; k++) set3(&weight, k, v3(1.0f, 1.0f, 1.0f));
     packet_follow_specular(p, o, d, self, active, &weight, &pos, &n, id);
     int diffuse[LANES];
-    for (int k = 0; k < LANES; k++) {
-        diffuse[k] = active[k] & (id[k] >= 0);
-        set3(&wo, k, v3_scale(get3(d, k), -1.0f));
-    }
+    packet_diffuse_hits(active, id, d, diffuse, &wo);
     packet_direct_light(p, id, &pos, &n, &wo, diffuse, &direct);
     vec3 background = xyz(p->frame.background);
-    for (int k = 0; k < LANES; k++) {
-        vec3 w = get3(&weight, k);
-        vec3 lit = id[k] == -1 ? v3_mul(w, background) : v3_mul(w, get3(&direct, k));
-        set3(radiance, k, id[k] == -2 ? v3(0.0f, 0.0f, 0.0f) : lit);
-    }
+    for (int k = 0; k < LANES; k++)
+        set3(radiance, k, path_radiance(id[k], get3(&weight, k), background, get3(&direct, k)));
 }
 
 /* One cosine-weighted bounce at the active lanes' diffuse hits (indirect_light of integrator.c),
@@ -375,8 +396,9 @@ LANE_FN void packet_indirect_light(const packed_scene *p, const int *id, const l
         set3(&o, k, offset_origin(pk, nk));
         self[k] = id[k];
     }
-    packet_phong(p, id, n, &wi, wo, active,
-                 &f); /* before the walk below turns wi into its last ray */
+    phong_lanes m;
+    packet_gather_phong(p, id, &m);
+    packet_phong(&m, n, &wi, wo, active, &f); /* before the walk below turns wi into its last ray */
     packet_radiance_direct_only(p, &o, &wi, self, active, &incoming);
     for (int k = 0; k < LANES; k++) {
         float pdf = cos_t[k] / TZ_PI;
@@ -410,17 +432,11 @@ void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j,
     }
     packet_follow_specular(p, &o, &d, self, active, &weight, &pos, &n, id);
     int diffuse[LANES];
-    for (int k = 0; k < LANES; k++) {
-        diffuse[k] = active[k] & (id[k] >= 0);
-        set3(&wo, k, v3_scale(get3(&d, k), -1.0f));
-    }
+    packet_diffuse_hits(active, id, &d, diffuse, &wo);
     packet_direct_light(p, id, &pos, &n, &wo, diffuse, &radiance);
     if (fr->settings.z & TZ_FLAG_INDIRECT)
         packet_indirect_light(p, id, &pos, &n, &wo, diffuse, rng, &radiance);
     vec3 background = xyz(fr->background);
-    for (int k = 0; k < LANES; k++) {
-        vec3 w = get3(&weight, k);
-        vec3 lit = id[k] == -1 ? v3_mul(w, background) : v3_mul(w, get3(&radiance, k));
-        out[k] = id[k] == -2 ? v3(0.0f, 0.0f, 0.0f) : lit;
-    }
+    for (int k = 0; k < LANES; k++)
+        out[k] = path_radiance(id[k], get3(&weight, k), background, get3(&radiance, k));
 }
