@@ -128,25 +128,28 @@ static void compare_text(const char *name, const char *text, size_t length) {
     }
 }
 
-static void compare_generated(const char *name, gen_desc desc) {
+/* Writes a scene with write(fp, arg) into memory, then compares its variants. */
+static void compare_written(const char *name, bool (*write)(FILE *fp, const void *arg),
+                            const void *arg) {
     char *text = NULL;
     size_t length = 0;
     FILE *fp = open_memstream(&text, &length);
-    CHECK(fp && gen_write(&desc, fp), "%s: generation failed", name);
-    if (fp) fclose(fp);
-    compare_text(name, text, length);
+    CHECK(fp != NULL, "%s: open_memstream failed", name);
+    if (!fp) return;
+    bool written = write(fp, arg);
+    fclose(fp);
+    CHECK(written, "%s: writing the scene failed", name);
+    if (written) compare_text(name, text, length);
     free(text);
 }
 
+/* A `trazador gen` scene; arg is its gen_desc. */
+static bool write_generated(FILE *fp, const void *arg) { return gen_write(arg, fp); }
+
 /* 150 overlapping and nested spheres of all four materials in a 4-unit cube, every tenth one
- * given twice (exact ties, whichever leaf the walk enters first), seen from outside: enough to
- * need the BVH. */
-static void compare_cloud(void) {
-    char *text = NULL;
-    size_t length = 0;
-    FILE *fp = open_memstream(&text, &length);
-    CHECK(fp != NULL, "open_memstream failed");
-    if (!fp) return;
+ * given twice (exact ties), seen from outside: enough to need the BVH. */
+static bool write_cloud(FILE *fp, const void *unused) {
+    (void)unused;
     fprintf(fp,
             "camera position 0.3 0.2 -7 direction 0 0 1 up 0 1 0\n"
             "plane width 4 height 4 pixel 0.1\n"
@@ -168,20 +171,14 @@ static void compare_cloud(void) {
         fputs(line, fp);
         if (k % 10 == 0) fputs(line, fp);
     }
-    fclose(fp);
-    compare_text("cloud", text, length);
-    free(text);
+    return true;
 }
 
 /* 24 coincident spheres of different colours (more than a leaf holds, so the BVH splits them over
  * leaves): every hit is an exact tie, which the lowest index must win whatever leaf the walk
  * enters first. */
-static void compare_coincident(void) {
-    char *text = NULL;
-    size_t length = 0;
-    FILE *fp = open_memstream(&text, &length);
-    CHECK(fp != NULL, "open_memstream failed");
-    if (!fp) return;
+static bool write_coincident(FILE *fp, const void *unused) {
+    (void)unused;
     fprintf(fp,
             "camera position 0 0 -5 direction 0 0 1 up 0 1 0\n"
             "plane width 4 height 4 pixel 0.1\n"
@@ -190,9 +187,7 @@ static void compare_coincident(void) {
     for (int k = 0; k < 24; k++)
         fprintf(fp, "sphere lambertian center 0 0 0 radius 1.2 color %.3f %.3f 0.5\n",
                 0.1f + 0.035f * (float)k, 0.9f - 0.03f * (float)k);
-    fclose(fp);
-    compare_text("coincident", text, length);
-    free(text);
+    return true;
 }
 
 int main(void) {
@@ -204,11 +199,14 @@ int main(void) {
                            "mirror.scene",  "refraction.scene", "all.scene"};
     for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) compare_file(files[k]);
     /* 10 spheres: every sphere per packet; 91 and 300: the BVH. */
-    compare_generated("sphereflake depth 1", (gen_desc){.kind = GEN_SPHEREFLAKE, .depth = 1});
-    compare_generated("sphereflake depth 2", (gen_desc){.kind = GEN_SPHEREFLAKE, .depth = 2});
-    compare_generated("random 300", (gen_desc){.kind = GEN_RANDOM, .count = 300, .seed = 5});
+    const gen_desc flake1 = {.kind = GEN_SPHEREFLAKE, .depth = 1};
+    const gen_desc flake2 = {.kind = GEN_SPHEREFLAKE, .depth = 2};
+    const gen_desc random300 = {.kind = GEN_RANDOM, .count = 300, .seed = 5};
+    compare_written("sphereflake depth 1", write_generated, &flake1);
+    compare_written("sphereflake depth 2", write_generated, &flake2);
+    compare_written("random 300", write_generated, &random300);
     compare_text("tangle", tangle, sizeof tangle - 1);
-    compare_cloud();
-    compare_coincident();
+    compare_written("cloud", write_cloud, NULL);
+    compare_written("coincident", write_coincident, NULL);
     return check_summary("test_packet");
 }
