@@ -159,9 +159,8 @@ int bench_command(int argc, char **argv) {
     }
     int failures = 0;
     if (want_cpu) {
-        packet_integrator builds[PACKET_VARIANTS_MAX];
-        integrator_packet_list(builds);
-        printf("cpu: packet integrator build %s, %u lanes\n", builds[0].name, builds[0].width);
+        packet_integrator build = integrator_packet_choose();
+        printf("cpu: packet integrator build %s, %u lanes\n", build.name, build.width);
     }
     printf("%-26s %15s %12s %15s %12s %7s\n", "workload (end to end)", "cpu Msamples/s",
            "cpu Mrays/s", "vk Msamples/s", "vk Mrays/s", "vk/cpu");

@@ -2,6 +2,11 @@
  * vector level, see CMakeLists.txt) and which of them this processor runs. */
 #include "integrator.h"
 
+#include <stdlib.h>
+#include <string.h>
+
+#include "log.h"
+
 typedef void packet_sample_fn(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
                               uint32_t sample_index, vec3 *out);
 
@@ -39,4 +44,16 @@ int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]) {
 #endif
     list[n++] = (packet_integrator){"baseline", 8, integrator_sample_packet_baseline};
     return n;
+}
+
+packet_integrator integrator_packet_choose(void) {
+    packet_integrator list[PACKET_VARIANTS_MAX];
+    int n = integrator_packet_list(list);
+    const char *wanted = getenv("TRAZADOR_PACKET_BUILD");
+    if (!wanted || !*wanted) return list[0];
+    for (int k = 0; k < n; k++)
+        if (!strcmp(list[k].name, wanted)) return list[k];
+    log_warn("TRAZADOR_PACKET_BUILD=%s: not a build this processor runs; using %s", wanted,
+             list[0].name);
+    return list[0];
 }

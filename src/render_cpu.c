@@ -101,9 +101,7 @@ bool render_cpu(const scene *s, const render_opts *opts, film *f) {
         return false;
     }
     cpu_job job = {.packed = &packed, .film = f, .samples = opts->samples};
-    packet_integrator builds[PACKET_VARIANTS_MAX];
-    integrator_packet_list(builds);
-    job.packet = builds[0];
+    job.packet = integrator_packet_choose();
     log_debug("cpu back end: packet integrator build %s, %u lanes", job.packet.name,
               job.packet.width);
     job.tiles_x = (s->width + TILE_SIZE - 1) / TILE_SIZE;

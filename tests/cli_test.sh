@@ -30,6 +30,15 @@ run version 0 "$tz" --version
 has version out "trazador 0."
 run verbose 0 "$tz" render --backend cpu --width 32 --spp 1 --verbose -o verbose.png
 has verbose err "cpu back end: packet integrator build"
+# TRAZADOR_PACKET_BUILD picks a build (baseline runs everywhere), and the same image comes out.
+TRAZADOR_PACKET_BUILD=baseline run forced-build 0 "$tz" render --backend cpu --width 32 --spp 1 \
+    --verbose -o forced.pfm
+has forced-build err "packet integrator build baseline, 8 lanes"
+"$tz" render --backend cpu --width 32 --spp 1 -o fastest.pfm --quiet
+if cmp -s forced.pfm fastest.pfm; then ok; else bad "forced-build: baseline and fastest differ"; fi
+TRAZADOR_PACKET_BUILD=vax run unknown-build 0 "$tz" render --backend cpu --width 32 --spp 1 \
+    -o unknown.png
+has unknown-build err "TRAZADOR_PACKET_BUILD=vax: not a build this processor runs"
 run no-args 2 "$tz"
 run unknown-command 2 "$tz" paint
 has unknown-command err "unknown command 'paint'"
