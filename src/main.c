@@ -171,9 +171,16 @@ static bool apply_width(long long width, scene *s) {
     double pixel = (double)s->plane_width / (double)width;
     double height = (double)s->plane_height / pixel;
     long long rows = llround(height);
-    if (rows < 1 || rows > SCENE_MAX_RESOLUTION || fabs(height - (double)rows) > 1e-6 * height) {
+    if (rows < 1 || rows > SCENE_MAX_RESOLUTION) {
         fprintf(stderr,
-                "trazador: --width %lld gives a height of %.4g pixels for a %g x %g plane; "
+                "trazador: --width %lld gives a height of %.7g pixels for a %g x %g plane; the "
+                "height must be 1 to %d pixels\n",
+                width, height, s->plane_width, s->plane_height, SCENE_MAX_RESOLUTION);
+        return false;
+    }
+    if (fabs(height - (double)rows) > 1e-6 * height) {
+        fprintf(stderr,
+                "trazador: --width %lld gives a height of %.7g pixels for a %g x %g plane; "
                 "pick a width that makes it whole\n",
                 width, height, s->plane_width, s->plane_height);
         return false;
@@ -213,6 +220,8 @@ static int render_command(int argc, char **argv) {
         scene_error_print(&err);
         return 2;
     }
+    if (s.warning.line > 0)
+        log_warn("%s:%d:%d: %s", s.warning.file, s.warning.line, s.warning.col, s.warning.message);
     if (!apply_width(a.width, &s)) {
         scene_free(&s);
         return 2;

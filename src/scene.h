@@ -14,6 +14,9 @@
 #define SCENE_MAX_SAMPLES 1048576
 #define SCENE_MAX_BOUNCES 64
 #define SCENE_MAX_LINE 4096 /* longer lines are an error, not a slowdown */
+/* Ten times the ray offset EPS (TZ_EPS, at points within 1 of the origin): smaller spheres are
+ * shaded wrongly (shadow rays start outside thin features, light leaks in), so they warn. */
+#define SCENE_TINY_RADIUS 1e-3f
 
 typedef enum material_kind {
     MATERIAL_LAMBERTIAN = 0,
@@ -41,6 +44,13 @@ typedef struct light {
     vec3 color;
 } light;
 
+/* Where and why parsing failed: "file:line:col: message". */
+typedef struct scene_error {
+    char file[256];
+    int line, col;
+    char message[512];
+} scene_error;
+
 typedef struct scene {
     vec3 camera_position, camera_direction, camera_up;
     float plane_width, plane_height, pixel_size;
@@ -56,14 +66,9 @@ typedef struct scene {
     int sphere_count;
     light *lights;
     int light_count;
+    /* Line 0, or the first sphere of radius below SCENE_TINY_RADIUS (the CLI warns about it). */
+    scene_error warning;
 } scene;
-
-/* Where and why parsing failed: "file:line:col: message". */
-typedef struct scene_error {
-    char file[256];
-    int line, col;
-    char message[512];
-} scene_error;
 
 /* Parses scene text; false with *err filled (when non-NULL) and *out untouched on any error. */
 bool scene_parse_string(const char *text, size_t length, const char *filename, scene *out,

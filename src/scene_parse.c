@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "scene.h"
+#include "shared_layout.h"
 
 /* Line numbers are ints: even a text of only newlines this long keeps them in range. */
 #define MAX_TEXT_BYTES ((size_t)INT_MAX - 1)
@@ -76,6 +77,9 @@ typedef struct parser {
 #define NO_RANGE -FLT_MAX, FLT_MAX, false
 #define UNIT_RANGE 0.0, 1.0, false
 #define POSITIVE_RANGE 0.0, FLT_MAX, true
+/* Plane sizes: ray directions are normalized from vectors of about this length, whose squares
+ * must neither overflow nor vanish in float. */
+#define PLANE_RANGE 1e-12, 1e12, false
 
 enum { CAMERA_POSITION, CAMERA_DIRECTION, CAMERA_UP, CAMERA_KEY_COUNT };
 static const key_spec camera_keys[CAMERA_KEY_COUNT] = {
@@ -86,9 +90,9 @@ static const key_spec camera_keys[CAMERA_KEY_COUNT] = {
 
 enum { PLANE_WIDTH, PLANE_HEIGHT, PLANE_PIXEL, PLANE_KEY_COUNT };
 static const key_spec plane_keys[PLANE_KEY_COUNT] = {
-    {"width", NULL, VALUE_NUMBER, POSITIVE_RANGE},
-    {"height", NULL, VALUE_NUMBER, POSITIVE_RANGE},
-    {"pixel", NULL, VALUE_NUMBER, POSITIVE_RANGE},
+    {"width", NULL, VALUE_NUMBER, PLANE_RANGE},
+    {"height", NULL, VALUE_NUMBER, PLANE_RANGE},
+    {"pixel", NULL, VALUE_NUMBER, PLANE_RANGE},
 };
 
 enum { LIGHT_POSITION, LIGHT_POWER, LIGHT_COLOR, LIGHT_KEY_COUNT };
@@ -255,7 +259,8 @@ static bool parse_number(parser *p, const key_spec *k, const token *t, double *o
     }
     /* Check the float the renderer will see, so 1e-50 is a zero radius, not a tiny one. */
     float f = (float)d;
-    if (f < k->min || f > k->max || (k->min_exclusive && f == k->min)) return fail_range(p, k, t);
+    float min = (float)k->min, max = (float)k->max; /* as written: "1e-12" is in [1e-12, ..] */
+    if (f < min || f > max || (k->min_exclusive && f == min)) return fail_range(p, k, t);
     *out = f;
     return true;
 }
@@ -515,7 +520,7 @@ static bool parse_plane(parser *p) {
         double ratio = kv.value[side][0] / pixel;
         if (ratio >= SCENE_MAX_RESOLUTION + 0.5) {
             return fail_at(p, pixel_token->col,
-                           "plane %s %s at pixel %s is %.0f pixels, more than the maximum %d",
+                           "plane %s %s at pixel %s is %.7g pixels, more than the maximum %d",
                            plane_keys[side].name, quote(p, size_token), quote(p, pixel_token),
                            ratio, SCENE_MAX_RESOLUTION);
         }
@@ -612,6 +617,17 @@ static bool parse_sphere(parser *p) {
         .ior = (float)value_or(&kv, SPHERE_IOR, m->kind == MATERIAL_REFRACTIVE ? 1.5 : 1.0),
         .emission = v3(0, 0, 0),
     };
+    float radius = p->s.spheres[p->s.sphere_count - 1].radius;
+    if (radius < SCENE_TINY_RADIUS && p->s.warning.line == 0) {
+        scene_error *w = &p->s.warning;
+        snprintf(w->file, sizeof w->file, "%s", p->filename);
+        w->line = p->line;
+        w->col = p->tokens[kv.value_token[SPHERE_RADIUS][0]].col;
+        snprintf(w->message, sizeof w->message,
+                 "radius %g is below %g, ten times the ray offset %g: spheres this small are "
+                 "shaded wrongly (light leaks, lost shadows); scale the scene up",
+                 (double)radius, (double)SCENE_TINY_RADIUS, (double)TZ_EPS);
+    }
     return true;
 }
 

@@ -51,6 +51,17 @@ run bad-extension 2 "$tz" render -o out.txt
 has bad-extension err ".png, .ppm or .pfm"
 run width-not-whole 2 "$tz" render --backend cpu --width 7 "$src/scenes/shadows.scene"
 has width-not-whole err "--width 7"
+has width-not-whole err "pick a width that makes it whole"
+# A sphere too small for the ray offset renders, with a warning that names it.
+printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.1\nsphere lambertian center 0 0 0 radius 1\nsphere mirror center 0 0 0 radius 0.0005\n' > tiny.scene
+run tiny-sphere 0 "$tz" render --backend cpu --quiet tiny.scene -o tiny.png
+has tiny-sphere err "tiny.scene:4:35: radius 0.0005 is below 0.001, ten times the ray offset"
+run no-tiny-sphere 0 "$tz" render --backend cpu --spp 1 --width 20 "$src/scenes/shadows.scene" -o s.png
+if grep -q "warning" "$tmp/err"; then bad "no-tiny-sphere: warned: $(cat "$tmp/err")"; else ok; fi
+# A whole height over the limit names the limit, not wholeness.
+printf 'camera position 0 0 -5\nplane width 1 height 4 pixel 0.01\n' > tall.scene
+run width-too-tall 2 "$tz" render --backend cpu --width 8000 tall.scene
+has width-too-tall err "gives a height of 32000 pixels for a 1 x 4 plane; the height must be 1 to 16384"
 
 # Scene errors: file:line:col, exit 2, nothing written, nothing overwritten.
 printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.1\nsphere lambertian center 0 0 0 radius -1\n' > bad.scene
