@@ -11,10 +11,21 @@
 
 static int last_error(void) { return errno ? errno : EIO; }
 
+/* The mode the file should end with: the file's own when it exists, else what open(2) would give
+ * a new file (0666 less the umask), since mkstemp makes 0600. */
+static mode_t target_mode(const char *path) {
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISREG(st.st_mode)) return st.st_mode & 07777;
+    mode_t mask = umask(0); /* reading the umask sets it: put it back at once */
+    umask(mask);
+    return 0666 & ~mask;
+}
+
 /* Fills the open temporary file and closes it; 0 or an errno value, *step names what failed. */
-static int fill_temp(int fd, atomic_file_fill fill, const void *context, const char **step) {
+static int fill_temp(int fd, mode_t mode, atomic_file_fill fill, const void *context,
+                     const char **step) {
     *step = "set the file mode";
-    if (fchmod(fd, 0644) != 0) { /* mkstemp makes 0600 */
+    if (fchmod(fd, mode) != 0) {
         int err = errno;
         close(fd);
         return err;
@@ -53,7 +64,7 @@ bool atomic_file_write(const char *path, atomic_file_fill fill, const void *cont
         return false;
     }
     const char *step = "write";
-    int err = fill_temp(fd, fill, context, &step);
+    int err = fill_temp(fd, target_mode(path), fill, context, &step);
     if (!err && rename(tmp, path) != 0) {
         err = errno;
         step = "rename the temporary file over it";

@@ -9,8 +9,9 @@
 /* Writes the whole content to fp; returns 0 or an errno value. */
 typedef int (*atomic_file_fill)(FILE *fp, const void *context);
 
-/* Writes path (mode 0644) with fill(fp, context); false (logged) on any failure, which leaves
- * neither a temporary nor a truncated file, and any existing file intact. */
+/* Writes path with fill(fp, context), keeping an existing file's mode (a new one gets 0666 less
+ * the umask); false (logged) on any failure, which leaves neither a temporary nor a truncated
+ * file, and any existing file intact. */
 bool atomic_file_write(const char *path, atomic_file_fill fill, const void *context);
 
 #endif

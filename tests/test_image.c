@@ -443,10 +443,21 @@ static void test_overwrite(void) {
         EXPECT(image_write(path, &src, TONEMAP_SRGB));
         EXPECT(image_read(path, &back, TONEMAP_SRGB) && same_image(&back, &src));
         image_free(&back);
-        struct stat st;
-        EXPECT(stat(path, &st) == 0 && (st.st_mode & 0777) == 0644);
+        struct stat st; /* the file keeps its own mode */
+        EXPECT(stat(path, &st) == 0 && (st.st_mode & 0777) == 0600);
     }
     EXPECT(count_entries(dir) == 3);
+    /* A new file gets what open(2) gives: 0666 less the umask. */
+    const mode_t masks[] = {022, 077, 002};
+    for (int k = 0; k < 3; k++) {
+        char path[600];
+        snprintf(path, sizeof path, "%s/new%d.png", dir, k);
+        mode_t old = umask(masks[k]);
+        EXPECT(image_write(path, &src, TONEMAP_SRGB));
+        umask(old);
+        struct stat st;
+        EXPECT(stat(path, &st) == 0 && (st.st_mode & 0777) == (0666 & ~masks[k]));
+    }
     image_free(&src);
 }
 
