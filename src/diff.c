@@ -45,7 +45,8 @@ bool diff_images(const image *a, const image *b, diff_stats *out) {
 }
 
 static const char usage[] =
-    "usage: trazador diff A B [--max-rmse X] [--min-psnr X] [--max-diff-share X]\n";
+    "usage: trazador diff A B [--max-rmse X] [--min-psnr DB] [--max-diff-share FRACTION]\n"
+    "  --max-diff-share takes a fraction of the pixels, 0 to 1 (0.01 is 1%)\n";
 
 static int usage_error(const char *what, const char *arg) {
     log_error("diff: %s%s", what, arg);
@@ -55,13 +56,15 @@ static int usage_error(const char *what, const char *arg) {
 
 typedef struct threshold {
     const char *flag;
+    double min, max; /* the values that mean something */
     double value;
     bool given;
 } threshold;
 
 int diff_command(int argc, char **argv) {
-    threshold limits[] = {
-        {"--max-rmse", 0, false}, {"--min-psnr", 0, false}, {"--max-diff-share", 0, false}};
+    threshold limits[] = {{"--max-rmse", 0.0, INFINITY, 0, false},
+                          {"--min-psnr", -INFINITY, INFINITY, 0, false},
+                          {"--max-diff-share", 0.0, 1.0, 0, false}};
     const int nlimits = (int)(sizeof limits / sizeof limits[0]);
     const char *files[2];
     int nfiles = 0;
@@ -84,6 +87,12 @@ int diff_command(int argc, char **argv) {
         double v = strtod(argv[++i], &end);
         if (end == argv[i] || *end || isnan(v)) {
             log_error("diff: %s expects a number, not '%s'", arg, argv[i]);
+            fputs(usage, stderr);
+            return 2;
+        }
+        if (v < limits[k].min || v > limits[k].max) {
+            log_error("diff: %s takes %g to %g, not '%s'", arg, limits[k].min, limits[k].max,
+                      argv[i]);
             fputs(usage, stderr);
             return 2;
         }

@@ -22,7 +22,7 @@ static const char usage_text[] =
     "                       [--no-jitter] [--no-indirect] [--indirect] [--bounces N]\n"
     "                       [--threads N] [--device N] [--validate] [--quiet] [--verbose]\n"
     "                       [--tonemap srgb|linear] [--width N] [--no-bvh]\n"
-    "       trazador diff A B [--max-rmse X] [--min-psnr X] [--max-diff-share X]\n"
+    "       trazador diff A B [--max-rmse X] [--min-psnr DB] [--max-diff-share FRACTION]\n"
     "       trazador devices\n"
     "       trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
     "       trazador gen sphereflake --depth N [-o FILE] [--seed N]\n"

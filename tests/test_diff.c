@@ -268,6 +268,10 @@ static void test_command_usage(void) {
     EXPECT(run_diff(a, a, "--max-rmse", "", NULL) == 2);
     EXPECT(run_diff(a, a, "--min-psnr", "nan", NULL) == 2);
     EXPECT(run_diff(a, a, "--max-diff-share", NULL) == 2);
+    /* A share is a fraction: 50 (meant as 50%) and negative values are refused, not passed. */
+    EXPECT(run_diff(a, a, "--max-diff-share", "50", NULL) == 2);
+    EXPECT(run_diff(a, a, "--max-diff-share", "-0.5", NULL) == 2);
+    EXPECT(run_diff(a, a, "--max-rmse", "-1", NULL) == 2);
     EXPECT(run_diff(a, a, "--bogus", NULL) == 2 && strstr(cmd_err, "--bogus"));
     EXPECT(run_diff(a, a, "--max-rmse=0.1", NULL) == 2);
     EXPECT(cmd_out[0] == '\0'); /* nothing read, nothing printed */
