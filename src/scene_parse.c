@@ -824,6 +824,9 @@ static bool read_all(int fd, const char *path, char **data, size_t *length, scen
         }
         if (n == 0) break;
         used += (size_t)n;
+        /* A NUL byte is an error wherever it is: stop reading a stream (/dev/zero never ends)
+         * and let the parser report it at its line and column. */
+        if (!S_ISREG(st.st_mode) && memchr(buffer + used - n, '\0', (size_t)n)) break;
     }
     *data = buffer;
     *length = used;

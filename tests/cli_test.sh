@@ -58,6 +58,9 @@ run tiny-sphere 0 "$tz" render --backend cpu --quiet tiny.scene -o tiny.png
 has tiny-sphere err "tiny.scene:4:35: radius 0.0005 is below 0.001, ten times the ray offset"
 run no-tiny-sphere 0 "$tz" render --backend cpu --spp 1 --width 20 "$src/scenes/shadows.scene" -o s.png
 if grep -q "warning" "$tmp/err"; then bad "no-tiny-sphere: warned: $(cat "$tmp/err")"; else ok; fi
+# A stream that never ends is refused at once, not read to the size limit.
+run endless-stream 2 timeout 20 "$tz" render --backend cpu /dev/zero
+has endless-stream err "/dev/zero:1:"
 # A whole height over the limit names the limit, not wholeness.
 printf 'camera position 0 0 -5\nplane width 1 height 4 pixel 0.01\n' > tall.scene
 run width-too-tall 2 "$tz" render --backend cpu --width 8000 tall.scene
