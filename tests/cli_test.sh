@@ -58,6 +58,12 @@ run tiny-sphere 0 "$tz" render --backend cpu --quiet tiny.scene -o tiny.png
 has tiny-sphere err "tiny.scene:4:35: radius 0.0005 is below 0.001, ten times the ray offset"
 run no-tiny-sphere 0 "$tz" render --backend cpu --spp 1 --width 20 "$src/scenes/shadows.scene" -o s.png
 if grep -q "warning" "$tmp/err"; then bad "no-tiny-sphere: warned: $(cat "$tmp/err")"; else ok; fi
+# A device number past the devices is a command-line error whatever the back end choice.
+if "$tz" devices >/dev/null 2>&1; then
+    run device-out-of-range 2 "$tz" render --width 20 --spp 1 --device 99 -o dev.png
+    has device-out-of-range err "--device 99: there"
+    [ ! -e dev.png ] && ok || bad "device-out-of-range wrote dev.png"
+fi
 # A stream that never ends is refused at once, not read to the size limit.
 run endless-stream 2 timeout 20 "$tz" render --backend cpu /dev/zero
 has endless-stream err "/dev/zero:1:"
