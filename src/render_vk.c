@@ -76,6 +76,17 @@ static bool check_limits(const vk_context *ctx, const scene *s, uint64_t sample_
                   VK_PROBE_LAVAPIPE_LOOP_LIMIT);
         return false;
     }
+    /* The accumulation buffer is addressed with 32-bit dynamic offsets, and drivers cap buffers
+     * below 4 GiB (lavapipe's maxBufferSize is 2^32 - 1): 16384 x 16384 pixels need 2^32 bytes. */
+    uint64_t rows = ((uint64_t)s->height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
+    uint64_t accum_bytes = rows * (uint64_t)s->width * 4u * sizeof(float);
+    if (accum_bytes > UINT32_MAX) {
+        log_error("a %d x %d image needs %" PRIu64
+                  " bytes of accumulation buffer, past the 4 GiB - 1 the Vulkan back end "
+                  "addresses: use --backend cpu, or fewer pixels",
+                  s->width, s->height, accum_bytes);
+        return false;
+    }
     const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
     uint64_t sizes[] = {(uint64_t)s->sphere_count * 3u, (uint64_t)s->light_count * 2u,
                         (uint64_t)TILE_SIZE * (uint64_t)s->width * 4u * sizeof(float),

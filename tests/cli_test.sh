@@ -63,6 +63,11 @@ if "$tz" devices >/dev/null 2>&1; then
     run device-out-of-range 2 "$tz" render --width 20 --spp 1 --device 99 -o dev.png
     has device-out-of-range err "--device 99: there"
     [ ! -e dev.png ] && ok || bad "device-out-of-range wrote dev.png"
+    # The largest resolution needs a 4 GiB accumulation buffer: refused with a reason (auto
+    # renders it on the CPU), before anything is allocated.
+    printf 'camera position 0 0 0\nplane width 16384 height 16384 pixel 1\n' > huge.scene
+    run huge-on-vulkan 1 "$tz" render --backend vulkan --spp 1 huge.scene -o huge.pfm
+    has huge-on-vulkan err "a 16384 x 16384 image needs 4294967296 bytes of accumulation buffer"
 fi
 # A stream that never ends is refused at once, not read to the size limit.
 run endless-stream 2 timeout 20 "$tz" render --backend cpu /dev/zero
