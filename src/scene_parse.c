@@ -668,8 +668,8 @@ static const directive_spec directives[] = {
 };
 
 /* Splits one line (without its '\n') into p->tokens, rejecting bytes that cannot be scene text.
- * Outside comments only printable ASCII, tab and CR (whitespace) are allowed; inside a comment
- * anything but NUL, so comments may hold UTF-8. */
+ * Outside comments only printable ASCII, tab and a CR ending the line (whitespace) are allowed;
+ * inside a comment anything but NUL, so comments may hold UTF-8. */
 static bool tokenize(parser *p, const char *line, size_t length) {
     p->token_count = 0;
     for (size_t i = 0; i < length;) {
@@ -679,6 +679,11 @@ static bool tokenize(parser *p, const char *line, size_t length) {
             const char *nul = memchr(line + i, '\0', length - i);
             if (nul) return fail_at(p, (int)(nul - line) + 1, "NUL byte in a comment");
             break;
+        }
+        if (c == '\r' && i + 1 < length) {
+            return fail_at(p, col,
+                           "carriage return inside a line (old Mac line endings?): lines end "
+                           "in LF or CR LF");
         }
         if (c == ' ' || c == '\t' || c == '\r') {
             i++;

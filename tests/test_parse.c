@@ -326,6 +326,8 @@ static const invalid_case invalid_cases[] = {
      "pixel must be in [1e-12, 1e+12], got 0"},
     /* Ray directions are normalized from plane-sized vectors: squares that overflow or vanish in
      * float would turn every ray into NaN and the image black. */
+    {"old Mac line endings", BYTES("camera position 0 0 0\rplane width 4 height 3 pixel 1\r"), 1, 22,
+     "carriage return inside a line (old Mac line endings?): lines end in LF or CR LF"},
     {"plane too wide for float", BYTES("camera position 0 0 0\nplane width 1e19 height 1e19 pixel 1e17\n"),
      2, 13, "width must be in [1e-12, 1e+12], got 1e19"},
     {"pixel too small for float",
