@@ -58,125 +58,79 @@ static void check_agreement(const char *name, const scene *s, const render_opts 
     film_free(&vk);
 }
 
+/* A sphere: Phong parameters 0 and ior 1, 1.5 for glass (callers set others). */
+static sphere ball(float x, float y, float z, float radius, material_kind material, float r,
+                   float g, float b) {
+    return (sphere){.center = {x, y, z},
+                    .radius = radius,
+                    .material = material,
+                    .color = {r, g, b},
+                    .ior = material == MATERIAL_REFRACTIVE ? 1.5f : 1.0f};
+}
+
+/* A view from `camera` along +z (up +y) through a plane_w x plane_h plane, `width` pixels
+ * across, indirect light on, 5 bounces; the spheres and lights are the caller's. */
+static scene view(float camera_z, float plane_w, float plane_h, int width, int samples,
+                  uint32_t seed, sphere *spheres, int sphere_count, light *lights,
+                  int light_count) {
+    float pixel = plane_w / (float)width;
+    return (scene){.camera_position = {0.0f, 0.0f, camera_z},
+                   .camera_direction = {0.0f, 0.0f, 1.0f},
+                   .camera_up = {0.0f, 1.0f, 0.0f},
+                   .plane_width = plane_w,
+                   .plane_height = plane_h,
+                   .pixel_size = pixel,
+                   .width = width,
+                   .height = (int)lroundf(plane_h / pixel),
+                   .samples = samples,
+                   .indirect = true,
+                   .bounces = 5,
+                   .seed = seed,
+                   .spheres = spheres,
+                   .sphere_count = sphere_count,
+                   .lights = lights,
+                   .light_count = light_count};
+}
+
 /* Every material, two coloured lights, a visible background, a huge floor; seen at an angle. */
-static sphere materials_spheres[] = {
-    {.center = {0.0f, -1000.0f, 0.0f},
-     .radius = 999.0f,
-     .material = MATERIAL_LAMBERTIAN,
-     .color = {0.7f, 0.7f, 0.6f},
-     .ior = 1.0f},
-    {.center = {-1.6f, 0.0f, 3.0f},
-     .radius = 1.0f,
-     .material = MATERIAL_LAMBERTIAN,
-     .color = {0.8f, 0.2f, 0.2f},
-     .ior = 1.0f},
-    {.center = {0.6f, -0.3f, 2.0f},
-     .radius = 0.7f,
-     .material = MATERIAL_PHONG,
-     .color = {0.2f, 0.3f, 0.8f},
-     .ks = 0.4f,
-     .alpha = 30.0f,
-     .ior = 1.0f},
-    {.center = {1.2f, 0.4f, 5.0f},
-     .radius = 1.4f,
-     .material = MATERIAL_MIRROR,
-     .color = {0.9f, 0.9f, 0.8f},
-     .ior = 1.0f},
-    {.center = {-0.4f, -0.5f, 0.8f},
-     .radius = 0.5f,
-     .material = MATERIAL_REFRACTIVE,
-     .color = {1.0f, 1.0f, 1.0f},
-     .ior = 1.5f},
-};
+static sphere materials_spheres[5];
 static light materials_lights[] = {
     {.position = {-3.0f, 4.0f, -1.0f}, .power = 40.0f, .color = {1.0f, 0.9f, 0.8f}},
     {.position = {3.0f, 2.0f, 1.0f}, .power = 15.0f, .color = {0.6f, 0.7f, 1.0f}},
 };
 
 static scene materials_scene(void) {
-    return (scene){.camera_position = {0.5f, 1.2f, -4.0f},
-                   .camera_direction = {-0.1f, -0.2f, 1.0f},
-                   .camera_up = {0.0f, 1.0f, 0.0f},
-                   .plane_width = 4.0f,
-                   .plane_height = 3.0f,
-                   .pixel_size = 4.0f / 96.0f,
-                   .width = 96,
-                   .height = 72,
-                   .background = {0.3f, 0.5f, 0.8f},
-                   .samples = 16,
-                   .indirect = true,
-                   .bounces = 5,
-                   .seed = 7,
-                   .spheres = materials_spheres,
-                   .sphere_count = 5,
-                   .lights = materials_lights,
-                   .light_count = 2};
+    sphere *b = materials_spheres;
+    b[0] = ball(0.0f, -1000.0f, 0.0f, 999.0f, MATERIAL_LAMBERTIAN, 0.7f, 0.7f, 0.6f);
+    b[1] = ball(-1.6f, 0.0f, 3.0f, 1.0f, MATERIAL_LAMBERTIAN, 0.8f, 0.2f, 0.2f);
+    b[2] = ball(0.6f, -0.3f, 2.0f, 0.7f, MATERIAL_PHONG, 0.2f, 0.3f, 0.8f);
+    b[2].ks = 0.4f, b[2].alpha = 30.0f;
+    b[3] = ball(1.2f, 0.4f, 5.0f, 1.4f, MATERIAL_MIRROR, 0.9f, 0.9f, 0.8f);
+    b[4] = ball(-0.4f, -0.5f, 0.8f, 0.5f, MATERIAL_REFRACTIVE, 1.0f, 1.0f, 1.0f);
+    scene s = view(-4.0f, 4.0f, 3.0f, 96, 16, 7, b, 5, materials_lights, 2);
+    s.camera_position = (vec3){0.5f, 1.2f, -4.0f};
+    s.camera_direction = (vec3){-0.1f, -0.2f, 1.0f};
+    s.background = (vec3){0.3f, 0.5f, 0.8f};
+    return s;
 }
 
 /* A closed room of radius-1e5 walls (float32 cancellation would show), glass and Phong inside. */
-static sphere room_spheres[] = {
-    {.center = {-100002.0f, 0.0f, 0.0f},
-     .radius = 1e5f,
-     .material = MATERIAL_LAMBERTIAN,
-     .color = {0.75f, 0.12f, 0.10f},
-     .ior = 1.0f},
-    {.center = {100002.0f, 0.0f, 0.0f},
-     .radius = 1e5f,
-     .material = MATERIAL_LAMBERTIAN,
-     .color = {0.12f, 0.70f, 0.15f},
-     .ior = 1.0f},
-    {.center = {0.0f, -100002.0f, 0.0f},
-     .radius = 1e5f,
-     .material = MATERIAL_LAMBERTIAN,
-     .color = {0.75f, 0.75f, 0.75f},
-     .ior = 1.0f},
-    {.center = {0.0f, 100002.0f, 0.0f},
-     .radius = 1e5f,
-     .material = MATERIAL_LAMBERTIAN,
-     .color = {0.75f, 0.75f, 0.75f},
-     .ior = 1.0f},
-    {.center = {0.0f, 0.0f, 100003.0f},
-     .radius = 1e5f,
-     .material = MATERIAL_LAMBERTIAN,
-     .color = {0.75f, 0.75f, 0.75f},
-     .ior = 1.0f},
-    {.center = {0.0f, 0.0f, -100008.0f},
-     .radius = 1e5f,
-     .material = MATERIAL_LAMBERTIAN,
-     .color = {0.75f, 0.75f, 0.75f},
-     .ior = 1.0f},
-    {.center = {-0.85f, -1.3f, 1.4f},
-     .radius = 0.7f,
-     .material = MATERIAL_PHONG,
-     .color = {0.85f, 0.85f, 0.85f},
-     .ks = 0.25f,
-     .alpha = 40.0f,
-     .ior = 1.0f},
-    {.center = {0.85f, -1.4f, 0.3f},
-     .radius = 0.6f,
-     .material = MATERIAL_REFRACTIVE,
-     .color = {1.0f, 1.0f, 1.0f},
-     .ior = 1.5f},
-};
+static sphere room_spheres[8];
 static light room_light = {.position = {0.0f, 1.6f, 0.6f}, .power = 9.0f, .color = {1, 1, 1}};
 
 static scene room_scene(void) {
-    return (scene){.camera_position = {0.0f, 0.0f, -6.9f},
-                   .camera_direction = {0.0f, 0.0f, 1.0f},
-                   .camera_up = {0.0f, 1.0f, 0.0f},
-                   .plane_width = 4.0f,
-                   .plane_height = 4.0f,
-                   .pixel_size = 4.0f / 96.0f,
-                   .width = 96,
-                   .height = 96,
-                   .samples = 16,
-                   .indirect = true,
-                   .bounces = 5,
-                   .seed = 3,
-                   .spheres = room_spheres,
-                   .sphere_count = 8,
-                   .lights = &room_light,
-                   .light_count = 1};
+    sphere *b = room_spheres;
+    const float wall = 1e5f;
+    b[0] = ball(-wall - 2.0f, 0.0f, 0.0f, wall, MATERIAL_LAMBERTIAN, 0.75f, 0.12f, 0.10f);
+    b[1] = ball(wall + 2.0f, 0.0f, 0.0f, wall, MATERIAL_LAMBERTIAN, 0.12f, 0.70f, 0.15f);
+    b[2] = ball(0.0f, -wall - 2.0f, 0.0f, wall, MATERIAL_LAMBERTIAN, 0.75f, 0.75f, 0.75f);
+    b[3] = ball(0.0f, wall + 2.0f, 0.0f, wall, MATERIAL_LAMBERTIAN, 0.75f, 0.75f, 0.75f);
+    b[4] = ball(0.0f, 0.0f, wall + 3.0f, wall, MATERIAL_LAMBERTIAN, 0.75f, 0.75f, 0.75f);
+    b[5] = ball(0.0f, 0.0f, -wall - 8.0f, wall, MATERIAL_LAMBERTIAN, 0.75f, 0.75f, 0.75f);
+    b[6] = ball(-0.85f, -1.3f, 1.4f, 0.7f, MATERIAL_PHONG, 0.85f, 0.85f, 0.85f);
+    b[6].ks = 0.25f, b[6].alpha = 40.0f;
+    b[7] = ball(0.85f, -1.4f, 0.3f, 0.6f, MATERIAL_REFRACTIVE, 1.0f, 1.0f, 1.0f);
+    return view(-6.9f, 4.0f, 4.0f, 96, 16, 3, b, 8, &room_light, 1);
 }
 
 /* A grid of n spheres of every material in front of a wall, lit by m lights: past
@@ -190,42 +144,20 @@ static void check_crowd(const char *name, int n, int m) {
         free(lights);
         return;
     }
-    spheres[0] = (sphere){.center = {0.0f, 0.0f, 1006.0f},
-                          .radius = 1000.0f,
-                          .material = MATERIAL_LAMBERTIAN,
-                          .color = {0.6f, 0.6f, 0.6f},
-                          .ior = 1.0f};
+    spheres[0] = ball(0.0f, 0.0f, 1006.0f, 1000.0f, MATERIAL_LAMBERTIAN, 0.6f, 0.6f, 0.6f);
     for (int k = 1; k <= n; k++) {
         material_kind kind = (material_kind)(k % 4);
-        spheres[k] =
-            (sphere){.center = {(float)(k % 8) - 3.5f, (float)(k / 8) - 2.0f, 3.0f},
-                     .radius = 0.35f + 0.02f * (float)(k % 5),
-                     .material = kind,
-                     .color = {0.3f + 0.08f * (float)(k % 7), 0.5f, 0.9f - 0.1f * (float)(k % 6)},
-                     .ks = kind == MATERIAL_PHONG ? 0.3f : 0.0f,
-                     .alpha = kind == MATERIAL_PHONG ? 25.0f : 0.0f,
-                     .ior = kind == MATERIAL_REFRACTIVE ? 1.45f : 1.0f};
+        spheres[k] = ball((float)(k % 8) - 3.5f, (float)(k / 8) - 2.0f, 3.0f,
+                          0.35f + 0.02f * (float)(k % 5), kind, 0.3f + 0.08f * (float)(k % 7),
+                          0.5f, 0.9f - 0.1f * (float)(k % 6));
+        if (kind == MATERIAL_PHONG) spheres[k].ks = 0.3f, spheres[k].alpha = 25.0f;
+        if (kind == MATERIAL_REFRACTIVE) spheres[k].ior = 1.45f;
     }
     for (int k = 0; k < m; k++)
         lights[k] = (light){.position = {2.0f * (float)k - (float)m, 3.0f, -1.0f + 0.5f * (float)k},
                             .power = 30.0f / (float)m,
                             .color = {1.0f, 0.9f, 0.8f}};
-    scene s = {.camera_position = {0.0f, 0.0f, -5.0f},
-               .camera_direction = {0.0f, 0.0f, 1.0f},
-               .camera_up = {0.0f, 1.0f, 0.0f},
-               .plane_width = 4.0f,
-               .plane_height = 3.0f,
-               .pixel_size = 4.0f / 96.0f,
-               .width = 96,
-               .height = 72,
-               .samples = 16,
-               .indirect = true,
-               .bounces = 5,
-               .seed = 11,
-               .spheres = spheres,
-               .sphere_count = n + 1,
-               .lights = lights,
-               .light_count = m};
+    scene s = view(-5.0f, 4.0f, 3.0f, 96, 16, 11, spheres, n + 1, lights, m);
     render_opts opts;
     render_opts_from_scene(&s, &opts);
     check_agreement(name, &s, &opts);
@@ -290,36 +222,15 @@ static void test_ties(void) {
     for (int red_first = 0; red_first <= 1; red_first++) {
         sphere spheres[20];
         for (int k = 0; k < 20; k++)
-            spheres[k] = (sphere){.center = {(float)(k < 5 ? k : k - 2) - 9.0f, 3.0f, 5.0f},
-                                  .radius = 0.3f,
-                                  .material = MATERIAL_LAMBERTIAN,
-                                  .color = {0.5f, 0.5f, 0.5f},
-                                  .ior = 1.0f};
+            spheres[k] = ball((float)(k < 5 ? k : k - 2) - 9.0f, 3.0f, 5.0f, 0.3f,
+                              MATERIAL_LAMBERTIAN, 0.5f, 0.5f, 0.5f);
         for (int k = 5; k < 7; k++) {
             bool red = (k == 5) == (red_first == 1);
-            spheres[k] = (sphere){.center = {0.0f, 0.0f, 3.0f},
-                                  .radius = 1.0f,
-                                  .material = MATERIAL_LAMBERTIAN,
-                                  .color = {red ? 0.8f : 0.1f, red ? 0.1f : 0.8f, 0.1f},
-                                  .ior = 1.0f};
+            spheres[k] = ball(0.0f, 0.0f, 3.0f, 1.0f, MATERIAL_LAMBERTIAN, red ? 0.8f : 0.1f,
+                              red ? 0.1f : 0.8f, 0.1f);
         }
         light lamp = {.position = {1.0f, 2.0f, -1.0f}, .power = 20.0f, .color = {1, 1, 1}};
-        scene s = {.camera_position = {0.0f, 0.0f, -2.0f},
-                   .camera_direction = {0, 0, 1},
-                   .camera_up = {0, 1, 0},
-                   .plane_width = 2.0f,
-                   .plane_height = 2.0f,
-                   .pixel_size = 0.125f,
-                   .width = 16,
-                   .height = 16,
-                   .samples = 2,
-                   .indirect = true,
-                   .bounces = 5,
-                   .seed = 5,
-                   .spheres = spheres,
-                   .sphere_count = 20,
-                   .lights = &lamp,
-                   .light_count = 1};
+        scene s = view(-2.0f, 2.0f, 2.0f, 16, 2, 5, spheres, 20, &lamp, 1);
         render_opts opts;
         render_opts_from_scene(&s, &opts);
         packed_scene packed;
@@ -375,27 +286,10 @@ static void test_staging(void) {
 /* The centre ray of a 3 x 3 image hits the sphere exactly at (0, 0, -1), where the light is:
  * zero distance, NaN radiance. Both back ends drop those samples and count them. */
 static void test_nonfinite(void) {
-    sphere ball = {.center = {0, 0, 0},
-                   .radius = 1.0f,
-                   .material = MATERIAL_LAMBERTIAN,
-                   .color = {0.5f, 0.5f, 0.5f},
-                   .ior = 1.0f};
+    sphere lit = ball(0.0f, 0.0f, 0.0f, 1.0f, MATERIAL_LAMBERTIAN, 0.5f, 0.5f, 0.5f);
     light lamp = {.position = {0.0f, 0.0f, -1.0f}, .power = 10.0f, .color = {1, 1, 1}};
-    scene s = {.camera_position = {0.0f, 0.0f, -4.0f},
-               .camera_direction = {0, 0, 1},
-               .camera_up = {0, 1, 0},
-               .plane_width = 0.75f,
-               .plane_height = 0.75f,
-               .pixel_size = 0.25f,
-               .width = 3,
-               .height = 3,
-               .samples = 4,
-               .bounces = 5,
-               .seed = 1,
-               .spheres = &ball,
-               .sphere_count = 1,
-               .lights = &lamp,
-               .light_count = 1};
+    scene s = view(-4.0f, 0.75f, 0.75f, 3, 4, 1, &lit, 1, &lamp, 1);
+    s.indirect = false;
     render_opts opts;
     render_opts_from_scene(&s, &opts);
     opts.no_jitter = true;
