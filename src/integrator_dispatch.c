@@ -1,10 +1,9 @@
 /* integrator_dispatch.c: the builds of the packet integrator (src/integrator_packet.c, one per
  * vector level, see CMakeLists.txt) and which of them this processor runs. */
-#include "integrator.h"
-
 #include <stdlib.h>
 #include <string.h>
 
+#include "integrator.h"
 #include "log.h"
 
 typedef void packet_sample_fn(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,

@@ -229,7 +229,8 @@ static int render_command(int argc, char **argv) {
     /* A device that does not exist is a mistake on the command line, not a reason to fall back. */
     int devices = a.device >= 0 && a.backend != BACKEND_CPU ? vk_context_device_count() : 0;
     if (devices > 0 && a.device >= devices) {
-        fprintf(stderr, "trazador: --device %lld: there %s %d Vulkan device%s (see `trazador devices`)\n",
+        fprintf(stderr,
+                "trazador: --device %lld: there %s %d Vulkan device%s (see `trazador devices`)\n",
                 a.device, devices == 1 ? "is" : "are", devices, devices == 1 ? "" : "s");
         scene_free(&s);
         return 2;

@@ -147,9 +147,9 @@ static void check_crowd(const char *name, int n, int m) {
     spheres[0] = ball(0.0f, 0.0f, 1006.0f, 1000.0f, MATERIAL_LAMBERTIAN, 0.6f, 0.6f, 0.6f);
     for (int k = 1; k <= n; k++) {
         material_kind kind = (material_kind)(k % 4);
-        spheres[k] = ball((float)(k % 8) - 3.5f, (float)(k / 8) - 2.0f, 3.0f,
-                          0.35f + 0.02f * (float)(k % 5), kind, 0.3f + 0.08f * (float)(k % 7),
-                          0.5f, 0.9f - 0.1f * (float)(k % 6));
+        spheres[k] =
+            ball((float)(k % 8) - 3.5f, (float)(k / 8) - 2.0f, 3.0f, 0.35f + 0.02f * (float)(k % 5),
+                 kind, 0.3f + 0.08f * (float)(k % 7), 0.5f, 0.9f - 0.1f * (float)(k % 6));
         if (kind == MATERIAL_PHONG) spheres[k].ks = 0.3f, spheres[k].alpha = 25.0f;
         if (kind == MATERIAL_REFRACTIVE) spheres[k].ior = 1.45f;
     }
