@@ -2,6 +2,7 @@
 #include "atomic_file.h"
 
 #include <errno.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -10,6 +11,35 @@
 #include "log.h"
 
 static int last_error(void) { return errno ? errno : EIO; }
+
+/* The temporary file being written, removed by a terminating signal: an interrupted run leaves
+ * nothing behind (the destination is untouched until the rename). */
+static char *volatile pending_temp;
+static const int cleanup_signals[] = {SIGINT, SIGTERM, SIGHUP};
+#define CLEANUP_SIGNALS (sizeof cleanup_signals / sizeof cleanup_signals[0])
+
+static void remove_pending_temp(int sig) {
+    char *temp = pending_temp;
+    if (temp) unlink(temp); /* async-signal-safe, as are signal() and raise() */
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+/* Installs the handler for the signals that would kill the process as is (ignored or handled
+ * ones are left alone), saving the old actions; restore_signals puts them back. */
+static void catch_signals(struct sigaction old[CLEANUP_SIGNALS]) {
+    struct sigaction act = {0};
+    act.sa_handler = remove_pending_temp;
+    sigemptyset(&act.sa_mask);
+    for (size_t k = 0; k < CLEANUP_SIGNALS; k++) {
+        sigaction(cleanup_signals[k], NULL, &old[k]);
+        if (old[k].sa_handler == SIG_DFL) sigaction(cleanup_signals[k], &act, NULL);
+    }
+}
+
+static void restore_signals(const struct sigaction old[CLEANUP_SIGNALS]) {
+    for (size_t k = 0; k < CLEANUP_SIGNALS; k++) sigaction(cleanup_signals[k], &old[k], NULL);
+}
 
 /* The mode the file should end with: the file's own when it exists, else what open(2) would give
  * a new file (0666 less the umask), since mkstemp makes 0600. */
@@ -57,22 +87,27 @@ bool atomic_file_write(const char *path, atomic_file_fill fill, const void *cont
     }
     memcpy(tmp, path, len);
     memcpy(tmp + len, ".XXXXXX", sizeof ".XXXXXX");
+    mode_t mode = target_mode(path);
+    struct sigaction old[CLEANUP_SIGNALS];
+    catch_signals(old);
     int fd = mkstemp(tmp);
     if (fd < 0) {
+        restore_signals(old);
         log_error("%s: cannot create a temporary file: %s", path, strerror(errno));
         free(tmp);
         return false;
     }
+    pending_temp = tmp;
     const char *step = "write";
-    int err = fill_temp(fd, target_mode(path), fill, context, &step);
+    int err = fill_temp(fd, mode, fill, context, &step);
     if (!err && rename(tmp, path) != 0) {
         err = errno;
         step = "rename the temporary file over it";
     }
-    if (err) {
-        unlink(tmp);
-        log_error("%s: cannot %s: %s", path, step, strerror(err));
-    }
+    if (err) unlink(tmp);
+    pending_temp = NULL;
+    restore_signals(old);
+    if (err) log_error("%s: cannot %s: %s", path, step, strerror(err));
     free(tmp);
     return !err;
 }

@@ -11,7 +11,9 @@ typedef int (*atomic_file_fill)(FILE *fp, const void *context);
 
 /* Writes path with fill(fp, context), keeping an existing file's mode (a new one gets 0666 less
  * the umask); false (logged) on any failure, which leaves neither a temporary nor a truncated
- * file, and any existing file intact. */
+ * file, and any existing file intact. SIGINT, SIGTERM or SIGHUP during the write (when not
+ * ignored or handled) remove the temporary file before the process dies of them. Main thread
+ * only: it reads the umask and sets signal handlers. */
 bool atomic_file_write(const char *path, atomic_file_fill fill, const void *context);
 
 #endif

@@ -11,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "atomic_file.h"
 #include "check.h"
 #include "image.h"
 #include "log.h"
@@ -429,6 +430,34 @@ static void test_write_interrupted(void) {
     EXPECT(count_entries(dir) == 3);
 }
 
+/* Writes half a file, then the process is killed as by Ctrl-C or `kill` mid-write. */
+static int fill_then_die(FILE *fp, const void *context) {
+    fputs("partial", fp);
+    fflush(fp);
+    raise(*(const int *)context);
+    return 0;
+}
+
+static void test_write_killed(void) {
+    /* a signal in the middle of a write removes the temporary file and keeps the old one */
+    const char *dir = tmp_path("wkill");
+    mkdir(dir, 0755);
+    const int signals[] = {SIGINT, SIGTERM, SIGHUP};
+    char dest[600];
+    snprintf(dest, sizeof dest, "%s/out.png", dir);
+    write_file(dest, "original", 8);
+    for (int k = 0; k < 3; k++) {
+        fflush(NULL);
+        pid_t pid = fork();
+        if (pid == 0) _exit(atomic_file_write(dest, fill_then_die, &signals[k]) ? 0 : 3);
+        int status = 0;
+        EXPECT(pid > 0 && waitpid(pid, &status, 0) == pid);
+        EXPECT(WIFSIGNALED(status) && WTERMSIG(status) == signals[k]);
+        EXPECT(file_is(dest, "original"));
+        EXPECT(count_entries(dir) == 1);
+    }
+}
+
 static void test_overwrite(void) {
     const char *dir = tmp_path("wover");
     mkdir(dir, 0755);
@@ -555,6 +584,7 @@ int main(void) {
     CHECK_CASE(test_extension_case);
     CHECK_CASE(test_write_errors);
     CHECK_CASE(test_write_interrupted);
+    CHECK_CASE(test_write_killed);
     CHECK_CASE(test_overwrite);
     CHECK_CASE(test_malformed);
     remove_tree(tmpdir);
