@@ -28,6 +28,14 @@ static const long scaling_counts[] = {10, 1000, 100000, 1000000};
 #define SCALING_SIZE 256
 #define SCALING_SAMPLES 4
 
+/* Prints a measured figure in a column of `width`, or "-" when that back end was not timed. */
+static void print_figure(int width, double value, bool measured, const char *suffix) {
+    if (measured)
+        printf(" %*.2f%s", width - (int)strlen(suffix), value, suffix);
+    else
+        printf(" %*s", width, "-");
+}
+
 /* Renders the workload once, end to end; returns Msamples/s (and *mrays Mrays/s), or a negative
  * number on failure. */
 static double run_workload(const scene *base, const workload *w, backend_choice backend, int spp,
@@ -119,9 +127,13 @@ static int bench_scaling(bool want_cpu, bool want_vk) {
         const render_stats *st = want_cpu ? &cpu_stats : &vk_stats;
         if (k == 0) cpu_base = cpu, vk_base = vk;
         /* Cost per sample relative to the 10-sphere scene: how much slower each sample is. */
-        printf("%10d %9.3f %7.1f %10u %14.2f %14.2f %10.2fx %10.2fx\n", s.sphere_count,
-               st->bvh_seconds, (double)st->scene_bytes / s.sphere_count, st->bvh_depth, cpu, vk,
-               cpu > 0.0 ? cpu_base / cpu : 0.0, vk > 0.0 ? vk_base / vk : 0.0);
+        printf("%10d %9.3f %7.1f %10u", s.sphere_count, st->bvh_seconds,
+               (double)st->scene_bytes / s.sphere_count, st->bvh_depth);
+        print_figure(14, cpu, want_cpu && cpu > 0.0, "");
+        print_figure(14, vk, want_vk && vk > 0.0, "");
+        print_figure(11, cpu_base / cpu, want_cpu && cpu > 0.0 && cpu_base > 0.0, "x");
+        print_figure(11, vk_base / vk, want_vk && vk > 0.0 && vk_base > 0.0, "x");
+        printf("\n");
         fflush(stdout);
         scene_free(&s);
     }
@@ -129,14 +141,15 @@ static int bench_scaling(bool want_cpu, bool want_vk) {
 }
 
 int bench_command(int argc, char **argv) {
-    bool want_cpu = true, want_vk = vk_context_device_count() > 0;
+    bool want_cpu = true, have_vk = vk_context_device_count() > 0, want_vk = have_vk;
+    bool vk_named = false; /* --backend vulkan or both: no device is an error, not a skip */
     long long spp = 0;
     for (int k = 1; k < argc; k++) {
         const char *value = k + 1 < argc ? argv[k + 1] : "";
         if (!strcmp(argv[k], "--backend")) {
             want_cpu = !strcmp(value, "cpu") || !strcmp(value, "both") || !strcmp(value, "auto");
-            want_vk = !strcmp(value, "vulkan") || !strcmp(value, "both") ||
-                      (!strcmp(value, "auto") && want_vk);
+            vk_named = !strcmp(value, "vulkan") || !strcmp(value, "both");
+            want_vk = vk_named || (!strcmp(value, "auto") && have_vk);
             if (!want_cpu && !want_vk) {
                 fprintf(stderr, "trazador: bench --backend takes auto, vulkan, cpu or both\n");
                 return 2;
@@ -146,10 +159,18 @@ int bench_command(int argc, char **argv) {
             k++;
         } else {
             fprintf(stderr,
-                    "trazador: usage: trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n");
+                    "trazador: usage: trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
+                    "  --spp N: samples per pixel of the default-scene workloads (the scaling "
+                    "table always takes %d)\n",
+                    SCALING_SAMPLES);
             return 2;
         }
     }
+    if (vk_named && !have_vk) {
+        log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
+        return 1;
+    }
+
     scene s;
     scene_error err;
     if (!scene_parse_string(default_scene_text, strlen(default_scene_text), "cornell.scene", &s,
@@ -161,8 +182,11 @@ int bench_command(int argc, char **argv) {
     if (want_cpu) {
         packet_integrator build = integrator_packet_choose();
         printf("cpu: packet integrator build %s, %u lanes\n", build.name, build.width);
+    } else {
+        printf("cpu: not timed (--backend vulkan)\n");
     }
-    printf("%-26s %15s %12s %15s %12s %7s\n", "workload (end to end)", "cpu Msamples/s",
+    if (!want_vk) printf("vulkan: not timed (%s)\n", have_vk ? "--backend cpu" : "no device");
+    printf("%-34s %15s %12s %15s %12s %7s\n", "workload (end to end)", "cpu Msamples/s",
            "cpu Mrays/s", "vk Msamples/s", "vk Mrays/s", "vk/cpu");
     for (size_t k = 0; k < sizeof workloads / sizeof workloads[0]; k++) {
         const workload *w = &workloads[k];
@@ -170,8 +194,14 @@ int bench_command(int argc, char **argv) {
         double cpu = want_cpu ? run_workload(&s, w, BACKEND_CPU, (int)spp, &cpu_rays) : 0.0;
         double vk = want_vk ? run_workload(&s, w, BACKEND_VULKAN, (int)spp, &vk_rays) : 0.0;
         failures += cpu < 0.0 || vk < 0.0;
-        printf("%-26s %15.2f %12.2f %15.2f %12.2f", w->name, cpu, cpu_rays, vk, vk_rays);
-        if (cpu > 0.0 && vk > 0.0) printf(" %7.2f", vk / cpu);
+        char name[64];
+        snprintf(name, sizeof name, "%s, %d spp", w->name, spp > 0 ? (int)spp : w->samples);
+        printf("%-34s", name);
+        print_figure(15, cpu, want_cpu && cpu > 0.0, "");
+        print_figure(12, cpu_rays, want_cpu && cpu > 0.0, "");
+        print_figure(15, vk, want_vk && vk > 0.0, "");
+        print_figure(12, vk_rays, want_vk && vk > 0.0, "");
+        print_figure(7, vk / cpu, want_cpu && want_vk && cpu > 0.0 && vk > 0.0, "");
         printf("\n");
         fflush(stdout);
     }

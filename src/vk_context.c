@@ -15,9 +15,6 @@
 #include "log.h"
 
 #define VALIDATION_LAYER "VK_LAYER_KHRONOS_validation"
-#define NO_DEVICE_MESSAGE                                                                     \
-    "no Vulkan device found: install lavapipe (Debian: apt-get install mesa-vulkan-drivers) " \
-    "or use --backend cpu"
 
 #define VK_CONTEXT_DEFINE_FUNCTION(name) PFN_##name name;
 VK_CONTEXT_GLOBAL_FUNCTIONS(VK_CONTEXT_DEFINE_FUNCTION)
@@ -374,7 +371,7 @@ bool vk_context_print_devices(void) {
     VkPhysicalDevice *devices = NULL;
     uint32_t count = 0;
     if (!instance || !list_devices(instance, &devices, &count)) {
-        log_error(NO_DEVICE_MESSAGE);
+        log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
         if (instance) vkDestroyInstance(instance, NULL);
         return false;
     }
@@ -407,7 +404,7 @@ static bool open_device(vk_context *ctx, int requested) {
     VkPhysicalDevice *devices = NULL;
     uint32_t count = 0;
     if (!list_devices(ctx->instance, &devices, &count)) {
-        log_error(NO_DEVICE_MESSAGE);
+        log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
         return false;
     }
     int index = requested >= 0 ? requested : default_device(devices, count);
@@ -474,7 +471,7 @@ bool vk_context_init(vk_context *ctx, const vk_context_desc *desc) {
     ctx->validate = desc->validate || env_flag("TRAZADOR_VALIDATE");
     ctx->force_staging = env_flag("TRAZADOR_VK_STAGING");
     if (!loader_ready()) {
-        log_error(NO_DEVICE_MESSAGE);
+        log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
         return false;
     }
     VkDebugUtilsMessengerCreateInfoEXT messenger = {
@@ -489,7 +486,7 @@ bool vk_context_init(vk_context *ctx, const vk_context_desc *desc) {
     };
     VkResult result = create_instance(ctx->validate ? &messenger : NULL, &ctx->instance);
     if (result == VK_ERROR_INCOMPATIBLE_DRIVER) {
-        log_error(NO_DEVICE_MESSAGE);
+        log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
         return false;
     }
     if (result == VK_ERROR_LAYER_NOT_PRESENT || result == VK_ERROR_EXTENSION_NOT_PRESENT ||

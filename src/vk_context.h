@@ -122,6 +122,10 @@ bool vk_context_is_lavapipe(const vk_context *ctx);
 
 /* Number of Vulkan physical devices; 0 when there is no loader, driver or device. Logs nothing. */
 int vk_context_device_count(void);
+/* What to tell a user who has no Vulkan device. */
+#define VK_CONTEXT_NO_DEVICE_MESSAGE                                                          \
+    "no Vulkan device found: install lavapipe (Debian: apt-get install mesa-vulkan-drivers) " \
+    "or use --backend cpu"
 /* Prints every device (index, name, type, driver), marking the default; false when none. */
 bool vk_context_print_devices(void);
 

@@ -69,6 +69,13 @@ if "$tz" devices >/dev/null 2>&1; then
     run huge-on-vulkan 1 "$tz" render --backend vulkan --spp 1 huge.scene -o huge.pfm
     has huge-on-vulkan err "a 16384 x 16384 image needs 4294967296 bytes of accumulation buffer"
 fi
+# bench: a bad flag is a usage error; Vulkan asked for without a device is one error line, at once.
+run bench-usage 2 "$tz" bench --spp 0
+has bench-usage err "the scaling table always takes 4"
+VK_ICD_FILENAMES=/nonexistent.json VK_DRIVER_FILES=/nonexistent.json run bench-no-device 1 \
+    "$tz" bench --backend vulkan
+has bench-no-device err "no Vulkan device found"
+[ "$(wc -l <"$tmp/err")" = 1 ] && [ ! -s "$tmp/out" ] && ok || bad "bench-no-device: $(cat "$tmp/err")"
 # A stream that never ends is refused at once, not read to the size limit.
 run endless-stream 2 timeout 20 "$tz" render --backend cpu /dev/zero
 has endless-stream err "/dev/zero:1:"
