@@ -220,8 +220,10 @@ static int render_command(int argc, char **argv) {
         scene_error_print(&err);
         return 2;
     }
-    if (s.warning.line > 0)
-        log_warn("%s:%d:%d: %s", s.warning.file, s.warning.line, s.warning.col, s.warning.message);
+    for (int k = 0; k < s.warning_count; k++) {
+        const scene_error *w = &s.warnings[k];
+        log_warn("%s:%d:%d: %s", w->file, w->line, w->col, w->message);
+    }
     if (!apply_width(a.width, &s)) {
         scene_free(&s);
         return 2;

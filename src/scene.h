@@ -17,6 +17,10 @@
 /* Ten times the ray offset EPS (TZ_EPS, at points within 1 of the origin): smaller spheres are
  * shaded wrongly (shadow rays start outside thin features, light leaks in), so they warn. */
 #define SCENE_TINY_RADIUS 1e-3f
+/* Camera rays start EPS scaled by the camera's distance from the origin along their path (a near
+ * clip of 10 units at 1e5): a surface within this many times that of the camera warns. */
+#define SCENE_NEAR_CLIP_FACTOR 10.0f
+#define SCENE_MAX_WARNINGS 2
 
 typedef enum material_kind {
     MATERIAL_LAMBERTIAN = 0,
@@ -66,8 +70,10 @@ typedef struct scene {
     int sphere_count;
     light *lights;
     int light_count;
-    /* Line 0, or the first sphere of radius below SCENE_TINY_RADIUS (the CLI warns about it). */
-    scene_error warning;
+    /* What the CLI warns about: the first sphere of radius below SCENE_TINY_RADIUS, a sphere
+     * surface closer to the camera than SCENE_NEAR_CLIP_FACTOR times its rays' start offset. */
+    scene_error warnings[SCENE_MAX_WARNINGS];
+    int warning_count;
 } scene;
 
 /* Parses scene text; false with *err filled (when non-NULL) and *out untouched on any error. */

@@ -69,6 +69,8 @@ typedef struct parser {
     size_t sphere_capacity, light_capacity;
     /* line of the first camera, plane, background and render directive; 0 while unseen */
     int camera_line, plane_line, background_line, render_line;
+    int camera_col; /* of the camera position, for the near-clip warning */
+    bool tiny_warned;
     char number[SCENE_MAX_LINE + 1];      /* a token NUL-terminated for strtod */
     char quoted[2][MAX_QUOTED_CHARS + 4]; /* two, so one message can quote two tokens */
     int quoted_next;
@@ -166,6 +168,22 @@ static bool fail_at(parser *p, int col, const char *fmt, ...) {
         va_end(ap);
     }
     return false;
+}
+
+/* Records a warning at line:col of the scene, for the CLI to print (past SCENE_MAX_WARNINGS,
+ * dropped). */
+static void warn_at(parser *p, int line, int col, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static void warn_at(parser *p, int line, int col, const char *fmt, ...) {
+    if (p->s.warning_count == SCENE_MAX_WARNINGS) return;
+    scene_error *w = &p->s.warnings[p->s.warning_count++];
+    snprintf(w->file, sizeof w->file, "%s", p->filename);
+    w->line = line;
+    w->col = col;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(w->message, sizeof w->message, fmt, ap);
+    va_end(ap);
 }
 
 /* The token as it should appear in a message; long tokens are cut so the message stays readable. */
@@ -420,6 +438,7 @@ static bool parse_camera(parser *p) {
                        direction.x, direction.y, direction.z);
     }
     p->s.camera_position = value_vec3(&kv, CAMERA_POSITION, v3(0, 0, 0));
+    p->camera_col = p->tokens[kv.value_token[CAMERA_POSITION][0]].col;
     p->s.camera_direction = direction;
     p->s.camera_up = up;
     return true;
@@ -618,15 +637,12 @@ static bool parse_sphere(parser *p) {
         .emission = v3(0, 0, 0),
     };
     float radius = p->s.spheres[p->s.sphere_count - 1].radius;
-    if (radius < SCENE_TINY_RADIUS && p->s.warning.line == 0) {
-        scene_error *w = &p->s.warning;
-        snprintf(w->file, sizeof w->file, "%s", p->filename);
-        w->line = p->line;
-        w->col = p->tokens[kv.value_token[SPHERE_RADIUS][0]].col;
-        snprintf(w->message, sizeof w->message,
-                 "radius %g is below %g, ten times the ray offset %g: spheres this small are "
-                 "shaded wrongly (light leaks, lost shadows); scale the scene up",
-                 (double)radius, (double)SCENE_TINY_RADIUS, (double)TZ_EPS);
+    if (radius < SCENE_TINY_RADIUS && !p->tiny_warned) {
+        p->tiny_warned = true;
+        warn_at(p, p->line, p->tokens[kv.value_token[SPHERE_RADIUS][0]].col,
+                "radius %g is below %g, ten times the ray offset %g: spheres this small are "
+                "shaded wrongly (light leaks, lost shadows); scale the scene up",
+                (double)radius, (double)SCENE_TINY_RADIUS, (double)TZ_EPS);
     }
     return true;
 }
@@ -719,6 +735,32 @@ static bool parse_line(parser *p, const char *line, size_t length) {
                    quote(p, word));
 }
 
+/* Camera rays start TZ_EPS times the camera's largest |coordinate| (at least 1) along their path,
+ * as every ray does from its origin (DESIGN section 3): far from the origin that is a near clip
+ * (10 units at 1e5). Warns when the surface of some sphere lies within SCENE_NEAR_CLIP_FACTOR
+ * times that distance of the camera: it may be cut away. */
+static void warn_near_clip(parser *p) {
+    vec3 cam = p->s.camera_position;
+    float big = fmaxf(fmaxf(fabsf(cam.x), fabsf(cam.y)), fmaxf(fabsf(cam.z), 1.0f));
+    double offset = (double)TZ_EPS * big, nearest = INFINITY;
+    int which = -1;
+    for (int k = 0; k < p->s.sphere_count; k++) {
+        const sphere *s = &p->s.spheres[k];
+        double dx = (double)s->center.x - cam.x, dy = (double)s->center.y - cam.y,
+               dz = (double)s->center.z - cam.z;
+        double gap = fabs(sqrt(dx * dx + dy * dy + dz * dz) - s->radius);
+        if (gap < nearest) nearest = gap, which = k;
+    }
+    if (which < 0 || nearest >= SCENE_NEAR_CLIP_FACTOR * offset) return;
+    const sphere *s = &p->s.spheres[which];
+    warn_at(p, p->camera_line, p->camera_col,
+            "camera rays start %g along their path this far from the origin (the ray offset grows "
+            "with it), and sphere %d (centre %g %g %g, radius %g) has its surface %g from the "
+            "camera: near geometry may vanish; move the scene nearer the origin",
+            offset, which + 1, (double)s->center.x, (double)s->center.y, (double)s->center.z,
+            (double)s->radius, nearest);
+}
+
 static bool parse_text(parser *p) {
     const char *text = p->text, *end = p->text + p->length;
     while (text < end) {
@@ -732,6 +774,7 @@ static bool parse_text(parser *p) {
     /* Whole-scene errors are reported at the end of the file: the line after the last '\n'. */
     if (!p->camera_line) return fail_at(p, 1, "missing 'camera' directive");
     if (!p->plane_line) return fail_at(p, 1, "missing 'plane' directive");
+    warn_near_clip(p);
     return true;
 }
 

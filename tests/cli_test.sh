@@ -79,6 +79,11 @@ has bench-no-device err "no Vulkan device found"
 # A stream that never ends is refused at once, not read to the size limit.
 run endless-stream 2 timeout 20 "$tz" render --backend cpu /dev/zero
 has endless-stream err "/dev/zero:1:"
+# Far from the origin the ray offset is a near clip (10 units at 1e5): a sphere that close warns.
+printf 'camera position 1e5 0 0\nplane width 1 height 1 pixel 0.25\nsphere lambertian center 1e5 0 60 radius 55\n' > far.scene
+run far-camera 0 "$tz" render --backend cpu --quiet far.scene -o far.png
+has far-camera err "far.scene:1:17: camera rays start 10 along their path"
+has far-camera err "sphere 1 (centre 100000 0 60, radius 55) has its surface 5 from the camera"
 # A whole height over the limit names the limit, not wholeness.
 printf 'camera position 0 0 -5\nplane width 1 height 4 pixel 0.01\n' > tall.scene
 run width-too-tall 2 "$tz" render --backend cpu --width 8000 tall.scene
