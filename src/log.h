@@ -11,6 +11,12 @@ void log_set_level(log_level level);
 /* Prints one formatted line to stderr, prefixed "trazador: " and the level for warnings/errors. */
 void log_message(log_level level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
+/* Holds error messages back instead of printing them, until log_release_errors: for a caller
+ * that may recover from the failure (auto falling back to the CPU) and words it itself. */
+void log_hold_errors(void);
+/* Stops holding; returns the held errors, one per line ("" for none), valid until the next hold. */
+const char *log_release_errors(void);
+
 #define log_debug(...) log_message(LOG_DEBUG, __VA_ARGS__)
 #define log_info(...) log_message(LOG_INFO, __VA_ARGS__)
 #define log_warn(...) log_message(LOG_WARN, __VA_ARGS__)

@@ -54,9 +54,26 @@ bool cli_render(const scene *s, const render_opts *opts, backend_choice backend,
         log_info("no Vulkan device found; rendering with the CPU back end");
     } else {
         *used = "vulkan";
-        if (render_vk(s, opts, f)) return true;
-        if (opts->validate) return false; /* validation was asked for: its verdict stands */
-        log_info("rendering with the CPU back end instead");
+        log_hold_errors();
+        bool ok = render_vk(s, opts, f);
+        const char *why = log_release_errors();
+        /* validation was asked for: its verdict stands, in full */
+        if (ok || opts->validate) {
+            for (const char *line = why; *line;) {
+                const char *end = strchr(line, '\n');
+                log_error("%.*s", (int)(end - line), line);
+                line = end + 1;
+            }
+            return ok;
+        }
+        /* One line: why Vulkan could not, less its advice to use the CPU, which follows. */
+        int length = (int)strcspn(why, "\n");
+        const char *advice = ": use --backend cpu";
+        int advice_length = (int)strlen(advice);
+        if (length >= advice_length &&
+            !strncmp(why + length - advice_length, advice, advice_length))
+            length -= advice_length;
+        log_info("%.*s%srendering with the CPU back end instead", length, why, length ? "; " : "");
     }
     *used = "cpu";
     return render_cpu(s, opts, f);

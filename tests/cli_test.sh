@@ -69,6 +69,14 @@ if "$tz" devices >/dev/null 2>&1; then
     run huge-on-vulkan 1 "$tz" render --backend vulkan --spp 1 huge.scene -o huge.pfm
     has huge-on-vulkan err "a 16384 x 16384 image needs 4294967296 bytes of accumulation buffer"
 fi
+if "$tz" devices 2>/dev/null | grep -q llvmpipe; then
+    # lavapipe refuses 20,000 spheres without the BVH (its loop limit): auto says so in one line.
+    "$tz" gen random --count 20000 -o crowd.scene
+    run lavapipe-refusal 0 "$tz" render --no-bvh --width 8 --spp 1 crowd.scene -o crowd.png
+    has lavapipe-refusal err "past lavapipe's safe limit"
+    has lavapipe-refusal err "--no-bvh tests every sphere for every ray); rendering with the CPU back end instead"
+    grep -q "error" "$tmp/err" && bad "lavapipe-refusal: an error line: $(cat "$tmp/err")" || ok
+fi
 # bench: a bad flag is a usage error; Vulkan asked for without a device is one error line, at once.
 run bench-usage 2 "$tz" bench --spp 0
 has bench-usage err "the scaling table always takes 4"
