@@ -1,5 +1,6 @@
 /* integrator_dispatch.c: the builds of the packet integrator (src/integrator_packet.c, one per
  * vector level, see CMakeLists.txt) and which of them this processor runs. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -45,6 +46,16 @@ int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]) {
     return n;
 }
 
+/* The builds compiled into this binary, by name, whether this processor runs them or not. */
+static const char *const compiled_builds[] = {
+#ifdef TRAZADOR_PACKET_X86_64_V4
+    "x86-64-v4",
+#endif
+#ifdef TRAZADOR_PACKET_AVX2
+    "avx2",
+#endif
+    "baseline"};
+
 packet_integrator integrator_packet_choose(void) {
     packet_integrator list[PACKET_VARIANTS_MAX];
     int n = integrator_packet_list(list);
@@ -52,7 +63,21 @@ packet_integrator integrator_packet_choose(void) {
     if (!wanted || !*wanted) return list[0];
     for (int k = 0; k < n; k++)
         if (!strcmp(list[k].name, wanted)) return list[k];
-    log_warn("TRAZADOR_PACKET_BUILD=%s: not a build this processor runs; using %s", wanted,
-             list[0].name);
+    static bool warned; /* once a run: bench renders many times */
+    if (warned) return list[0];
+    warned = true;
+    size_t count = sizeof compiled_builds / sizeof compiled_builds[0];
+    for (size_t k = 0; k < count; k++) {
+        if (strcmp(compiled_builds[k], wanted)) continue;
+        log_warn("TRAZADOR_PACKET_BUILD=%s: this processor cannot run that build; using %s", wanted,
+                 list[0].name);
+        return list[0];
+    }
+    char names[64] = "";
+    for (size_t k = 0; k < count; k++)
+        snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", k ? ", " : "",
+                 compiled_builds[k]);
+    log_warn("TRAZADOR_PACKET_BUILD=%s: no such build (this binary has %s); using %s", wanted,
+             names, list[0].name);
     return list[0];
 }

@@ -38,7 +38,7 @@ has forced-build err "packet integrator build baseline, 8 lanes"
 if cmp -s forced.pfm fastest.pfm; then ok; else bad "forced-build: baseline and fastest differ"; fi
 TRAZADOR_PACKET_BUILD=vax run unknown-build 0 "$tz" render --backend cpu --width 32 --spp 1 \
     -o unknown.png
-has unknown-build err "TRAZADOR_PACKET_BUILD=vax: not a build this processor runs"
+has unknown-build err "TRAZADOR_PACKET_BUILD=vax: no such build (this binary has "
 run no-args 2 "$tz"
 run unknown-command 2 "$tz" paint
 has unknown-command err "unknown command 'paint'"
