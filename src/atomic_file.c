@@ -90,14 +90,21 @@ bool atomic_file_write(const char *path, atomic_file_fill fill, const void *cont
     mode_t mode = target_mode(path);
     struct sigaction old[CLEANUP_SIGNALS];
     catch_signals(old);
+    /* The signals wait while the file is created and recorded: none can come in between. */
+    sigset_t block, unblocked;
+    sigemptyset(&block);
+    for (size_t k = 0; k < CLEANUP_SIGNALS; k++) sigaddset(&block, cleanup_signals[k]);
+    sigprocmask(SIG_BLOCK, &block, &unblocked);
     int fd = mkstemp(tmp);
+    int create_error = errno;
+    if (fd >= 0) pending_temp = tmp;
+    sigprocmask(SIG_SETMASK, &unblocked, NULL);
     if (fd < 0) {
         restore_signals(old);
-        log_error("%s: cannot create a temporary file: %s", path, strerror(errno));
+        log_error("%s: cannot create a temporary file: %s", path, strerror(create_error));
         free(tmp);
         return false;
     }
-    pending_temp = tmp;
     const char *step = "write";
     int err = fill_temp(fd, mode, fill, context, &step);
     if (!err && rename(tmp, path) != 0) {

@@ -27,9 +27,8 @@ typedef struct packet_integrator {
 
 /* The packet integrators this processor runs into list, fastest first; returns how many (>= 1). */
 int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]);
-/* The build the CPU back end uses: the fastest, or the one the environment variable
- * TRAZADOR_PACKET_BUILD names (to compare builds; a warning and the fastest when this processor
- * cannot run it). */
+/* The fastest build, or the one TRAZADOR_PACKET_BUILD names (warns and falls back when it can't).
+ */
 packet_integrator integrator_packet_choose(void);
 
 /* Nearest sphere hit by the ray o + t d (|d| = 1) with t > EPS, -1 on a miss; `self` is the

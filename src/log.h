@@ -11,8 +11,7 @@ void log_set_level(log_level level);
 /* Prints one formatted line to stderr, prefixed "trazador: " and the level for warnings/errors. */
 void log_message(log_level level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
-/* Holds error messages back instead of printing them, until log_release_errors: for a caller
- * that may recover from the failure (auto falling back to the CPU) and words it itself. */
+/* Holds errors back, unprinted, until log_release_errors (for callers that may recover). */
 void log_hold_errors(void);
 /* Stops holding; returns the held errors, one per line ("" for none), valid until the next hold. */
 const char *log_release_errors(void);

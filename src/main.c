@@ -54,11 +54,15 @@ bool cli_render(const scene *s, const render_opts *opts, backend_choice backend,
         log_info("no Vulkan device found; rendering with the CPU back end");
     } else {
         *used = "vulkan";
+        render_opts tried = *opts;
+        render_stats stats = {0};
+        if (!tried.stats) tried.stats = &stats;
         log_hold_errors();
-        bool ok = render_vk(s, opts, f);
+        bool ok = render_vk(s, &tried, f);
         const char *why = log_release_errors();
-        /* validation was asked for: its verdict stands, in full */
-        if (ok || opts->validate) {
+        /* Validation or a device asked for (--validate, --device), or validation failed: the
+         * verdict stands, in full. */
+        if (ok || opts->validate || opts->device >= 0 || tried.stats->validation_errors > 0) {
             for (const char *line = why; *line;) {
                 const char *end = strchr(line, '\n');
                 log_error("%.*s", (int)(end - line), line);
@@ -245,8 +249,14 @@ static int render_command(int argc, char **argv) {
         scene_free(&s);
         return 2;
     }
-    /* A device that does not exist is a mistake on the command line, not a reason to fall back. */
-    int devices = a.device >= 0 && a.backend != BACKEND_CPU ? vk_context_device_count() : 0;
+    /* Naming a device asks for Vulkan: none at all is the usual runtime failure, a number past
+     * the devices a mistake on the command line; neither falls back to the CPU. */
+    int devices = a.device >= 0 && a.backend != BACKEND_CPU ? vk_context_device_count() : -1;
+    if (devices == 0) {
+        log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
+        scene_free(&s);
+        return 1;
+    }
     if (devices > 0 && a.device >= devices) {
         fprintf(stderr,
                 "trazador: --device %lld: there %s %d Vulkan device%s (see `trazador devices`)\n",

@@ -14,7 +14,8 @@ typedef struct render_stats {
     double render_seconds; /* the sample passes alone */
     uint64_t rays;         /* nearest-hit and shadow rays traced */
     uint32_t bvh_nodes, bvh_depth;
-    uint64_t scene_bytes; /* spheres, lights and BVH nodes as the shaders read them */
+    uint64_t scene_bytes;       /* spheres, lights and BVH nodes as the shaders read them */
+    unsigned validation_errors; /* Vulkan: what the validation layer reported (it fails the run) */
 } render_stats;
 
 typedef struct render_opts {

@@ -436,6 +436,7 @@ done:
         log_error("the Vulkan validation layer reported errors: the render failed");
         ok = false;
     }
+    if (opts->stats) opts->stats->validation_errors = vk_context_validation_errors(&r.ctx);
     if (!ok) film_free(f);
     return ok;
 }

@@ -14,9 +14,10 @@
 #define SCENE_MAX_SAMPLES 1048576
 #define SCENE_MAX_BOUNCES 64
 #define SCENE_MAX_LINE 4096 /* longer lines are an error, not a slowdown */
-/* Ten times the ray offset EPS (TZ_EPS, at points within 1 of the origin): smaller spheres are
- * shaded wrongly (shadow rays start outside thin features, light leaks in), so they warn. */
-#define SCENE_TINY_RADIUS 1e-3f
+/* Rays leaving a sphere start TZ_EPS times its largest |coordinate| (at least 1) off it: a
+ * sphere whose radius is under this many offsets is shaded wrongly (a closed one renders black),
+ * so it warns. */
+#define SCENE_TINY_OFFSETS 2.0f
 /* Camera rays start EPS scaled by the camera's distance from the origin along their path (a near
  * clip of 10 units at 1e5): a surface within this many times that of the camera warns. */
 #define SCENE_NEAR_CLIP_FACTOR 10.0f
@@ -70,8 +71,8 @@ typedef struct scene {
     int sphere_count;
     light *lights;
     int light_count;
-    /* What the CLI warns about: the first sphere of radius below SCENE_TINY_RADIUS, a sphere
-     * surface closer to the camera than SCENE_NEAR_CLIP_FACTOR times its rays' start offset. */
+    /* What the CLI warns about: the first sphere of radius under SCENE_TINY_OFFSETS ray offsets,
+     * a sphere surface closer to the camera than SCENE_NEAR_CLIP_FACTOR times its rays' offset. */
     scene_error warnings[SCENE_MAX_WARNINGS];
     int warning_count;
 } scene;

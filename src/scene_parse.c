@@ -243,6 +243,11 @@ static bool is_nonfinite_word(const token *t) {
     return false;
 }
 
+/* The largest |coordinate| of v, at least 1: what the ray offset TZ_EPS is scaled by there. */
+static float largest_coordinate(vec3 v) {
+    return fmaxf(fmaxf(fabsf(v.x), fabsf(v.y)), fmaxf(fabsf(v.z), 1.0f));
+}
+
 static bool fail_range(parser *p, const key_spec *k, const token *t) {
     if (k->kind == VALUE_INTEGER) {
         return fail_at(p, t->col, "%s must be an integer in [%.0f, %.0f], got %s", k->name, k->min,
@@ -636,13 +641,16 @@ static bool parse_sphere(parser *p) {
         .ior = (float)value_or(&kv, SPHERE_IOR, m->kind == MATERIAL_REFRACTIVE ? 1.5 : 1.0),
         .emission = v3(0, 0, 0),
     };
-    float radius = p->s.spheres[p->s.sphere_count - 1].radius;
-    if (radius < SCENE_TINY_RADIUS && !p->tiny_warned) {
+    const sphere *added = &p->s.spheres[p->s.sphere_count - 1];
+    float offset = TZ_EPS * largest_coordinate(added->center);
+    if (added->radius < SCENE_TINY_OFFSETS * offset && !p->tiny_warned) {
         p->tiny_warned = true;
         warn_at(p, p->line, p->tokens[kv.value_token[SPHERE_RADIUS][0]].col,
-                "radius %g is below %g, ten times the ray offset %g: spheres this small are "
-                "shaded wrongly (light leaks, lost shadows); scale the scene up",
-                (double)radius, (double)SCENE_TINY_RADIUS, (double)TZ_EPS);
+                "radius %g is under %g times the ray offset here (%g: %g times the largest "
+                "coordinate, at least %g), so it is shaded wrongly (a closed sphere this small "
+                "renders black)",
+                (double)added->radius, (double)SCENE_TINY_OFFSETS, (double)offset, (double)TZ_EPS,
+                (double)TZ_EPS);
     }
     return true;
 }
@@ -688,6 +696,13 @@ static const directive_spec directives[] = {
  * inside a comment anything but NUL, so comments may hold UTF-8. */
 static bool tokenize(parser *p, const char *line, size_t length) {
     p->token_count = 0;
+    /* Only the last byte may be a CR (CR LF endings), comments included. */
+    const char *cr = length > 1 ? memchr(line, '\r', length - 1) : NULL;
+    if (cr) {
+        return fail_at(p, (int)(cr - line) + 1,
+                       "carriage return inside a line (old Mac line endings?): lines end "
+                       "in LF or CR LF");
+    }
     for (size_t i = 0; i < length;) {
         unsigned char c = (unsigned char)line[i];
         int col = (int)i + 1;
@@ -695,11 +710,6 @@ static bool tokenize(parser *p, const char *line, size_t length) {
             const char *nul = memchr(line + i, '\0', length - i);
             if (nul) return fail_at(p, (int)(nul - line) + 1, "NUL byte in a comment");
             break;
-        }
-        if (c == '\r' && i + 1 < length) {
-            return fail_at(p, col,
-                           "carriage return inside a line (old Mac line endings?): lines end "
-                           "in LF or CR LF");
         }
         if (c == ' ' || c == '\t' || c == '\r') {
             i++;
@@ -721,6 +731,9 @@ static bool parse_line(parser *p, const char *line, size_t length) {
     /* A CR before the '\n' belongs to the line ending, not to the line's length. */
     size_t content = length > 0 && line[length - 1] == '\r' ? length - 1 : length;
     if (content > SCENE_MAX_LINE) {
+        /* A NUL byte before the limit says more (binary input, /dev/zero): tokenizing those
+         * bytes reports it. */
+        if (memchr(line, '\0', SCENE_MAX_LINE) && !tokenize(p, line, SCENE_MAX_LINE)) return false;
         return fail_at(p, SCENE_MAX_LINE + 1, "line is longer than %d bytes", SCENE_MAX_LINE);
     }
     if (!tokenize(p, line, length)) return false;
@@ -737,28 +750,31 @@ static bool parse_line(parser *p, const char *line, size_t length) {
 
 /* Camera rays start TZ_EPS times the camera's largest |coordinate| (at least 1) along their path,
  * as every ray does from its origin (DESIGN section 3): far from the origin that is a near clip
- * (10 units at 1e5). Warns when the surface of some sphere lies within SCENE_NEAR_CLIP_FACTOR
- * times that distance of the camera: it may be cut away. */
+ * (10 units at 1e5). Warns when a sphere not wholly behind the camera has its surface within
+ * SCENE_NEAR_CLIP_FACTOR times that distance of the camera: it may be cut away. */
 static void warn_near_clip(parser *p) {
-    vec3 cam = p->s.camera_position;
-    float big = fmaxf(fmaxf(fabsf(cam.x), fabsf(cam.y)), fmaxf(fabsf(cam.z), 1.0f));
+    vec3 cam = p->s.camera_position, f = p->s.camera_direction;
+    double f_length = sqrt((double)f.x * f.x + (double)f.y * f.y + (double)f.z * f.z);
+    float big = largest_coordinate(cam);
     double offset = (double)TZ_EPS * big, nearest = INFINITY;
     int which = -1;
     for (int k = 0; k < p->s.sphere_count; k++) {
         const sphere *s = &p->s.spheres[k];
         double dx = (double)s->center.x - cam.x, dy = (double)s->center.y - cam.y,
                dz = (double)s->center.z - cam.z;
+        double ahead = (dx * f.x + dy * f.y + dz * f.z) / f_length;
+        if (ahead < -(double)s->radius) continue; /* wholly behind the camera */
         double gap = fabs(sqrt(dx * dx + dy * dy + dz * dz) - s->radius);
         if (gap < nearest) nearest = gap, which = k;
     }
     if (which < 0 || nearest >= SCENE_NEAR_CLIP_FACTOR * offset) return;
     const sphere *s = &p->s.spheres[which];
     warn_at(p, p->camera_line, p->camera_col,
-            "camera rays start %g along their path this far from the origin (the ray offset grows "
-            "with it), and sphere %d (centre %g %g %g, radius %g) has its surface %g from the "
-            "camera: near geometry may vanish; move the scene nearer the origin",
-            offset, which + 1, (double)s->center.x, (double)s->center.y, (double)s->center.z,
-            (double)s->radius, nearest);
+            "camera rays start %g along their path%s, and sphere %d (centre %g %g %g, radius %g) "
+            "has its surface %g from the camera: it may be cut away%s",
+            offset, big > 1.0f ? " this far from the origin (the ray offset grows with it)" : "",
+            which + 1, (double)s->center.x, (double)s->center.y, (double)s->center.z,
+            (double)s->radius, nearest, big > 1.0f ? "; move the scene nearer the origin" : "");
 }
 
 static bool parse_text(parser *p) {

@@ -53,9 +53,9 @@ run width-not-whole 2 "$tz" render --backend cpu --width 7 "$src/scenes/shadows.
 has width-not-whole err "--width 7"
 has width-not-whole err "pick a width that makes it whole"
 # A sphere too small for the ray offset renders, with a warning that names it.
-printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.1\nsphere lambertian center 0 0 0 radius 1\nsphere mirror center 0 0 0 radius 0.0005\n' > tiny.scene
+printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.1\nsphere lambertian center 0 0 0 radius 1\nsphere mirror center 0 0 0 radius 0.0005\nsphere mirror center 3 0 0 radius 0.0005\n' > tiny.scene
 run tiny-sphere 0 "$tz" render --backend cpu --quiet tiny.scene -o tiny.png
-has tiny-sphere err "tiny.scene:4:35: radius 0.0005 is below 0.001, ten times the ray offset"
+has tiny-sphere err "tiny.scene:5:35: radius 0.0005 is under 2 times the ray offset here (0.0003: "
 run no-tiny-sphere 0 "$tz" render --backend cpu --spp 1 --width 20 "$src/scenes/shadows.scene" -o s.png
 if grep -q "warning" "$tmp/err"; then bad "no-tiny-sphere: warned: $(cat "$tmp/err")"; else ok; fi
 # A device number past the devices is a command-line error whatever the back end choice.
@@ -76,6 +76,10 @@ if "$tz" devices 2>/dev/null | grep -q llvmpipe; then
     has lavapipe-refusal err "past lavapipe's safe limit"
     has lavapipe-refusal err "--no-bvh tests every sphere for every ray); rendering with the CPU back end instead"
     grep -q "error" "$tmp/err" && bad "lavapipe-refusal: an error line: $(cat "$tmp/err")" || ok
+    # Naming the device asks for Vulkan: its refusal is the verdict.
+    run lavapipe-refusal-device 1 "$tz" render --no-bvh --width 8 --spp 1 --device 0 crowd.scene \
+        -o crowd-device.png
+    has lavapipe-refusal-device err "error: this scene needs up to"
 fi
 # bench: a bad flag is a usage error; Vulkan asked for without a device is one error line, at once.
 run bench-usage 2 "$tz" bench --spp 0
@@ -84,9 +88,14 @@ VK_ICD_FILENAMES=/nonexistent.json VK_DRIVER_FILES=/nonexistent.json run bench-n
     "$tz" bench --backend vulkan
 has bench-no-device err "no Vulkan device found"
 [ "$(wc -l <"$tmp/err")" = 1 ] && [ ! -s "$tmp/out" ] && ok || bad "bench-no-device: $(cat "$tmp/err")"
+# Naming a device without any Vulkan device fails like --backend vulkan does, no CPU fallback.
+VK_ICD_FILENAMES=/nonexistent.json VK_DRIVER_FILES=/nonexistent.json run device-without-vulkan 1 \
+    "$tz" render --width 8 --spp 1 --device 0 -o nodev.png
+has device-without-vulkan err "no Vulkan device found"
+[ ! -e nodev.png ] && ok || bad "device-without-vulkan wrote nodev.png"
 # A stream that never ends is refused at once, not read to the size limit.
 run endless-stream 2 timeout 20 "$tz" render --backend cpu /dev/zero
-has endless-stream err "/dev/zero:1:"
+has endless-stream err "/dev/zero:1:1: unexpected NUL byte"
 # Far from the origin the ray offset is a near clip (10 units at 1e5): a sphere that close warns.
 printf 'camera position 1e5 0 0\nplane width 1 height 1 pixel 0.25\nsphere lambertian center 1e5 0 60 radius 55\n' > far.scene
 run far-camera 0 "$tz" render --backend cpu --quiet far.scene -o far.png

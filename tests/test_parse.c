@@ -326,6 +326,8 @@ static const invalid_case invalid_cases[] = {
      "pixel must be in [1e-12, 1e+12], got 0"},
     {"old Mac line endings", BYTES("camera position 0 0 0\rplane width 4 height 3 pixel 1\r"), 1,
      22, "carriage return inside a line (old Mac line endings?): lines end in LF or CR LF"},
+    {"old Mac line endings after a comment", BYTES("# a scene\rcamera position 0 0 0\r"), 1, 10,
+     "carriage return inside a line (old Mac line endings?)"},
     /* Ray directions are normalized from plane-sized vectors: squares that overflow or vanish in
      * float would turn every ray into NaN and the image black. */
     {"plane too wide for float",
