@@ -1,7 +1,9 @@
 /* atomic_file.c: all-or-nothing file writes (temporary file, fsync, rename). */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "atomic_file.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -51,15 +53,10 @@ static mode_t target_mode(const char *path) {
     return 0666 & ~mask;
 }
 
-/* Fills the open temporary file and closes it; 0 or an errno value, *step names what failed. */
-static int fill_temp(int fd, mode_t mode, atomic_file_fill fill, const void *context,
+/* Runs fill into the open file and closes it (with `sync`, fsync first); 0 or an errno value,
+ * *step names what failed. */
+static int fill_file(int fd, bool sync, atomic_file_fill fill, const void *context,
                      const char **step) {
-    *step = "set the file mode";
-    if (fchmod(fd, mode) != 0) {
-        int err = errno;
-        close(fd);
-        return err;
-    }
     *step = "write";
     FILE *fp = fdopen(fd, "wb");
     if (!fp) {
@@ -70,7 +67,7 @@ static int fill_temp(int fd, mode_t mode, atomic_file_fill fill, const void *con
     errno = 0;
     int err = fill(fp, context);
     if (!err && fflush(fp) != 0) err = last_error();
-    if (!err && fsync(fileno(fp)) != 0) {
+    if (!err && sync && fsync(fileno(fp)) != 0) {
         *step = "sync";
         err = last_error();
     }
@@ -78,7 +75,22 @@ static int fill_temp(int fd, mode_t mode, atomic_file_fill fill, const void *con
     return err;
 }
 
-bool atomic_file_write(const char *path, atomic_file_fill fill, const void *context) {
+/* Writes into an existing file that is not a regular one (/dev/null, /dev/stdout, a FIFO): there
+ * is nothing to keep, and renaming over it would replace a device with a plain file. */
+static bool write_in_place(const char *path, atomic_file_fill fill, const void *context) {
+    int fd = open(path, O_WRONLY | O_TRUNC);
+    if (fd < 0) {
+        log_error("%s: cannot open: %s", path, strerror(errno));
+        return false;
+    }
+    const char *step;
+    int err = fill_file(fd, false, fill, context, &step);
+    if (err) log_error("%s: cannot %s: %s", path, step, strerror(err));
+    return !err;
+}
+
+/* Writes path through a temporary file beside it, renamed over it once complete. */
+static bool write_replacing(const char *path, atomic_file_fill fill, const void *context) {
     size_t len = strlen(path);
     char *tmp = malloc(len + sizeof ".XXXXXX");
     if (!tmp) {
@@ -105,8 +117,12 @@ bool atomic_file_write(const char *path, atomic_file_fill fill, const void *cont
         free(tmp);
         return false;
     }
-    const char *step = "write";
-    int err = fill_temp(fd, mode, fill, context, &step);
+    const char *step = "set the file mode";
+    int err = fchmod(fd, mode) != 0 ? errno : 0;
+    if (err)
+        close(fd);
+    else
+        err = fill_file(fd, true, fill, context, &step);
     if (!err && rename(tmp, path) != 0) {
         err = errno;
         step = "rename the temporary file over it";
@@ -117,4 +133,22 @@ bool atomic_file_write(const char *path, atomic_file_fill fill, const void *cont
     if (err) log_error("%s: cannot %s: %s", path, step, strerror(err));
     free(tmp);
     return !err;
+}
+
+bool atomic_file_write(const char *path, atomic_file_fill fill, const void *context) {
+    struct stat st;
+    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode)) {
+        /* Through a symbolic link: replace what it points to, keeping the link. */
+        char *target = realpath(path, NULL);
+        if (!target) {
+            log_error("%s: cannot follow the symbolic link: %s", path, strerror(errno));
+            return false;
+        }
+        bool ok = atomic_file_write(target, fill, context);
+        free(target);
+        return ok;
+    }
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode))
+        return write_in_place(path, fill, context);
+    return write_replacing(path, fill, context);
 }

@@ -442,7 +442,7 @@ bool gen_write_file(const gen_desc *desc, const char *path) {
 
 static const char usage[] =
     "usage: trazador gen sphereflake --depth N [-o FILE] [--seed N]   N: 0 to 7 levels\n"
-    "       trazador gen random --count N [-o FILE] [--seed N]        N: 1 to 16000000 spheres\n"
+    "       trazador gen random --count N [-o FILE] [--seed N]        N: 1 to 3999988 spheres\n"
     "Writes the scene to FILE (atomically) or to stdout; --seed defaults to 1.\n";
 
 /* Logs "gen: " and the message (fmt with one %s for arg, or plain when arg is NULL), then the
@@ -494,7 +494,7 @@ int gen_command(int argc, char **argv) {
             desc.depth = (int)v;
         } else if (desc.kind == GEN_RANDOM && !strcmp(arg, "--count")) {
             if (!cli_parse_int(value, 1, GEN_MAX_COUNT, &v))
-                return usage_error("--count takes a whole number from 1 to 16000000, got '%s'",
+                return usage_error("--count takes a whole number from 1 to 3999988, got '%s'",
                                    value ? value : "");
             desc.count = (long)v;
         } else {
@@ -508,6 +508,6 @@ int gen_command(int argc, char **argv) {
     if (desc.kind == GEN_SPHEREFLAKE && desc.depth < 0)
         return usage_error("sphereflake needs --depth N (0 to 7)", NULL);
     if (desc.kind == GEN_RANDOM && desc.count < 0)
-        return usage_error("random needs --count N (1 to 16000000)", NULL);
+        return usage_error("random needs --count N (1 to 3999988)", NULL);
     return gen_write_file(&desc, path) ? 0 : 1;
 }

@@ -7,8 +7,10 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#define GEN_MAX_DEPTH 7        /* sphereflake: 5,380,840 spheres */
-#define GEN_MAX_COUNT 16000000 /* random: small spheres, within SCENE_MAX_SPHERES */
+#define GEN_MAX_DEPTH 7 /* sphereflake: 5,380,840 spheres */
+/* random: small spheres. More would spread the field past 1000 units from the origin, where the
+ * ray offset (1e-4 times the coordinates) reaches half their radius and glass turns black. */
+#define GEN_MAX_COUNT 3999988
 
 typedef enum gen_kind { GEN_SPHEREFLAKE = 0, GEN_RANDOM = 1 } gen_kind;
 

@@ -647,8 +647,8 @@ static bool parse_sphere(parser *p) {
         p->tiny_warned = true;
         warn_at(p, p->line, p->tokens[kv.value_token[SPHERE_RADIUS][0]].col,
                 "radius %g is under %g times the ray offset here (%g: %g times the largest "
-                "coordinate, at least %g), so it is shaded wrongly (a closed sphere this small "
-                "renders black)",
+                "coordinate, at least %g): rays that enter it start near or past its far side, "
+                "so it is shaded wrongly (glass turns black first)",
                 (double)added->radius, (double)SCENE_TINY_OFFSETS, (double)offset, (double)TZ_EPS,
                 (double)TZ_EPS);
     }

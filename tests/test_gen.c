@@ -320,7 +320,7 @@ static void test_usage(void) {
         {{"random", "--depth", "2", "-o", p}},
         {{"random", "-o", p}},
         {{"random", "--count", "0", "-o", p}},
-        {{"random", "--count", "16000001", "-o", p}},
+        {{"random", "--count", "3999989", "-o", p}},
         {{"random", "--count", "5", "--seed", "-1", "-o", p}},
         {{"random", "--count", "5", "--seed", "4294967296", "-o", p}},
         {{"random", "--count", "5", "--bogus", "-o", p}},

@@ -1,6 +1,7 @@
 /* test_image.c: tonemapping, film resolve, PPM/PNG/PFM round trips and bytes, atomic writes,
    and malformed inputs for src/image.c. */
 #include <dirent.h>
+#include <errno.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -461,6 +462,49 @@ static void test_write_killed(void) {
     }
 }
 
+static int fill_hello(FILE *fp, const void *context) {
+    (void)context;
+    return fputs("hello\n", fp) < 0 ? EIO : 0;
+}
+
+static void test_write_special(void) {
+    /* a FIFO stays a FIFO and gets the bytes; a symbolic link stays a link to the new content;
+     * a dangling link is an error that creates nothing */
+    const char *dir = tmp_path("wspecial");
+    mkdir(dir, 0755);
+    char fifo[600], got[600], target[600], link[600], dangling[600];
+    snprintf(fifo, sizeof fifo, "%s/pipe.ppm", dir);
+    snprintf(got, sizeof got, "%s/got", dir);
+    EXPECT(mkfifo(fifo, 0644) == 0);
+    fflush(NULL);
+    pid_t reader = fork();
+    if (reader == 0) { /* copies the FIFO to `got`; gives up after 10 s if nothing writes it */
+        alarm(10);
+        FILE *in = fopen(fifo, "rb"), *out = fopen(got, "wb");
+        int c;
+        while (in && out && (c = fgetc(in)) != EOF) fputc(c, out);
+        _exit(in && out && fclose(out) == 0 ? 0 : 1);
+    }
+    EXPECT(atomic_file_write(fifo, fill_hello, NULL));
+    int status = 0;
+    EXPECT(reader > 0 && waitpid(reader, &status, 0) == reader && WIFEXITED(status) &&
+           WEXITSTATUS(status) == 0);
+    struct stat st;
+    EXPECT(lstat(fifo, &st) == 0 && S_ISFIFO(st.st_mode));
+    EXPECT(file_is(got, "hello\n"));
+    snprintf(target, sizeof target, "%s/target.scene", dir);
+    snprintf(link, sizeof link, "%s/link.scene", dir);
+    write_file(target, "old", 3);
+    EXPECT(symlink("target.scene", link) == 0);
+    EXPECT(atomic_file_write(link, fill_hello, NULL));
+    EXPECT(lstat(link, &st) == 0 && S_ISLNK(st.st_mode));
+    EXPECT(file_is(target, "hello\n"));
+    snprintf(dangling, sizeof dangling, "%s/dangling.scene", dir);
+    EXPECT(symlink("missing/nothing.scene", dangling) == 0);
+    EXPECT(!atomic_file_write(dangling, fill_hello, NULL));
+    EXPECT(count_entries(dir) == 5);
+}
+
 static void test_overwrite(void) {
     const char *dir = tmp_path("wover");
     mkdir(dir, 0755);
@@ -588,6 +632,7 @@ int main(void) {
     CHECK_CASE(test_write_errors);
     CHECK_CASE(test_write_interrupted);
     CHECK_CASE(test_write_killed);
+    CHECK_CASE(test_write_special);
     CHECK_CASE(test_overwrite);
     CHECK_CASE(test_malformed);
     remove_tree(tmpdir);
