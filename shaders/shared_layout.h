@@ -49,9 +49,11 @@ typedef struct tz_uvec4 {
 #define TZ_BINDING_LIGHTS 2
 /* Dynamic: bound at the first row of each band of tiles. */
 #define TZ_BINDING_ACCUM 3
-/* Three uints since the last reset: samples dropped as non-finite, samples dropped for running
- * out of TZ_SPEC_WALK_BUDGET, and rays traced. */
+/* TZ_COUNTER_WORDS uints since the last reset: samples dropped as non-finite, samples dropped
+ * for running out of TZ_SPEC_WALK_BUDGET, and rays traced as low and high 32 bits (a pass over a
+ * big image traces more than 2^32 rays; the shader carries into the high word). */
 #define TZ_BINDING_COUNTERS 4
+#define TZ_COUNTER_WORDS 4
 /* Texels 2k, 2k+1: gpu_bvh_node k (one zeroed node without a BVH). */
 #define TZ_BINDING_NODES 5
 

@@ -21,6 +21,7 @@ layout(std430, set = 0, binding = TZ_BINDING_COUNTERS) buffer counter_block {
     uint nonfinite;
     uint overflow;
     uint rays;
+    uint rays_high;
 };
 layout(set = 0, binding = TZ_BINDING_NODES) uniform samplerBuffer node_texels;
 layout(push_constant) uniform pass_block { gpu_pass pass; };
@@ -121,5 +122,6 @@ void main() {
     accum[slot] = sum;
     if (dropped > 0u) atomicAdd(nonfinite, dropped);
     if (overflowed > 0u) atomicAdd(overflow, overflowed);
-    atomicAdd(rays, rays_traced);
+    uint before = atomicAdd(rays, rays_traced);
+    if (before + rays_traced < before) atomicAdd(rays_high, 1u); /* the low word wrapped */
 }

@@ -47,11 +47,12 @@ typedef struct vk_render {
     vk_context ctx;
     vk_buffer frame, spheres, lights, nodes, accum, counter;
     vk_buffer upload;   /* staging for the inputs when device memory is not mapped */
-    vk_buffer readback; /* staging: the three counters at 0, the accumulation at 16 */
+    vk_buffer readback; /* staging: the counters at 0, the accumulation at 16 */
     vk_kernel kernel;
     VkFence fence;
     VkCommandBuffer cmd;
 } vk_render;
+_Static_assert(TZ_COUNTER_WORDS * sizeof(uint32_t) <= 16, "the counters fit before the accumulation");
 
 /* Refuses what the device could not render right: scene or accumulation buffers past its limits,
  * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit. */
@@ -133,7 +134,8 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
         !vk_buffer_create(ctx, node_bytes, texels, VK_MEMORY_DEVICE, &r->nodes) ||
         !vk_buffer_create_view(ctx, &r->nodes, VK_FORMAT_R32G32B32A32_SFLOAT) ||
         !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum) ||
-        !vk_buffer_create(ctx, 3 * sizeof(uint32_t), storage, VK_MEMORY_DEVICE, &r->counter))
+        !vk_buffer_create(ctx, TZ_COUNTER_WORDS * sizeof(uint32_t), storage, VK_MEMORY_DEVICE,
+                          &r->counter))
         return false;
     if (!r->accum.mapped || !r->counter.mapped) {
         VkDeviceSize bytes = 16u + (VkDeviceSize)width * (VkDeviceSize)height * 4u * sizeof(float);
@@ -220,7 +222,7 @@ static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
                         VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
                         VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_HOST_READ_BIT);
     if (!r->counter.mapped) {
-        VkBufferCopy copy = {0, 0, 3 * sizeof(uint32_t)};
+        VkBufferCopy copy = {0, 0, TZ_COUNTER_WORDS * sizeof(uint32_t)};
         vkCmdCopyBuffer(cmd, r->counter.buffer, r->readback.buffer, 1, &copy);
     }
     if (final && !r->accum.mapped) {
@@ -244,8 +246,8 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
         uint32_t last =
             passes - first < plan->passes_per_submit ? passes : first + plan->passes_per_submit;
         if (!vk_commands_begin(ctx, &r->cmd)) return false;
-        /* The counter restarts each submission, so 32 bits never wrap: the previous
-         * submission's atomics and copy are done (fence) and ordered before the fill. */
+        /* The counters restart each submission: the previous submission's atomics and copy
+         * are done (fence) and ordered before the fill. */
         vk_commands_barrier(r->cmd,
                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                             VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
@@ -256,7 +258,7 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
         record_readback(r, plan, last == passes);
         if (!vk_commands_submit_wait(ctx, r->cmd, r->fence)) return false;
         *nonfinite += counter[0];
-        *rays += counter[2];
+        *rays += counter[2] | (uint64_t)counter[3] << 32;
         if (counter[1] > 0) {
             log_error(
                 "%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
@@ -284,7 +286,10 @@ static pass_plan plan_passes(const vk_context *ctx, const scene *s, const render
     }
     if (per_dispatch > plan.samples) per_dispatch = plan.samples;
     plan.per_dispatch = per_dispatch ? (uint32_t)per_dispatch : 1u;
-    uint64_t pass_cost = (uint64_t)plan.width * plan.height * plan.per_dispatch * sample_iterations;
+    uint64_t pass_cost; /* saturated: 16384^2 pixels of 4096 lights, 2^24 spheres, --no-bvh */
+    if (__builtin_mul_overflow((uint64_t)plan.width * plan.height * plan.per_dispatch,
+                               sample_iterations, &pass_cost))
+        pass_cost = UINT64_MAX;
     uint64_t per_submit = SUBMIT_BUDGET / pass_cost;
     plan.passes_per_submit =
         per_submit > 0 ? (uint32_t)(per_submit < UINT32_MAX ? per_submit : UINT32_MAX) : 1u;
@@ -331,15 +336,24 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
      * guess of 64 sizes the dispatches elsewhere). */
     uint32_t spheres = (uint32_t)s->sphere_count, lights = (uint32_t)s->light_count;
     uint32_t unrolled_spheres = spheres <= TZ_UNROLL_MAX_SPHERES ? spheres : 0u;
-    bool use_bvh = !opts->no_bvh && unrolled_spheres == 0u;
+    bool use_bvh = !opts->no_bvh && unrolled_spheres == 0u && spheres > 0u;
     bool lavapipe = vk_context_is_lavapipe(&r.ctx);
     uint32_t walk = use_bvh && lavapipe ? walk_budget(s, opts) : 0u;
+    /* Many lights leave each walk too few passes; testing every sphere may still fit. */
+    if (use_bvh && lavapipe && walk < MIN_WALK_BUDGET &&
+        vk_probe_sample_iterations(spheres, lights, (uint32_t)opts->bounces, opts->indirect) <
+            VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
+        use_bvh = false;
+        walk = 0u;
+    }
+    render_opts packing = *opts;
+    packing.no_bvh = !use_bvh;
     uint64_t sample_iterations =
         vk_probe_sample_iterations(use_bvh ? (lavapipe ? walk : 64u) : spheres, lights,
                                    (uint32_t)opts->bounces, opts->indirect);
     double t_pack = clock_seconds();
     if (!check_limits(&r.ctx, s, sample_iterations, use_bvh ? walk : UINT32_MAX) ||
-        !scene_pack(s, opts, &packed))
+        !scene_pack(s, &packing, &packed))
         goto done;
     scene_pack_report(&packed, opts, t_pack);
     if (!film_init(f, s->width, s->height)) {
