@@ -366,9 +366,11 @@ static void test_usage(void) {
     rmdir(folder);
     CHECK(tmpdir_entries() == before, "failed writes left %d files behind",
           tmpdir_entries() - before);
-    /* the generated file is readable by others, like any file the user writes */
+    /* the generated file gets the mode of any file the user writes: 0666 less the umask */
     const char *mode = tmp_path("mode.scene");
+    mode_t mask = umask(022);
     CHECK(run_gen("random", "--count", "1", "-o", mode, NULL) == 0, "mode.scene");
+    umask(mask);
     CHECK(stat(mode, &st) == 0 && (st.st_mode & 0777) == 0644, "mode %o, want 644",
           (unsigned)(st.st_mode & 0777));
     remove(mode);
