@@ -387,7 +387,7 @@ bool vk_context_print_devices(void) {
                VK_API_VERSION_PATCH(v),
                info.usable ? "" : " (unusable: needs Vulkan 1.1 and a compute queue)");
     }
-    if (chosen >= 0) printf("* the device `--device` defaults to\n");
+    if (chosen >= 0) printf("(* marks the device used when --device is not given)\n");
     free(devices);
     vkDestroyInstance(instance, NULL);
     return true;
