@@ -4,12 +4,12 @@
 
 #include <errno.h>
 #include <fcntl.h>
-#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "interrupts.h"
 #include "log.h"
 
 static int last_error(void) { return errno ? errno : EIO; }
@@ -17,30 +17,11 @@ static int last_error(void) { return errno ? errno : EIO; }
 /* The temporary file being written, removed by a terminating signal: an interrupted run leaves
  * nothing behind (the destination is untouched until the rename). */
 static char *volatile pending_temp;
-static const int cleanup_signals[] = {SIGINT, SIGTERM, SIGHUP};
-#define CLEANUP_SIGNALS (sizeof cleanup_signals / sizeof cleanup_signals[0])
 
 static void remove_pending_temp(int sig) {
     char *temp = pending_temp;
-    if (temp) unlink(temp); /* async-signal-safe, as are signal() and raise() */
-    signal(sig, SIG_DFL);
-    raise(sig);
-}
-
-/* Installs the handler for the signals that would kill the process as is (ignored or handled
- * ones are left alone), saving the old actions; restore_signals puts them back. */
-static void catch_signals(struct sigaction old[CLEANUP_SIGNALS]) {
-    struct sigaction act = {0};
-    act.sa_handler = remove_pending_temp;
-    sigemptyset(&act.sa_mask);
-    for (size_t k = 0; k < CLEANUP_SIGNALS; k++) {
-        sigaction(cleanup_signals[k], NULL, &old[k]);
-        if (old[k].sa_handler == SIG_DFL) sigaction(cleanup_signals[k], &act, NULL);
-    }
-}
-
-static void restore_signals(const struct sigaction old[CLEANUP_SIGNALS]) {
-    for (size_t k = 0; k < CLEANUP_SIGNALS; k++) sigaction(cleanup_signals[k], &old[k], NULL);
+    if (temp) unlink(temp); /* async-signal-safe */
+    interrupts_die(sig);
 }
 
 /* The mode the file should end with: the file's own when it exists, else what open(2) would give
@@ -100,19 +81,17 @@ static bool write_replacing(const char *path, atomic_file_fill fill, const void 
     memcpy(tmp, path, len);
     memcpy(tmp + len, ".XXXXXX", sizeof ".XXXXXX");
     mode_t mode = target_mode(path);
-    struct sigaction old[CLEANUP_SIGNALS];
-    catch_signals(old);
+    interrupts_saved saved;
+    interrupts_catch(remove_pending_temp, &saved);
     /* The signals wait while the file is created and recorded: none can come in between. */
-    sigset_t block, unblocked;
-    sigemptyset(&block);
-    for (size_t k = 0; k < CLEANUP_SIGNALS; k++) sigaddset(&block, cleanup_signals[k]);
-    sigprocmask(SIG_BLOCK, &block, &unblocked);
+    sigset_t unblocked;
+    interrupts_block(&unblocked);
     int fd = mkstemp(tmp);
     int create_error = errno;
     if (fd >= 0) pending_temp = tmp;
-    sigprocmask(SIG_SETMASK, &unblocked, NULL);
+    interrupts_unblock(&unblocked);
     if (fd < 0) {
-        restore_signals(old);
+        interrupts_restore(&saved);
         log_error("%s: cannot create a temporary file: %s", path, strerror(create_error));
         free(tmp);
         return false;
@@ -129,7 +108,7 @@ static bool write_replacing(const char *path, atomic_file_fill fill, const void 
     }
     if (err) unlink(tmp);
     pending_temp = NULL;
-    restore_signals(old);
+    interrupts_restore(&saved);
     if (err) log_error("%s: cannot %s: %s", path, step, strerror(err));
     free(tmp);
     return !err;

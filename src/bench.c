@@ -158,12 +158,13 @@ int bench_command(int argc, char **argv) {
         } else if (!strcmp(argv[k], "--spp") && cli_parse_int(value, 1, 65536, &spp)) {
             k++;
         } else {
-            fprintf(stderr,
-                    "trazador: usage: trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
+            bool help = !strcmp(argv[k], "--help") || !strcmp(argv[k], "-h");
+            fprintf(help ? stdout : stderr,
+                    "%susage: trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
                     "  --spp N: samples per pixel of the default-scene workloads (the scaling "
                     "table always takes %d)\n",
-                    SCALING_SAMPLES);
-            return 2;
+                    help ? "" : "trazador: ", SCALING_SAMPLES);
+            return help ? 0 : 2;
         }
     }
     if (vk_named && !have_vk) {

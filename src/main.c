@@ -13,6 +13,7 @@
 #include "diff.h"
 #include "gen.h"
 #include "image.h"
+#include "interrupts.h"
 #include "log.h"
 #include "scene.h"
 #include "vk_context.h"
@@ -212,6 +213,29 @@ static bool apply_width(long long width, scene *s) {
     return true;
 }
 
+/* Finite samples can still sum past the float range (radiance near 3.4e38): says how many
+ * pixels did, since they are written as infinity (PFM) or white. */
+static void warn_overflowed_pixels(const film *f) {
+    size_t pixels = (size_t)f->width * (size_t)f->height, overflowed = 0;
+    for (size_t k = 0; k < pixels; k++) {
+        const float *px = &f->accum[4 * k];
+        overflowed += !isfinite(px[0]) || !isfinite(px[1]) || !isfinite(px[2]);
+    }
+    if (overflowed)
+        log_warn(
+            "%zu pixels summed their samples past the float range (radiance near 3.4e38): "
+            "they are infinite in PFM and white in 8-bit images",
+            overflowed);
+}
+
+/* An interrupted render clears its progress line, so the shell's prompt starts a clean line. */
+static void clear_progress(int sig) {
+    static const char clear[] = "\r\033[K";
+    ssize_t written = write(STDERR_FILENO, clear, sizeof clear - 1); /* async-signal-safe */
+    (void)written;
+    interrupts_die(sig);
+}
+
 static void apply_overrides(const render_args *a, render_opts *o) {
     if (a->spp >= 0) o->samples = (int)a->spp;
     if (a->seed >= 0) o->seed = (uint32_t)a->seed;
@@ -234,6 +258,7 @@ static int render_command(int argc, char **argv) {
     if (a.quiet) log_set_level(LOG_WARN);
     scene s;
     scene_error err;
+    double parse_start = clock_seconds();
     bool parsed = a.scene_path ? scene_parse_file(a.scene_path, &s, &err)
                                : scene_parse_string(default_scene_text, strlen(default_scene_text),
                                                     "scenes/cornell.scene (embedded)", &s, &err);
@@ -241,6 +266,7 @@ static int render_command(int argc, char **argv) {
         scene_error_print(&err);
         return 2;
     }
+    log_debug("scene: read and parsed in %.1f ms", (clock_seconds() - parse_start) * 1e3);
     for (int k = 0; k < s.warning_count; k++) {
         const scene_error *w = &s.warnings[k];
         log_warn("%s:%d:%d: %s", w->file, w->line, w->col, w->message);
@@ -273,12 +299,18 @@ static int render_command(int argc, char **argv) {
     image img = {0};
     const char *used = "";
     double start = clock_seconds();
+    interrupts_saved saved;
+    if (opts.progress) interrupts_catch(clear_progress, &saved);
     bool ok = cli_render(&s, &opts, a.backend, &f, &used);
+    if (opts.progress) interrupts_restore(&saved);
     double elapsed = clock_seconds() - start;
     if (ok && f.nonfinite)
         log_warn("%llu samples had non-finite radiance and were not accumulated",
                  (unsigned long long)f.nonfinite);
+    if (ok) warn_overflowed_pixels(&f);
+    double write_start = clock_seconds();
     ok = ok && image_from_film(&f, &img) && image_write(a.output, &img, a.tm);
+    if (ok) log_debug("image: written in %.1f ms", (clock_seconds() - write_start) * 1e3);
     if (ok && !a.quiet) {
         double samples = (double)s.width * s.height * opts.samples;
         log_info("%s: %dx%d, %d spp, %s back end, %.3f s, %.2f Msamples/s, %.1f Mrays/s", a.output,
@@ -310,6 +342,10 @@ int main(int argc, char **argv) {
     if (!strcmp(cmd, "bench")) return bench_command(argc - 1, argv + 1);
     if (!strcmp(cmd, "gen")) return gen_command(argc - 1, argv + 1);
     if (!strcmp(cmd, "devices")) {
+        if (argc == 3 && (!strcmp(argv[2], "--help") || !strcmp(argv[2], "-h"))) {
+            printf("usage: trazador devices\nLists the Vulkan devices; * marks the default.\n");
+            return 0;
+        }
         if (argc > 2) return usage_error("devices takes no arguments, got '%s'", argv[2]);
         return vk_context_print_devices() ? 0 : 1;
     }

@@ -52,7 +52,8 @@ typedef struct vk_render {
     VkFence fence;
     VkCommandBuffer cmd;
 } vk_render;
-_Static_assert(TZ_COUNTER_WORDS * sizeof(uint32_t) <= 16, "the counters fit before the accumulation");
+_Static_assert(TZ_COUNTER_WORDS * sizeof(uint32_t) <= 16,
+               "the counters fit before the accumulation");
 
 /* Refuses what the device could not render right: scene or accumulation buffers past its limits,
  * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit. */

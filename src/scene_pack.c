@@ -145,9 +145,10 @@ void scene_pack_report(const packed_scene *p, const render_opts *opts, double pa
                       (uint64_t)p->frame.size.w * sizeof *p->lights +
                       (uint64_t)p->frame.settings.w * sizeof *p->nodes;
     log_debug(
-        "scene: %u spheres, %u BVH nodes (depth %u) built in %.3f s, %.1f MB for the "
+        "scene: %u sphere%s, %u BVH node%s (depth %u) built in %.3f s, %.1f MB for the "
         "shaders",
-        p->frame.size.z, st->bvh_nodes, st->bvh_depth, st->bvh_seconds,
+        p->frame.size.z, p->frame.size.z == 1 ? "" : "s", st->bvh_nodes,
+        st->bvh_nodes == 1 ? "" : "s", st->bvh_depth, st->bvh_seconds,
         (double)st->scene_bytes * 1e-6);
 }
 

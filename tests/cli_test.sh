@@ -81,6 +81,11 @@ if "$tz" devices 2>/dev/null | grep -q llvmpipe; then
         -o crowd-device.png
     has lavapipe-refusal-device err "error: this scene needs up to"
 fi
+# Every subcommand takes --help: its usage on stdout, exit 0.
+for cmd in render diff gen bench devices; do
+    run "$cmd-help" 0 "$tz" $cmd --help
+    has "$cmd-help" out "usage: trazador $cmd"
+done
 # bench: a bad flag is a usage error; Vulkan asked for without a device is one error line, at once.
 run bench-usage 2 "$tz" bench --spp 0
 has bench-usage err "the scaling table always takes 4"
@@ -101,6 +106,10 @@ printf 'camera position 1e5 0 0\nplane width 1 height 1 pixel 0.25\nsphere lambe
 run far-camera 0 "$tz" render --backend cpu --quiet far.scene -o far.png
 has far-camera err "far.scene:1:17: camera rays start 10 along their path"
 has far-camera err "sphere 1 (centre 100000 0 60, radius 55) has its surface 5 from the camera"
+# Finite samples that sum past the float range are reported, not silently written as inf.
+printf 'camera position 0 0 0\nplane width 1 height 1 pixel 0.5\nbackground 3e38 1e38 1\n' > bright.scene
+run overflow 0 "$tz" render --backend cpu --quiet bright.scene -o bright.pfm
+has overflow err "4 pixels summed their samples past the float range"
 # A whole height over the limit names the limit, not wholeness.
 printf 'camera position 0 0 -5\nplane width 1 height 4 pixel 0.01\n' > tall.scene
 run width-too-tall 2 "$tz" render --backend cpu --width 8000 tall.scene
