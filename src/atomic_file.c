@@ -70,12 +70,14 @@ static bool write_in_place(const char *path, atomic_file_fill fill, const void *
     return !err;
 }
 
-/* Writes path through a temporary file beside it, renamed over it once complete. */
-static bool write_replacing(const char *path, atomic_file_fill fill, const void *context) {
+/* Writes path through a temporary file beside it, renamed over it once complete; messages name
+ * `shown` (what the user gave, when path is a link's target). */
+static bool write_replacing(const char *path, const char *shown, atomic_file_fill fill,
+                            const void *context) {
     size_t len = strlen(path);
     char *tmp = malloc(len + sizeof ".XXXXXX");
     if (!tmp) {
-        log_error("%s: %s", path, strerror(ENOMEM));
+        log_error("%s: %s", shown, strerror(ENOMEM));
         return false;
     }
     memcpy(tmp, path, len);
@@ -92,7 +94,7 @@ static bool write_replacing(const char *path, atomic_file_fill fill, const void 
     interrupts_unblock(&unblocked);
     if (fd < 0) {
         interrupts_restore(&saved);
-        log_error("%s: cannot create a temporary file: %s", path, strerror(create_error));
+        log_error("%s: cannot create a temporary file: %s", shown, strerror(create_error));
         free(tmp);
         return false;
     }
@@ -109,13 +111,27 @@ static bool write_replacing(const char *path, atomic_file_fill fill, const void 
     if (err) unlink(tmp);
     pending_temp = NULL;
     interrupts_restore(&saved);
-    if (err) log_error("%s: cannot %s: %s", path, step, strerror(err));
+    if (err) log_error("%s: cannot %s: %s", shown, step, strerror(err));
     free(tmp);
     return !err;
 }
 
+/* True for the names of a process's open files (/dev/stdout, /dev/fd/3, /proc/self/fd/1): they
+ * are written in place, whatever they lead to (a pipe, a terminal, a file the shell opened). */
+static bool names_open_file(const char *path) {
+    return !strncmp(path, "/dev/std", 8) || !strncmp(path, "/dev/fd/", 8) ||
+           (!strncmp(path, "/proc/", 6) && strstr(path, "/fd/"));
+}
+
 bool atomic_file_write(const char *path, atomic_file_fill fill, const void *context) {
-    struct stat st;
+    struct stat st; /* what the path leads to, through any links */
+    bool exists = stat(path, &st) == 0;
+    if (exists && S_ISDIR(st.st_mode)) {
+        log_error("%s: is a directory", path);
+        return false;
+    }
+    if ((exists && !S_ISREG(st.st_mode)) || names_open_file(path))
+        return write_in_place(path, fill, context);
     if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode)) {
         /* Through a symbolic link: replace what it points to, keeping the link. */
         char *target = realpath(path, NULL);
@@ -123,11 +139,9 @@ bool atomic_file_write(const char *path, atomic_file_fill fill, const void *cont
             log_error("%s: cannot follow the symbolic link: %s", path, strerror(errno));
             return false;
         }
-        bool ok = atomic_file_write(target, fill, context);
+        bool ok = write_replacing(target, path, fill, context);
         free(target);
         return ok;
     }
-    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode))
-        return write_in_place(path, fill, context);
-    return write_replacing(path, fill, context);
+    return write_replacing(path, path, fill, context);
 }

@@ -243,10 +243,14 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
     uint32_t passes = (plan->samples + plan->per_dispatch - 1u) / plan->per_dispatch;
     const uint32_t *counter = r->counter.mapped ? r->counter.mapped : r->readback.mapped;
     *nonfinite = 0;
-    for (uint32_t first = 0; first < passes; first += plan->passes_per_submit) {
+    bool ok = true;
+    for (uint32_t first = 0; ok && first < passes; first += plan->passes_per_submit) {
         uint32_t last =
             passes - first < plan->passes_per_submit ? passes : first + plan->passes_per_submit;
-        if (!vk_commands_begin(ctx, &r->cmd)) return false;
+        if (!vk_commands_begin(ctx, &r->cmd)) {
+            ok = false;
+            break;
+        }
         /* The counters restart each submission: the previous submission's atomics and copy
          * are done (fence) and ordered before the fill. */
         vk_commands_barrier(r->cmd,
@@ -257,20 +261,25 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
         vkCmdFillBuffer(r->cmd, r->counter.buffer, 0, VK_WHOLE_SIZE, 0u);
         record_passes(r, plan, first, last);
         record_readback(r, plan, last == passes);
-        if (!vk_commands_submit_wait(ctx, r->cmd, r->fence)) return false;
+        if (!vk_commands_submit_wait(ctx, r->cmd, r->fence)) {
+            ok = false;
+            break;
+        }
         *nonfinite += counter[0];
         *rays += counter[2] | (uint64_t)counter[3] << 32;
         if (counter[1] > 0) {
+            if (opts->progress) fprintf(stderr, "\r\033[K");
             log_error(
                 "%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
                 "allows (its shaders stop loops silently past %u in all): use --backend cpu",
                 counter[1], VK_PROBE_LAVAPIPE_LOOP_LIMIT);
-            return false;
+            ok = false;
+            break;
         }
         if (opts->progress) fprintf(stderr, "\rtrazador: rendering %5.1f%%", 100.0 * last / passes);
     }
-    if (opts->progress) fprintf(stderr, "\r\033[K");
-    return true;
+    if (opts->progress) fprintf(stderr, "\r\033[K"); /* on failure too: messages follow */
+    return ok;
 }
 
 /* Samples per dispatch and passes per submission, from the per-sample worst case. */

@@ -98,6 +98,11 @@ VK_ICD_FILENAMES=/nonexistent.json VK_DRIVER_FILES=/nonexistent.json run device-
     "$tz" render --width 8 --spp 1 --device 0 -o nodev.png
 has device-without-vulkan err "no Vulkan device found"
 [ ! -e nodev.png ] && ok || bad "device-without-vulkan wrote nodev.png"
+# /dev/stdout into a pipe is written in place (it was followed as a link and failed).
+"$tz" gen random --count 3 -o /dev/stdout | cat > piped.scene
+[ "${PIPESTATUS[0]}" = 0 ] && grep -q "^sphere" piped.scene && ok || bad "gen -o /dev/stdout into a pipe"
+run dir-output 1 "$tz" gen random --count 3 -o "$tmp/"
+has dir-output err "is a directory"
 # A stream that never ends is refused at once, not read to the size limit.
 run endless-stream 2 timeout 20 "$tz" render --backend cpu /dev/zero
 has endless-stream err "/dev/zero:1:1: unexpected NUL byte"
