@@ -370,12 +370,9 @@ static bool file_is(const char *path, const char *content) {
 static void test_write_errors(void) {
     const char *dir = tmp_path("werr");
     mkdir(dir, 0755);
-    char keep[600], noext[600], missing[600], blocked[600], inner[700];
-    snprintf(keep, sizeof keep, "%s/keep.bmp", dir);
-    snprintf(noext, sizeof noext, "%s/noext", dir);
-    snprintf(missing, sizeof missing, "%s/missing/out.ppm", dir);
-    snprintf(blocked, sizeof blocked, "%s/blocked.ppm", dir);
-    snprintf(inner, sizeof inner, "%s/inside", blocked);
+    const char *keep = tmp_path("werr/keep.bmp"), *noext = tmp_path("werr/noext");
+    const char *missing = tmp_path("werr/missing/out.ppm"), *blocked = tmp_path("werr/blocked.ppm");
+    const char *inner = tmp_path("werr/blocked.ppm/inside");
     write_file(keep, "original", 8);
     write_file(noext, "original", 8);
     mkdir(blocked, 0755); /* rename over a folder fails after the temporary is complete */
@@ -472,9 +469,9 @@ static void test_write_special(void) {
      * a dangling link is an error that creates nothing */
     const char *dir = tmp_path("wspecial");
     mkdir(dir, 0755);
-    char fifo[600], got[600], target[600], link[600], dangling[600];
-    snprintf(fifo, sizeof fifo, "%s/pipe.ppm", dir);
-    snprintf(got, sizeof got, "%s/got", dir);
+    const char *fifo = tmp_path("wspecial/pipe.ppm"), *got = tmp_path("wspecial/got");
+    const char *target = tmp_path("wspecial/target.scene"), *link = tmp_path("wspecial/link.scene");
+    const char *dangling = tmp_path("wspecial/dangling.scene");
     EXPECT(mkfifo(fifo, 0644) == 0);
     fflush(NULL);
     pid_t reader = fork();
@@ -492,14 +489,11 @@ static void test_write_special(void) {
     struct stat st;
     EXPECT(lstat(fifo, &st) == 0 && S_ISFIFO(st.st_mode));
     EXPECT(file_is(got, "hello\n"));
-    snprintf(target, sizeof target, "%s/target.scene", dir);
-    snprintf(link, sizeof link, "%s/link.scene", dir);
     write_file(target, "old", 3);
     EXPECT(symlink("target.scene", link) == 0);
     EXPECT(atomic_file_write(link, fill_hello, NULL));
     EXPECT(lstat(link, &st) == 0 && S_ISLNK(st.st_mode));
     EXPECT(file_is(target, "hello\n"));
-    snprintf(dangling, sizeof dangling, "%s/dangling.scene", dir);
     EXPECT(symlink("missing/nothing.scene", dangling) == 0);
     EXPECT(!atomic_file_write(dangling, fill_hello, NULL));
     EXPECT(count_entries(dir) == 5);
