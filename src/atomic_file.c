@@ -4,6 +4,8 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <libgen.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -123,7 +125,24 @@ static bool names_open_file(const char *path) {
            (!strncmp(path, "/proc/", 6) && strstr(path, "/fd/"));
 }
 
+/* The write itself, to the file or the link's target in the right way. */
+static bool write_any(const char *path, atomic_file_fill fill, const void *context);
+
 bool atomic_file_write(const char *path, atomic_file_fill fill, const void *context) {
+    /* A file-size limit (ulimit -f) kills the writer with SIGXFSZ and leaves its temporary file:
+     * ignored while writing (unless the program handles it), the write fails with EFBIG and
+     * cleans up like any failed write. */
+    struct sigaction ignore = {.sa_handler = SIG_IGN}, old;
+    sigemptyset(&ignore.sa_mask);
+    sigaction(SIGXFSZ, NULL, &old);
+    bool ignoring = old.sa_handler == SIG_DFL;
+    if (ignoring) sigaction(SIGXFSZ, &ignore, NULL);
+    bool ok = write_any(path, fill, context);
+    if (ignoring) sigaction(SIGXFSZ, &old, NULL);
+    return ok;
+}
+
+static bool write_any(const char *path, atomic_file_fill fill, const void *context) {
     struct stat st; /* what the path leads to, through any links */
     bool exists = stat(path, &st) == 0;
     if (exists && S_ISDIR(st.st_mode)) {
@@ -144,4 +163,35 @@ bool atomic_file_write(const char *path, atomic_file_fill fill, const void *cont
         return ok;
     }
     return write_replacing(path, path, fill, context);
+}
+
+bool atomic_file_check(const char *path) {
+    struct stat st;
+    bool exists = stat(path, &st) == 0;
+    if (exists && S_ISDIR(st.st_mode)) {
+        log_error("%s: is a directory", path);
+        return false;
+    }
+    if ((exists && !S_ISREG(st.st_mode)) || names_open_file(path)) {
+        if (access(path, W_OK) == 0) return true;
+        log_error("%s: cannot write: %s", path, strerror(errno));
+        return false;
+    }
+    /* A file is written beside what the path leads to, and renamed: its folder must take one. */
+    char *target = NULL;
+    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode) && !(target = realpath(path, NULL))) {
+        log_error("%s: cannot follow the symbolic link: %s", path, strerror(errno));
+        return false;
+    }
+    char *copy = strdup(target ? target : path);
+    free(target);
+    if (!copy) {
+        log_error("%s: %s", path, strerror(ENOMEM));
+        return false;
+    }
+    const char *folder = dirname(copy);
+    bool ok = access(folder, W_OK | X_OK) == 0;
+    if (!ok) log_error("%s: cannot write in %s: %s", path, folder, strerror(errno));
+    free(copy);
+    return ok;
 }

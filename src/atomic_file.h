@@ -14,5 +14,7 @@ typedef int (*atomic_file_fill)(FILE *fp, const void *context);
 
 /* Writes path with fill(fp, context); false (logged) on failure, leaving any old file intact. */
 bool atomic_file_write(const char *path, atomic_file_fill fill, const void *context);
+/* Whether atomic_file_write could write path (its folder takes a file); false (logged) if not. */
+bool atomic_file_check(const char *path);
 
 #endif

@@ -1,5 +1,6 @@
 /* main.c: the command line: subcommands, flags and exit codes (the only file that exits).
  * Exit codes: 0 success, 1 runtime failure, 2 usage or scene error. */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -7,6 +8,7 @@
 #include <strings.h>
 #include <unistd.h>
 
+#include "atomic_file.h"
 #include "cli.h"
 #include "clock.h"
 #include "default_scene.h"
@@ -264,7 +266,7 @@ static int render_command(int argc, char **argv) {
                                                     "scenes/cornell.scene (embedded)", &s, &err);
     if (!parsed) {
         scene_error_print(&err);
-        return 2;
+        return err.out_of_memory ? 1 : 2;
     }
     log_debug("scene: read and parsed in %.1f ms", (clock_seconds() - parse_start) * 1e3);
     for (int k = 0; k < s.warning_count; k++) {
@@ -274,6 +276,11 @@ static int render_command(int argc, char **argv) {
     if (!apply_width(a.width, &s)) {
         scene_free(&s);
         return 2;
+    }
+    /* An output that cannot be written is said before the render, not after it. */
+    if (!atomic_file_check(a.output)) {
+        scene_free(&s);
+        return 1;
     }
     /* Naming a device asks for Vulkan: none at all is the usual runtime failure, a number past
      * the devices a mistake on the command line; neither falls back to the CPU. */
@@ -323,7 +330,8 @@ static int render_command(int argc, char **argv) {
     return ok ? 0 : 1;
 }
 
-int main(int argc, char **argv) {
+/* Runs the subcommand argv[1]; its exit code. */
+static int run_command(int argc, char **argv) {
     if (argc < 2) {
         fputs(usage_text, stderr);
         return 2;
@@ -350,4 +358,15 @@ int main(int argc, char **argv) {
         return vk_context_print_devices() ? 0 : 1;
     }
     return usage_error("unknown command '%s'", cmd);
+}
+
+int main(int argc, char **argv) {
+    int rc = run_command(argc, argv);
+    /* What went to standard output is data (diff's metrics, a scene, a list): a failed write
+     * there (a full disk, /dev/full) fails the run. */
+    if ((fflush(stdout) != 0 || ferror(stdout)) && rc == 0) {
+        fprintf(stderr, "trazador: cannot write to standard output: %s\n", strerror(errno));
+        rc = 1;
+    }
+    return rc;
 }

@@ -54,6 +54,7 @@ typedef struct scene_error {
     char file[256];
     int line, col;
     char message[512];
+    bool out_of_memory; /* not the scene's fault: a runtime failure (exit 1), not a scene error */
 } scene_error;
 
 typedef struct scene {

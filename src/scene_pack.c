@@ -41,13 +41,14 @@ static tz_vec4 vec4_from(vec3 v, float w) { return (tz_vec4){v.x, v.y, v.z, w}; 
 
 /* Sorts the spheres into BVH order and keeps the tree unless no_bvh (the order stays: exact ties
  * go to the lower index, so the same order gives the same image with and without the tree);
- * false on out-of-memory. */
+ * false (logged) on out-of-memory. */
 static bool pack_bvh(packed_scene *out, uint32_t count, bool no_bvh) {
     double start = clock_seconds();
     bvh tree;
     if (!bvh_build(out->spheres, count, TZ_BVH_MAX_DEPTH, &tree)) return false;
     struct gpu_sphere *sorted = malloc((count ? count : 1) * sizeof *sorted);
     if (!sorted) {
+        log_error("out of memory sorting %u spheres into BVH order", count);
         bvh_free(&tree);
         return false;
     }
@@ -126,8 +127,9 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
                  (uint32_t)s->light_count},
         .settings = {opts->seed, (uint32_t)opts->bounces, flags, 0u},
     };
-    if (!pack_bvh(out, count, opts->no_bvh) || !pack_soa(out, count)) {
-        log_error("out of memory packing %u spheres", count);
+    bool sorted = pack_bvh(out, count, opts->no_bvh); /* logs its own failure */
+    if (sorted && !pack_soa(out, count)) log_error("out of memory packing %u spheres", count);
+    if (!sorted || !out->soa.cx) {
         packed_scene_free(out);
         return false;
     }

@@ -573,7 +573,10 @@ static bool grow(parser *p, void **array, size_t *capacity, int count, int max, 
     size_t capacity_new = *capacity ? *capacity * 2 : 64;
     if (capacity_new > (size_t)max) capacity_new = (size_t)max;
     void *grown = realloc(*array, capacity_new * item);
-    if (!grown) return fail_at(p, p->tokens[0].col, "out of memory after %d %s", count, what);
+    if (!grown) {
+        if (p->err) p->err->out_of_memory = true;
+        return fail_at(p, p->tokens[0].col, "out of memory after %d %s", count, what);
+    }
     *array = grown;
     *capacity = capacity_new;
     return true;
@@ -796,9 +799,10 @@ static bool parse_text(parser *p) {
 
 bool scene_parse_string(const char *text, size_t length, const char *filename, scene *out,
                         scene_error *err) {
+    if (err) err->out_of_memory = false;
     parser *p = calloc(1, sizeof *p);
     if (!p) {
-        if (err) *err = (scene_error){.line = 0, .col = 0, .message = "out of memory"};
+        if (err) *err = (scene_error){.message = "out of memory", .out_of_memory = true};
         return false;
     }
     p->text = text;
@@ -862,7 +866,10 @@ static bool read_all(int fd, const char *path, char **data, size_t *length, scen
         capacity = (size_t)st.st_size + 1; /* +1 so a regular file ends in one short read */
     }
     char *buffer = malloc(capacity);
-    if (!buffer) return fail_file(path, err, "out of memory reading %zu bytes", capacity);
+    if (!buffer) {
+        if (err) err->out_of_memory = true;
+        return fail_file(path, err, "out of memory reading %zu bytes", capacity);
+    }
     size_t used = 0;
     for (;;) {
         if (used == capacity) {
@@ -874,6 +881,7 @@ static bool read_all(int fd, const char *path, char **data, size_t *length, scen
             char *grown = realloc(buffer, capacity * 2);
             if (!grown) {
                 free(buffer);
+                if (err) err->out_of_memory = true;
                 return fail_file(path, err, "out of memory reading %zu bytes", capacity * 2);
             }
             buffer = grown;
@@ -898,6 +906,7 @@ static bool read_all(int fd, const char *path, char **data, size_t *length, scen
 }
 
 bool scene_parse_file(const char *path, scene *out, scene_error *err) {
+    if (err) err->out_of_memory = false;
     int fd = open(path, O_RDONLY);
     if (fd < 0) return fail_file(path, err, "cannot open: %s", strerror(errno));
     char *data = NULL;

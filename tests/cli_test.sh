@@ -103,6 +103,10 @@ has device-without-vulkan err "no Vulkan device found"
 [ "${PIPESTATUS[0]}" = 0 ] && grep -q "^sphere" piped.scene && ok || bad "gen -o /dev/stdout into a pipe"
 run dir-output 1 "$tz" gen random --count 3 -o "$tmp/"
 has dir-output err "is a directory"
+# Output that cannot be written fails the run: diff's metrics to a full disk are data.
+"$tz" render --backend cpu --width 8 --spp 1 --quiet -o d.png
+"$tz" diff d.png d.png > /dev/full 2> full.err && bad "diff into /dev/full: exit 0" || ok
+grep -q "cannot write to standard output" full.err && ok || bad "diff into /dev/full: $(cat full.err)"
 # A stream that never ends is refused at once, not read to the size limit.
 run endless-stream 2 timeout 20 "$tz" render --backend cpu /dev/zero
 has endless-stream err "/dev/zero:1:1: unexpected NUL byte"
@@ -132,8 +136,11 @@ run missing-scene 2 "$tz" render nowhere.scene --backend cpu
 has missing-scene err "nowhere.scene: cannot open"
 
 # A render into a folder that does not exist fails with 1 and leaves nothing behind.
-run missing-folder 1 "$tz" render --backend cpu --spp 1 --width 20 -o no/such/dir/out.png
+run missing-folder 1 "$tz" render --backend cpu --spp 1 --width 20 --verbose -o no/such/dir/out.png
 [ ! -e no ] && ok || bad "missing-folder: created something"
+# ... and says so before rendering, not after.
+has missing-folder err "no/such/dir/out.png: cannot write in no/such/dir: No such file or directory"
+grep -q "rendering in" "$tmp/err" && bad "missing-folder: rendered first" || ok
 
 # The default scene, default output name, summary line; --quiet is quiet.
 run default 0 "$tz" render --backend cpu --spp 1 --width 40

@@ -424,7 +424,7 @@ static void expect_error(const char *name, const char *text, size_t length, int 
     memset(&s, 0xab, sizeof s);
     memcpy(&sentinel, &s, sizeof s);
     scene_error err;
-    memset(&err, 0, sizeof err);
+    memset(&err, 0xab, sizeof err); /* every field the parser must set, out_of_memory too */
     if (!check(!scene_parse_string(text, length, "bad.scene", &s, &err), name,
                "parsed without error")) {
         scene_free(&s);
@@ -435,6 +435,7 @@ static void expect_error(const char *name, const char *text, size_t length, int 
     check(strstr(err.message, message) != NULL, name, "message '%s' lacks '%s'", err.message,
           message);
     check(strcmp(err.file, "bad.scene") == 0, name, "file '%s'", err.file);
+    check(!err.out_of_memory, name, "a scene error is marked out of memory (exit 1, not 2)");
     check(memcmp(&s, &sentinel, sizeof s) == 0, name, "*out was modified on failure");
 }
 
