@@ -125,10 +125,33 @@ static bool names_open_file(const char *path) {
            (!strncmp(path, "/proc/", 6) && strstr(path, "/fd/"));
 }
 
-/* The write itself, to the file or the link's target in the right way. */
-static bool write_any(const char *path, atomic_file_fill fill, const void *context);
+/* How a path is written: refused (logged), in place, or by replacing `*file` (malloc'd: the
+ * path itself, or what a symbolic link leads to, so that the link stays). */
+typedef enum write_way { WRITE_REFUSED, WRITE_IN_PLACE, WRITE_REPLACING } write_way;
+
+static write_way how_to_write(const char *path, char **file) {
+    *file = NULL;
+    struct stat st; /* what the path leads to, through any links */
+    bool exists = stat(path, &st) == 0;
+    if (exists && S_ISDIR(st.st_mode)) {
+        log_error("%s: is a directory", path);
+        return WRITE_REFUSED;
+    }
+    if ((exists && !S_ISREG(st.st_mode)) || names_open_file(path)) return WRITE_IN_PLACE;
+    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode)) {
+        *file = realpath(path, NULL);
+        if (!*file) log_error("%s: cannot follow the symbolic link: %s", path, strerror(errno));
+    } else {
+        *file = strdup(path);
+        if (!*file) log_error("%s: %s", path, strerror(ENOMEM));
+    }
+    return *file ? WRITE_REPLACING : WRITE_REFUSED;
+}
 
 bool atomic_file_write(const char *path, atomic_file_fill fill, const void *context) {
+    char *file;
+    write_way way = how_to_write(path, &file);
+    if (way == WRITE_REFUSED) return false;
     /* A file-size limit (ulimit -f) kills the writer with SIGXFSZ and leaves its temporary file:
      * ignored while writing (unless the program handles it), the write fails with EFBIG and
      * cleans up like any failed write. */
@@ -137,61 +160,24 @@ bool atomic_file_write(const char *path, atomic_file_fill fill, const void *cont
     sigaction(SIGXFSZ, NULL, &old);
     bool ignoring = old.sa_handler == SIG_DFL;
     if (ignoring) sigaction(SIGXFSZ, &ignore, NULL);
-    bool ok = write_any(path, fill, context);
+    bool ok = way == WRITE_IN_PLACE ? write_in_place(path, fill, context)
+                                    : write_replacing(file, path, fill, context);
     if (ignoring) sigaction(SIGXFSZ, &old, NULL);
+    free(file);
     return ok;
 }
 
-static bool write_any(const char *path, atomic_file_fill fill, const void *context) {
-    struct stat st; /* what the path leads to, through any links */
-    bool exists = stat(path, &st) == 0;
-    if (exists && S_ISDIR(st.st_mode)) {
-        log_error("%s: is a directory", path);
-        return false;
-    }
-    if ((exists && !S_ISREG(st.st_mode)) || names_open_file(path))
-        return write_in_place(path, fill, context);
-    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode)) {
-        /* Through a symbolic link: replace what it points to, keeping the link. */
-        char *target = realpath(path, NULL);
-        if (!target) {
-            log_error("%s: cannot follow the symbolic link: %s", path, strerror(errno));
-            return false;
-        }
-        bool ok = write_replacing(target, path, fill, context);
-        free(target);
-        return ok;
-    }
-    return write_replacing(path, path, fill, context);
-}
-
 bool atomic_file_check(const char *path) {
-    struct stat st;
-    bool exists = stat(path, &st) == 0;
-    if (exists && S_ISDIR(st.st_mode)) {
-        log_error("%s: is a directory", path);
-        return false;
-    }
-    if ((exists && !S_ISREG(st.st_mode)) || names_open_file(path)) {
-        if (access(path, W_OK) == 0) return true;
-        log_error("%s: cannot write: %s", path, strerror(errno));
-        return false;
-    }
-    /* A file is written beside what the path leads to, and renamed: its folder must take one. */
-    char *target = NULL;
-    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode) && !(target = realpath(path, NULL))) {
-        log_error("%s: cannot follow the symbolic link: %s", path, strerror(errno));
-        return false;
-    }
-    char *copy = strdup(target ? target : path);
-    free(target);
-    if (!copy) {
-        log_error("%s: %s", path, strerror(ENOMEM));
-        return false;
-    }
-    const char *folder = dirname(copy);
-    bool ok = access(folder, W_OK | X_OK) == 0;
-    if (!ok) log_error("%s: cannot write in %s: %s", path, folder, strerror(errno));
-    free(copy);
+    char *file;
+    write_way way = how_to_write(path, &file);
+    if (way == WRITE_REFUSED) return false;
+    /* In place, the file must take writes; replaced, its folder must take a new file. */
+    bool in_place = way == WRITE_IN_PLACE;
+    const char *where = in_place ? path : dirname(file);
+    bool ok = access(where, in_place ? W_OK : W_OK | X_OK) == 0;
+    if (!ok)
+        log_error("%s: cannot write%s%s: %s", path, in_place ? "" : " in ", in_place ? "" : where,
+                  strerror(errno));
+    free(file);
     return ok;
 }
