@@ -33,28 +33,29 @@ static bool runs_avx2(void) {
 }
 #endif
 
+static bool runs_anywhere(void) { return true; }
+
+/* Every build compiled into this binary, fastest first, with what it needs to run. */
+static const struct {
+    packet_integrator build;
+    bool (*runs)(void);
+} compiled_builds[] = {
+#ifdef TRAZADOR_PACKET_X86_64_V4
+    {{"x86-64-v4", 16, integrator_sample_packet_x86_64_v4}, runs_x86_64_v4},
+#endif
+#ifdef TRAZADOR_PACKET_AVX2
+    {{"avx2", 8, integrator_sample_packet_avx2}, runs_avx2},
+#endif
+    {{"baseline", 8, integrator_sample_packet_baseline}, runs_anywhere},
+};
+#define COMPILED_BUILDS (sizeof compiled_builds / sizeof compiled_builds[0])
+
 int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]) {
     int n = 0;
-#ifdef TRAZADOR_PACKET_X86_64_V4
-    if (runs_x86_64_v4())
-        list[n++] = (packet_integrator){"x86-64-v4", 16, integrator_sample_packet_x86_64_v4};
-#endif
-#ifdef TRAZADOR_PACKET_AVX2
-    if (runs_avx2()) list[n++] = (packet_integrator){"avx2", 8, integrator_sample_packet_avx2};
-#endif
-    list[n++] = (packet_integrator){"baseline", 8, integrator_sample_packet_baseline};
+    for (size_t k = 0; k < COMPILED_BUILDS; k++)
+        if (compiled_builds[k].runs()) list[n++] = compiled_builds[k].build;
     return n;
 }
-
-/* The builds compiled into this binary, by name, whether this processor runs them or not. */
-static const char *const compiled_builds[] = {
-#ifdef TRAZADOR_PACKET_X86_64_V4
-    "x86-64-v4",
-#endif
-#ifdef TRAZADOR_PACKET_AVX2
-    "avx2",
-#endif
-    "baseline"};
 
 packet_integrator integrator_packet_choose(void) {
     packet_integrator list[PACKET_VARIANTS_MAX];
@@ -66,17 +67,16 @@ packet_integrator integrator_packet_choose(void) {
     static bool warned; /* once a run: bench renders many times */
     if (warned) return list[0];
     warned = true;
-    size_t count = sizeof compiled_builds / sizeof compiled_builds[0];
-    for (size_t k = 0; k < count; k++) {
-        if (strcmp(compiled_builds[k], wanted)) continue;
-        log_warn("TRAZADOR_PACKET_BUILD=%s: this processor cannot run that build; using %s", wanted,
-                 list[0].name);
-        return list[0];
-    }
     char names[64] = "";
-    for (size_t k = 0; k < count; k++)
+    for (size_t k = 0; k < COMPILED_BUILDS; k++) {
+        if (!strcmp(compiled_builds[k].build.name, wanted)) {
+            log_warn("TRAZADOR_PACKET_BUILD=%s: this processor cannot run that build; using %s",
+                     wanted, list[0].name);
+            return list[0];
+        }
         snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", k ? ", " : "",
-                 compiled_builds[k]);
+                 compiled_builds[k].build.name);
+    }
     log_warn("TRAZADOR_PACKET_BUILD=%s: no such build (this binary has %s); using %s", wanted,
              names, list[0].name);
     return list[0];
