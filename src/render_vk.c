@@ -244,6 +244,7 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
     const uint32_t *counter = r->counter.mapped ? r->counter.mapped : r->readback.mapped;
     *nonfinite = 0;
     bool ok = true;
+    uint32_t overflowed = 0; /* samples whose walk ran out of loop passes */
     for (uint32_t first = 0; ok && first < passes; first += plan->passes_per_submit) {
         uint32_t last =
             passes - first < plan->passes_per_submit ? passes : first + plan->passes_per_submit;
@@ -267,18 +268,17 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
         }
         *nonfinite += counter[0];
         *rays += counter[2] | (uint64_t)counter[3] << 32;
-        if (counter[1] > 0) {
-            if (opts->progress) fprintf(stderr, "\r\033[K");
-            log_error(
-                "%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
-                "allows (its shaders stop loops silently past %u in all): use --backend cpu",
-                counter[1], VK_PROBE_LAVAPIPE_LOOP_LIMIT);
-            ok = false;
-            break;
-        }
-        if (opts->progress) fprintf(stderr, "\rtrazador: rendering %5.1f%%", 100.0 * last / passes);
+        overflowed = counter[1];
+        ok = overflowed == 0;
+        if (ok && opts->progress)
+            fprintf(stderr, "\rtrazador: rendering %5.1f%%", 100.0 * last / passes);
     }
     if (opts->progress) fprintf(stderr, "\r\033[K"); /* on failure too: messages follow */
+    if (overflowed > 0)
+        log_error(
+            "%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
+            "allows (its shaders stop loops silently past %u in all): use --backend cpu",
+            overflowed, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
     return ok;
 }
 
@@ -349,18 +349,20 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
     bool use_bvh = !opts->no_bvh && unrolled_spheres == 0u && spheres > 0u;
     bool lavapipe = vk_context_is_lavapipe(&r.ctx);
     uint32_t walk = use_bvh && lavapipe ? walk_budget(s, opts) : 0u;
+    uint64_t every_sphere =
+        vk_probe_sample_iterations(spheres, lights, (uint32_t)opts->bounces, opts->indirect);
     /* Many lights leave each walk too few passes; testing every sphere may still fit. */
     if (use_bvh && lavapipe && walk < MIN_WALK_BUDGET &&
-        vk_probe_sample_iterations(spheres, lights, (uint32_t)opts->bounces, opts->indirect) <
-            VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
+        every_sphere < VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
         use_bvh = false;
         walk = 0u;
     }
     render_opts packing = *opts;
     packing.no_bvh = !use_bvh;
     uint64_t sample_iterations =
-        vk_probe_sample_iterations(use_bvh ? (lavapipe ? walk : 64u) : spheres, lights,
-                                   (uint32_t)opts->bounces, opts->indirect);
+        use_bvh ? vk_probe_sample_iterations(lavapipe ? walk : 64u, lights, (uint32_t)opts->bounces,
+                                             opts->indirect)
+                : every_sphere;
     double t_pack = clock_seconds();
     if (!check_limits(&r.ctx, s, sample_iterations, use_bvh ? walk : UINT32_MAX) ||
         !scene_pack(s, &packing, &packed))
