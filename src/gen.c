@@ -440,9 +440,17 @@ bool gen_write_file(const gen_desc *desc, const char *path) {
 
 /* ---- command line ---- */
 
+/* The limits as text, for the messages. */
+#define AS_TEXT(x) AS_TEXT_(x)
+#define AS_TEXT_(x) #x
+#define MAX_DEPTH AS_TEXT(GEN_MAX_DEPTH)
+#define MAX_COUNT AS_TEXT(GEN_MAX_COUNT)
+
 static const char usage[] =
-    "usage: trazador gen sphereflake --depth N [-o FILE] [--seed N]   N: 0 to 7 levels\n"
-    "       trazador gen random --count N [-o FILE] [--seed N]        N: 1 to 3999988 spheres\n"
+    "usage: trazador gen sphereflake --depth N [-o FILE] [--seed N]   N: 0 to " MAX_DEPTH
+    " levels\n"
+    "       trazador gen random --count N [-o FILE] [--seed N]        N: 1 to " MAX_COUNT
+    " spheres\n"
     "Writes the scene to FILE (atomically) or to stdout; --seed defaults to 1.\n";
 
 /* Logs "gen: " and the message (fmt with one %s for arg, or plain when arg is NULL), then the
@@ -489,12 +497,12 @@ int gen_command(int argc, char **argv) {
             desc.seed = (uint32_t)v;
         } else if (desc.kind == GEN_SPHEREFLAKE && !strcmp(arg, "--depth")) {
             if (!cli_parse_int(value, 0, GEN_MAX_DEPTH, &v))
-                return usage_error("--depth takes a whole number from 0 to 7, got '%s'",
+                return usage_error("--depth takes a whole number from 0 to " MAX_DEPTH ", got '%s'",
                                    value ? value : "");
             desc.depth = (int)v;
         } else if (desc.kind == GEN_RANDOM && !strcmp(arg, "--count")) {
             if (!cli_parse_int(value, 1, GEN_MAX_COUNT, &v))
-                return usage_error("--count takes a whole number from 1 to 3999988, got '%s'",
+                return usage_error("--count takes a whole number from 1 to " MAX_COUNT ", got '%s'",
                                    value ? value : "");
             desc.count = (long)v;
         } else {
@@ -506,8 +514,8 @@ int gen_command(int argc, char **argv) {
         }
     }
     if (desc.kind == GEN_SPHEREFLAKE && desc.depth < 0)
-        return usage_error("sphereflake needs --depth N (0 to 7)", NULL);
+        return usage_error("sphereflake needs --depth N (0 to " MAX_DEPTH ")", NULL);
     if (desc.kind == GEN_RANDOM && desc.count < 0)
-        return usage_error("random needs --count N (1 to 3999988)", NULL);
+        return usage_error("random needs --count N (1 to " MAX_COUNT ")", NULL);
     return gen_write_file(&desc, path) ? 0 : 1;
 }
