@@ -14,6 +14,7 @@
 #include "image.h"
 #include "render.h"
 #include "scene_pack.h"
+#include "test_scenes.h"
 #include "vk_context.h"
 
 #define MIN_PSNR 50.0
@@ -56,40 +57,6 @@ static void check_agreement(const char *name, const scene *s, const render_opts 
     image_free(&b);
     film_free(&cpu);
     film_free(&vk);
-}
-
-/* A sphere: Phong parameters 0 and ior 1, 1.5 for glass (callers set others). */
-static sphere ball(float x, float y, float z, float radius, material_kind material, float r,
-                   float g, float b) {
-    return (sphere){.center = {x, y, z},
-                    .radius = radius,
-                    .material = material,
-                    .color = {r, g, b},
-                    .ior = material == MATERIAL_REFRACTIVE ? 1.5f : 1.0f};
-}
-
-/* A view from `camera` along +z (up +y) through a plane_w x plane_h plane, `width` pixels
- * across, indirect light on, 5 bounces; the spheres and lights are the caller's. */
-static scene view(float camera_z, float plane_w, float plane_h, int width, int samples,
-                  uint32_t seed, sphere *spheres, int sphere_count, light *lights,
-                  int light_count) {
-    float pixel = plane_w / (float)width;
-    return (scene){.camera_position = {0.0f, 0.0f, camera_z},
-                   .camera_direction = {0.0f, 0.0f, 1.0f},
-                   .camera_up = {0.0f, 1.0f, 0.0f},
-                   .plane_width = plane_w,
-                   .plane_height = plane_h,
-                   .pixel_size = pixel,
-                   .width = width,
-                   .height = (int)lroundf(plane_h / pixel),
-                   .samples = samples,
-                   .indirect = true,
-                   .bounces = 5,
-                   .seed = seed,
-                   .spheres = spheres,
-                   .sphere_count = sphere_count,
-                   .lights = lights,
-                   .light_count = light_count};
 }
 
 /* Every material, two coloured lights, a visible background, a huge floor; seen at an angle. */

@@ -5,32 +5,17 @@
 
 #include "check.h"
 #include "render.h"
+#include "test_scenes.h"
 #include "vk_context.h"
 
 /* A one-pixel scene: one Lambertian sphere in front of the camera, one light. */
-static sphere one_sphere = {.center = {0.0f, 0.0f, 5.0f},
-                            .radius = 1.0f,
-                            .material = MATERIAL_LAMBERTIAN,
-                            .color = {0.5f, 0.5f, 0.5f},
-                            .ior = 1.0f};
 static light one_light = {
     .position = {0.0f, 0.0f, 0.0f}, .power = 10.0f, .color = {1.0f, 1.0f, 1.0f}};
 
 static bool render_tiny(int device) {
-    scene s = {.camera_direction = {0.0f, 0.0f, 1.0f},
-               .camera_up = {0.0f, 1.0f, 0.0f},
-               .plane_width = 0.5f,
-               .plane_height = 0.5f,
-               .pixel_size = 0.5f,
-               .width = 1,
-               .height = 1,
-               .samples = 2,
-               .bounces = 5,
-               .seed = 1,
-               .spheres = &one_sphere,
-               .sphere_count = 1,
-               .lights = &one_light,
-               .light_count = 1};
+    sphere one_sphere = ball(0.0f, 0.0f, 5.0f, 1.0f, MATERIAL_LAMBERTIAN, 0.5f, 0.5f, 0.5f);
+    scene s = view(0.0f, 0.5f, 0.5f, 1, 2, 1, &one_sphere, 1, &one_light, 1);
+    s.indirect = false;
     render_opts opts;
     render_opts_from_scene(&s, &opts);
     opts.device = device;

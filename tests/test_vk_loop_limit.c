@@ -9,6 +9,7 @@
 
 #include "check.h"
 #include "render.h"
+#include "test_scenes.h"
 #include "vk_context.h"
 #include "vk_probe.h"
 
@@ -71,27 +72,12 @@ static void test_bound(void) {
 /* A scene of n tiny spheres in a row and one light, 8 x 8 pixels. */
 static scene row_of_spheres(int n, sphere *spheres, light *l) {
     for (int k = 0; k < n; k++)
-        spheres[k] = (sphere){.center = {(float)k * 0.01f, 0.0f, 5.0f},
-                              .radius = 0.004f,
-                              .material = MATERIAL_LAMBERTIAN,
-                              .color = {0.5f, 0.5f, 0.5f},
-                              .ior = 1.0f};
+        spheres[k] =
+            ball((float)k * 0.01f, 0.0f, 5.0f, 0.004f, MATERIAL_LAMBERTIAN, 0.5f, 0.5f, 0.5f);
     *l = (light){.position = {0.0f, 2.0f, 0.0f}, .power = 10.0f, .color = {1.0f, 1.0f, 1.0f}};
-    return (scene){.camera_position = {0.0f, 0.0f, 0.0f},
-                   .camera_direction = {0.0f, 0.0f, 1.0f},
-                   .camera_up = {0.0f, 1.0f, 0.0f},
-                   .plane_width = 0.08f,
-                   .plane_height = 0.08f,
-                   .pixel_size = 0.01f,
-                   .width = 8,
-                   .height = 8,
-                   .samples = 1,
-                   .bounces = 5,
-                   .seed = 1,
-                   .spheres = spheres,
-                   .sphere_count = n,
-                   .lights = l,
-                   .light_count = 1};
+    scene s = view(0.0f, 0.08f, 0.08f, 8, 1, 1, spheres, n, l, 1);
+    s.indirect = false;
+    return s;
 }
 
 /* Largest relative difference of the two films' pixel means (1 when their sizes differ). */
