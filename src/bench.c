@@ -26,12 +26,26 @@ static const workload workloads[] = {
 /* Scene sizes of the scaling table: the same camera and image, more and more spheres. */
 static const long scaling_counts[] = {10, 1000, 100000, 1000000};
 #define SCALING_SIZE 256
-#define SCALING_SAMPLES 4
+/* Each row is rendered first at SCALING_WARMUP_SAMPLES (lavapipe compiles its shader, caches and
+ * pages warm up), then timed at the power of two of samples, at most SCALING_MAX_SAMPLES, that
+ * makes its passes last about SCALING_SECONDS: a 10-sphere row of 4 samples lasts 10 ms, too
+ * short to time (runs of it varied from 15 to 27 Msamples/s). */
+#define SCALING_WARMUP_SAMPLES 4
+#define SCALING_MAX_SAMPLES 256
+#define SCALING_SECONDS 0.5
 
 /* Prints a measured figure in a column of `width`, or "-" when that back end was not timed. */
 static void print_figure(int width, double value, bool measured, const char *suffix) {
     if (measured)
         printf(" %*.2f%s", width - (int)strlen(suffix), value, suffix);
+    else
+        printf(" %*s", width, "-");
+}
+
+/* Prints a count in a column of `width`, or "-" when that back end was not timed. */
+static void print_count(int width, int value, bool measured) {
+    if (measured)
+        printf(" %*d", width, value);
     else
         printf(" %*s", width, "-");
 }
@@ -76,28 +90,46 @@ static bool scaling_scene(long count, scene *out) {
     return ok;
 }
 
-/* Renders s with the back end at the scaling table's size; Msamples/s of the sample passes alone
- * (BVH build and, for Vulkan, device and pipeline set-up excluded), or -1 on failure. */
-static double run_scaling(const scene *s, backend_choice backend, render_stats *stats) {
+/* Renders s with the back end at the scaling table's size and `samples` spp; Msamples/s of the
+ * sample passes alone (BVH build and, for Vulkan, device and pipeline set-up excluded), or -1 on
+ * failure. */
+static double run_scaling(const scene *s, backend_choice backend, int samples,
+                          render_stats *stats) {
     render_opts opts;
     render_opts_from_scene(s, &opts);
-    opts.samples = SCALING_SAMPLES;
+    opts.samples = samples;
     opts.indirect = true;
     opts.stats = stats;
     film f = {0};
     const char *used;
     bool ok = cli_render(s, &opts, backend, &f, &used);
     film_free(&f);
-    return ok ? (double)s->width * s->height * opts.samples / stats->render_seconds * 1e-6 : -1.0;
+    return ok && stats->render_seconds > 0.0
+               ? (double)s->width * s->height * opts.samples / stats->render_seconds * 1e-6
+               : -1.0;
+}
+
+/* Msamples/s of s on the back end: a warm-up render, then one timed for about SCALING_SECONDS;
+ * *samples the spp timed. -1 on failure. */
+static double time_scaling(const scene *s, backend_choice backend, int *samples,
+                           render_stats *stats) {
+    *samples = SCALING_WARMUP_SAMPLES;
+    double warm = run_scaling(s, backend, *samples, stats);
+    if (warm < 0.0) return -1.0;
+    double wanted = SCALING_SECONDS * warm * 1e6 / ((double)s->width * s->height);
+    while (*samples < SCALING_MAX_SAMPLES && *samples < wanted) *samples *= 2;
+    *stats = (render_stats){0};
+    return run_scaling(s, backend, *samples, stats);
 }
 
 /* The scaling table: cost per sample against the sphere count, both back ends. */
 static int bench_scaling(bool want_cpu, bool want_vk) {
     printf(
-        "\nscaling: random spheres, %dx%d, %d spp, indirect on; Msamples/s of the passes alone\n",
-        SCALING_SIZE, SCALING_SIZE, SCALING_SAMPLES);
-    printf("%10s %9s %7s %10s %14s %14s %11s %11s\n", "spheres", "build s", "B/sph", "depth",
-           "cpu Msamples/s", "vk Msamples/s", "cpu vs 10", "vk vs 10");
+        "\nscaling: random spheres, %dx%d, indirect on; Msamples/s of the passes alone, timed "
+        "for about %.1f s after a %d-spp warm-up (spp: samples per pixel timed)\n",
+        SCALING_SIZE, SCALING_SIZE, SCALING_SECONDS, SCALING_WARMUP_SAMPLES);
+    printf("%10s %9s %7s %6s %14s %5s %14s %5s %10s %10s\n", "spheres", "build s", "B/sph", "depth",
+           "cpu Msamples/s", "spp", "vk Msamples/s", "spp", "cpu vs 10", "vk vs 10");
     int failures = 0;
     double cpu_base = 0.0, vk_base = 0.0;
     vec3 position = {0}, direction = {0}, up = {0};
@@ -116,23 +148,21 @@ static int bench_scaling(bool want_cpu, bool want_vk) {
         s.pixel_size = s.plane_width / (float)SCALING_SIZE;
         s.width = s.height = SCALING_SIZE;
         render_stats cpu_stats = {0}, vk_stats = {0};
-        double cpu = want_cpu ? run_scaling(&s, BACKEND_CPU, &cpu_stats) : 0.0;
-        double vk = 0.0;
-        /* Twice: lavapipe compiles the shader at its first dispatch (then Mesa caches it). */
-        for (int run = 0; want_vk && run < 2; run++) {
-            double msps = run_scaling(&s, BACKEND_VULKAN, &vk_stats);
-            vk = run == 0 || msps < 0.0 || (vk >= 0.0 && msps > vk) ? msps : vk;
-        }
+        int cpu_spp = 0, vk_spp = 0;
+        double cpu = want_cpu ? time_scaling(&s, BACKEND_CPU, &cpu_spp, &cpu_stats) : 0.0;
+        double vk = want_vk ? time_scaling(&s, BACKEND_VULKAN, &vk_spp, &vk_stats) : 0.0;
         failures += cpu < 0.0 || vk < 0.0;
         const render_stats *st = want_cpu ? &cpu_stats : &vk_stats;
         if (k == 0) cpu_base = cpu, vk_base = vk;
         /* Cost per sample relative to the 10-sphere scene: how much slower each sample is. */
-        printf("%10d %9.3f %7.1f %10u", s.sphere_count, st->bvh_seconds,
+        printf("%10d %9.3f %7.1f %6u", s.sphere_count, st->bvh_seconds,
                (double)st->scene_bytes / s.sphere_count, st->bvh_depth);
         print_figure(14, cpu, want_cpu && cpu > 0.0, "");
+        print_count(5, cpu_spp, want_cpu && cpu > 0.0);
         print_figure(14, vk, want_vk && vk > 0.0, "");
-        print_figure(11, cpu_base / cpu, want_cpu && cpu > 0.0 && cpu_base > 0.0, "x");
-        print_figure(11, vk_base / vk, want_vk && vk > 0.0 && vk_base > 0.0, "x");
+        print_count(5, vk_spp, want_vk && vk > 0.0);
+        print_figure(10, cpu_base / cpu, want_cpu && cpu > 0.0 && cpu_base > 0.0, "x");
+        print_figure(10, vk_base / vk, want_vk && vk > 0.0 && vk_base > 0.0, "x");
         printf("\n");
         fflush(stdout);
         scene_free(&s);
@@ -162,8 +192,8 @@ int bench_command(int argc, char **argv) {
             fprintf(help ? stdout : stderr,
                     "%susage: trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
                     "  --spp N: samples per pixel of the default-scene workloads (the scaling "
-                    "table always takes %d)\n",
-                    help ? "" : "trazador: ", SCALING_SAMPLES);
+                    "table times each row for about %.1f s)\n",
+                    help ? "" : "trazador: ", SCALING_SECONDS);
             return help ? 0 : 2;
         }
     }

@@ -88,7 +88,7 @@ for cmd in render diff gen bench devices; do
 done
 # bench: a bad flag is a usage error; Vulkan asked for without a device is one error line, at once.
 run bench-usage 2 "$tz" bench --spp 0
-has bench-usage err "the scaling table always takes 4"
+has bench-usage err "the scaling table times each row"
 VK_ICD_FILENAMES=/nonexistent.json VK_DRIVER_FILES=/nonexistent.json run bench-no-device 1 \
     "$tz" bench --backend vulkan
 has bench-no-device err "no Vulkan device found"
