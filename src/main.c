@@ -75,10 +75,9 @@ bool cli_render(const scene *s, const render_opts *opts, backend_choice backend,
         }
         /* One line: why Vulkan could not, less its advice to use the CPU, which follows. */
         int length = (int)strcspn(why, "\n");
-        const char *advice = ": use --backend cpu";
-        int advice_length = (int)strlen(advice);
+        int advice_length = (int)strlen(VK_CONTEXT_USE_CPU);
         if (length >= advice_length &&
-            !strncmp(why + length - advice_length, advice, advice_length))
+            !strncmp(why + length - advice_length, VK_CONTEXT_USE_CPU, advice_length))
             length -= advice_length;
         log_info("%.*s%srendering with the CPU back end instead", length, why, length ? "; " : "");
     }

@@ -63,7 +63,7 @@ static bool check_limits(const vk_context *ctx, const scene *s, uint64_t sample_
     if (vk_context_is_lavapipe(ctx) && use_bvh && walk < MIN_WALK_BUDGET) {
         log_error(
             "with %d lights and this bounce limit a ray could walk the BVH only %u loop "
-            "passes on lavapipe (its shaders stop loops silently after %u): use --backend cpu",
+            "passes on lavapipe (its shaders stop loops silently after %u)" VK_CONTEXT_USE_CPU,
             s->light_count, walk, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
         return false;
     }
@@ -72,8 +72,8 @@ static bool check_limits(const vk_context *ctx, const scene *s, uint64_t sample_
         sample_iterations + 1u > VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
         log_error("this scene needs up to %" PRIu64
                   " loop passes per sample, past lavapipe's safe limit of %u (its shaders stop "
-                  "loops silently after %u; --no-bvh tests every sphere for every ray): use "
-                  "--backend cpu",
+                  "loops silently after %u; --no-bvh tests every sphere for every "
+                  "ray)" VK_CONTEXT_USE_CPU,
                   sample_iterations + 1u, VK_PROBE_LAVAPIPE_SAFE_ITERATIONS,
                   VK_PROBE_LAVAPIPE_LOOP_LIMIT);
         return false;
@@ -85,7 +85,7 @@ static bool check_limits(const vk_context *ctx, const scene *s, uint64_t sample_
     if (accum_bytes > UINT32_MAX) {
         log_error("a %d x %d image needs %" PRIu64
                   " bytes of accumulation buffer, past the 4 GiB - 1 the Vulkan back end "
-                  "addresses: use --backend cpu, or fewer pixels",
+                  "addresses (fewer pixels would fit)" VK_CONTEXT_USE_CPU,
                   s->width, s->height, accum_bytes);
         return false;
     }
@@ -101,7 +101,7 @@ static bool check_limits(const vk_context *ctx, const scene *s, uint64_t sample_
         if (sizes[k] > limit[k]) {
             log_error("the scene needs %" PRIu64
                       " %s in one buffer, past this device's limit of "
-                      "%" PRIu64 ": use --backend cpu",
+                      "%" PRIu64 VK_CONTEXT_USE_CPU,
                       sizes[k], what[k], limit[k]);
             return false;
         }
@@ -277,7 +277,7 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
     if (overflowed > 0)
         log_error(
             "%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
-            "allows (its shaders stop loops silently past %u in all): use --backend cpu",
+            "allows (its shaders stop loops silently past %u in all)" VK_CONTEXT_USE_CPU,
             overflowed, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
     return ok;
 }

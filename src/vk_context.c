@@ -417,7 +417,7 @@ static bool open_device(vk_context *ctx, int requested) {
     if (index < 0) {
         log_error(
             "no usable Vulkan device: none of the %u found has Vulkan 1.1 and a compute "
-            "queue; use --backend cpu",
+            "queue" VK_CONTEXT_USE_CPU,
             count);
         free(devices);
         return false;

@@ -122,6 +122,9 @@ bool vk_context_is_lavapipe(const vk_context *ctx);
 
 /* Number of Vulkan physical devices; 0 when there is no loader, driver or device. Logs nothing. */
 int vk_context_device_count(void);
+/* The end of every message of a scene or device the Vulkan back end refuses and the CPU back
+ * end renders; --backend auto drops it from its notice, since it falls back by itself. */
+#define VK_CONTEXT_USE_CPU ": use --backend cpu"
 /* What to tell a user who has no Vulkan device. */
 #define VK_CONTEXT_NO_DEVICE_MESSAGE                                                          \
     "no Vulkan device found: install lavapipe (Debian: apt-get install mesa-vulkan-drivers) " \
