@@ -458,12 +458,16 @@ static long whole_pixels(double size, float pixel) {
 }
 
 /* Writes the shortest decimal form of `pixel` that, read back as the parser reads it, still
- * divides `side` and (when `other` > 0) `other`, so a suggested value can be pasted as is. */
-static void format_pixel(char *out, size_t size, double pixel, double side, double other) {
+ * divides `side` into `count` pixels and (when other_count > 0) `other` into other_count, so a
+ * suggested value can be pasted as is and gives the counts printed beside it. */
+static void format_pixel(char *out, size_t size, double pixel, double side, long count,
+                         double other, long other_count) {
     for (int digits = 1; digits <= DBL_DIG + 2; digits++) {
         snprintf(out, size, "%.*g", digits, pixel);
         float f = (float)strtod(out, NULL);
-        if (f > 0 && whole_pixels(side, f) && (other <= 0 || whole_pixels(other, f))) return;
+        if (f > 0 && whole_pixels(side, f) == count &&
+            (other_count <= 0 || whole_pixels(other, f) == other_count))
+            return;
     }
 }
 
@@ -494,7 +498,7 @@ static bool fail_pixel(parser *p, const key_values *kv, int side, const token *s
     int found = 0;
     for (int i = 0; i < 2; i++) {
         if (counts[i] < 1 || counts[i] > SCENE_MAX_RESOLUTION) continue;
-        format_pixel(text[found], sizeof text[found], size / counts[i], size, 0);
+        format_pixel(text[found], sizeof text[found], size / counts[i], size, counts[i], 0, 0);
         counts[found++] = counts[i];
     }
     if (found == 1) {
@@ -520,11 +524,11 @@ static bool fail_pixel(parser *p, const key_values *kv, int side, const token *s
     }
     if (best) {
         char both[32];
-        format_pixel(both, sizeof both, size / best, size, other);
-        float chosen = (float)strtod(both, NULL);
+        long other_count = whole_pixels(other, (float)(size / best));
+        format_pixel(both, sizeof both, size / best, size, best, other, other_count);
         append(message, sizeof message, "; one that divides width and height: %s (%ld x %ld px)",
-               both, whole_pixels(kv->value[PLANE_WIDTH][0], chosen),
-               whole_pixels(kv->value[PLANE_HEIGHT][0], chosen));
+               both, side == PLANE_WIDTH ? best : other_count,
+               side == PLANE_WIDTH ? other_count : best);
     }
     return fail_at(p, pixel_token->col, "%s", message);
 }

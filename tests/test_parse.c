@@ -298,6 +298,22 @@ static const invalid_case invalid_cases[] = {
      "plane width 4 is not a whole number of pixels of 0.03 (133.33); nearest pixel sizes that "
      "divide it: 0.0300752 (133 px), 0.02985075 (134 px); one that divides width and height: "
      "0.03030303 (132 x 99 px)"},
+    /* A suggestion is the shortest decimal that gives the count printed beside it: 0.2 and 0.01
+     * divide these sides too, into other counts (5 px; 700 x 500 px). */
+    {"suggested pixel gives the count printed",
+     BYTES("camera position 0 0 0\n"
+           "plane width 1 height 1 pixel 0.3\n"),
+     2, 30,
+     "plane width 1 is not a whole number of pixels of 0.3 (3.33); nearest pixel sizes that "
+     "divide it: 0.3333333 (3 px), 0.25 (4 px); one that divides width and height: 0.3333333 "
+     "(3 x 3 px)"},
+    {"suggested pixel for both sides gives the counts printed",
+     BYTES("camera position 0 0 0\n"
+           "plane width 7 height 5 pixel 0.013\n"),
+     2, 30,
+     "plane width 7 is not a whole number of pixels of 0.013 (538.46); nearest pixel sizes that "
+     "divide it: 0.01301115 (538 px), 0.01298701 (539 px); one that divides width and height: "
+     "0.01298701 (539 x 385 px)"},
     {"pixel does not divide height",
      BYTES("camera position 0 0 0\n"
            "plane width 4 height 3.001 pixel 0.01\n"),
