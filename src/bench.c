@@ -185,7 +185,13 @@ int bench_command(int argc, char **argv) {
                 return 2;
             }
             k++;
-        } else if (!strcmp(argv[k], "--spp") && cli_parse_int(value, 1, 65536, &spp)) {
+        } else if (!strcmp(argv[k], "--spp")) {
+            if (!cli_parse_int(value, 1, 65536, &spp)) {
+                fprintf(stderr,
+                        "trazador: bench --spp takes a whole number from 1 to 65536, got '%s'\n",
+                        value);
+                return 2;
+            }
             k++;
         } else {
             bool help = !strcmp(argv[k], "--help") || !strcmp(argv[k], "-h");

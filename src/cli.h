@@ -10,6 +10,8 @@ typedef enum backend_choice { BACKEND_AUTO = 0, BACKEND_VULKAN, BACKEND_CPU } ba
 
 /* Parses a whole decimal integer in [min, max]; false on anything else. */
 bool cli_parse_int(const char *text, long long min, long long max, long long *out);
+/* Parses a whole decimal number, or "inf" (no hex, nan or spaces); false on anything else. */
+bool cli_parse_number(const char *text, double *out);
 /* Renders with the chosen back end (auto: Vulkan when a device exists); false on failure. */
 bool cli_render(const scene *s, const render_opts *opts, backend_choice backend, film *f,
                 const char **used);

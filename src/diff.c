@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
 #include "log.h"
 
 bool diff_images(const image *a, const image *b, diff_stats *out) {
@@ -30,6 +31,9 @@ bool diff_images(const image *a, const image *b, diff_stats *out) {
             double ex = tonemap_encode(x, TONEMAP_SRGB), ey = tonemap_encode(y, TONEMAP_SRGB);
             /* the same rounding as tonemap_channel, without encoding twice */
             double d8 = (double)(uint8_t)(ex * 255.0 + 0.5) - (double)(uint8_t)(ey * 255.0 + 0.5);
+            /* A NaN or infinity that the other image does not have is a broken pixel, not the
+             * black or white it would be written as: the largest 8-bit difference. */
+            if (d != 0.0 && !(isfinite(x) && isfinite(y))) d8 = 255.0, ex = 0.0, ey = 1.0;
             sum_sq8 += d8 * d8;
             if (fabs(ex - ey) > 1.0 / 255.0) differs = true;
         }
@@ -63,7 +67,7 @@ typedef struct threshold {
 
 int diff_command(int argc, char **argv) {
     threshold limits[] = {{"--max-rmse", 0.0, INFINITY, 0, false},
-                          {"--min-psnr", -INFINITY, INFINITY, 0, false},
+                          {"--min-psnr", 0.0, INFINITY, 0, false}, /* 8-bit PSNR >= 0 */
                           {"--max-diff-share", 0.0, 1.0, 0, false}};
     const int nlimits = (int)(sizeof limits / sizeof limits[0]);
     const char *files[2];
@@ -83,10 +87,9 @@ int diff_command(int argc, char **argv) {
         while (k < nlimits && strcmp(arg, limits[k].flag) != 0) k++;
         if (k == nlimits) return usage_error("unknown option ", arg);
         if (i + 1 == argc) return usage_error("missing value after ", arg);
-        char *end;
-        double v = strtod(argv[++i], &end);
-        if (end == argv[i] || *end || isnan(v)) {
-            log_error("diff: %s expects a number, not '%s'", arg, argv[i]);
+        double v;
+        if (!cli_parse_number(argv[++i], &v)) {
+            log_error("diff: %s expects a decimal number, not '%s'", arg, argv[i]);
             fputs(usage, stderr);
             return 2;
         }

@@ -17,15 +17,22 @@
 
 typedef enum image_format { FORMAT_NONE, FORMAT_PPM, FORMAT_PNG, FORMAT_PFM } image_format;
 
+/* The format called `name` ("ppm", "png" or "pfm", any case). */
+static image_format format_named(const char *name) {
+    if (strcasecmp(name, "ppm") == 0) return FORMAT_PPM;
+    if (strcasecmp(name, "png") == 0) return FORMAT_PNG;
+    if (strcasecmp(name, "pfm") == 0) return FORMAT_PFM;
+    return FORMAT_NONE;
+}
+
+/* The format of a path's extension. */
 static image_format format_of(const char *path) {
     const char *slash = strrchr(path, '/');
     const char *dot = strrchr(slash ? slash + 1 : path, '.');
-    if (!dot) return FORMAT_NONE;
-    if (strcasecmp(dot, ".ppm") == 0) return FORMAT_PPM;
-    if (strcasecmp(dot, ".png") == 0) return FORMAT_PNG;
-    if (strcasecmp(dot, ".pfm") == 0) return FORMAT_PFM;
-    return FORMAT_NONE;
+    return dot ? format_named(dot + 1) : FORMAT_NONE;
 }
+
+bool image_format_known(const char *name) { return format_named(name) != FORMAT_NONE; }
 
 static bool size_ok(long width, long height) {
     return width >= 1 && height >= 1 && width <= IMAGE_MAX_DIM && height <= IMAGE_MAX_DIM;
@@ -169,7 +176,11 @@ static int write_image(FILE *fp, const void *context) {
 }
 
 bool image_write(const char *path, const image *img, tonemap tm) {
-    image_format fmt = format_of(path);
+    return image_write_as(path, NULL, img, tm);
+}
+
+bool image_write_as(const char *path, const char *format, const image *img, tonemap tm) {
+    image_format fmt = format ? format_named(format) : format_of(path);
     if (fmt == FORMAT_NONE) {
         log_error("%s: unknown image format (supported: .ppm, .png, .pfm)", path);
         return false;

@@ -24,7 +24,7 @@ static const char usage_text[] =
     "usage: trazador render [SCENE] [-o OUT] [--backend auto|vulkan|cpu] [--spp N] [--seed N]\n"
     "                       [--no-jitter] [--no-indirect] [--indirect] [--bounces N]\n"
     "                       [--threads N] [--device N] [--validate] [--quiet] [--verbose]\n"
-    "                       [--tonemap srgb|linear] [--width N] [--no-bvh]\n"
+    "                       [--tonemap srgb|linear] [--width N] [--no-bvh] [--format F]\n"
     "       trazador diff A B [--max-rmse X] [--min-psnr DB] [--max-diff-share FRACTION]\n"
     "       trazador devices\n"
     "       trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
@@ -32,7 +32,8 @@ static const char usage_text[] =
     "       trazador gen random --count N [-o FILE] [--seed N]\n"
     "       trazador --help | --version\n"
     "SCENE defaults to the embedded scenes/cornell.scene, OUT to render.png;\n"
-    "the output format follows the extension: .png, .ppm or .pfm (linear float).\n";
+    "the output format follows the extension: .png, .ppm or .pfm (linear float), or\n"
+    "--format png|ppm|pfm for any name (-o /dev/stdout --format ppm).\n";
 
 static int usage_error(const char *fmt, const char *arg) {
     fprintf(stderr, "trazador: ");
@@ -86,7 +87,7 @@ bool cli_render(const scene *s, const render_opts *opts, backend_choice backend,
 }
 
 typedef struct render_args {
-    const char *scene_path, *output;
+    const char *scene_path, *output, *format; /* format: NULL for the output's extension */
     backend_choice backend;
     tonemap tm;
     bool quiet;
@@ -115,6 +116,10 @@ static int parse_render_args(int argc, char **argv, render_args *a) {
         } else if (!strcmp(arg, "-o") || !strcmp(arg, "--output")) {
             if (!value) return usage_error("%s needs a file name", arg);
             a->output = value;
+        } else if (!strcmp(arg, "--format")) {
+            if (!value || !image_format_known(value))
+                return usage_error("--format takes png, ppm or pfm, got '%s'", value ? value : "");
+            a->format = value;
         } else if (!strcmp(arg, "--backend")) {
             if (value && !strcmp(value, "vulkan"))
                 a->backend = BACKEND_VULKAN;
@@ -183,8 +188,11 @@ static int parse_render_args(int argc, char **argv, render_args *a) {
         }
         if (takes_value) k++;
     }
-    if (!has_image_extension(a->output))
-        return usage_error("output '%s' must end in .png, .ppm or .pfm", a->output);
+    if (!a->format && !has_image_extension(a->output))
+        return usage_error("output '%s' must end in .png, .ppm or .pfm, or take --format",
+                           a->output);
+    if (a->device >= 0 && a->backend == BACKEND_CPU)
+        return usage_error("%s", "--device names a Vulkan device: it cannot go with --backend cpu");
     return 0;
 }
 
@@ -283,7 +291,7 @@ static int render_command(int argc, char **argv) {
     }
     /* Naming a device asks for Vulkan: none at all is the usual runtime failure, a number past
      * the devices a mistake on the command line; neither falls back to the CPU. */
-    int devices = a.device >= 0 && a.backend != BACKEND_CPU ? vk_context_device_count() : -1;
+    int devices = a.device >= 0 ? vk_context_device_count() : -1;
     if (devices == 0) {
         log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
         scene_free(&s);
@@ -315,7 +323,7 @@ static int render_command(int argc, char **argv) {
                  (unsigned long long)f.nonfinite);
     if (ok) warn_overflowed_pixels(&f);
     double write_start = clock_seconds();
-    ok = ok && image_from_film(&f, &img) && image_write(a.output, &img, a.tm);
+    ok = ok && image_from_film(&f, &img) && image_write_as(a.output, a.format, &img, a.tm);
     if (ok) log_debug("image: written in %.1f ms", (clock_seconds() - write_start) * 1e3);
     if (ok && !a.quiet) {
         double samples = (double)s.width * s.height * opts.samples;

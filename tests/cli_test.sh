@@ -81,6 +81,19 @@ if "$tz" devices 2>/dev/null | grep -q llvmpipe; then
         -o crowd-device.png
     has lavapipe-refusal-device err "error: this scene needs up to"
 fi
+# --format names the format of an output without an image extension: /dev/stdout into a pipe.
+"$tz" render --backend cpu --width 8 --spp 1 --quiet -o /dev/stdout --format ppm >stdout.ppm
+[ "$(head -c 9 stdout.ppm | tr '\n' ' ')" = "P6 8 8 25" ] && ok || bad "--format ppm: $(head -c 9 stdout.ppm)"
+run no-format 2 "$tz" render --backend cpu --width 8 --spp 1 -o /dev/stdout
+has no-format err "must end in .png, .ppm or .pfm, or take --format"
+run bad-format 2 "$tz" render --backend cpu --width 8 --spp 1 -o x.img --format jpg
+has bad-format err "--format takes png, ppm or pfm, got 'jpg'"
+# Contradictions and numbers that are not plain decimal integers are usage errors.
+run device-with-cpu 2 "$tz" render --backend cpu --device 0 --width 8 --spp 1 -o devcpu.png
+has device-with-cpu err "cannot go with --backend cpu"
+run spp-space 2 "$tz" render --backend cpu --width 8 --spp " 5" -o sppbad.png
+run spp-hex 2 "$tz" render --backend cpu --width 8 --spp 0x5 -o sppbad.png
+[ ! -e devcpu.png ] && [ ! -e sppbad.png ] && ok || bad "a usage error wrote an image"
 # Every subcommand takes --help: its usage on stdout, exit 0.
 for cmd in render diff gen bench devices; do
     run "$cmd-help" 0 "$tz" $cmd --help
@@ -88,7 +101,9 @@ for cmd in render diff gen bench devices; do
 done
 # bench: a bad flag is a usage error; Vulkan asked for without a device is one error line, at once.
 run bench-usage 2 "$tz" bench --spp 0
-has bench-usage err "the scaling table times each row"
+has bench-usage err "bench --spp takes a whole number from 1 to 65536, got '0'"
+run bench-bad-flag 2 "$tz" bench --fast
+has bench-bad-flag err "the scaling table times each row"
 VK_ICD_FILENAMES=/nonexistent.json VK_DRIVER_FILES=/nonexistent.json run bench-no-device 1 \
     "$tz" bench --backend vulkan
 has bench-no-device err "no Vulkan device found"

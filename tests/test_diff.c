@@ -108,6 +108,28 @@ static void test_nonfinite(void) {
     diff_stats s;
     EXPECT(diff_images(&a, &b, &s));
     EXPECT(isnan(s.rmse) && isnan(s.max_diff)); /* so that every threshold on them fails */
+    /* The broken pixel also fails --min-psnr and --max-diff-share: the largest 8-bit difference
+     * in one channel of 90 (10 log10(90) dB), though a NaN is written as black. */
+    EXPECT(s.differ_count == 1);
+    EXPECT(near(s.psnr, 10.0 * log10(90.0), 1e-9));
+    b.rgb[7] = INFINITY; /* an infinity against a finite value: the same */
+    EXPECT(diff_images(&a, &b, &s));
+    EXPECT(s.differ_count == 1 && near(s.psnr, 10.0 * log10(90.0), 1e-9));
+    image_free(&a);
+    image_free(&b);
+}
+
+/* PSNR and the share are on the 8-bit sRGB values an image shows: values above 1 that differ
+ * show the same white and count only in rmse and max_diff. */
+static void test_over_white(void) {
+    image a, b;
+    make_image(&a);
+    copy_image(&b, &a);
+    a.rgb[4] = 2.0f, b.rgb[4] = 5.0f;
+    diff_stats s;
+    EXPECT(diff_images(&a, &b, &s));
+    EXPECT(s.max_diff == 3.0 && near(s.rmse, sqrt(9.0 / 90.0), 1e-12));
+    EXPECT(s.differ_count == 0 && isinf(s.psnr));
     image_free(&a);
     image_free(&b);
 }
@@ -272,6 +294,11 @@ static void test_command_usage(void) {
     EXPECT(run_diff(a, a, "--max-diff-share", "50", NULL) == 2);
     EXPECT(run_diff(a, a, "--max-diff-share", "-0.5", NULL) == 2);
     EXPECT(run_diff(a, a, "--max-rmse", "-1", NULL) == 2);
+    /* An 8-bit PSNR is never negative; numbers are decimal, as in scene files. */
+    EXPECT(run_diff(a, a, "--min-psnr", "-5", NULL) == 2);
+    EXPECT(run_diff(a, a, "--max-rmse", "0x1p-2", NULL) == 2 && strstr(cmd_err, "decimal"));
+    EXPECT(run_diff(a, a, "--max-rmse", " 0.1", NULL) == 2);
+    EXPECT(run_diff(a, a, "--max-rmse", "1e999", NULL) == 2);
     EXPECT(run_diff(a, a, "--bogus", NULL) == 2 && strstr(cmd_err, "--bogus"));
     EXPECT(run_diff(a, a, "--max-rmse=0.1", NULL) == 2);
     EXPECT(cmd_out[0] == '\0'); /* nothing read, nothing printed */
@@ -292,6 +319,7 @@ int main(void) {
     CHECK_CASE(test_psnr_known);
     CHECK_CASE(test_single_pixel);
     CHECK_CASE(test_nonfinite);
+    CHECK_CASE(test_over_white);
     CHECK_CASE(test_size_mismatch);
     CHECK_CASE(test_command_metrics);
     CHECK_CASE(test_command_thresholds);
