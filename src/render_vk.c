@@ -57,8 +57,8 @@ _Static_assert(TZ_COUNTER_WORDS * sizeof(uint32_t) <= 16,
 
 /* Refuses what the device could not render right: scene or accumulation buffers past its limits,
  * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit. */
-static bool check_limits(const vk_context *ctx, const scene *s, uint64_t sample_iterations,
-                         uint32_t walk) {
+static bool check_limits(const vk_context *ctx, const scene *s, const render_opts *opts,
+                         uint64_t sample_iterations, uint32_t walk) {
     bool use_bvh = walk != UINT32_MAX;
     if (vk_context_is_lavapipe(ctx) && use_bvh && walk < MIN_WALK_BUDGET) {
         log_error(
@@ -72,10 +72,10 @@ static bool check_limits(const vk_context *ctx, const scene *s, uint64_t sample_
         sample_iterations + 1u > VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
         log_error("this scene needs up to %" PRIu64
                   " loop passes per sample, past lavapipe's safe limit of %u (its shaders stop "
-                  "loops silently after %u; --no-bvh tests every sphere for every "
-                  "ray)" VK_CONTEXT_USE_CPU,
+                  "loops silently after %u%s)" VK_CONTEXT_USE_CPU,
                   sample_iterations + 1u, VK_PROBE_LAVAPIPE_SAFE_ITERATIONS,
-                  VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+                  VK_PROBE_LAVAPIPE_LOOP_LIMIT,
+                  opts->no_bvh ? "; --no-bvh tests every sphere for every ray" : "");
         return false;
     }
     /* The accumulation buffer is addressed with 32-bit dynamic offsets, and drivers cap buffers
@@ -349,8 +349,9 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
     bool use_bvh = !opts->no_bvh && unrolled_spheres == 0u && spheres > 0u;
     bool lavapipe = vk_context_is_lavapipe(&r.ctx);
     uint32_t walk = use_bvh && lavapipe ? walk_budget(s, opts) : 0u;
-    uint64_t every_sphere =
-        vk_probe_sample_iterations(spheres, lights, (uint32_t)opts->bounces, opts->indirect);
+    /* Unrolled sphere tests are no loop: a ray then costs only its own loop passes. */
+    uint64_t every_sphere = vk_probe_sample_iterations(unrolled_spheres ? 0u : spheres, lights,
+                                                       (uint32_t)opts->bounces, opts->indirect);
     /* Many lights leave each walk too few passes; testing every sphere may still fit. */
     if (use_bvh && lavapipe && walk < MIN_WALK_BUDGET &&
         every_sphere < VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
@@ -364,7 +365,7 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
                                              opts->indirect)
                 : every_sphere;
     double t_pack = clock_seconds();
-    if (!check_limits(&r.ctx, s, sample_iterations, use_bvh ? walk : UINT32_MAX) ||
+    if (!check_limits(&r.ctx, s, opts, sample_iterations, use_bvh ? walk : UINT32_MAX) ||
         !scene_pack(s, &packing, &packed))
         goto done;
     scene_pack_report(&packed, opts, t_pack);
