@@ -21,6 +21,9 @@
 /* Camera rays start EPS scaled by the camera's distance from the origin along their path (a near
  * clip of 10 units at 1e5): a surface within this many times that of the camera warns. */
 #define SCENE_NEAR_CLIP_FACTOR 10.0f
+/* A sphere whose surface is within this many float spacings (at its size) of the camera warns:
+ * single precision cannot place it there. */
+#define SCENE_PRECISION_STEPS 4.0
 #define SCENE_MAX_WARNINGS 2
 
 typedef enum material_kind {
@@ -73,7 +76,8 @@ typedef struct scene {
     light *lights;
     int light_count;
     /* What the CLI warns about: the first sphere of radius under SCENE_TINY_OFFSETS ray offsets,
-     * a sphere surface closer to the camera than SCENE_NEAR_CLIP_FACTOR times its rays' offset. */
+     * a sphere surface closer to the camera than SCENE_NEAR_CLIP_FACTOR times its rays' offset
+     * or than SCENE_PRECISION_STEPS float spacings at its size. */
     scene_error warnings[SCENE_MAX_WARNINGS];
     int warning_count;
 } scene;

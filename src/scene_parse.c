@@ -78,14 +78,17 @@ typedef struct parser {
 
 #define NO_RANGE -FLT_MAX, FLT_MAX, false
 #define UNIT_RANGE 0.0, 1.0, false
-#define POSITIVE_RANGE 0.0, FLT_MAX, true
 /* Plane sizes: ray directions are normalized from vectors of about this length, whose squares
  * must neither overflow nor vanish in float. */
 #define PLANE_RANGE 1e-12, 1e12, false
+/* Positions and radii: the renderer squares their differences in float, which overflows past
+ * about 1.8e19 (a sphere of radius 2e19 vanished). */
+#define COORD_RANGE -1e18, 1e18, false
+#define RADIUS_RANGE 0.0, 1e18, true
 
 enum { CAMERA_POSITION, CAMERA_DIRECTION, CAMERA_UP, CAMERA_KEY_COUNT };
 static const key_spec camera_keys[CAMERA_KEY_COUNT] = {
-    {"position", "x y z", VALUE_NUMBER, NO_RANGE},
+    {"position", "x y z", VALUE_NUMBER, COORD_RANGE},
     {"direction", "x y z", VALUE_NUMBER, NO_RANGE},
     {"up", "x y z", VALUE_NUMBER, NO_RANGE},
 };
@@ -99,7 +102,7 @@ static const key_spec plane_keys[PLANE_KEY_COUNT] = {
 
 enum { LIGHT_POSITION, LIGHT_POWER, LIGHT_COLOR, LIGHT_KEY_COUNT };
 static const key_spec light_keys[LIGHT_KEY_COUNT] = {
-    {"position", "x y z", VALUE_NUMBER, NO_RANGE},
+    {"position", "x y z", VALUE_NUMBER, COORD_RANGE},
     {"power", NULL, VALUE_NUMBER, 0.0, FLT_MAX, false},
     {"color", "r g b", VALUE_NUMBER, UNIT_RANGE},
 };
@@ -114,8 +117,8 @@ enum {
     SPHERE_KEY_COUNT
 };
 static const key_spec sphere_keys[SPHERE_KEY_COUNT] = {
-    {"center", "x y z", VALUE_NUMBER, NO_RANGE},
-    {"radius", NULL, VALUE_NUMBER, POSITIVE_RANGE},
+    {"center", "x y z", VALUE_NUMBER, COORD_RANGE},
+    {"radius", NULL, VALUE_NUMBER, RADIUS_RANGE},
     {"color", "r g b", VALUE_NUMBER, UNIT_RANGE},
     {"ks", NULL, VALUE_NUMBER, UNIT_RANGE},
     {"alpha", NULL, VALUE_NUMBER, 0.0, FLT_MAX, false},
@@ -254,7 +257,8 @@ static bool fail_range(parser *p, const key_spec *k, const token *t) {
                        k->max, quote(p, t));
     }
     if (k->min_exclusive) {
-        return fail_at(p, t->col, "%s must be > %g, got %s", k->name, k->min, quote(p, t));
+        return fail_at(p, t->col, "%s must be in (%g, %g], got %s", k->name, k->min, k->max,
+                       quote(p, t));
     }
     if (k->max < FLT_MAX) {
         return fail_at(p, t->col, "%s must be in [%g, %g], got %s", k->name, k->min, k->max,
@@ -755,24 +759,45 @@ static bool parse_line(parser *p, const char *line, size_t length) {
                    quote(p, word));
 }
 
+/* The spacing of floats around magnitude m (m > 0). */
+static double float_step(double m) { return ldexp(1.0, ilogb(m) - 23); }
+
 /* Camera rays start TZ_EPS times the camera's largest |coordinate| (at least 1) along their path,
  * as every ray does from its origin (DESIGN section 3): far from the origin that is a near clip
  * (10 units at 1e5). Warns when a sphere not wholly behind the camera has its surface within
- * SCENE_NEAR_CLIP_FACTOR times that distance of the camera: it may be cut away. */
-static void warn_near_clip(parser *p) {
+ * SCENE_NEAR_CLIP_FACTOR times that distance of the camera: it may be cut away. Warns instead
+ * when a sphere is so big that its surface near the camera is within SCENE_PRECISION_STEPS of
+ * the float spacing at its size: single precision cannot place that surface (a floor of radius
+ * 3e7 one unit under the camera renders black). */
+static void warn_near_surfaces(parser *p) {
     vec3 cam = p->s.camera_position, f = p->s.camera_direction;
     double f_length = sqrt((double)f.x * f.x + (double)f.y * f.y + (double)f.z * f.z);
     float big = largest_coordinate(cam);
-    double offset = (double)TZ_EPS * big, nearest = INFINITY;
-    int which = -1;
+    double offset = (double)TZ_EPS * big, nearest = INFINITY, worst = 1.0, step = 0.0;
+    int which = -1, coarse = -1;
     for (int k = 0; k < p->s.sphere_count; k++) {
         const sphere *s = &p->s.spheres[k];
         double dx = (double)s->center.x - cam.x, dy = (double)s->center.y - cam.y,
                dz = (double)s->center.z - cam.z;
         double ahead = (dx * f.x + dy * f.y + dz * f.z) / f_length;
         if (ahead < -(double)s->radius) continue; /* wholly behind the camera */
-        double gap = fabs(sqrt(dx * dx + dy * dy + dz * dz) - s->radius);
+        double distance = sqrt(dx * dx + dy * dy + dz * dz), gap = fabs(distance - s->radius);
         if (gap < nearest) nearest = gap, which = k;
+        double sk = float_step(fmax(distance, s->radius)),
+               ratio = gap / (SCENE_PRECISION_STEPS * sk);
+        if (ratio < worst) worst = ratio, coarse = k, step = sk;
+    }
+    if (coarse >= 0) {
+        const sphere *s = &p->s.spheres[coarse];
+        warn_at(p, p->camera_line, p->camera_col,
+                "sphere %d (centre %g %g %g, radius %g) is too big for its surface to lie this "
+                "near the camera: at its size single-precision positions are %g apart, and its "
+                "surface is less than %g such steps from the camera, so it may be misplaced, "
+                "black or missing; use a smaller sphere (a floor of radius 1e4 looks as flat) "
+                "or move the camera away",
+                coarse + 1, (double)s->center.x, (double)s->center.y, (double)s->center.z,
+                (double)s->radius, step, (double)SCENE_PRECISION_STEPS);
+        return;
     }
     if (which < 0 || nearest >= SCENE_NEAR_CLIP_FACTOR * offset) return;
     const sphere *s = &p->s.spheres[which];
@@ -797,7 +822,7 @@ static bool parse_text(parser *p) {
     /* Whole-scene errors are reported at the end of the file: the line after the last '\n'. */
     if (!p->camera_line) return fail_at(p, 1, "missing 'camera' directive");
     if (!p->plane_line) return fail_at(p, 1, "missing 'plane' directive");
-    warn_near_clip(p);
+    warn_near_surfaces(p);
     return true;
 }
 

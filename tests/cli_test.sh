@@ -130,6 +130,18 @@ printf 'camera position 1e5 0 0\nplane width 1 height 1 pixel 0.25\nsphere lambe
 run far-camera 0 "$tz" render --backend cpu --quiet far.scene -o far.png
 has far-camera err "far.scene:1:17: camera rays start 10 along their path"
 has far-camera err "sphere 1 (centre 100000 0 60, radius 55) has its surface 5 from the camera"
+# A sphere too big for single precision to place its surface near the camera warns (a floor of
+# radius 3e7 one unit under the camera rendered black); 3e6 is fine. Past 1e18 it is an error.
+floor() { printf 'camera position 0 1 -5\nplane width 1 height 1 pixel 0.25\nsphere lambertian center 0 -%s 0 radius %s\n' "$1" "$1"; }
+floor 3e7 >huge-floor.scene
+run huge-floor 0 "$tz" render --backend cpu --quiet huge-floor.scene -o floor.png
+has huge-floor err "huge-floor.scene:1:17: sphere 1 (centre 0 -3e+07 0, radius 3e+07) is too big for its surface to lie this near the camera: at its size single-precision positions are 2 apart"
+floor 3e6 >big-floor.scene
+run big-floor 0 "$tz" render --backend cpu --quiet big-floor.scene -o floor.png
+[ -s "$tmp/err" ] && bad "big-floor: warned: $(cat "$tmp/err")" || ok
+floor 2e19 >overflow-floor.scene
+run overflow-floor 2 "$tz" render --backend cpu --quiet overflow-floor.scene -o floor.png
+has overflow-floor err "overflow-floor.scene:3:28: center must be in [-1e+18, 1e+18], got -2e19"
 # Finite samples that sum past the float range are reported, not silently written as inf.
 printf 'camera position 0 0 0\nplane width 1 height 1 pixel 0.5\nbackground 3e38 1e38 1\n' > bright.scene
 run overflow 0 "$tz" render --backend cpu --quiet bright.scene -o bright.pfm

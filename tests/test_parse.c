@@ -266,11 +266,11 @@ static const invalid_case invalid_cases[] = {
      "got '1e+'"},
     {"two dots", BYTES(BASE "sphere lambertian center 0 1.2.3 0 radius 1"), 3, 28, "got '1.2.3'"},
     {"radius 0", BYTES(BASE "sphere lambertian center 0 0 0 radius 0"), 3, 39,
-     "radius must be > 0, got 0"},
+     "radius must be in (0, 1e+18], got 0"},
     {"radius -1", BYTES(BASE "sphere lambertian center 0 0 0 radius -1"), 3, 39,
-     "radius must be > 0, got -1"},
+     "radius must be in (0, 1e+18], got -1"},
     {"radius underflows to 0", BYTES(BASE "sphere lambertian center 0 0 0 radius 1e-60"), 3, 39,
-     "radius must be > 0, got 1e-60"},
+     "radius must be in (0, 1e+18], got 1e-60"},
     {"ior below 1", BYTES(BASE "sphere refractive center 0 0 0 radius 1 ior 0.9"), 3, 45,
      "ior must be >= 1, got 0.9"},
     {"color above 1", BYTES(BASE "sphere lambertian center 0 0 0 radius 1 color 0.5 1.5 0"), 3, 51,
@@ -291,6 +291,15 @@ static const invalid_case invalid_cases[] = {
      "ks must be in [0, 1], got 1.5"},
     {"alpha below 0", BYTES(BASE "sphere phong center 0 0 0 radius 1 alpha -1"), 3, 42,
      "alpha must be >= 0, got -1"},
+    /* Positions and radii whose float squares would overflow (a radius of 2e19 vanished). */
+    {"radius over 1e18", BYTES(BASE "sphere lambertian center 0 0 0 radius 2e18"), 3, 39,
+     "radius must be in (0, 1e+18], got 2e18"},
+    {"light past 1e18", BYTES(BASE "light position 0 -1e19 0 power 1"), 3, 18,
+     "position must be in [-1e+18, 1e+18], got -1e19"},
+    {"camera past 1e18",
+     BYTES("camera position 0 0 3e18\n"
+           "plane width 4 height 3 pixel 0.01\n"),
+     1, 21, "position must be in [-1e+18, 1e+18], got 3e18"},
     {"pixel does not divide width",
      BYTES("camera position 0 0 0\n"
            "plane width 4 height 3 pixel 0.03\n"),
@@ -430,7 +439,7 @@ static const invalid_case invalid_cases[] = {
                 "\n"
                 "sphere mirror center 0 0 0 radius -2\n"
                 "sphere mirror center 0 0 0 radius 1\n"),
-     7, 35, "radius must be > 0, got -2"},
+     7, 35, "radius must be in (0, 1e+18], got -2"},
 };
 
 /* Parses text that must fail at line:col with `message` in the error, and leave *out alone. */
