@@ -5,6 +5,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <libgen.h>
+#include <limits.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -125,6 +126,44 @@ static bool names_open_file(const char *path) {
            (!strncmp(path, "/proc/", 6) && strstr(path, "/fd/"));
 }
 
+/* Symbolic links followed in a chain before giving up (Linux's own limit). */
+#define MAX_LINK_HOPS 40
+
+/* The file the symbolic link `path` leads to, link by link (malloc'd); the last one need not
+ * exist yet: like the shell's >, writing through a link to a missing file creates that file.
+ * NULL with errno set on a loop or failure. */
+static char *link_target(const char *path) {
+    char *current = strdup(path);
+    for (int hops = 0; current && hops < MAX_LINK_HOPS; hops++) {
+        struct stat st;
+        if (lstat(current, &st) != 0 || !S_ISLNK(st.st_mode)) return current;
+        char target[PATH_MAX];
+        ssize_t n = readlink(current, target, sizeof target - 1);
+        if (n < 0) {
+            int err = errno;
+            free(current);
+            errno = err;
+            return NULL;
+        }
+        target[n] = '\0';
+        /* a relative target is relative to the link's folder */
+        const char *slash = strrchr(current, '/');
+        size_t folder = target[0] == '/' || !slash ? 0 : (size_t)(slash - current) + 1;
+        char *next = malloc(folder + (size_t)n + 1);
+        if (next) {
+            memcpy(next, current, folder);
+            memcpy(next + folder, target, (size_t)n + 1);
+        }
+        free(current);
+        current = next;
+    }
+    if (current) { /* still a link after MAX_LINK_HOPS: a loop */
+        free(current);
+        errno = ELOOP;
+    }
+    return NULL; /* or out of memory, errno ENOMEM */
+}
+
 /* How a path is written: refused (logged), in place, or by replacing `*file` (malloc'd: the
  * path itself, or what a symbolic link leads to, so that the link stays). */
 typedef enum write_way { WRITE_REFUSED, WRITE_IN_PLACE, WRITE_REPLACING } write_way;
@@ -139,7 +178,7 @@ static write_way how_to_write(const char *path, char **file) {
     }
     if ((exists && !S_ISREG(st.st_mode)) || names_open_file(path)) return WRITE_IN_PLACE;
     if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode)) {
-        *file = realpath(path, NULL);
+        *file = link_target(path);
         if (!*file) log_error("%s: cannot follow the symbolic link: %s", path, strerror(errno));
     } else {
         *file = strdup(path);

@@ -466,7 +466,7 @@ static int fill_hello(FILE *fp, const void *context) {
 
 static void test_write_special(void) {
     /* a FIFO stays a FIFO and gets the bytes; a symbolic link stays a link to the new content;
-     * a dangling link is an error that creates nothing */
+     * a link to a missing file creates it */
     const char *dir = tmp_path("wspecial");
     mkdir(dir, 0755);
     const char *fifo = tmp_path("wspecial/pipe.ppm"), *got = tmp_path("wspecial/got");
@@ -494,9 +494,18 @@ static void test_write_special(void) {
     EXPECT(atomic_file_write(link, fill_hello, NULL));
     EXPECT(lstat(link, &st) == 0 && S_ISLNK(st.st_mode));
     EXPECT(file_is(target, "hello\n"));
-    EXPECT(symlink("missing/nothing.scene", dangling) == 0);
-    EXPECT(!atomic_file_write(dangling, fill_hello, NULL));
-    EXPECT(count_entries(dir) == 5);
+    /* a link to a missing file creates that file, as the shell's > does, and stays a link; one
+     * into a missing folder, or a loop, is an error that creates nothing */
+    EXPECT(symlink("new.scene", dangling) == 0);
+    EXPECT(atomic_file_write(dangling, fill_hello, NULL));
+    EXPECT(lstat(dangling, &st) == 0 && S_ISLNK(st.st_mode));
+    EXPECT(file_is(tmp_path("wspecial/new.scene"), "hello\n"));
+    const char *lost = tmp_path("wspecial/lost.scene"), *loop = tmp_path("wspecial/loop.scene");
+    EXPECT(symlink("missing/nothing.scene", lost) == 0);
+    EXPECT(!atomic_file_write(lost, fill_hello, NULL));
+    EXPECT(symlink("loop.scene", loop) == 0);
+    EXPECT(!atomic_file_write(loop, fill_hello, NULL));
+    EXPECT(count_entries(tmp_path("wspecial")) == 8);
 }
 
 static void test_overwrite(void) {
