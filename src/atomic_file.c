@@ -1,5 +1,5 @@
 /* atomic_file.c: all-or-nothing file writes (temporary file, fsync, rename). */
-#define _XOPEN_SOURCE 700 /* realpath */
+#define _XOPEN_SOURCE 700 /* lstat, readlink, fchmod */
 #include "atomic_file.h"
 
 #include <errno.h>
@@ -59,10 +59,26 @@ static int fill_file(int fd, bool sync, atomic_file_fill fill, const void *conte
     return err;
 }
 
-/* Writes into an existing file that is not a regular one (/dev/null, /dev/stdout, a FIFO): there
- * is nothing to keep, and renaming over it would replace a device with a plain file. */
+/* The descriptor of this process that /dev/stdout, /dev/stderr, /dev/fd/N or /proc/self/fd/N
+ * stands for; -1 for any other name. */
+static int own_descriptor(const char *path) {
+    if (!strcmp(path, "/dev/stdout")) return 1;
+    if (!strcmp(path, "/dev/stderr")) return 2;
+    const char *digits = !strncmp(path, "/dev/fd/", 8)          ? path + 8
+                         : !strncmp(path, "/proc/self/fd/", 14) ? path + 14
+                                                                : NULL;
+    size_t n = digits ? strlen(digits) : 0;
+    if (n == 0 || n > 9 || strspn(digits, "0123456789") != n) return -1;
+    return atoi(digits);
+}
+
+/* Writes into an existing file that is not a regular one (/dev/null, a FIFO) or into one of this
+ * process's descriptors: there is nothing to keep, and renaming over it would replace a device
+ * with a plain file. A descriptor is written where it stands, as the stream it is (reopening
+ * `/dev/stdout` redirected with >> would empty the file it appends to). */
 static bool write_in_place(const char *path, atomic_file_fill fill, const void *context) {
-    int fd = open(path, O_WRONLY | O_TRUNC);
+    int own = own_descriptor(path);
+    int fd = own >= 0 ? dup(own) : open(path, O_WRONLY | O_TRUNC);
     if (fd < 0) {
         log_error("%s: cannot open: %s", path, strerror(errno));
         return false;
@@ -131,37 +147,50 @@ static bool names_open_file(const char *path) {
 
 /* The file the symbolic link `path` leads to, link by link (malloc'd); the last one need not
  * exist yet: like the shell's >, writing through a link to a missing file creates that file.
- * NULL with errno set on a loop or failure. */
+ * As the kernel does (fs.protected_symlinks), a link in a sticky world-writable folder (/tmp) is
+ * followed only when its owner is the caller or the folder's owner. NULL with errno set on a
+ * loop, such a link, a target naming a folder, or a failure. */
 static char *link_target(const char *path) {
     char *current = strdup(path);
-    for (int hops = 0; current && hops < MAX_LINK_HOPS; hops++) {
-        struct stat st;
-        if (lstat(current, &st) != 0 || !S_ISLNK(st.st_mode)) return current;
+    for (int hops = 0; current; hops++) {
+        struct stat st, folder_st;
+        size_t length = strlen(current);
+        if (lstat(current, &st) != 0 || !S_ISLNK(st.st_mode)) {
+            if (length > 0 && current[length - 1] != '/') return current;
+            errno = EISDIR; /* "newdir/": a folder, not a file to create */
+            break;
+        }
+        if (hops == MAX_LINK_HOPS) {
+            errno = ELOOP;
+            break;
+        }
+        const char *slash = strrchr(current, '/');
+        size_t folder = !slash ? 0 : (size_t)(slash - current) + 1; /* with its slash */
+        char *folder_path = strndup(slash ? current : ".", slash ? folder : 1);
+        bool seen = folder_path && stat(folder_path, &folder_st) == 0;
+        free(folder_path);
+        if (seen && (folder_st.st_mode & S_ISVTX) && (folder_st.st_mode & S_IWOTH) &&
+            st.st_uid != geteuid() && st.st_uid != folder_st.st_uid) {
+            errno = EACCES;
+            break;
+        }
         char target[PATH_MAX];
         ssize_t n = readlink(current, target, sizeof target - 1);
-        if (n < 0) {
-            int err = errno;
-            free(current);
-            errno = err;
-            return NULL;
-        }
+        if (n < 0) break;
         target[n] = '\0';
-        /* a relative target is relative to the link's folder */
-        const char *slash = strrchr(current, '/');
-        size_t folder = target[0] == '/' || !slash ? 0 : (size_t)(slash - current) + 1;
+        if (target[0] == '/') folder = 0; /* a relative target is relative to the link's folder */
         char *next = malloc(folder + (size_t)n + 1);
         if (next) {
             memcpy(next, current, folder);
             memcpy(next + folder, target, (size_t)n + 1);
         }
         free(current);
-        current = next;
+        current = next; /* NULL: out of memory, errno ENOMEM */
     }
-    if (current) { /* still a link after MAX_LINK_HOPS: a loop */
-        free(current);
-        errno = ELOOP;
-    }
-    return NULL; /* or out of memory, errno ENOMEM */
+    int err = errno;
+    free(current);
+    errno = err;
+    return NULL;
 }
 
 /* How a path is written: refused (logged), in place, or by replacing `*file` (malloc'd: the

@@ -24,8 +24,9 @@ bool diff_images(const image *a, const image *b, diff_stats *out) {
         bool differs = false;
         for (int c = 0; c < 3; c++) {
             float x = a->rgb[3 * p + c], y = b->rgb[3 * p + c];
-            /* equal infinities compare equal; a NaN anywhere makes rmse and max_diff NaN */
-            double d = x == y ? 0.0 : fabs((double)x - (double)y);
+            /* equal infinities and two NaNs compare equal; a NaN against a number makes rmse and
+             * max_diff NaN */
+            double d = x == y || (isnan(x) && isnan(y)) ? 0.0 : fabs((double)x - (double)y);
             sum_sq += d * d;
             if (d > max_diff || isnan(d)) max_diff = d;
             double ex = tonemap_encode(x, TONEMAP_SRGB), ey = tonemap_encode(y, TONEMAP_SRGB);

@@ -32,8 +32,6 @@ static image_format format_of(const char *path) {
     return dot ? format_named(dot + 1) : FORMAT_NONE;
 }
 
-bool image_format_known(const char *name) { return format_named(name) != FORMAT_NONE; }
-
 static bool size_ok(long width, long height) {
     return width >= 1 && height >= 1 && width <= IMAGE_MAX_DIM && height <= IMAGE_MAX_DIM;
 }

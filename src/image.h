@@ -35,8 +35,6 @@ bool image_write(const char *path, const image *img, tonemap tm);
 /* image_write in `format` ("ppm", "png" or "pfm"; NULL: by extension) whatever the path's name,
  * for outputs such as /dev/stdout; false on error. */
 bool image_write_as(const char *path, const char *format, const image *img, tonemap tm);
-/* True when `name` is a format image_write_as knows. */
-bool image_format_known(const char *name);
 /* Reads .ppm, .png or .pfm (8-bit formats decoded with tm back to linear); false on error. */
 bool image_read(const char *path, image *out, tonemap tm);
 

@@ -96,6 +96,10 @@ typedef struct render_args {
     bool no_jitter, validate, verbose, no_bvh;
 } render_args;
 
+/* The names --format takes, each with the default output of that format. */
+static const char *const output_formats[3][2] = {
+    {"png", "render.png"}, {"ppm", "render.ppm"}, {"pfm", "render.pfm"}};
+
 /* Parses `render` arguments; returns 0 to go on, else the exit code (2 usage, 0 for --help). */
 static int parse_render_args(int argc, char **argv, render_args *a) {
     *a = (render_args){.output = "render.png",
@@ -106,6 +110,7 @@ static int parse_render_args(int argc, char **argv, render_args *a) {
                        .device = -1,
                        .width = -1,
                        .indirect = -1};
+    bool output_given = false;
     for (int k = 1; k < argc; k++) {
         const char *arg = argv[k];
         const char *value = k + 1 < argc ? argv[k + 1] : NULL;
@@ -116,10 +121,14 @@ static int parse_render_args(int argc, char **argv, render_args *a) {
         } else if (!strcmp(arg, "-o") || !strcmp(arg, "--output")) {
             if (!value) return usage_error("%s needs a file name", arg);
             a->output = value;
+            output_given = true;
         } else if (!strcmp(arg, "--format")) {
-            if (!value || !image_format_known(value))
+            int f = 0;
+            while (f < 3 && (!value || strcasecmp(value, output_formats[f][0]))) f++;
+            if (f == 3)
                 return usage_error("--format takes png, ppm or pfm, got '%s'", value ? value : "");
-            a->format = value;
+            a->format = output_formats[f][0];
+            if (!output_given) a->output = output_formats[f][1];
         } else if (!strcmp(arg, "--backend")) {
             if (value && !strcmp(value, "vulkan"))
                 a->backend = BACKEND_VULKAN;
@@ -188,6 +197,9 @@ static int parse_render_args(int argc, char **argv, render_args *a) {
         }
         if (takes_value) k++;
     }
+    const char *dot = strrchr(a->output, '.');
+    if (a->format && has_image_extension(a->output) && strcasecmp(dot + 1, a->format))
+        return usage_error("output '%s' names another format than --format", a->output);
     if (!a->format && !has_image_extension(a->output))
         return usage_error("output '%s' must end in .png, .ppm or .pfm, or take --format",
                            a->output);

@@ -767,8 +767,8 @@ static double float_step(double m) { return ldexp(1.0, ilogb(m) - 23); }
  * (10 units at 1e5). Warns when a sphere not wholly behind the camera has its surface within
  * SCENE_NEAR_CLIP_FACTOR times that distance of the camera: it may be cut away. Warns instead
  * when a sphere is so big that its surface near the camera is within SCENE_PRECISION_STEPS of
- * the float spacing at its size: single precision cannot place that surface (a floor of radius
- * 3e7 one unit under the camera renders black). */
+ * the float spacing at its size, and that is coarser than the near clip: single precision cannot
+ * place that surface (a floor of radius 3e7 one unit under the camera renders black). */
 static void warn_near_surfaces(parser *p) {
     vec3 cam = p->s.camera_position, f = p->s.camera_direction;
     double f_length = sqrt((double)f.x * f.x + (double)f.y * f.y + (double)f.z * f.z);
@@ -783,9 +783,10 @@ static void warn_near_surfaces(parser *p) {
         if (ahead < -(double)s->radius) continue; /* wholly behind the camera */
         double distance = sqrt(dx * dx + dy * dy + dz * dz), gap = fabs(distance - s->radius);
         if (gap < nearest) nearest = gap, which = k;
-        double sk = float_step(fmax(distance, s->radius)),
-               ratio = gap / (SCENE_PRECISION_STEPS * sk);
-        if (ratio < worst) worst = ratio, coarse = k, step = sk;
+        /* only where precision, not the near clip, is the coarser limit */
+        double sk = float_step(fmax(distance, s->radius)), blur = SCENE_PRECISION_STEPS * sk;
+        if (blur > SCENE_NEAR_CLIP_FACTOR * offset && gap / blur < worst)
+            worst = gap / blur, coarse = k, step = sk;
     }
     if (coarse >= 0) {
         const sphere *s = &p->s.spheres[coarse];

@@ -36,7 +36,8 @@ static void test_identical(void) {
     image a, b;
     make_image(&a);
     copy_image(&b, &a);
-    b.rgb[5] = a.rgb[5] = INFINITY; /* equal infinities count as equal */
+    b.rgb[5] = a.rgb[5] = INFINITY; /* equal infinities count as equal, and two NaNs */
+    b.rgb[6] = a.rgb[6] = NAN;
     diff_stats s;
     EXPECT(diff_images(&a, &b, &s));
     EXPECT(s.rmse == 0.0);

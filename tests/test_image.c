@@ -508,6 +508,39 @@ static void test_write_special(void) {
     EXPECT(count_entries(tmp_path("wspecial")) == 8);
 }
 
+static void test_write_links(void) {
+    /* 40 links in a chain are followed (the kernel's own limit), 41 are a loop; a link to
+     * "folder/" names no file to create and is refused before anything is written */
+    const char *dir = tmp_path("wlinks");
+    mkdir(dir, 0755);
+    char name[600], next[600];
+    for (int k = 1; k <= 41; k++) {
+        snprintf(name, sizeof name, "%s/l%d", dir, k);
+        snprintf(next, sizeof next, k == 1 ? "end.txt" : "l%d", k - 1);
+        EXPECT(symlink(next, name) == 0);
+    }
+    snprintf(name, sizeof name, "%s/l40", dir);
+    EXPECT(atomic_file_write(name, fill_hello, NULL));
+    snprintf(name, sizeof name, "%s/end.txt", dir);
+    EXPECT(file_is(name, "hello\n"));
+    snprintf(name, sizeof name, "%s/l41", dir);
+    EXPECT(!atomic_file_check(name) && !atomic_file_write(name, fill_hello, NULL));
+    snprintf(name, sizeof name, "%s/to-folder", dir);
+    EXPECT(symlink("newdir/", name) == 0);
+    EXPECT(!atomic_file_check(name));
+    /* As root, another user's link in a sticky world-writable folder (/tmp) is not followed,
+     * as the kernel's fs.protected_symlinks would not: it could lead anywhere. */
+    if (geteuid() == 0) {
+        snprintf(name, sizeof name, "%s/sticky", dir);
+        EXPECT(mkdir(name, 0755) == 0 && chmod(name, 01777) == 0);
+        snprintf(name, sizeof name, "%s/sticky/theirs.txt", dir);
+        EXPECT(symlink("../victim.txt", name) == 0 && lchown(name, 4242, 4242) == 0);
+        EXPECT(!atomic_file_write(name, fill_hello, NULL));
+        snprintf(name, sizeof name, "%s/victim.txt", dir);
+        EXPECT(access(name, F_OK) != 0);
+    }
+}
+
 static void test_overwrite(void) {
     const char *dir = tmp_path("wover");
     mkdir(dir, 0755);
@@ -636,6 +669,7 @@ int main(void) {
     CHECK_CASE(test_write_interrupted);
     CHECK_CASE(test_write_killed);
     CHECK_CASE(test_write_special);
+    CHECK_CASE(test_write_links);
     CHECK_CASE(test_overwrite);
     CHECK_CASE(test_malformed);
     remove_tree(tmpdir);
