@@ -1,6 +1,7 @@
 /* intersect.glsl: ray offsets, ray/sphere intersection, nearest-hit and shadow queries over the
- * spheres, by brute force or through the BVH; twin of the functions of the same names in
- * src/integrator.c. The including shader declares `frame`, sphere_center_radius(),
+ * spheres, by brute force or through the BVH; twin of src/integrator.c (integrator_nearest,
+ * integrator_occluded, the walk of trace_ray) and of src/integrator_steps.h (ray_eps, the sphere
+ * and box tests, under the names noted at each function). The including shader declares `frame`, sphere_center_radius(),
  * sphere_params(), sphere_count(), node_lo(), node_hi(), use_bvh() and WALK_BUDGET. */
 #ifndef TRAZADOR_INTERSECT_GLSL
 #define TRAZADOR_INTERSECT_GLSL
@@ -18,7 +19,8 @@ float ray_eps(vec3 p) {
 /* Distance to sphere k along o + t d: the nearest root greater than tmin, or infinity (Haines
  * et al., Ray Tracing Gems ch. 7); the sphere `self` that the ray leaves counts only by its far
  * root, and only when the ray moves inward (b < 0). Branch-free, the very operations of one lane
- * of spheres_hit() in src/integrator.c in the same order, with one read of the sphere. */
+ * of spheres_hit() in src/integrator.c (sphere_distance() in src/integrator_steps.h) in the same
+ * order, with one read of the sphere. */
 float sphere_hit(int k, vec3 o, vec3 d, float tmin, int self) {
     vec4 cr = sphere_center_radius(k);
     precise float ocx = o.x - cr.x, ocy = o.y - cr.y, ocz = o.z - cr.z;
@@ -54,8 +56,8 @@ uint rays_traced;
 
 /* Keeps in best/id the nearer of the current hit and sphere k at distance t; an exact tie goes to
  * the lower index, whatever order spheres are visited in (both back ends store them in the same
- * BVH order, --no-bvh too). Selects, not branches: lavapipe runs both sides of a branch for the
- * whole subgroup. */
+ * BVH order, --no-bvh too): nearer_hit() in src/integrator_steps.h. Selects, not branches:
+ * lavapipe runs both sides of a branch for the whole subgroup. */
 void keep_nearest(int k, float t, inout float best, inout int id) {
     bool take = t < best || (t == best && id >= 0 && k < id);
     best = take ? t : best;
@@ -75,9 +77,10 @@ float box_entry(vec4 lo, vec4 hi, vec3 o, vec3 inv, float tmax) {
 /* Nearest sphere hit below tmax through the BVH (t_out its distance), or with any_hit the first
  * one found; -1 when none. Nearer child first, a stack of TZ_BVH_MAX_DEPTH (each level pushes at
  * most one node). One loop of at most WALK_BUDGET passes, each doing all it can: a pop when idle,
- * a node visit (the nearer child set up at once when it is a leaf), one sphere of the leaf. Finds the same sphere as trace_ray() in src/integrator.c (which
- * tests a leaf's spheres at once): with the tie rule the nearest hit does not depend on the
- * order of visits. */
+ * a node visit (the nearer child set up at once when it is a leaf), up to two spheres of the
+ * leaf. Finds the same sphere as the BVH branch of trace_ray() in src/integrator.c (which tests a
+ * leaf's spheres at once): with the tie rule the nearest hit does not depend on the order of
+ * visits. */
 int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out) {
     float tmin = ray_eps(o), best = tmax;
     int id = -1;
@@ -95,7 +98,8 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
             break;
         }
         /* A pass pops a node when there is nothing else to do, visits a node (setting up the
-         * nearer child at once when it is a leaf) and tests one sphere of the current leaf. */
+         * nearer child at once when it is a leaf) and tests up to two spheres of the current
+         * leaf. */
         if (sphere >= leaf_end && node == none) {
             if (top == 0) break;
             top--;
@@ -159,7 +163,7 @@ int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
 }
 
 /* True when a sphere blocks o + t d for EPS < t < dist; glass blocks too, as in the seed. */
-bool occluded(vec3 o, vec3 d, float dist, int self) {
+bool integrator_occluded(vec3 o, vec3 d, float dist, int self) {
     rays_traced++;
     float t;
     if (use_bvh()) return trace_bvh(o, d, self, dist, true, t) >= 0;

@@ -1,5 +1,6 @@
 /* shade.glsl: the Phong BRDF, direct light, the specular chain and the one indirect bounce;
- * twin of the functions of the same names in src/integrator.c, in the same operation order and
+ * twin of the functions of the same names in src/integrator.c and src/integrator_steps.h (basis
+ * and the bounce direction: cosine_direction()), in the same operation order and
  * drawing the same random numbers. The including shader declares `frame` and the sphere_*(),
  * light_*() accessors. */
 #ifndef TRAZADOR_SHADE_GLSL
@@ -38,7 +39,7 @@ vec3 direct_light(int id, vec3 pos, vec3 n, vec3 wo) {
         precise float dist = sqrt(dist2);
         precise vec3 wi = to_light * (1.0 / dist);
         float cos_i = v3_dot(n, wi);
-        if (cos_i <= 0.0 || occluded(o, wi, dist, id)) continue;
+        if (cos_i <= 0.0 || integrator_occluded(o, wi, dist, id)) continue;
         vec3 f = phong_brdf(id, n, wi, wo);
         precise float scale = cos_i * position_power.w / dist2;
         sum = sum + f * (light_color(int(k)).xyz * scale);

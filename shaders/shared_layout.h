@@ -64,7 +64,8 @@ typedef struct tz_uvec4 {
 #define TZ_SPEC_UNROLLED_SPHERES 0
 #define TZ_SPEC_UNROLLED_LIGHTS 1
 #define TZ_SPEC_FLAGS 2
-/* Loop passes one ray's BVH walk may take (one node visit or one sphere test a pass) before the
+/* Loop passes one ray's BVH walk may take (a pop, a node visit and up to two sphere tests a pass)
+ * before the
  * sample is dropped and counted, rather than cut short silently by lavapipe's loop limit, which
  * counts the passes of a whole SIMD group: bounding every walk bounds the group's sum whatever
  * the divergence. 0: unlimited (real GPUs have no such limit). */
@@ -98,7 +99,7 @@ struct gpu_frame {
     TZ_VEC4 forward;    /* F, w distance to the plane (2 width) */
     TZ_VEC4 background; /* rgb, w unused (0) */
     TZ_UVEC4 size;      /* image width, height, sphere count, light count */
-    TZ_UVEC4 settings;  /* seed, bounces, flags (TZ_FLAG_*), unused (0) */
+    TZ_UVEC4 settings;  /* seed, bounces, flags (TZ_FLAG_*), BVH node count (0: none) */
 };
 
 /* Push constants of one dispatch: which tile and which samples (count >= 1, taken in order). */

@@ -1,7 +1,8 @@
 /* trace.comp: the per-sample compute entry point. One invocation renders `pass.tile.w` samples
  * (in sample order) of one pixel of the tile at pass.tile.xy and adds each finite one to the
  * pixel's accumulator exactly as the C back end does; non-finite samples are counted instead.
- * Twin of integrator_sample() and camera_direction() in src/integrator.c. Declares the bindings
+ * Twin of integrator_sample() in src/integrator.c and camera_direction() in
+ * src/integrator_steps.h. Declares the bindings
  * and the scene accessors the included .glsl files use. */
 #version 450
 #extension GL_GOOGLE_include_directive : require

@@ -15,7 +15,6 @@ typedef struct box {
 } box;
 
 typedef struct builder {
-    const struct gpu_sphere *spheres;
     box *bounds;     /* per input sphere, padded for rounding */
     float *centroid; /* 3 per input sphere */
     uint32_t *index; /* the permutation being built */
@@ -191,7 +190,7 @@ static uint32_t build_node(builder *b, uint32_t begin, uint32_t end, uint32_t de
 
 bool bvh_build(const struct gpu_sphere *spheres, uint32_t count, uint32_t max_depth, bvh *out) {
     *out = (bvh){0};
-    builder b = {.spheres = spheres, .max_depth = max_depth};
+    builder b = {.max_depth = max_depth};
     size_t n = count ? count : 1;
     b.bounds = malloc(n * sizeof *b.bounds);
     b.centroid = malloc(3 * n * sizeof *b.centroid);

@@ -1,6 +1,7 @@
 /* integrator_steps.h: the per-ray steps of the C integrator, shared by the one-sample integrator
  * (integrator.c) and the packet integrator (integrator_packet.c), so that both do the very same
- * floating-point operations in the same order. Each has a twin in the shaders/ GLSL files. */
+ * floating-point operations in the same order. The ray and shading steps have twins in the
+ * shaders/ GLSL files (named at each); the small vector helpers are written inline there. */
 #ifndef TRAZADOR_INTEGRATOR_STEPS_H
 #define TRAZADOR_INTEGRATOR_STEPS_H
 

@@ -100,7 +100,7 @@ typedef struct render_args {
 static const char *const output_formats[3][2] = {
     {"png", "render.png"}, {"ppm", "render.ppm"}, {"pfm", "render.pfm"}};
 
-/* Parses `render` arguments; returns 0 to go on, else the exit code (2 usage, 0 for --help). */
+/* Parses `render` arguments; returns 0 to go on, 2 on a usage error, -1 for --help (exit 0). */
 static int parse_render_args(int argc, char **argv, render_args *a) {
     *a = (render_args){.output = "render.png",
                        .spp = -1,
@@ -267,7 +267,6 @@ static void apply_overrides(const render_args *a, render_opts *o) {
     o->no_jitter = a->no_jitter;
     o->validate = a->validate;
     o->no_bvh = a->no_bvh;
-    o->verbose = a->verbose;
     o->progress = !a->quiet && isatty(STDERR_FILENO);
 }
 

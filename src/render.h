@@ -23,13 +23,12 @@ typedef struct render_opts {
     uint32_t seed;
     bool no_jitter; /* zero is default: jitter on */
     bool indirect;
-    int bounces;   /* longest chain of specular events */
-    int threads;   /* CPU back end; 0 = all cores */
-    int device;    /* Vulkan back end; -1 = first */
-    bool validate; /* Vulkan validation layer, errors fail the run */
-    bool no_bvh;   /* test every sphere for every ray (debugging, comparisons) */
-    bool progress; /* progress line on stderr */
-    bool verbose;
+    int bounces;         /* longest chain of specular events */
+    int threads;         /* CPU back end; 0 = all cores */
+    int device;          /* Vulkan back end; -1 = first */
+    bool validate;       /* Vulkan validation layer, errors fail the run */
+    bool no_bvh;         /* test every sphere for every ray (debugging, comparisons) */
+    bool progress;       /* progress line on stderr */
     render_stats *stats; /* filled by the back end when not NULL */
 } render_opts;
 

@@ -9,6 +9,11 @@
 #include "log.h"
 
 /* std430 with vec4 members only: the C structs must have no padding of their own. */
+/* params.z stores the material as the shaders' TZ_MATERIAL_* number. */
+_Static_assert(MATERIAL_LAMBERTIAN == TZ_MATERIAL_LAMBERTIAN &&
+                   MATERIAL_PHONG == TZ_MATERIAL_PHONG && MATERIAL_MIRROR == TZ_MATERIAL_MIRROR &&
+                   MATERIAL_REFRACTIVE == TZ_MATERIAL_REFRACTIVE,
+               "material numbers");
 _Static_assert(sizeof(tz_vec4) == 16, "vec4 is 16 bytes");
 _Static_assert(sizeof(tz_uvec4) == 16, "uvec4 is 16 bytes");
 _Static_assert(sizeof(struct gpu_sphere) == 48, "gpu_sphere is 48 bytes");
@@ -148,10 +153,10 @@ void scene_pack_report(const packed_scene *p, const render_opts *opts, double pa
                       (uint64_t)p->frame.settings.w * sizeof *p->nodes;
     log_debug(
         "scene: %u sphere%s, %u BVH node%s (depth %u) built in %.3f s, %.1f MB for the "
-        "shaders",
+        "shaders, packed in %.3f s in all",
         p->frame.size.z, p->frame.size.z == 1 ? "" : "s", st->bvh_nodes,
         st->bvh_nodes == 1 ? "" : "s", st->bvh_depth, st->bvh_seconds,
-        (double)st->scene_bytes * 1e-6);
+        (double)st->scene_bytes * 1e-6, st->pack_seconds);
 }
 
 void packed_scene_free(packed_scene *p) {

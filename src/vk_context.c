@@ -24,7 +24,8 @@ VK_CONTEXT_INSTANCE_FUNCTIONS(VK_CONTEXT_DEFINE_FUNCTION)
 static PFN_vkGetInstanceProcAddr get_instance_proc;
 static pthread_once_t loader_once = PTHREAD_ONCE_INIT;
 
-const char *vk_result_name(VkResult result) {
+/* The VkResult's enumerant name, or "VK_RESULT_<number>" for one this build does not know. */
+static const char *vk_result_name(VkResult result) {
     switch (result) {
 #define NAME(r) \
     case r:     \

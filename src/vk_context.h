@@ -81,8 +81,6 @@ VK_CONTEXT_INSTANCE_FUNCTIONS(VK_CONTEXT_DECLARE_FUNCTION)
  * VK_SUCCESS (and the other non-negative results). Use as `if (!VK_CHECK(vkX(...))) goto fail;`. */
 #define VK_CHECK(call) vk_check_result((call), #call, __FILE__, __LINE__)
 bool vk_check_result(VkResult result, const char *call, const char *file, int line);
-/* The VkResult's enumerant name, or "VK_RESULT_<number>" for one this build does not know. */
-const char *vk_result_name(VkResult result);
 
 typedef struct vk_context_desc {
     int device;    /* physical device index; -1 picks the first usable one */

@@ -1,7 +1,6 @@
 /* vk_probe.c: runs the loop-counting shader and bounds the loop work of one trace.comp sample. */
 #include "vk_probe.h"
 
-#include "log.h"
 #include "loop_probe_spv.h"
 
 uint64_t vk_probe_sample_iterations(uint32_t sphere_count, uint32_t light_count, uint32_t bounces,

@@ -2,7 +2,6 @@
  * end named by argv[1] ("cpu" or "vulkan"; Vulkan exits 77 when no device exists). Every expected
  * value is computed here from the formula, with the tolerance it needs stated beside it. */
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "check.h"

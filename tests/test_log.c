@@ -1,6 +1,5 @@
 /* test_log.c: the message sink's held errors (src/log.c): every line kept whole and in order,
  * however long, and nothing held once released. */
-#include <stdlib.h>
 #include <string.h>
 
 #include "check.h"

@@ -1,6 +1,5 @@
 /* test_threads.c: the CPU film is bit-identical for every thread count (tiles are scheduled
  * dynamically, but each pixel sums its samples in sample order), and stays so run to run. */
-#include <stdlib.h>
 #include <string.h>
 
 #include "check.h"

@@ -5,7 +5,6 @@
  * Validation is on; exits 77 only when no Vulkan device exists. */
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "check.h"
 #include "render.h"
