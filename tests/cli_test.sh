@@ -213,6 +213,15 @@ cmp -s nj.ppm q.ppm && bad "no-jitter no-indirect: same bytes as the default" ||
 } > lights.scene
 run many-lights-auto 0 "$tz" render lights.scene --spp 1 -o lights.png
 [ -s lights.png ] && ok || bad "many-lights-auto: no image"
+if "$tz" devices 2>/dev/null | grep -q llvmpipe; then
+    has many-lights-auto err "rendering with the CPU back end instead"
+fi
+# The BVH changes no pixel of a scene big enough to walk it (the example scenes are small
+# enough to test every sphere).
+"$tz" gen random --count 300 --seed 4 -o crowd300.scene
+"$tz" render crowd300.scene --backend cpu --width 40 --spp 2 --quiet -o bvh.pfm
+"$tz" render crowd300.scene --backend cpu --width 40 --spp 2 --quiet --no-bvh -o nobvh.pfm
+cmp -s bvh.pfm nobvh.pfm && ok || bad "BVH and --no-bvh images differ for 300 random spheres"
 
 # No Vulkan driver at all: an explicit Vulkan request fails with the advice; auto falls back.
 export VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json

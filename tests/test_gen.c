@@ -77,8 +77,8 @@ static bool parse(const char *path, scene *s) {
 
 static double dist(vec3 a, vec3 b) { return v3_length(v3_sub(a, b)); }
 
-/* Settings every generated scene shares: a 400x300 plane, 16 samples, indirect on, 3 lights,
-   every number valid (the parser has checked them). */
+/* Settings every generated scene shares: a 400x300 plane, 16 samples, indirect on, 2 or 3
+   lights, every number valid (the parser has checked them). */
 static void check_common(const char *name, const scene *s) {
     CHECK(s->width == 400 && s->height == 300, "%s: %dx%d pixels", name, s->width, s->height);
     CHECK(s->samples == 16 && s->indirect, "%s: render settings %d %d", name, s->samples,

@@ -198,7 +198,7 @@ int main(void) {
     const char *files[] = {"cornell.scene", "shadows.scene",    "phong.scene",
                            "mirror.scene",  "refraction.scene", "all.scene"};
     for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) compare_file(files[k]);
-    /* 10 spheres: every sphere per packet; 91 and 300: the BVH. */
+    /* A flake of 11 spheres: every sphere per packet; 92 and 304 spheres: the BVH. */
     const gen_desc flake1 = {.kind = GEN_SPHEREFLAKE, .depth = 1};
     const gen_desc flake2 = {.kind = GEN_SPHEREFLAKE, .depth = 2};
     const gen_desc random300 = {.kind = GEN_RANDOM, .count = 300, .seed = 5};

@@ -6,6 +6,7 @@
  * are dropped and counted alike. Exits 77 only when no Vulkan device exists. */
 #include <dirent.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -101,8 +102,9 @@ static scene room_scene(void) {
 }
 
 /* A grid of n spheres of every material in front of a wall, lit by m lights, `width` pixels
- * across, `samples` spp: past TZ_UNROLL_MAX_SPHERES or TZ_UNROLL_MAX_LIGHTS the shader loops
- * instead of unrolling. */
+ * across, `samples` spp: past TZ_UNROLL_MAX_SPHERES spheres the shader walks the BVH (and, with
+ * few lights, is also checked with --no-bvh, its sphere loop), past TZ_UNROLL_MAX_LIGHTS it
+ * loops over the lights instead of unrolling them. */
 static void check_crowd(const char *name, int n, int m, int width, int samples) {
     sphere *spheres = calloc((size_t)n + 1, sizeof *spheres);
     light *lights = calloc((size_t)m, sizeof *lights);
@@ -129,6 +131,12 @@ static void check_crowd(const char *name, int n, int m, int width, int samples) 
     render_opts opts;
     render_opts_from_scene(&s, &opts);
     check_agreement(name, &s, &opts);
+    if (n + 1 > TZ_UNROLL_MAX_SPHERES && m <= 6) { /* the shader's sphere loop, without a BVH */
+        char no_bvh[96];
+        snprintf(no_bvh, sizeof no_bvh, "%s, --no-bvh", name);
+        opts.no_bvh = true;
+        check_agreement(no_bvh, &s, &opts);
+    }
     free(spheres);
     free(lights);
 }
@@ -146,9 +154,10 @@ static void test_built_scenes(void) {
     check_agreement("room of 1e5 walls", &s, &opts);
     opts.bounces = 1; /* the glass sphere's inside goes black: the limit, on both */
     check_agreement("room, bounces 1", &s, &opts);
-    check_crowd("crowd 40 spheres 6 lights", 39, 6, 96, 16); /* both loops */
-    check_crowd("crowd 24 spheres 2 lights", 23, 2, 96, 16); /* sphere loop, lights unrolled */
-    check_crowd("crowd 6 spheres 5 lights", 5, 5, 96, 16);   /* spheres unrolled, light loop */
+    /* the BVH walk, and with --no-bvh the sphere loop; lights looped, then unrolled */
+    check_crowd("crowd 40 spheres 6 lights", 39, 6, 96, 16);
+    check_crowd("crowd 24 spheres 2 lights", 23, 2, 96, 16);
+    check_crowd("crowd 6 spheres 5 lights", 5, 5, 96, 16); /* spheres unrolled, light loop */
     /* So many lights leave a BVH walk too few of lavapipe's loop passes: every sphere is tested
      * instead (it was refused). */
     check_crowd("crowd 20 spheres 120 lights", 19, 120, 96, 16);
