@@ -8,6 +8,10 @@
 
 typedef enum backend_choice { BACKEND_AUTO = 0, BACKEND_VULKAN, BACKEND_CPU } backend_choice;
 
+/* A macro's value as a string literal, so that messages state limits from their macros. */
+#define CLI_AS_TEXT(x) CLI_AS_TEXT_(x)
+#define CLI_AS_TEXT_(x) #x
+
 /* Parses a whole decimal integer in [min, max]; false on anything else. */
 bool cli_parse_int(const char *text, long long min, long long max, long long *out);
 /* Parses a whole decimal number, or "inf" (no hex, nan or spaces); false on anything else. */

@@ -441,10 +441,8 @@ bool gen_write_file(const gen_desc *desc, const char *path) {
 /* ---- command line ---- */
 
 /* The limits as text, for the messages. */
-#define AS_TEXT(x) AS_TEXT_(x)
-#define AS_TEXT_(x) #x
-#define MAX_DEPTH AS_TEXT(GEN_MAX_DEPTH)
-#define MAX_COUNT AS_TEXT(GEN_MAX_COUNT)
+#define MAX_DEPTH CLI_AS_TEXT(GEN_MAX_DEPTH)
+#define MAX_COUNT CLI_AS_TEXT(GEN_MAX_COUNT)
 
 static const char usage[] =
     "usage: trazador gen sphereflake --depth N [-o FILE] [--seed N]   N: 0 to " MAX_DEPTH

@@ -26,7 +26,8 @@ bool image_from_film(const film *f, image *out);
 void image_free(image *img);
 /* Clamps to [0,1] and applies the transfer function: 8-bit value of one linear channel. */
 uint8_t tonemap_channel(float linear, tonemap tm);
-/* Clamps to [0,1] and applies the transfer function, unquantized: display value in [0,1]. */
+/* Clamps to [0,1] (NaN to 0) and applies the transfer function, unquantized: display value in
+ * [0,1]; never fails. */
 double tonemap_encode(float linear, tonemap tm);
 /* Inverse of tonemap_channel: a linear value that encodes back to exactly `value` (never fails). */
 float tonemap_decode(uint8_t value, tonemap tm);

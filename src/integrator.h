@@ -27,8 +27,7 @@ typedef struct packet_integrator {
 
 /* The packet integrators this processor runs into list, fastest first; returns how many (>= 1). */
 int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]);
-/* The fastest build, or the one TRAZADOR_PACKET_BUILD names (warns and falls back when it can't).
- */
+/* The fastest build, or the one TRAZADOR_PACKET_BUILD names; never fails (warns, falls back). */
 packet_integrator integrator_packet_choose(void);
 
 /* Nearest sphere hit by the ray o + t d (|d| = 1) with t > EPS, -1 on a miss; `self` is the
@@ -41,9 +40,10 @@ int integrator_trace(const packed_scene *p, vec3 o, vec3 d, int self, float tmax
 /* Rays (nearest-hit and shadow) the calling thread has traced so far, counted by
  * integrator_nearest, integrator_occluded and integrator_count_rays; never fails. */
 uint64_t integrator_rays_traced(void);
-/* Adds n rays to the calling thread's count. */
+/* Adds n rays to the calling thread's count; never fails. */
 void integrator_count_rays(uint64_t n);
-/* 1 when a sphere (glass too, as in the seed) blocks o + t d for EPS < t < dist, else 0. */
+/* 1 when a sphere (glass too, as in the seed) blocks o + t d for EPS < t < dist, else 0; never
+ * fails. */
 int integrator_occluded(const packed_scene *p, vec3 o, vec3 d, float dist, int self);
 
 #endif

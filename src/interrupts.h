@@ -13,15 +13,18 @@ typedef struct interrupts_saved {
 } interrupts_saved;
 
 /* Runs cleanup(sig) on those signals that would kill the process as is (ignored or handled ones
- * are left alone); cleanup must be async-signal-safe and end with interrupts_die(sig). */
+ * are left alone); cleanup must be async-signal-safe and end with interrupts_die(sig). Never
+ * fails. */
 void interrupts_catch(void (*cleanup)(int), interrupts_saved *saved);
-/* Puts back the actions interrupts_catch replaced. */
+/* Puts back the actions interrupts_catch replaced; never fails. */
 void interrupts_restore(const interrupts_saved *saved);
-/* Holds the signals back (until interrupts_unblock), so that two steps happen with none between. */
+/* Holds the signals back (until interrupts_unblock), so that two steps happen with none between;
+ * never fails. */
 void interrupts_block(sigset_t *previous);
-/* Lets held signals through again: previous is interrupts_block's. */
+/* Lets held signals through again: previous is interrupts_block's; never fails. */
 void interrupts_unblock(const sigset_t *previous);
-/* Ends a cleanup: the default action again, and the signal, which kills the process. */
+/* Ends a cleanup: the default action again, and the signal, which kills the process; does not
+ * return. */
 void interrupts_die(int sig);
 
 #endif

@@ -6,12 +6,14 @@
 
 typedef enum log_level { LOG_DEBUG, LOG_INFO, LOG_WARN, LOG_ERROR } log_level;
 
-/* Sets the lowest level that is printed (default LOG_INFO). */
+/* Sets the lowest level that is printed (default LOG_INFO); never fails. */
 void log_set_level(log_level level);
-/* Prints one formatted line to stderr, prefixed "trazador: " and the level for warnings/errors. */
+/* Prints one line to stderr, prefixed "trazador: " (and the level for warnings/errors), or holds
+ * it (log_hold_errors); a failed write is ignored: there is nowhere left to report it. */
 void log_message(log_level level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
-/* Holds errors back, unprinted, until log_release_errors (for callers that may recover). */
+/* Holds errors back, unprinted, until log_release_errors (for callers that may recover); never
+ * fails (past memory, errors are printed instead). */
 void log_hold_errors(void);
 /* Stops holding; returns the held errors, one per line ("" for none), valid until the next hold. */
 const char *log_release_errors(void);

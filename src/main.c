@@ -148,7 +148,8 @@ static int parse_render_args(int argc, char **argv, render_args *a) {
                 return usage_error("--tonemap takes srgb or linear, got '%s'", value ? value : "");
         } else if (!strcmp(arg, "--spp")) {
             if (!cli_parse_int(value, 1, SCENE_MAX_SAMPLES, &a->spp))
-                return usage_error("--spp takes a whole number from 1 to 1048576, got '%s'",
+                return usage_error("--spp takes a whole number from 1 to " CLI_AS_TEXT(
+                                       SCENE_MAX_SAMPLES) ", got '%s'",
                                    value ? value : "");
         } else if (!strcmp(arg, "--seed")) {
             if (!cli_parse_int(value, 0, 4294967295LL, &a->seed))
@@ -156,17 +157,19 @@ static int parse_render_args(int argc, char **argv, render_args *a) {
                                    value ? value : "");
         } else if (!strcmp(arg, "--bounces")) {
             if (!cli_parse_int(value, 0, SCENE_MAX_BOUNCES, &a->bounces))
-                return usage_error("--bounces takes a whole number from 0 to 64, got '%s'",
+                return usage_error("--bounces takes a whole number from 0 to " CLI_AS_TEXT(
+                                       SCENE_MAX_BOUNCES) ", got '%s'",
                                    value ? value : "");
         } else if (!strcmp(arg, "--threads")) {
-            if (!cli_parse_int(value, 1, 256, &a->threads))
-                return usage_error("--threads takes a whole number from 1 to 256, got '%s'",
+            if (!cli_parse_int(value, 1, RENDER_MAX_THREADS, &a->threads))
+                return usage_error("--threads takes a whole number from 1 to " CLI_AS_TEXT(
+                                       RENDER_MAX_THREADS) ", got '%s'",
                                    value ? value : "");
         } else if (!strcmp(arg, "--width")) {
             if (!cli_parse_int(value, 1, SCENE_MAX_RESOLUTION, &a->width))
-                return usage_error(
-                    "--width takes a whole number of pixels from 1 to 16384, got '%s'",
-                    value ? value : "");
+                return usage_error("--width takes a whole number of pixels from 1 to " CLI_AS_TEXT(
+                                       SCENE_MAX_RESOLUTION) ", got '%s'",
+                                   value ? value : "");
         } else if (!strcmp(arg, "--device")) {
             if (!cli_parse_int(value, 0, 255, &a->device))
                 return usage_error(

@@ -18,6 +18,9 @@ typedef struct render_stats {
     unsigned validation_errors; /* Vulkan: what the validation layer reported (it fails the run) */
 } render_stats;
 
+/* The most threads the CPU back end runs. */
+#define RENDER_MAX_THREADS 256
+
 typedef struct render_opts {
     int samples; /* samples per pixel */
     uint32_t seed;
@@ -39,7 +42,7 @@ typedef struct film {
     uint64_t nonfinite; /* samples dropped because their radiance was NaN or infinite */
 } film;
 
-/* Fills opts from the scene's `render` settings (flags override afterwards). */
+/* Fills opts from the scene's `render` settings (flags override afterwards); never fails. */
 void render_opts_from_scene(const scene *s, render_opts *opts);
 /* Allocates a zeroed film; false on out-of-memory. */
 bool film_init(film *f, int width, int height);

@@ -13,7 +13,6 @@
 #include "render.h"
 
 #define TILE_SIZE 16
-#define MAX_THREADS 256
 
 typedef struct cpu_job {
     const packed_scene *packed;
@@ -73,9 +72,9 @@ static void *worker(void *arg) {
 }
 
 static int thread_count(int requested) {
-    if (requested > 0) return requested < MAX_THREADS ? requested : MAX_THREADS;
+    if (requested > 0) return requested < RENDER_MAX_THREADS ? requested : RENDER_MAX_THREADS;
     long n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
+    return n < 1 ? 1 : n > RENDER_MAX_THREADS ? RENDER_MAX_THREADS : (int)n;
 }
 
 /* Prints the share of finished tiles on stderr every 0.2 s until every tile is done, which it
@@ -102,7 +101,7 @@ bool render_cpu(const scene *s, const render_opts *opts, film *f) {
     scene_pack_report(&packed, opts, start);
     if (!film_init(f, s->width, s->height)) {
         log_error("out of memory for a %d x %d film", s->width, s->height);
-        packed_scene_free(&packed);
+        scene_pack_free(&packed);
         return false;
     }
     cpu_job job = {.packed = &packed, .film = f, .samples = opts->samples};
@@ -117,7 +116,7 @@ bool render_cpu(const scene *s, const render_opts *opts, film *f) {
     atomic_init(&job.rays, 0);
     int n = thread_count(opts->threads);
     double render_start = clock_seconds();
-    pthread_t threads[MAX_THREADS];
+    pthread_t threads[RENDER_MAX_THREADS];
     int started = 0;
     while (started < n && pthread_create(&threads[started], NULL, worker, &job) == 0) started++;
     if (started == 0) worker(&job); /* no thread could start: render on this one */
@@ -131,6 +130,6 @@ bool render_cpu(const scene *s, const render_opts *opts, film *f) {
         opts->stats->render_seconds = render_seconds;
         opts->stats->rays = atomic_load(&job.rays);
     }
-    packed_scene_free(&packed);
+    scene_pack_free(&packed);
     return true;
 }

@@ -319,7 +319,7 @@ static uint32_t walk_budget(const scene *s, const render_opts *opts) {
 static void render_destroy(vk_render *r) {
     vk_context *ctx = &r->ctx;
     if (ctx->device) {
-        vkDeviceWaitIdle(ctx->device);
+        VK_CHECK(vkDeviceWaitIdle(ctx->device)); /* teardown goes on either way */
         if (r->fence) vkDestroyFence(ctx->device, r->fence, NULL);
         if (r->cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &r->cmd);
         vk_kernel_destroy(ctx, &r->kernel);
@@ -458,7 +458,7 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
     ok = true;
 done:
     render_destroy(&r);
-    packed_scene_free(&packed);
+    scene_pack_free(&packed);
     if (!vk_context_destroy(&r.ctx)) {
         log_error("the Vulkan validation layer reported errors: the render failed");
         ok = false;

@@ -88,7 +88,7 @@ bool scene_parse_string(const char *text, size_t length, const char *filename, s
 /* Reads and parses a file; false with *err filled on a read or parse error. */
 bool scene_parse_file(const char *path, scene *out, scene_error *err);
 /* Prints err to stderr as "file:line:col: message" ("file: message" for errors about the file
- * itself, which have line 0). */
+ * itself, which have line 0); never fails. */
 void scene_error_print(const scene_error *err);
 /* Releases the arrays of a parsed scene; safe on a zeroed scene. */
 void scene_free(scene *s);

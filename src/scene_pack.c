@@ -98,7 +98,7 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     out->lights = calloc(s->light_count ? (size_t)s->light_count : 1, sizeof *out->lights);
     if (!out->spheres || !out->lights) {
         log_error("out of memory packing %u spheres", count);
-        packed_scene_free(out);
+        scene_pack_free(out);
         return false;
     }
     for (uint32_t k = 0; k < count; k++) {
@@ -135,7 +135,7 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     bool sorted = pack_bvh(out, count, opts->no_bvh); /* logs its own failure */
     if (sorted && !pack_soa(out, count)) log_error("out of memory packing %u spheres", count);
     if (!sorted || !out->soa.cx) {
-        packed_scene_free(out);
+        scene_pack_free(out);
         return false;
     }
     return true;
@@ -159,7 +159,7 @@ void scene_pack_report(const packed_scene *p, const render_opts *opts, double pa
         (double)st->scene_bytes * 1e-6, st->pack_seconds);
 }
 
-void packed_scene_free(packed_scene *p) {
+void scene_pack_free(packed_scene *p) {
     free(p->spheres);
     free(p->lights);
     free(p->soa.cx);

@@ -26,9 +26,10 @@ typedef struct packed_scene {
 /* Packs the scene with the options applied, spheres in BVH order unless opts->no_bvh;
  * false (logged) on out-of-memory. */
 bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out);
-/* Records the packing's figures (time since pack_start, BVH, sizes) into opts->stats if any. */
+/* Records the packing's figures (time since pack_start, BVH, sizes) into opts->stats if any;
+ * never fails. */
 void scene_pack_report(const packed_scene *p, const render_opts *opts, double pack_start);
 /* Frees the packed arrays; safe on a zeroed packed_scene. */
-void packed_scene_free(packed_scene *p);
+void scene_pack_free(packed_scene *p);
 
 #endif

@@ -449,14 +449,14 @@ static bool open_device(vk_context *ctx, int requested) {
     /* A portability (MoltenVK) device must have its subset extension enabled when it offers it. */
     const char *portability = "VK_KHR_portability_subset";
     bool subset = has_device_extension(ctx->physical, portability);
-    VkDeviceCreateInfo device_info = {
+    VkDeviceCreateInfo create_info = {
         .sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
         .queueCreateInfoCount = 1,
         .pQueueCreateInfos = &queue,
         .enabledExtensionCount = subset ? 1u : 0u,
         .ppEnabledExtensionNames = &portability,
     };
-    if (!VK_CHECK(vkCreateDevice(ctx->physical, &device_info, NULL, &ctx->device))) return false;
+    if (!VK_CHECK(vkCreateDevice(ctx->physical, &create_info, NULL, &ctx->device))) return false;
     vkGetDeviceQueue(ctx->device, ctx->queue_family, 0, &ctx->queue);
     VkCommandPoolCreateInfo pool = {
         .sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
@@ -517,7 +517,7 @@ fail:
 
 bool vk_context_destroy(vk_context *ctx) {
     if (ctx->device) {
-        vkDeviceWaitIdle(ctx->device);
+        VK_CHECK(vkDeviceWaitIdle(ctx->device)); /* teardown goes on either way */
         if (ctx->command_pool) vkDestroyCommandPool(ctx->device, ctx->command_pool, NULL);
         vkDestroyDevice(ctx->device, NULL);
     }

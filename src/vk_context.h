@@ -113,9 +113,10 @@ bool vk_context_init(vk_context *ctx, const vk_context_desc *desc);
 /* Destroys everything in reverse order; safe on a zeroed or partly initialized context.
  * Returns false when the validation layer reported any error during the context's life. */
 bool vk_context_destroy(vk_context *ctx);
-/* Number of validation errors reported so far. */
+/* Number of validation errors reported so far; never fails. */
 unsigned vk_context_validation_errors(vk_context *ctx);
-/* True when the device is Mesa's lavapipe (llvmpipe), whose loops have an iteration budget. */
+/* True when the device is Mesa's lavapipe (llvmpipe), whose loops have an iteration budget;
+ * never fails. */
 bool vk_context_is_lavapipe(const vk_context *ctx);
 
 /* Number of Vulkan physical devices; 0 when there is no loader, driver or device. Logs nothing. */
@@ -190,7 +191,7 @@ bool vk_commands_begin(vk_context *ctx, VkCommandBuffer *cmd);
 /* Ends, submits and waits for cmd with fence (reset first), then checks validation; false
  * (logged) on any failure or on a validation error reported meanwhile. */
 bool vk_commands_submit_wait(vk_context *ctx, VkCommandBuffer cmd, VkFence fence);
-/* One global memory barrier between two stages. */
+/* Records one global memory barrier between two stages; never fails. */
 void vk_commands_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage,
                          VkAccessFlags src_access, VkPipelineStageFlags dst_stage,
                          VkAccessFlags dst_access);

@@ -104,8 +104,8 @@ static void compare_rays(int sphere_count, int rays) {
           rays);
     CHECK(hits > rays / 10, "%d spheres: only %d of %d rays hit anything", sphere_count, hits,
           rays);
-    packed_scene_free(&tree);
-    packed_scene_free(&brute);
+    scene_pack_free(&tree);
+    scene_pack_free(&brute);
     scene_free(&s);
 }
 

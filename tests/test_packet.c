@@ -74,7 +74,7 @@ static void compare(const char *name, const scene *s, const render_opts *o, bool
     packed_scene p;
     CHECK(scene_pack(s, o, &p), "%s: pack failed", name);
     for (int b = 0; b < build_count; b++) compare_build(name, &p, &builds[b], want_light);
-    packed_scene_free(&p);
+    scene_pack_free(&p);
 }
 
 /* The scene's own settings, then each option that changes the path a sample takes. */

@@ -224,7 +224,7 @@ static void test_ties(void) {
             for (int k = 0; k < 20 && first < 0; k++)
                 if (packed.spheres[k].center_radius.w == 1.0f) first = k;
             red_stored_first = first >= 0 && packed.spheres[first].color_ks.x > 0.5f;
-            packed_scene_free(&packed);
+            scene_pack_free(&packed);
         }
         film cpu = {0}, vk = {0}, brute = {0};
         render_opts no_bvh = opts;
