@@ -1,4 +1,5 @@
-/* cli.h: the subcommands main.c dispatches to; each returns the process exit code. */
+/* cli.h: what the subcommands share (argument numbers, rendering with a chosen back end) and
+ * bench_command, which main.c dispatches to. */
 #ifndef TRAZADOR_CLI_H
 #define TRAZADOR_CLI_H
 

@@ -48,44 +48,6 @@ static bool has_image_extension(const char *path) {
            (!strcasecmp(dot, ".png") || !strcasecmp(dot, ".ppm") || !strcasecmp(dot, ".pfm"));
 }
 
-bool cli_render(const scene *s, const render_opts *opts, backend_choice backend, film *f,
-                const char **used) {
-    *used = backend == BACKEND_VULKAN ? "vulkan" : "cpu";
-    if (backend == BACKEND_CPU) return render_cpu(s, opts, f);
-    if (backend == BACKEND_VULKAN) return render_vk(s, opts, f);
-    /* auto: Vulkan when a device exists and can render the scene, else the C renderer. */
-    if (vk_context_device_count() == 0) {
-        log_info("no Vulkan device found; rendering with the CPU back end");
-    } else {
-        *used = "vulkan";
-        render_opts tried = *opts;
-        render_stats stats = {0};
-        if (!tried.stats) tried.stats = &stats;
-        log_hold_errors();
-        bool ok = render_vk(s, &tried, f);
-        const char *why = log_release_errors();
-        /* Validation or a device asked for (--validate, --device), or validation failed: the
-         * verdict stands, in full. */
-        if (ok || opts->validate || opts->device >= 0 || tried.stats->validation_errors > 0) {
-            for (const char *line = why; *line;) {
-                const char *end = strchr(line, '\n');
-                log_error("%.*s", (int)(end - line), line);
-                line = end + 1;
-            }
-            return ok;
-        }
-        /* One line: why Vulkan could not, less its advice to use the CPU, which follows. */
-        int length = (int)strcspn(why, "\n");
-        int advice_length = (int)strlen(VK_CONTEXT_USE_CPU);
-        if (length >= advice_length &&
-            !strncmp(why + length - advice_length, VK_CONTEXT_USE_CPU, advice_length))
-            length -= advice_length;
-        log_info("%.*s%srendering with the CPU back end instead", length, why, length ? "; " : "");
-    }
-    *used = "cpu";
-    return render_cpu(s, opts, f);
-}
-
 typedef struct render_args {
     const char *scene_path, *output, *format; /* format: NULL for the output's extension */
     backend_choice backend;
