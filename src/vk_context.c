@@ -160,7 +160,11 @@ static VKAPI_ATTR VkBool32 VKAPI_CALL on_debug_message(
     const char *source = types & VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT    ? "validation"
                          : types & VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT ? "performance"
                                                                                    : "loader";
-    if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+    /* The loader's complaints (no driver, a bad manifest) end in a failed call, which says so in
+     * one line: theirs are details for --verbose, and no validation error. */
+    if (!strcmp(source, "loader")) {
+        log_debug("Vulkan %s: %s", source, text);
+    } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
         atomic_fetch_add(&ctx->validation_errors, 1u);
         log_error("Vulkan %s: %s", source, text);
     } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
@@ -490,8 +494,15 @@ bool vk_context_init(vk_context *ctx, const vk_context_desc *desc) {
         log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
         return false;
     }
-    if (result == VK_ERROR_LAYER_NOT_PRESENT || result == VK_ERROR_EXTENSION_NOT_PRESENT ||
-        !VK_CHECK(result)) {
+    if (result != VK_SUCCESS) {
+        /* A broken driver manifest makes the loader fail with an unrelated code (out of host
+         * memory for a JSON syntax error): the code alone would mislead. */
+        if (result != VK_ERROR_LAYER_NOT_PRESENT && result != VK_ERROR_EXTENSION_NOT_PRESENT)
+            log_error(
+                "cannot start Vulkan: vkCreateInstance failed with %s (a broken driver "
+                "manifest in VK_ICD_FILENAMES, VK_DRIVER_FILES or vulkan/icd.d can do this; "
+                "VK_LOADER_DEBUG=all shows the loader's reasons)" VK_CONTEXT_USE_CPU,
+                vk_result_name(result));
         ctx->instance = VK_NULL_HANDLE;
         return false;
     }

@@ -125,9 +125,9 @@ int vk_context_device_count(void);
  * end renders; --backend auto drops it from its notice, since it falls back by itself. */
 #define VK_CONTEXT_USE_CPU ": use --backend cpu"
 /* What to tell a user who has no Vulkan device. */
-#define VK_CONTEXT_NO_DEVICE_MESSAGE                                                          \
-    "no Vulkan device found: install lavapipe (Debian: apt-get install mesa-vulkan-drivers) " \
-    "or use --backend cpu"
+#define VK_CONTEXT_NO_DEVICE_MESSAGE                                                     \
+    "no Vulkan device found (VK_LOADER_DEBUG=all shows why): install lavapipe (Debian: " \
+    "apt-get install mesa-vulkan-drivers) or use --backend cpu"
 /* Prints every device (index, name, type, driver), marking the default; false when none. */
 bool vk_context_print_devices(void);
 

@@ -115,6 +115,16 @@ VK_ICD_FILENAMES=/nonexistent.json VK_DRIVER_FILES=/nonexistent.json run bench-n
     "$tz" bench --backend vulkan
 has bench-no-device err "no Vulkan device found"
 [ "$(wc -l <"$tmp/err")" = 1 ] && [ ! -s "$tmp/out" ] && ok || bad "bench-no-device: $(cat "$tmp/err")"
+# No driver with --validate: the one line, not the loader's own complaint before it.
+VK_ICD_FILENAMES=/nonexistent.json VK_DRIVER_FILES=/nonexistent.json run validate-no-driver 1 \
+    "$tz" render --backend vulkan --validate --width 8 --spp 1 -o nodriver.png
+[ "$(wc -l <"$tmp/err")" = 1 ] && ok || bad "validate-no-driver: $(cat "$tmp/err")"
+# A broken driver manifest: one line naming the likely cause, not a raw result code.
+echo '{bogus' >bogus.json
+VK_ICD_FILENAMES=$tmp/bogus.json VK_DRIVER_FILES=$tmp/bogus.json run bogus-manifest 1 \
+    "$tz" render --backend vulkan --width 8 --spp 1 -o bogus.png
+[ "$(wc -l <"$tmp/err")" = 1 ] && grep -qE "no Vulkan device found|a broken driver manifest" "$tmp/err" \
+    && ok || bad "bogus-manifest: $(cat "$tmp/err")"
 # Naming a device without any Vulkan device fails like --backend vulkan does, no CPU fallback.
 VK_ICD_FILENAMES=/nonexistent.json VK_DRIVER_FILES=/nonexistent.json run device-without-vulkan 1 \
     "$tz" render --width 8 --spp 1 --device 0 -o nodev.png
