@@ -31,6 +31,10 @@
 /* Loop passes one submission may cost: a few seconds on lavapipe, the granularity of the progress
  * line and of the non-finite counter read-back. */
 #define SUBMIT_BUDGET (UINT64_C(1) << 31)
+/* Pixels an image is charged for at least: a smaller one leaves the device's lanes idle, and its
+ * few invocations take as long as this many would (a 1 x 1 image of a million samples was timed
+ * as one loop pass per sample, one submission of 14 s on lavapipe, with no progress). */
+#define MIN_CHARGED_PIXELS 1024u
 /* Loop passes a ray's BVH walk must be allowed at least on lavapipe for a scene to be tried. */
 #define MIN_WALK_BUDGET 256u
 
@@ -83,10 +87,13 @@ static bool check_limits(const vk_context *ctx, const scene *s, const render_opt
     uint64_t rows = ((uint64_t)s->height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
     uint64_t accum_bytes = rows * (uint64_t)s->width * 4u * sizeof(float);
     if (accum_bytes > UINT32_MAX) {
+        uint64_t row_bytes = (uint64_t)s->width * 4u * sizeof(float);
         log_error("a %d x %d image needs %" PRIu64
-                  " bytes of accumulation buffer, past the 4 GiB - 1 the Vulkan back end "
-                  "addresses (fewer pixels would fit)" VK_CONTEXT_USE_CPU,
-                  s->width, s->height, accum_bytes);
+                  " bytes of accumulation buffer (rows rounded up to whole %u-row tiles), past the "
+                  "4 GiB - 1 the Vulkan back end addresses (at this width %" PRIu64
+                  " rows fit)" VK_CONTEXT_USE_CPU,
+                  s->width, s->height, accum_bytes, TILE_SIZE,
+                  UINT32_MAX / row_bytes / TILE_SIZE * TILE_SIZE);
         return false;
     }
     const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
@@ -294,11 +301,16 @@ static pass_plan plan_passes(const vk_context *ctx, const scene *s, const render
         uint64_t fit = (VK_PROBE_LAVAPIPE_SAFE_ITERATIONS - 1u) / sample_iterations;
         if (fit < per_dispatch) per_dispatch = fit;
     }
+    /* A pass over the whole image stays within a submission, so that big images show progress
+     * (2000 x 1500 pixels at 64 spp ran as one 13 s submission). */
+    uint64_t pixels = (uint64_t)plan.width * plan.height;
+    if (pixels < MIN_CHARGED_PIXELS) pixels = MIN_CHARGED_PIXELS;
+    uint64_t whole = SUBMIT_BUDGET / pixels / sample_iterations;
+    if (whole < per_dispatch) per_dispatch = whole;
     if (per_dispatch > plan.samples) per_dispatch = plan.samples;
     plan.per_dispatch = per_dispatch ? (uint32_t)per_dispatch : 1u;
     uint64_t pass_cost; /* saturated: 16384^2 pixels of 4096 lights, 2^24 spheres, --no-bvh */
-    if (__builtin_mul_overflow((uint64_t)plan.width * plan.height * plan.per_dispatch,
-                               sample_iterations, &pass_cost))
+    if (__builtin_mul_overflow(pixels * plan.per_dispatch, sample_iterations, &pass_cost))
         pass_cost = UINT64_MAX;
     uint64_t per_submit = SUBMIT_BUDGET / pass_cost;
     plan.passes_per_submit =
