@@ -33,7 +33,7 @@ static const char usage_text[] =
     "       trazador --help | --version\n"
     "SCENE defaults to the embedded scenes/cornell.scene, OUT to render.png;\n"
     "the output format follows the extension: .png, .ppm or .pfm (linear float), or\n"
-    "--format png|ppm|pfm for any name (-o /dev/stdout --format ppm).\n";
+    "--format png|ppm|pfm for any name (-o - --format ppm writes to standard output).\n";
 
 static int usage_error(const char *fmt, const char *arg) {
     fprintf(stderr, "trazador: ");
@@ -161,6 +161,11 @@ static int parse_render_args(int argc, char **argv, render_args *a) {
                 return usage_error("more than one scene given ('%s')", arg);
         }
         if (takes_value) k++;
+    }
+    if (!strcmp(a->output, "-")) { /* the usual name of standard output */
+        if (!a->format)
+            return usage_error("%s", "-o - (standard output) needs --format png|ppm|pfm");
+        a->output = "/dev/stdout";
     }
     const char *dot = strrchr(a->output, '.');
     if (a->format && has_image_extension(a->output) && strcasecmp(dot + 1, a->format))

@@ -92,6 +92,10 @@ echo HEADER >appended.txt
 "$tz" render --backend cpu --width 8 --spp 1 --quiet --format pfm && [ -s render.pfm ] && ok || bad "--format pfm: no render.pfm"
 run format-clash 2 "$tz" render --backend cpu --width 8 --spp 1 -o clash.pfm --format png
 has format-clash err "output 'clash.pfm' names another format than --format"
+"$tz" render --backend cpu --width 8 --spp 1 --quiet -o - --format pfm >dash.pfm
+[ "$(head -c 2 dash.pfm)" = "PF" ] && [ ! -e ./- ] && ok || bad "-o - --format pfm: $(head -c 9 dash.pfm)"
+run dash-no-format 2 "$tz" render --backend cpu --width 8 --spp 1 -o -
+has dash-no-format err "-o - (standard output) needs --format png|ppm|pfm"
 run no-format 2 "$tz" render --backend cpu --width 8 --spp 1 -o /dev/stdout
 has no-format err "must end in .png, .ppm or .pfm, or take --format"
 run bad-format 2 "$tz" render --backend cpu --width 8 --spp 1 -o x.img --format jpg
