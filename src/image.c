@@ -32,6 +32,13 @@ static image_format format_of(const char *path) {
     return dot ? format_named(dot + 1) : FORMAT_NONE;
 }
 
+const char *image_path_format(const char *path) {
+    static const char *const names[] = {
+        [FORMAT_PPM] = "ppm", [FORMAT_PNG] = "png", [FORMAT_PFM] = "pfm"};
+    image_format fmt = format_of(path);
+    return fmt == FORMAT_NONE ? NULL : names[fmt];
+}
+
 static bool size_ok(long width, long height) {
     return width >= 1 && height >= 1 && width <= IMAGE_MAX_DIM && height <= IMAGE_MAX_DIM;
 }

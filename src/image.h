@@ -33,6 +33,8 @@ double tonemap_encode(float linear, tonemap tm);
 float tonemap_decode(uint8_t value, tonemap tm);
 /* Writes .ppm, .png or .pfm by extension via a temporary file and rename; false on error. */
 bool image_write(const char *path, const image *img, tonemap tm);
+/* The format ("ppm", "png" or "pfm") the path's extension names, any case; NULL for none. */
+const char *image_path_format(const char *path);
 /* image_write in `format` ("ppm", "png" or "pfm"; NULL: by extension) whatever the path's name,
  * for outputs such as /dev/stdout; false on error. */
 bool image_write_as(const char *path, const char *format, const image *img, tonemap tm);

@@ -42,12 +42,6 @@ static int usage_error(const char *fmt, const char *arg) {
     return 2;
 }
 
-static bool has_image_extension(const char *path) {
-    const char *dot = strrchr(path, '.');
-    return dot &&
-           (!strcasecmp(dot, ".png") || !strcasecmp(dot, ".ppm") || !strcasecmp(dot, ".pfm"));
-}
-
 typedef struct render_args {
     const char *scene_path, *output, *format; /* format: NULL for the output's extension */
     backend_choice backend;
@@ -167,10 +161,10 @@ static int parse_render_args(int argc, char **argv, render_args *a) {
             return usage_error("%s", "-o - (standard output) needs --format png|ppm|pfm");
         a->output = "/dev/stdout";
     }
-    const char *dot = strrchr(a->output, '.');
-    if (a->format && has_image_extension(a->output) && strcasecmp(dot + 1, a->format))
+    const char *named = image_path_format(a->output);
+    if (a->format && named && strcmp(named, a->format))
         return usage_error("output '%s' names another format than --format", a->output);
-    if (!a->format && !has_image_extension(a->output))
+    if (!a->format && !named)
         return usage_error("output '%s' must end in .png, .ppm or .pfm, or take --format",
                            a->output);
     if (a->device >= 0 && a->backend == BACKEND_CPU)
