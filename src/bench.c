@@ -33,6 +33,9 @@ static const long scaling_counts[] = {10, 1000, 100000, 1000000};
 #define SCALING_WARMUP_SAMPLES 4
 #define SCALING_MAX_SAMPLES 256
 #define SCALING_SECONDS 0.5
+/* A timed render shorter than this is timed again at the samples its speed asks for (the
+ * warm-up's speed can be off: lavapipe compiles its shader in it). */
+#define SCALING_MIN_SECONDS (0.7 * SCALING_SECONDS)
 
 /* Prints a measured figure in a column of `width`, or "-" when that back end was not timed. */
 static void print_figure(int width, double value, bool measured, const char *suffix) {
@@ -110,9 +113,8 @@ static double run_scaling(const scene *s, backend_choice backend, int samples,
 }
 
 /* Msamples/s of s on the back end: a warm-up render, then renders at the power of two of samples
- * that the last one's speed says lasts SCALING_SECONDS, until one lasts at least 70% of that
- * (the warm-up's speed can be off: lavapipe compiles its shader in it); *samples the spp timed.
- * -1 on failure. */
+ * that the last one's speed says lasts SCALING_SECONDS, until one lasts SCALING_MIN_SECONDS;
+ * *samples the spp timed. -1 on failure. */
 static double time_scaling(const scene *s, backend_choice backend, int *samples,
                            render_stats *stats) {
     *samples = SCALING_WARMUP_SAMPLES;
@@ -123,8 +125,7 @@ static double time_scaling(const scene *s, backend_choice backend, int *samples,
         while (*samples < SCALING_MAX_SAMPLES && *samples < wanted) *samples *= 2;
         *stats = (render_stats){0};
         speed = run_scaling(s, backend, *samples, stats);
-        if (stats->render_seconds >= 0.7 * SCALING_SECONDS || *samples == SCALING_MAX_SAMPLES)
-            break;
+        if (stats->render_seconds >= SCALING_MIN_SECONDS || *samples == SCALING_MAX_SAMPLES) break;
     }
     return speed;
 }
@@ -134,7 +135,7 @@ static int bench_scaling(bool want_cpu, bool want_vk) {
     printf(
         "\nscaling: random spheres, %dx%d, indirect on; Msamples/s of the passes alone, timed "
         "for %.2f s or more after a %d-spp warm-up (spp: samples per pixel timed)\n",
-        SCALING_SIZE, SCALING_SIZE, 0.7 * SCALING_SECONDS, SCALING_WARMUP_SAMPLES);
+        SCALING_SIZE, SCALING_SIZE, SCALING_MIN_SECONDS, SCALING_WARMUP_SAMPLES);
     printf("%10s %9s %7s %6s %14s %5s %14s %5s %10s %10s\n", "spheres", "build s", "B/sph", "depth",
            "cpu Msamples/s", "spp", "vk Msamples/s", "spp", "cpu vs 10", "vk vs 10");
     int failures = 0;

@@ -85,9 +85,9 @@ static bool check_limits(const vk_context *ctx, const scene *s, const render_opt
     /* The accumulation buffer is addressed with 32-bit dynamic offsets, and drivers cap buffers
      * below 4 GiB (lavapipe's maxBufferSize is 2^32 - 1): 16384 x 16384 pixels need 2^32 bytes. */
     uint64_t rows = ((uint64_t)s->height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
-    uint64_t accum_bytes = rows * (uint64_t)s->width * 4u * sizeof(float);
+    uint64_t row_bytes = (uint64_t)s->width * 4u * sizeof(float);
+    uint64_t accum_bytes = rows * row_bytes;
     if (accum_bytes > UINT32_MAX) {
-        uint64_t row_bytes = (uint64_t)s->width * 4u * sizeof(float);
         log_error("a %d x %d image needs %" PRIu64
                   " bytes of accumulation buffer (rows rounded up to whole %u-row tiles), past the "
                   "4 GiB - 1 the Vulkan back end addresses (at this width %" PRIu64

@@ -8,12 +8,12 @@
 #include "clock.h"
 #include "log.h"
 
-/* std430 with vec4 members only: the C structs must have no padding of their own. */
 /* params.z stores the material as the shaders' TZ_MATERIAL_* number. */
 _Static_assert(MATERIAL_LAMBERTIAN == TZ_MATERIAL_LAMBERTIAN &&
                    MATERIAL_PHONG == TZ_MATERIAL_PHONG && MATERIAL_MIRROR == TZ_MATERIAL_MIRROR &&
                    MATERIAL_REFRACTIVE == TZ_MATERIAL_REFRACTIVE,
                "material numbers");
+/* std430 with vec4 members only: the C structs must have no padding of their own. */
 _Static_assert(sizeof(tz_vec4) == 16, "vec4 is 16 bytes");
 _Static_assert(sizeof(tz_uvec4) == 16, "uvec4 is 16 bytes");
 _Static_assert(sizeof(struct gpu_sphere) == 48, "gpu_sphere is 48 bytes");

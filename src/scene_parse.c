@@ -247,9 +247,7 @@ static bool is_nonfinite_word(const token *t) {
 }
 
 /* The largest |coordinate| of v, at least 1: what the ray offset TZ_EPS is scaled by there. */
-static float largest_coordinate(vec3 v) {
-    return fmaxf(fmaxf(fabsf(v.x), fabsf(v.y)), fmaxf(fabsf(v.z), 1.0f));
-}
+static float largest_coordinate(vec3 v) { return fmaxf(v3_max_abs(v), 1.0f); }
 
 static bool fail_range(parser *p, const key_spec *k, const token *t) {
     if (k->kind == VALUE_INTEGER) {

@@ -157,12 +157,14 @@ static VKAPI_ATTR VkBool32 VKAPI_CALL on_debug_message(
     vk_context *ctx = user;
     const char *text = data && data->pMessage ? data->pMessage : "(no message)";
     /* General messages come from the loader (manifests, drivers), the others from the layer. */
-    const char *source = types & VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT    ? "validation"
-                         : types & VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT ? "performance"
-                                                                                   : "loader";
+    bool from_loader = !(types & (VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                                  VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT));
+    const char *source = from_loader                                              ? "loader"
+                         : types & VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT ? "validation"
+                                                                                  : "performance";
     /* The loader's complaints (no driver, a bad manifest) end in a failed call, which says so in
      * one line: theirs are details for --verbose, and no validation error. */
-    if (!strcmp(source, "loader")) {
+    if (from_loader) {
         log_debug("Vulkan %s: %s", source, text);
     } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
         atomic_fetch_add(&ctx->validation_errors, 1u);
