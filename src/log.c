@@ -58,20 +58,34 @@ static bool hold(const char *fmt, va_list ap) {
     return held_it;
 }
 
-void log_message(log_level level, const char *fmt, ...) {
+/* Prints (or, for an error while holding, holds) one message of the level. */
+static void log_vmessage(log_level level, const char *fmt, va_list ap) {
     if (level == LOG_ERROR) {
-        va_list ap;
-        va_start(ap, fmt);
-        bool held_it = hold(fmt, ap);
-        va_end(ap);
+        va_list copy;
+        va_copy(copy, ap);
+        bool held_it = hold(fmt, copy);
+        va_end(copy);
         if (held_it) return;
     }
     if (level < min_level) return;
     static const char *const prefix[] = {"debug: ", "", "warning: ", "error: "};
     fprintf(stderr, "trazador: %s", prefix[level]);
-    va_list ap;
-    va_start(ap, fmt);
     vfprintf(stderr, fmt, ap);
-    va_end(ap);
     fputc('\n', stderr);
 }
+
+#define LOG_AT(level)                 \
+    do {                              \
+        va_list ap;                   \
+        va_start(ap, fmt);            \
+        log_vmessage(level, fmt, ap); \
+        va_end(ap);                   \
+    } while (0)
+
+void log_debug(const char *fmt, ...) { LOG_AT(LOG_DEBUG); }
+
+void log_info(const char *fmt, ...) { LOG_AT(LOG_INFO); }
+
+void log_warn(const char *fmt, ...) { LOG_AT(LOG_WARN); }
+
+void log_error(const char *fmt, ...) { LOG_AT(LOG_ERROR); }

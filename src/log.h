@@ -8,19 +8,18 @@ typedef enum log_level { LOG_DEBUG, LOG_INFO, LOG_WARN, LOG_ERROR } log_level;
 
 /* Sets the lowest level that is printed (default LOG_INFO); never fails. */
 void log_set_level(log_level level);
-/* Prints one line to stderr, prefixed "trazador: " (and the level for warnings/errors), or holds
- * it (log_hold_errors); a failed write is ignored: there is nowhere left to report it. */
-void log_message(log_level level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Each prints one line to stderr at its level, prefixed "trazador: " (and "warning: " or
+ * "error: "), unless below the level set; log_error holds it instead while log_hold_errors is on.
+ * A failed write is ignored: there is nowhere left to report it. */
+void log_debug(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+void log_info(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+void log_warn(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+void log_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
 /* Holds errors back, unprinted, until log_release_errors (for callers that may recover); never
  * fails (past memory, errors are printed instead). */
 void log_hold_errors(void);
 /* Stops holding; returns the held errors, one per line ("" for none), valid until the next hold. */
 const char *log_release_errors(void);
-
-#define log_debug(...) log_message(LOG_DEBUG, __VA_ARGS__)
-#define log_info(...) log_message(LOG_INFO, __VA_ARGS__)
-#define log_warn(...) log_message(LOG_WARN, __VA_ARGS__)
-#define log_error(...) log_message(LOG_ERROR, __VA_ARGS__)
 
 #endif
