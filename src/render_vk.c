@@ -342,54 +342,44 @@ static void render_destroy(vk_render *r) {
     }
 }
 
-bool render_vk(const scene *s, const render_opts *opts, film *f) {
-    *f = (film){0};
-    vk_render r = {0};
-    packed_scene packed = {0};
-    bool ok = false;
-    double t0 = clock_seconds();
-    vk_context_desc desc = {.device = opts->device, .validate = opts->validate};
-    if (!vk_context_init(&r.ctx, &desc)) return false;
-    double t_init = clock_seconds();
-    log_debug("vulkan: device %d, %s (%s), instance and device in %.1f ms", r.ctx.device_index,
-              r.ctx.properties.deviceName, r.ctx.driver_name, (t_init - t0) * 1e3);
-    /* Small scenes test every sphere in unrolled loops; bigger ones walk the BVH, each walk
-     * bounded on lavapipe by TZ_SPEC_WALK_BUDGET passes as if it tested that many spheres (a
-     * guess of 64 sizes the dispatches elsewhere). */
-    uint32_t spheres = (uint32_t)s->sphere_count, lights = (uint32_t)s->light_count;
-    uint32_t unrolled_spheres = spheres <= TZ_UNROLL_MAX_SPHERES ? spheres : 0u;
-    bool use_bvh = !opts->no_bvh && unrolled_spheres == 0u && spheres > 0u;
-    bool lavapipe = vk_context_is_lavapipe(&r.ctx);
-    uint32_t walk = use_bvh && lavapipe ? walk_budget(s, opts) : 0u;
-    /* Unrolled sphere tests are no loop: a ray then costs only its own loop passes. */
-    uint64_t every_sphere = vk_probe_sample_iterations(unrolled_spheres ? 0u : spheres, lights,
-                                                       (uint32_t)opts->bounces, opts->indirect);
-    /* Many lights leave each walk too few passes; testing every sphere may still fit. */
-    if (use_bvh && lavapipe && walk < MIN_WALK_BUDGET &&
-        every_sphere < VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
-        use_bvh = false;
-        walk = 0u;
-    }
-    render_opts packing = *opts;
-    packing.no_bvh = !use_bvh;
-    uint64_t sample_iterations =
-        use_bvh ? vk_probe_sample_iterations(lavapipe ? walk : 64u, lights, (uint32_t)opts->bounces,
-                                             opts->indirect)
-                : every_sphere;
-    double t_pack = clock_seconds();
-    if (!check_limits(&r.ctx, s, opts, sample_iterations, use_bvh ? walk : UINT32_MAX) ||
-        !scene_pack(s, &packing, &packed))
-        goto done;
-    scene_pack_report(&packed, opts, t_pack);
-    if (!film_init(f, s->width, s->height)) {
-        log_error("out of memory for a %d x %d film", s->width, s->height);
-        goto done;
-    }
-    if (!create_buffers(&r, &packed, s->width, s->height)) goto done;
-    double t_upload = clock_seconds();
-    log_debug("vulkan: buffers and upload in %.1f ms (%s)", (t_upload - t_init) * 1e3,
-              r.accum.mapped ? "mapped device memory" : "staging copies");
+/* How the shader intersects a scene: every sphere in unrolled tests, a walk of the BVH (bounded on
+ * lavapipe), or a loop over every sphere; and the loop passes one sample may cost. */
+typedef struct strategy {
+    uint32_t unrolled_spheres; /* TZ_SPEC_UNROLLED_SPHERES: 0 when not unrolled */
+    bool use_bvh;
+    uint32_t walk; /* TZ_SPEC_WALK_BUDGET: 0 unlimited */
+    uint64_t sample_iterations;
+} strategy;
 
+/* Small scenes test every sphere in unrolled loops; bigger ones walk the BVH, each walk bounded on
+ * lavapipe by TZ_SPEC_WALK_BUDGET passes as if it tested that many spheres (a guess of 64 sizes
+ * the dispatches elsewhere). */
+static strategy choose_strategy(const vk_context *ctx, const scene *s, const render_opts *opts) {
+    uint32_t spheres = (uint32_t)s->sphere_count, lights = (uint32_t)s->light_count;
+    uint32_t bounces = (uint32_t)opts->bounces;
+    strategy st = {.unrolled_spheres = spheres <= TZ_UNROLL_MAX_SPHERES ? spheres : 0u};
+    st.use_bvh = !opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u;
+    bool lavapipe = vk_context_is_lavapipe(ctx);
+    st.walk = st.use_bvh && lavapipe ? walk_budget(s, opts) : 0u;
+    /* Unrolled sphere tests are no loop: a ray then costs only its own loop passes. */
+    uint64_t every_sphere = vk_probe_sample_iterations(st.unrolled_spheres ? 0u : spheres, lights,
+                                                       bounces, opts->indirect);
+    /* Many lights leave each walk too few passes; testing every sphere may still fit. */
+    if (st.use_bvh && lavapipe && st.walk < MIN_WALK_BUDGET &&
+        every_sphere < VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
+        st.use_bvh = false;
+        st.walk = 0u;
+    }
+    st.sample_iterations = st.use_bvh ? vk_probe_sample_iterations(lavapipe ? st.walk : 64u, lights,
+                                                                   bounces, opts->indirect)
+                                      : every_sphere;
+    return st;
+}
+
+/* Compiles trace.comp for the scene (specialization constants: the strategy, the flags, and the
+ * spheres and lights of an unrolled scene), creates the fence and binds the buffers; false
+ * (logged) on a Vulkan failure. */
+static bool create_kernel(vk_render *r, const packed_scene *packed, const strategy *st, int width) {
     const VkDescriptorType types[] = {
         [TZ_BINDING_FRAME] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
         [TZ_BINDING_SPHERES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
@@ -402,20 +392,21 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
      * become specialization constants: the unrolled tests read immediates, and the loop
      * bookkeeping disappears (each such scene compiles its own pipeline, which Mesa's shader
      * cache keeps). The flags compile out the indirect bounce when it is off. */
+    uint32_t lights = packed->frame.size.w;
     bool unroll_lights =
         lights <= TZ_UNROLL_MAX_LIGHTS &&
-        (unrolled_spheres == 0u || unrolled_spheres * lights <= UNROLL_MAX_SHADOW_TESTS);
-    pass_plan plan = plan_passes(&r.ctx, s, opts, sample_iterations);
+        (st->unrolled_spheres == 0u || st->unrolled_spheres * lights <= UNROLL_MAX_SHADOW_TESTS);
     spec_data constants = {.words = {
-                               [TZ_SPEC_UNROLLED_SPHERES] = unrolled_spheres,
+                               [TZ_SPEC_UNROLLED_SPHERES] = st->unrolled_spheres,
                                [TZ_SPEC_UNROLLED_LIGHTS] = unroll_lights ? lights : 0u,
-                               [TZ_SPEC_FLAGS] = packed.frame.settings.z,
-                               [TZ_SPEC_WALK_BUDGET] = walk,
+                               [TZ_SPEC_FLAGS] = packed->frame.settings.z,
+                               [TZ_SPEC_WALK_BUDGET] = st->walk,
                            }};
     /* The unrolled spheres and lights, zero past the scene's (the shader reads none of those). */
-    memcpy(constants.scene.spheres, packed.spheres, unrolled_spheres * sizeof *packed.spheres);
+    memcpy(constants.scene.spheres, packed->spheres,
+           st->unrolled_spheres * sizeof *packed->spheres);
     if (unroll_lights)
-        memcpy(constants.scene.lights, packed.lights, lights * sizeof *packed.lights);
+        memcpy(constants.scene.lights, packed->lights, lights * sizeof *packed->lights);
     VkSpecializationMapEntry entries[SPEC_COUNT];
     for (uint32_t k = 0; k < SPEC_COUNT; k++)
         entries[k] =
@@ -430,30 +421,62 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
         .push_size = sizeof(struct gpu_pass),
     };
     VkFenceCreateInfo fence_info = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    if (!vk_kernel_create(&r.ctx, &kernel, &r.kernel) ||
-        !VK_CHECK(vkCreateFence(r.ctx.device, &fence_info, NULL, &r.fence)))
-        goto done;
+    if (!vk_kernel_create(&r->ctx, &kernel, &r->kernel) ||
+        !VK_CHECK(vkCreateFence(r->ctx.device, &fence_info, NULL, &r->fence)))
+        return false;
     const vk_buffer *buffers[] = {
-        [TZ_BINDING_FRAME] = &r.frame,      [TZ_BINDING_SPHERES] = &r.spheres,
-        [TZ_BINDING_LIGHTS] = &r.lights,    [TZ_BINDING_ACCUM] = &r.accum,
-        [TZ_BINDING_COUNTERS] = &r.counter, [TZ_BINDING_NODES] = &r.nodes,
+        [TZ_BINDING_FRAME] = &r->frame,      [TZ_BINDING_SPHERES] = &r->spheres,
+        [TZ_BINDING_LIGHTS] = &r->lights,    [TZ_BINDING_ACCUM] = &r->accum,
+        [TZ_BINDING_COUNTERS] = &r->counter, [TZ_BINDING_NODES] = &r->nodes,
     };
     const VkDeviceSize ranges[] = {
         [TZ_BINDING_FRAME] = VK_WHOLE_SIZE,
         [TZ_BINDING_SPHERES] = VK_WHOLE_SIZE,
         [TZ_BINDING_LIGHTS] = VK_WHOLE_SIZE,
-        [TZ_BINDING_ACCUM] = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)s->width * 4u * sizeof(float),
+        [TZ_BINDING_ACCUM] = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)width * 4u * sizeof(float),
         [TZ_BINDING_COUNTERS] = VK_WHOLE_SIZE,
         [TZ_BINDING_NODES] = VK_WHOLE_SIZE,
     };
-    vk_kernel_bind(&r.ctx, &r.kernel, buffers, ranges);
+    vk_kernel_bind(&r->ctx, &r->kernel, buffers, ranges);
+    return true;
+}
+
+bool render_vk(const scene *s, const render_opts *opts, film *f) {
+    *f = (film){0};
+    vk_render r = {0};
+    packed_scene packed = {0};
+    bool ok = false;
+    double t0 = clock_seconds();
+    vk_context_desc desc = {.device = opts->device, .validate = opts->validate};
+    if (!vk_context_init(&r.ctx, &desc)) return false;
+    double t_init = clock_seconds();
+    log_debug("vulkan: device %d, %s (%s), instance and device in %.1f ms", r.ctx.device_index,
+              r.ctx.properties.deviceName, r.ctx.driver_name, (t_init - t0) * 1e3);
+    strategy st = choose_strategy(&r.ctx, s, opts);
+    render_opts packing = *opts;
+    packing.no_bvh = !st.use_bvh;
+    double t_pack = clock_seconds();
+    if (!check_limits(&r.ctx, s, opts, st.sample_iterations, st.use_bvh ? st.walk : UINT32_MAX) ||
+        !scene_pack(s, &packing, &packed))
+        goto done;
+    scene_pack_report(&packed, opts, t_pack);
+    if (!film_init(f, s->width, s->height)) {
+        log_error("out of memory for a %d x %d film", s->width, s->height);
+        goto done;
+    }
+    if (!create_buffers(&r, &packed, s->width, s->height)) goto done;
+    double t_upload = clock_seconds();
+    log_debug("vulkan: buffers and upload in %.1f ms (%s)", (t_upload - t_init) * 1e3,
+              r.accum.mapped ? "mapped device memory" : "staging copies");
+    if (!create_kernel(&r, &packed, &st, s->width)) goto done;
     double t_pipeline = clock_seconds();
     log_debug("vulkan: pipeline in %.1f ms", (t_pipeline - t_upload) * 1e3);
 
+    pass_plan plan = plan_passes(&r.ctx, s, opts, st.sample_iterations);
     log_debug("vulkan: %" PRIu64
               " loop passes per sample at most, %u sample%s per dispatch, "
               "%u pass%s per submission",
-              sample_iterations, plan.per_dispatch, plan.per_dispatch == 1 ? "" : "s",
+              st.sample_iterations, plan.per_dispatch, plan.per_dispatch == 1 ? "" : "s",
               plan.passes_per_submit, plan.passes_per_submit == 1 ? "" : "es");
     uint64_t rays = 0;
     if (!run_passes(&r, &plan, opts, &f->nonfinite, &rays)) goto done;
