@@ -86,7 +86,8 @@ int follow_specular(inout vec3 o, inout vec3 d, int self, inout vec3 weight, out
         float eps = ray_eps(hit);
         bool entering = v3_dot(d, nout) < 0.0;
         precise vec3 side = entering ? nout : nout * -1.0; /* faces the incoming ray */
-        precise vec3 reflected = d - side * (2.0 * v3_dot(side, d));
+        /* Normalized, as in the C twin: errors of |d| would grow reflection by reflection. */
+        precise vec3 reflected = v3_normalize(d - side * (2.0 * v3_dot(side, d)));
         precise vec3 next_o = hit + side * eps;
         precise vec3 next_d = reflected;
         if (material == TZ_MATERIAL_REFRACTIVE) {

@@ -110,7 +110,10 @@ static inline void specular_next(vec3 pos, vec3 nout, vec3 d, int refractive, fl
     float eps = ray_eps(pos);
     int entering = v3_dot(d, nout) < 0.0f;
     vec3 side = select3(entering, nout, v3_scale(nout, -1.0f)); /* faces the incoming ray */
-    vec3 mirror_d = v3_sub(d, v3_scale(side, 2.0f * v3_dot(side, d)));
+    /* Normalized: nout is unit only to rounding, and the error of an unnormalized mirror ray
+     * grows with each reflection until a ray escapes a closed mirror (the sphere test assumes
+     * |d| = 1). */
+    vec3 mirror_d = v3_normalize(v3_sub(d, v3_scale(side, 2.0f * v3_dot(side, d))));
     float eta = entering ? 1.0f / ior : ior;
     float c1 = -v3_dot(d, side);
     float k = 1.0f - eta * eta * (1.0f - c1 * c1);

@@ -218,20 +218,32 @@ static void test_closed_sphere(void) {
     }
 }
 
-/* Inside a mirror sphere every path bounces until the limit: black, never the background. */
+/* Inside a mirror sphere every path bounces until the limit: black, never the background, at the
+ * default limit and at 64 reflections (unnormalized mirror rays drifted off the sphere and escaped
+ * to the background from the 8th). */
 static void test_bounce_limit(void) {
-    const char *text =
+    const char *const texts[] = {
         "camera position 0 0 0\nplane width 1 height 1 pixel 0.1\n"
         "light position 0 0.5 0 power 10\n"
         "sphere mirror center 0 0 0 radius 3\nbackground 1 1 1\n"
-        "render samples 2 indirect off\n";
-    film f = {0};
-    CHECK(render_text(text, &f, -1), "bounce limit: render failed");
-    if (!f.accum) return;
-    int lit = 0;
-    for (int k = 0; k < f.width * f.height; k++) lit += f.accum[k * 4] != 0.0f;
-    CHECK(lit == 0, "bounce limit: %d pixels not black", lit);
-    film_free(&f);
+        "render samples 2 indirect off\n",
+        "camera position 0.5 0 0 direction -0.6 0 1\nplane width 0.2 height 0.2 pixel 0.01\n"
+        "sphere mirror center 0 0 0 radius 1\nbackground 1 1 1\n"
+        "render samples 1 indirect off\n",
+    };
+    const int bounces[] = {-1, 64};
+    for (int t = 0; t < 2; t++) {
+        for (int b = 0; b < 2; b++) {
+            film f = {0};
+            CHECK(render_text(texts[t], &f, bounces[b]), "bounce limit %d: render failed", t);
+            if (!f.accum) continue;
+            int lit = 0;
+            for (int k = 0; k < f.width * f.height; k++) lit += f.accum[k * 4] != 0.0f;
+            CHECK(lit == 0, "bounce limit %d (bounces %d): %d pixels not black", t, bounces[b],
+                  lit);
+            film_free(&f);
+        }
+    }
 }
 
 /* A Cornell room with walls of radius 1e5 renders like the same room of radius-1e3 walls. Direct
