@@ -1,7 +1,7 @@
 /* atomic_file.h: writing a file all or nothing: through a temporary file in the same folder that
  * is renamed over the destination only once complete and synced. A failure leaves neither a
- * temporary nor a truncated file; SIGINT, SIGTERM or SIGHUP during the write (when they would
- * kill the process) remove the temporary file first. An existing file keeps its mode, a new one
+ * temporary nor a truncated file; a signal during the write that would kill the process
+ * (interrupts.h) removes the temporary file first. An existing file keeps its mode, a new one
  * gets 0666 less the umask. Main thread only: it reads the umask and sets signal handlers. */
 #ifndef TRAZADOR_ATOMIC_FILE_H
 #define TRAZADOR_ATOMIC_FILE_H

@@ -1,9 +1,12 @@
-/* interrupts.c: cleanup before death by SIGINT, SIGTERM or SIGHUP (see interrupts.h). */
+/* interrupts.c: cleanup before death by a signal (see interrupts.h). */
 #include "interrupts.h"
 
 #include <pthread.h>
 
-static const int interrupt_signals[INTERRUPT_SIGNALS] = {SIGINT, SIGTERM, SIGHUP};
+/* The signals whose default action ends the process that a user or the system sends a run:
+ * Ctrl-C, kill, a closed terminal, Ctrl-\, a reader gone from a pipe, alarm and CPU-time limits. */
+static const int interrupt_signals[INTERRUPT_SIGNALS] = {SIGINT,  SIGTERM, SIGHUP, SIGQUIT,
+                                                         SIGPIPE, SIGALRM, SIGXCPU};
 
 void interrupts_catch(void (*cleanup)(int), interrupts_saved *saved) {
     struct sigaction act = {0};

@@ -1,11 +1,12 @@
-/* interrupts.h: a cleanup step run when SIGINT, SIGTERM or SIGHUP is about to kill the process
- * (a temporary file to remove, a progress line to clear), then death by the same signal. */
+/* interrupts.h: a cleanup step run when a signal is about to kill the process (SIGINT, SIGTERM,
+ * SIGHUP, SIGQUIT, SIGPIPE, SIGALRM or SIGXCPU: a temporary file to remove, a progress line to
+ * clear), then death by the same signal. */
 #ifndef TRAZADOR_INTERRUPTS_H
 #define TRAZADOR_INTERRUPTS_H
 
 #include <signal.h>
 
-#define INTERRUPT_SIGNALS 3
+#define INTERRUPT_SIGNALS 7
 
 /* The actions a catch replaced, for interrupts_restore. */
 typedef struct interrupts_saved {

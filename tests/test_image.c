@@ -440,15 +440,16 @@ static void test_write_killed(void) {
     /* a signal in the middle of a write removes the temporary file and keeps the old one */
     const char *dir = tmp_path("wkill");
     mkdir(dir, 0755);
-    const int signals[] = {SIGINT, SIGTERM, SIGHUP};
+    const int signals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE, SIGALRM, SIGXCPU};
     char dest[600];
     snprintf(dest, sizeof dest, "%s/out.png", dir);
     write_file(dest, "original", 8);
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < (int)(sizeof signals / sizeof signals[0]); k++) {
         fflush(NULL);
         pid_t pid = fork();
         if (pid == 0) { /* as a foreground run gets them: a background job ignores SIGINT */
             signal(signals[k], SIG_DFL);
+            setrlimit(RLIMIT_CORE, &(struct rlimit){0, 0}); /* SIGQUIT and SIGXCPU dump core */
             _exit(atomic_file_write(dest, fill_then_die, &signals[k]) ? 0 : 3);
         }
         int status = 0;
