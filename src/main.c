@@ -31,7 +31,8 @@ static const char usage_text[] =
     "       trazador gen sphereflake --depth N [-o FILE] [--seed N]\n"
     "       trazador gen random --count N [-o FILE] [--seed N]\n"
     "       trazador --help | --version\n"
-    "SCENE defaults to the embedded scenes/cornell.scene, OUT to render.png;\n"
+    "SCENE defaults to the embedded scenes/cornell.scene ('-' reads standard input),\n"
+    "OUT to render.png;\n"
     "the output format follows the extension: .png, .ppm or .pfm (linear float), or\n"
     "--format png|ppm|pfm for any name (-o - --format ppm writes to standard output).\n";
 
@@ -156,6 +157,8 @@ static int parse_render_args(int argc, char **argv, render_args *a) {
         }
         if (takes_value) k++;
     }
+    if (a->scene_path && !strcmp(a->scene_path, "-")) /* the usual name of standard input */
+        a->scene_path = "/dev/stdin";
     if (!strcmp(a->output, "-")) { /* the usual name of standard output */
         if (!a->format)
             return usage_error("%s", "-o - (standard output) needs --format png|ppm|pfm");

@@ -137,6 +137,12 @@ has device-without-vulkan err "no Vulkan device found"
 # /dev/stdout into a pipe is written in place (it was followed as a link and failed).
 "$tz" gen random --count 3 -o /dev/stdout | cat > piped.scene
 [ "${PIPESTATUS[0]}" = 0 ] && grep -q "^sphere" piped.scene && ok || bad "gen -o /dev/stdout into a pipe"
+# '-' as the scene reads standard input, as -o - writes standard output.
+"$tz" gen random --count 3 | "$tz" render - --width 8 --spp 1 --backend cpu -o stdin.pfm 2>/dev/null
+"$tz" render piped.scene --width 8 --spp 1 --backend cpu -o file.pfm 2>/dev/null
+cmp -s stdin.pfm file.pfm && ok || bad "render - did not render the scene piped in"
+printf 'sphere lambertian\n' | "$tz" render - -o bad.png >/dev/null 2>err.txt
+[ $? = 2 ] && grep -q "^/dev/stdin:1:1: sphere is missing" err.txt && ok || bad "render - error: $(cat err.txt)"
 run dir-output 1 "$tz" gen random --count 3 -o "$tmp/"
 has dir-output err "is a directory"
 # Output that cannot be written fails the run: diff's metrics to a full disk are data.
