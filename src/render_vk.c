@@ -464,9 +464,10 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
         log_error("out of memory for a %d x %d film", s->width, s->height);
         goto done;
     }
+    double t_buffers = clock_seconds(); /* after the pack, which reports its own time */
     if (!create_buffers(&r, &packed, s->width, s->height)) goto done;
     double t_upload = clock_seconds();
-    log_debug("vulkan: buffers and upload in %.1f ms (%s)", (t_upload - t_init) * 1e3,
+    log_debug("vulkan: buffers and upload in %.1f ms (%s)", (t_upload - t_buffers) * 1e3,
               r.accum.mapped ? "mapped device memory" : "staging copies");
     if (!create_kernel(&r, &packed, &st, s->width)) goto done;
     double t_pipeline = clock_seconds();
