@@ -172,6 +172,9 @@ static int parse_render_args(int argc, char **argv, render_args *a) {
                            a->output);
     if (a->device >= 0 && a->backend == BACKEND_CPU)
         return usage_error("%s", "--device names a Vulkan device: it cannot go with --backend cpu");
+    if (a->validate && a->backend == BACKEND_CPU)
+        return usage_error(
+            "%s", "--validate turns on Vulkan's validation: it cannot go with --backend cpu");
     return 0;
 }
 

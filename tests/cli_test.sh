@@ -103,6 +103,8 @@ has bad-format err "--format takes png, ppm or pfm, got 'jpg'"
 # Contradictions and numbers that are not plain decimal integers are usage errors.
 run device-with-cpu 2 "$tz" render --backend cpu --device 0 --width 8 --spp 1 -o devcpu.png
 has device-with-cpu err "cannot go with --backend cpu"
+run validate-with-cpu 2 "$tz" render --backend cpu --validate --width 8 --spp 1 -o valcpu.png
+has validate-with-cpu err "--validate turns on Vulkan's validation"
 run spp-space 2 "$tz" render --backend cpu --width 8 --spp " 5" -o sppbad.png
 [ ! -e devcpu.png ] && [ ! -e sppbad.png ] && ok || bad "a usage error wrote an image"
 # Every subcommand takes --help: its usage on stdout, exit 0.
