@@ -139,6 +139,10 @@ has device-without-vulkan err "no Vulkan device found"
 # /dev/stdout into a pipe is written in place (it was followed as a link and failed).
 "$tz" gen random --count 3 -o /dev/stdout | cat > piped.scene
 [ "${PIPESTATUS[0]}" = 0 ] && grep -q "^sphere" piped.scene && ok || bad "gen -o /dev/stdout into a pipe"
+# A sample of infinite radiance is dropped and counted; a pixel left with none is named black.
+printf 'camera position 0 0 -6\nplane width 0.01 height 0.01 pixel 0.01\nlight position 0 0 -1.1 power 3e38\nsphere lambertian center 0 0 0 radius 1\n' >inf.scene
+run nonfinite 0 "$tz" render inf.scene --backend cpu --no-jitter --spp 2 -o inf.pfm
+has nonfinite err "2 samples had non-finite radiance and were not accumulated; 1 pixel kept no sample and is black"
 # '-' as the scene reads standard input, as -o - writes standard output.
 "$tz" gen random --count 3 | "$tz" render - --width 8 --spp 1 --backend cpu -o stdin.pfm 2>/dev/null
 "$tz" render piped.scene --width 8 --spp 1 --backend cpu -o file.pfm 2>/dev/null
