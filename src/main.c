@@ -204,25 +204,23 @@ static bool apply_width(long long width, scene *s) {
     return true;
 }
 
-/* Finite samples can still sum past the float range (radiance near 3.4e38): says how many
- * pixels did, since they are written as infinity (PFM) or white. */
-/* Warns about the samples dropped as non-finite, and the pixels left black with none kept. */
-static void warn_nonfinite_samples(const film *f) {
-    size_t pixels = (size_t)f->width * (size_t)f->height, empty = 0;
-    for (size_t k = 0; k < pixels; k++) empty += !(f->accum[4 * k + 3] > 0.0f);
-    char black[96] = "";
-    if (empty)
-        snprintf(black, sizeof black, "; %zu pixel%s kept no sample and %s black", empty,
-                 empty == 1 ? "" : "s", empty == 1 ? "is" : "are");
-    log_warn("%llu samples had non-finite radiance and were not accumulated%s",
-             (unsigned long long)f->nonfinite, black);
-}
-
-static void warn_overflowed_pixels(const film *f) {
-    size_t pixels = (size_t)f->width * (size_t)f->height, overflowed = 0;
+/* Warns about what the film cannot show as rendered: samples dropped as non-finite (and the
+ * pixels they left with no sample, black), and finite samples that summed past the float range
+ * (radiance near 3.4e38), written as infinity (PFM) or white. One pass over the film. */
+static void warn_film_problems(const film *f) {
+    size_t pixels = (size_t)f->width * (size_t)f->height, empty = 0, overflowed = 0;
     for (size_t k = 0; k < pixels; k++) {
         const float *px = &f->accum[4 * k];
+        empty += !(px[3] > 0.0f);
         overflowed += !isfinite(px[0]) || !isfinite(px[1]) || !isfinite(px[2]);
+    }
+    if (f->nonfinite) {
+        char black[96] = "";
+        if (empty)
+            snprintf(black, sizeof black, "; %zu pixel%s kept no sample and %s black", empty,
+                     empty == 1 ? "" : "s", empty == 1 ? "is" : "are");
+        log_warn("%llu samples had non-finite radiance and were not accumulated%s",
+                 (unsigned long long)f->nonfinite, black);
     }
     if (overflowed)
         log_warn(
@@ -311,8 +309,7 @@ static int render_command(int argc, char **argv) {
     bool ok = cli_render(&s, &opts, a.backend, &f, &used);
     if (opts.progress) interrupts_restore(&saved);
     double elapsed = clock_seconds() - start;
-    if (ok && f.nonfinite) warn_nonfinite_samples(&f);
-    if (ok) warn_overflowed_pixels(&f);
+    if (ok) warn_film_problems(&f);
     double write_start = clock_seconds();
     ok = ok && image_from_film(&f, &img) && image_write_as(a.output, a.format, &img, a.tm);
     if (ok) log_debug("image: written in %.1f ms", (clock_seconds() - write_start) * 1e3);
