@@ -1,8 +1,9 @@
 /* intersect.glsl: ray offsets, ray/sphere intersection, nearest-hit and shadow queries over the
  * spheres, by brute force or through the BVH; twin of src/integrator.c (integrator_nearest,
  * integrator_occluded, the walk of trace_ray) and of src/integrator_steps.h (ray_eps, the sphere
- * and box tests, under the names noted at each function). The including shader declares `frame`, sphere_center_radius(),
- * sphere_params(), sphere_count(), node_lo(), node_hi(), use_bvh() and WALK_BUDGET. */
+ * and box tests, under the names noted at each function). The including shader declares `frame`,
+ * sphere_center_radius(), sphere_params(), sphere_count(), node_lo(), node_hi(), use_bvh() and
+ * WALK_BUDGET. */
 #ifndef TRAZADOR_INTERSECT_GLSL
 #define TRAZADOR_INTERSECT_GLSL
 

@@ -65,10 +65,9 @@ typedef struct tz_uvec4 {
 #define TZ_SPEC_UNROLLED_LIGHTS 1
 #define TZ_SPEC_FLAGS 2
 /* Loop passes one ray's BVH walk may take (a pop, a node visit and up to two sphere tests a pass)
- * before the
- * sample is dropped and counted, rather than cut short silently by lavapipe's loop limit, which
- * counts the passes of a whole SIMD group: bounding every walk bounds the group's sum whatever
- * the divergence. 0: unlimited (real GPUs have no such limit). */
+ * before the sample is dropped and counted, rather than cut short silently by lavapipe's loop
+ * limit, which counts the passes of a whole SIMD group: bounding every walk bounds the group's
+ * sum whatever the divergence. 0: unlimited (real GPUs have no such limit). */
 #define TZ_SPEC_WALK_BUDGET 3
 /* The most spheres and lights whose loops are unrolled. Their data are specialization constants
  * too, the floats of struct gpu_unrolled from constant_id TZ_SPEC_SCENE on, so that lavapipe

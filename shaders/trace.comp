@@ -2,8 +2,8 @@
  * (in sample order) of one pixel of the tile at pass.tile.xy and adds each finite one to the
  * pixel's accumulator exactly as the C back end does; non-finite samples are counted instead.
  * Twin of integrator_sample() in src/integrator.c and camera_direction() in
- * src/integrator_steps.h. Declares the bindings
- * and the scene accessors the included .glsl files use. */
+ * src/integrator_steps.h. Declares the bindings and the scene accessors the included .glsl files
+ * use. */
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require

@@ -59,16 +59,26 @@ typedef struct vk_render {
 _Static_assert(TZ_COUNTER_WORDS * sizeof(uint32_t) <= 16,
                "the counters fit before the accumulation");
 
+/* How the shader intersects a scene: every sphere in unrolled tests, a walk of the BVH (bounded on
+ * lavapipe), or a loop over every sphere; and the loop passes one sample may cost. */
+typedef struct strategy {
+    uint32_t unrolled_spheres; /* TZ_SPEC_UNROLLED_SPHERES: 0 when not unrolled */
+    bool use_bvh;
+    uint32_t walk; /* TZ_SPEC_WALK_BUDGET: 0 unlimited */
+    uint64_t sample_iterations;
+} strategy;
+
 /* Refuses what the device could not render right: scene or accumulation buffers past its limits,
  * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit. */
 static bool check_limits(const vk_context *ctx, const scene *s, const render_opts *opts,
-                         uint64_t sample_iterations, uint32_t walk) {
-    bool use_bvh = walk != UINT32_MAX;
-    if (vk_context_is_lavapipe(ctx) && use_bvh && walk < MIN_WALK_BUDGET) {
+                         const strategy *st) {
+    bool use_bvh = st->use_bvh;
+    uint64_t sample_iterations = st->sample_iterations;
+    if (vk_context_is_lavapipe(ctx) && use_bvh && st->walk < MIN_WALK_BUDGET) {
         log_error(
             "with %d lights and this bounce limit a ray could walk the BVH only %u loop "
             "passes on lavapipe (its shaders stop loops silently after %u)" VK_CONTEXT_USE_CPU,
-            s->light_count, walk, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+            s->light_count, st->walk, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
         return false;
     }
     /* One sample an invocation: its passes and the sample loop's exit pass. */
@@ -342,15 +352,6 @@ static void render_destroy(vk_render *r) {
     }
 }
 
-/* How the shader intersects a scene: every sphere in unrolled tests, a walk of the BVH (bounded on
- * lavapipe), or a loop over every sphere; and the loop passes one sample may cost. */
-typedef struct strategy {
-    uint32_t unrolled_spheres; /* TZ_SPEC_UNROLLED_SPHERES: 0 when not unrolled */
-    bool use_bvh;
-    uint32_t walk; /* TZ_SPEC_WALK_BUDGET: 0 unlimited */
-    uint64_t sample_iterations;
-} strategy;
-
 /* Small scenes test every sphere in unrolled loops; bigger ones walk the BVH, each walk bounded on
  * lavapipe by TZ_SPEC_WALK_BUDGET passes as if it tested that many spheres (a guess of 64 sizes
  * the dispatches elsewhere). */
@@ -456,9 +457,7 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
     render_opts packing = *opts;
     packing.no_bvh = !st.use_bvh;
     double t_pack = clock_seconds();
-    if (!check_limits(&r.ctx, s, opts, st.sample_iterations, st.use_bvh ? st.walk : UINT32_MAX) ||
-        !scene_pack(s, &packing, &packed))
-        goto done;
+    if (!check_limits(&r.ctx, s, opts, &st) || !scene_pack(s, &packing, &packed)) goto done;
     scene_pack_report(&packed, opts, t_pack);
     if (!film_init(f, s->width, s->height)) {
         log_error("out of memory for a %d x %d film", s->width, s->height);
