@@ -147,8 +147,9 @@ has nonfinite err "2 samples had non-finite radiance and were not accumulated; 1
 "$tz" gen random --count 3 | "$tz" render - --width 8 --spp 1 --backend cpu -o stdin.pfm 2>/dev/null
 "$tz" render piped.scene --width 8 --spp 1 --backend cpu -o file.pfm 2>/dev/null
 cmp -s stdin.pfm file.pfm && ok || bad "render - did not render the scene piped in"
-printf 'sphere lambertian\n' | "$tz" render - -o bad.png >/dev/null 2>err.txt
-[ $? = 2 ] && grep -q "^/dev/stdin:1:1: sphere is missing" err.txt && ok || bad "render - error: $(cat err.txt)"
+printf 'sphere lambertian\n' >missing-center.scene
+run stdin-error 2 "$tz" render - -o bad.png <missing-center.scene
+has stdin-error err "/dev/stdin:1:1: sphere is missing required key 'center'"
 run dir-output 1 "$tz" gen random --count 3 -o "$tmp/"
 has dir-output err "is a directory"
 # Output that cannot be written fails the run: diff's metrics to a full disk are data.
