@@ -45,18 +45,10 @@ static void print_figure(int width, double value, bool measured, const char *suf
         printf(" %*s", width, "-");
 }
 
-/* Prints a count in a column of `width`, or "-" when that back end was not timed. */
-static void print_count(int width, int value, bool measured) {
-    if (measured)
-        printf(" %*d", width, value);
-    else
-        printf(" %*s", width, "-");
-}
-
-/* Renders the workload once, end to end; returns Msamples/s (and *mrays Mrays/s), or a negative
- * number on failure. */
-static double run_workload(const scene *base, const workload *w, backend_choice backend, int spp,
-                           double *mrays) {
+/* Renders the workload once, end to end (cpu_build: the CPU build by name, NULL the fastest);
+ * returns Msamples/s (and *mrays Mrays/s), or a negative number on failure. */
+static double run_workload(const scene *base, const workload *w, backend_choice backend,
+                           const char *cpu_build, int spp, double *mrays) {
     scene s = *base;
     s.plane_height = s.plane_width;
     s.pixel_size = s.plane_width / (float)w->size;
@@ -65,6 +57,7 @@ static double run_workload(const scene *base, const workload *w, backend_choice 
     render_opts_from_scene(&s, &opts);
     opts.samples = spp > 0 ? spp : w->samples;
     opts.indirect = w->indirect;
+    opts.cpu_build = cpu_build;
     render_stats stats = {0};
     opts.stats = &stats;
     film f = {0};
@@ -96,10 +89,11 @@ static bool scaling_scene(long count, scene *out) {
 /* Renders s with the back end at the scaling table's size and `samples` spp; Msamples/s of the
  * sample passes alone (BVH build and, for Vulkan, device and pipeline set-up excluded), or -1 on
  * failure. */
-static double run_scaling(const scene *s, backend_choice backend, int samples,
-                          render_stats *stats) {
+static double run_scaling(const scene *s, backend_choice backend, const char *cpu_build,
+                          int samples, render_stats *stats) {
     render_opts opts;
     render_opts_from_scene(s, &opts);
+    opts.cpu_build = cpu_build;
     opts.samples = samples;
     opts.indirect = true;
     opts.stats = stats;
@@ -115,31 +109,54 @@ static double run_scaling(const scene *s, backend_choice backend, int samples,
 /* Msamples/s of s on the back end: a warm-up render, then renders at the power of two of samples
  * that the last one's speed says lasts SCALING_SECONDS, until one lasts SCALING_MIN_SECONDS;
  * *samples the spp timed. -1 on failure. */
-static double time_scaling(const scene *s, backend_choice backend, int *samples,
-                           render_stats *stats) {
+static double time_scaling(const scene *s, backend_choice backend, const char *cpu_build,
+                           int *samples, render_stats *stats) {
     *samples = SCALING_WARMUP_SAMPLES;
-    double speed = run_scaling(s, backend, *samples, stats);
+    double speed = run_scaling(s, backend, cpu_build, *samples, stats);
     for (int run = 0; speed >= 0.0 && run < 3; run++) {
         double wanted = SCALING_SECONDS * speed * 1e6 / ((double)s->width * s->height);
         *samples = SCALING_WARMUP_SAMPLES;
         while (*samples < SCALING_MAX_SAMPLES && *samples < wanted) *samples *= 2;
         *stats = (render_stats){0};
-        speed = run_scaling(s, backend, *samples, stats);
+        speed = run_scaling(s, backend, cpu_build, *samples, stats);
         if (stats->render_seconds >= SCALING_MIN_SECONDS || *samples == SCALING_MAX_SAMPLES) break;
     }
     return speed;
 }
 
-/* The scaling table: cost per sample against the sphere count, both back ends. */
+/* Prints Msamples/s with the spp timed, "12.34 (256)", in a column of `width`, or "-" when that
+ * back end was not timed. */
+static void print_speed(int width, double value, int spp, bool measured) {
+    char text[32] = "-";
+    if (measured) snprintf(text, sizeof text, "%.2f (%d)", value, spp);
+    printf(" %*s", width, text);
+}
+
+/* One engine of the scaling table: a back end, and for the CPU which build. */
+typedef struct engine {
+    backend_choice backend;
+    const char *cpu_build; /* NULL: the fastest */
+    bool wanted;
+} engine;
+
+/* The scaling table: cost per sample against the sphere count, for the CPU back end, the
+ * one-sample C reference integrator and the Vulkan back end. */
 static int bench_scaling(bool want_cpu, bool want_vk) {
     printf(
-        "\nscaling: random spheres, %dx%d, indirect on; Msamples/s of the passes alone, timed "
-        "for %.2f s or more after a %d-spp warm-up (spp: samples per pixel timed)\n",
+        "\nscaling: random spheres, %dx%d, indirect on; Msamples/s of the passes alone (spp "
+        "timed), "
+        "timed for %.2f s or more after a %d-spp warm-up; ref: the one-sample C reference "
+        "integrator (src/integrator.c) on the CPU back end's threads\n",
         SCALING_SIZE, SCALING_SIZE, SCALING_MIN_SECONDS, SCALING_WARMUP_SAMPLES);
-    printf("%10s %9s %7s %6s %14s %5s %14s %5s %10s %10s\n", "spheres", "build s", "B/sph", "depth",
-           "cpu Msamples/s", "spp", "vk Msamples/s", "spp", "cpu vs 10", "vk vs 10");
+    printf("%10s %9s %7s %6s %14s %14s %14s %10s %10s %10s %7s %7s\n", "spheres", "build s",
+           "B/sph", "depth", "cpu Msamples/s", "ref Msamples/s", "vk Msamples/s", "cpu vs 10",
+           "ref vs 10", "vk vs 10", "vk/cpu", "vk/ref");
+    enum { CPU, REF, VK, ENGINES };
+    const engine engines[ENGINES] = {{BACKEND_CPU, NULL, want_cpu},
+                                     {BACKEND_CPU, PACKET_REFERENCE_NAME, want_cpu},
+                                     {BACKEND_VULKAN, NULL, want_vk}};
     int failures = 0;
-    double cpu_base = 0.0, vk_base = 0.0;
+    double base[ENGINES] = {0};
     vec3 position = {0}, direction = {0}, up = {0};
     for (size_t k = 0; k < sizeof scaling_counts / sizeof scaling_counts[0]; k++) {
         scene s;
@@ -155,22 +172,27 @@ static int bench_scaling(bool want_cpu, bool want_vk) {
         s.plane_height = s.plane_width;
         s.pixel_size = s.plane_width / (float)SCALING_SIZE;
         s.width = s.height = SCALING_SIZE;
-        render_stats cpu_stats = {0}, vk_stats = {0};
-        int cpu_spp = 0, vk_spp = 0;
-        double cpu = want_cpu ? time_scaling(&s, BACKEND_CPU, &cpu_spp, &cpu_stats) : 0.0;
-        double vk = want_vk ? time_scaling(&s, BACKEND_VULKAN, &vk_spp, &vk_stats) : 0.0;
-        failures += cpu < 0.0 || vk < 0.0;
-        const render_stats *st = want_cpu ? &cpu_stats : &vk_stats;
-        if (k == 0) cpu_base = cpu, vk_base = vk;
-        /* Cost per sample relative to the 10-sphere scene: how much slower each sample is. */
+        render_stats stats[ENGINES] = {0};
+        int spp[ENGINES] = {0};
+        double speed[ENGINES] = {0};
+        bool ok[ENGINES];
+        for (int e = 0; e < ENGINES; e++) {
+            const engine *en = &engines[e];
+            speed[e] =
+                en->wanted ? time_scaling(&s, en->backend, en->cpu_build, &spp[e], &stats[e]) : 0.0;
+            failures += speed[e] < 0.0;
+            ok[e] = en->wanted && speed[e] > 0.0;
+            if (k == 0) base[e] = speed[e];
+        }
+        const render_stats *st = want_cpu ? &stats[CPU] : &stats[VK];
         printf("%10d %9.3f %7.1f %6u", s.sphere_count, st->bvh_seconds,
                (double)st->scene_bytes / s.sphere_count, st->bvh_depth);
-        print_figure(14, cpu, want_cpu && cpu > 0.0, "");
-        print_count(5, cpu_spp, want_cpu && cpu > 0.0);
-        print_figure(14, vk, want_vk && vk > 0.0, "");
-        print_count(5, vk_spp, want_vk && vk > 0.0);
-        print_figure(10, cpu_base / cpu, want_cpu && cpu > 0.0 && cpu_base > 0.0, "x");
-        print_figure(10, vk_base / vk, want_vk && vk > 0.0 && vk_base > 0.0, "x");
+        for (int e = 0; e < ENGINES; e++) print_speed(14, speed[e], spp[e], ok[e]);
+        /* Cost per sample relative to the 10-sphere scene: how much slower each sample is. */
+        for (int e = 0; e < ENGINES; e++)
+            print_figure(10, base[e] / speed[e], ok[e] && base[e] > 0.0, "x");
+        print_figure(7, speed[VK] / speed[CPU], ok[VK] && ok[CPU], "");
+        print_figure(7, speed[VK] / speed[REF], ok[VK] && ok[REF], "");
         printf("\n");
         fflush(stdout);
         scene_free(&s);
@@ -225,28 +247,33 @@ int bench_command(int argc, char **argv) {
     }
     int failures = 0;
     if (want_cpu) {
-        packet_integrator build = integrator_packet_choose();
+        packet_integrator build = integrator_packet_choose(NULL);
         printf("cpu: packet integrator build %s, %u lanes\n", build.name, build.width);
     } else {
         printf("cpu: not timed (--backend vulkan)\n");
     }
     if (!want_vk) printf("vulkan: not timed (%s)\n", have_vk ? "--backend cpu" : "no device");
-    printf("%-34s %15s %12s %15s %12s %7s\n", "workload (end to end)", "cpu Msamples/s",
-           "cpu Mrays/s", "vk Msamples/s", "vk Mrays/s", "vk/cpu");
+    printf("%-34s %15s %12s %15s %15s %12s %7s %7s\n", "workload (end to end)", "cpu Msamples/s",
+           "cpu Mrays/s", "ref Msamples/s", "vk Msamples/s", "vk Mrays/s", "vk/cpu", "vk/ref");
     for (size_t k = 0; k < sizeof workloads / sizeof workloads[0]; k++) {
         const workload *w = &workloads[k];
-        double cpu_rays = 0.0, vk_rays = 0.0;
-        double cpu = want_cpu ? run_workload(&s, w, BACKEND_CPU, (int)spp, &cpu_rays) : 0.0;
-        double vk = want_vk ? run_workload(&s, w, BACKEND_VULKAN, (int)spp, &vk_rays) : 0.0;
-        failures += cpu < 0.0 || vk < 0.0;
+        double cpu_rays = 0.0, ref_rays = 0.0, vk_rays = 0.0;
+        double cpu = want_cpu ? run_workload(&s, w, BACKEND_CPU, NULL, (int)spp, &cpu_rays) : 0.0;
+        double ref =
+            want_cpu ? run_workload(&s, w, BACKEND_CPU, PACKET_REFERENCE_NAME, (int)spp, &ref_rays)
+                     : 0.0;
+        double vk = want_vk ? run_workload(&s, w, BACKEND_VULKAN, NULL, (int)spp, &vk_rays) : 0.0;
+        failures += cpu < 0.0 || ref < 0.0 || vk < 0.0;
         char name[64];
         snprintf(name, sizeof name, "%s, %d spp", w->name, spp > 0 ? (int)spp : w->samples);
         printf("%-34s", name);
         print_figure(15, cpu, want_cpu && cpu > 0.0, "");
         print_figure(12, cpu_rays, want_cpu && cpu > 0.0, "");
+        print_figure(15, ref, want_cpu && ref > 0.0, "");
         print_figure(15, vk, want_vk && vk > 0.0, "");
         print_figure(12, vk_rays, want_vk && vk > 0.0, "");
         print_figure(7, vk / cpu, want_cpu && want_vk && cpu > 0.0 && vk > 0.0, "");
+        print_figure(7, vk / ref, want_cpu && want_vk && ref > 0.0 && vk > 0.0, "");
         printf("\n");
         fflush(stdout);
     }

@@ -12,8 +12,11 @@ vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t s
 
 /* The widest packet of any packet integrator. */
 #define PACKET_LANES_MAX 16
-/* The most packet integrators a build has. */
-#define PACKET_VARIANTS_MAX 3
+/* The most packet integrators a build has, the one-sample reference included. */
+#define PACKET_VARIANTS_MAX 4
+/* The name of the build that is integrator_sample itself, one sample at a time (never the
+ * default: the oracle, timed by bench). */
+#define PACKET_REFERENCE_NAME "reference"
 
 /* A build of the packet integrator (src/integrator_packet.c) for one vector level: sample(p, i, j,
  * lanes, sample_index, out) sets out[k] = integrator_sample(p, i + k, j, sample_index) for
@@ -25,10 +28,12 @@ typedef struct packet_integrator {
                    uint32_t sample_index, vec3 *out);
 } packet_integrator;
 
-/* The packet integrators this processor runs into list, fastest first; returns how many (>= 1). */
+/* The packet integrators this processor runs into list, fastest first (the reference last);
+ * returns how many (>= 2). */
 int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]);
-/* The fastest build, or the one TRAZADOR_PACKET_BUILD names; never fails (warns, falls back). */
-packet_integrator integrator_packet_choose(void);
+/* The build named `wanted`, or when NULL the one TRAZADOR_PACKET_BUILD names, or the fastest;
+ * never fails (warns, falls back to the fastest). */
+packet_integrator integrator_packet_choose(const char *wanted);
 
 /* Nearest sphere hit by the ray o + t d (|d| = 1) with t > EPS, -1 on a miss; `self` is the
  * sphere the ray leaves (-1 for none): its near root is the ray's own origin and is ignored. */

@@ -35,6 +35,12 @@ static bool runs_avx2(void) {
 
 static bool runs_anywhere(void) { return true; }
 
+/* The reference build: integrator_sample for each lane in turn. */
+static void sample_reference(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                             uint32_t sample_index, vec3 *out) {
+    for (uint32_t k = 0; k < lanes; k++) out[k] = integrator_sample(p, i + k, j, sample_index);
+}
+
 /* Every build compiled into this binary, fastest first, with what it needs to run. */
 static const struct {
     packet_integrator build;
@@ -47,6 +53,7 @@ static const struct {
     {{"avx2", 8, integrator_sample_packet_avx2}, runs_avx2},
 #endif
     {{"baseline", 8, integrator_sample_packet_baseline}, runs_anywhere},
+    {{PACKET_REFERENCE_NAME, 8, sample_reference}, runs_anywhere},
 };
 #define COMPILED_BUILDS (sizeof compiled_builds / sizeof compiled_builds[0])
 
@@ -57,10 +64,10 @@ int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]) {
     return n;
 }
 
-packet_integrator integrator_packet_choose(void) {
+packet_integrator integrator_packet_choose(const char *wanted) {
     packet_integrator list[PACKET_VARIANTS_MAX];
     int n = integrator_packet_list(list);
-    const char *wanted = getenv("TRAZADOR_PACKET_BUILD");
+    if (!wanted) wanted = getenv("TRAZADOR_PACKET_BUILD");
     if (!wanted || !*wanted) return list[0];
     for (int k = 0; k < n; k++)
         if (!strcmp(list[k].name, wanted)) return list[k];

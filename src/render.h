@@ -26,13 +26,14 @@ typedef struct render_opts {
     uint32_t seed;
     bool no_jitter; /* zero is default: jitter on */
     bool indirect;
-    int bounces;         /* longest chain of specular events */
-    int threads;         /* CPU back end; 0 = all cores */
-    int device;          /* Vulkan back end; -1 = first */
-    bool validate;       /* Vulkan validation layer, errors fail the run */
-    bool no_bvh;         /* test every sphere for every ray (debugging, comparisons) */
-    bool progress;       /* progress line on stderr */
-    render_stats *stats; /* filled by the back end when not NULL */
+    int bounces;           /* longest chain of specular events */
+    int threads;           /* CPU back end; 0 = all cores */
+    int device;            /* Vulkan back end; -1 = first */
+    bool validate;         /* Vulkan validation layer, errors fail the run */
+    bool no_bvh;           /* test every sphere for every ray (debugging, comparisons) */
+    bool progress;         /* progress line on stderr */
+    const char *cpu_build; /* CPU back end: the packet build by name; NULL: the fastest */
+    render_stats *stats;   /* filled by the back end when not NULL */
 } render_opts;
 
 /* Per-pixel accumulation: 4 floats a pixel, RGB sums and the count of finite samples. */

@@ -36,6 +36,11 @@ TRAZADOR_PACKET_BUILD=baseline run forced-build 0 "$tz" render --backend cpu --w
 has forced-build err "packet integrator build baseline, 8 lanes"
 "$tz" render --backend cpu --width 32 --spp 1 -o fastest.pfm --quiet
 if cmp -s forced.pfm fastest.pfm; then ok; else bad "forced-build: baseline and fastest differ"; fi
+# The one-sample reference integrator is a build too (bench times it), with the same image.
+TRAZADOR_PACKET_BUILD=reference run reference-build 0 "$tz" render --backend cpu --width 32 \
+    --spp 1 --verbose -o reference.pfm
+has reference-build err "packet integrator build reference, 8 lanes"
+if cmp -s reference.pfm fastest.pfm; then ok; else bad "reference-build: reference and fastest differ"; fi
 TRAZADOR_PACKET_BUILD=vax run unknown-build 0 "$tz" render --backend cpu --width 32 --spp 1 \
     -o unknown.png
 has unknown-build err "TRAZADOR_PACKET_BUILD=vax: no such build (this binary has "

@@ -194,7 +194,12 @@ int main(void) {
     build_count = integrator_packet_list(builds);
     for (int b = 0; b < build_count; b++)
         printf("packet integrator build %s, %u lanes\n", builds[b].name, builds[b].width);
-    CHECK(!strcmp(builds[build_count - 1].name, "baseline"), "the baseline build is not listed");
+    CHECK(build_count >= 2 && !strcmp(builds[build_count - 2].name, "baseline") &&
+              !strcmp(builds[build_count - 1].name, PACKET_REFERENCE_NAME),
+          "the baseline and reference builds are not listed last");
+    CHECK(!strcmp(integrator_packet_choose(PACKET_REFERENCE_NAME).name, PACKET_REFERENCE_NAME) &&
+              strcmp(integrator_packet_choose(NULL).name, PACKET_REFERENCE_NAME),
+          "the reference build is chosen by name only");
     const char *files[] = {"cornell.scene", "shadows.scene",    "phong.scene",
                            "mirror.scene",  "refraction.scene", "all.scene"};
     for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) compare_file(files[k]);
