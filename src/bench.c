@@ -247,8 +247,12 @@ int bench_command(int argc, char **argv) {
     }
     int failures = 0;
     if (want_cpu) {
-        packet_integrator build = integrator_packet_choose(NULL);
-        printf("cpu: packet integrator build %s, %u lanes\n", build.name, build.width);
+        packet_integrator every = integrator_packet_choose(NULL, false);
+        packet_integrator walk = integrator_packet_choose(NULL, true);
+        printf(
+            "cpu: packet integrator build %s (%u lanes) where every sphere is tested, %s (%u "
+            "lanes) where the BVH is walked\n",
+            every.name, every.width, walk.name, walk.width);
     } else {
         printf("cpu: not timed (--backend vulkan)\n");
     }

@@ -64,27 +64,36 @@ int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]) {
     return n;
 }
 
-packet_integrator integrator_packet_choose(const char *wanted) {
+/* The fastest build for the scene (see integrator_packet_choose) among the n of list. */
+static packet_integrator fastest(const packet_integrator *list, int n, bool walks_bvh) {
+    for (int k = 0; walks_bvh && k < n; k++)
+        if (list[k].width <= PACKET_WALK_LANES_MAX) return list[k];
+    return list[0];
+}
+
+packet_integrator integrator_packet_choose(const char *wanted, bool walks_bvh) {
     packet_integrator list[PACKET_VARIANTS_MAX];
     int n = integrator_packet_list(list);
     if (!wanted) wanted = getenv("TRAZADOR_PACKET_BUILD");
-    if (!wanted || !*wanted) return list[0];
+    if (!wanted || !*wanted) return fastest(list, n, walks_bvh);
     for (int k = 0; k < n; k++)
         if (!strcmp(list[k].name, wanted)) return list[k];
     static bool warned; /* once a run: bench renders many times */
-    if (warned) return list[0];
+    if (warned) return fastest(list, n, walks_bvh);
     warned = true;
     char names[64] = "";
     for (size_t k = 0; k < COMPILED_BUILDS; k++) {
         if (!strcmp(compiled_builds[k].build.name, wanted)) {
+            packet_integrator used = fastest(list, n, walks_bvh);
             log_warn("TRAZADOR_PACKET_BUILD=%s: this processor cannot run that build; using %s",
-                     wanted, list[0].name);
-            return list[0];
+                     wanted, used.name);
+            return used;
         }
         snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", k ? ", " : "",
                  compiled_builds[k].build.name);
     }
+    packet_integrator used = fastest(list, n, walks_bvh);
     log_warn("TRAZADOR_PACKET_BUILD=%s: no such build (this binary has %s); using %s", wanted,
-             names, list[0].name);
-    return list[0];
+             names, used.name);
+    return used;
 }

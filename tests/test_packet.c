@@ -197,9 +197,14 @@ int main(void) {
     CHECK(build_count >= 2 && !strcmp(builds[build_count - 2].name, "baseline") &&
               !strcmp(builds[build_count - 1].name, PACKET_REFERENCE_NAME),
           "the baseline and reference builds are not listed last");
-    CHECK(!strcmp(integrator_packet_choose(PACKET_REFERENCE_NAME).name, PACKET_REFERENCE_NAME) &&
-              strcmp(integrator_packet_choose(NULL).name, PACKET_REFERENCE_NAME),
+    CHECK(!strcmp(integrator_packet_choose(PACKET_REFERENCE_NAME, true).name,
+                  PACKET_REFERENCE_NAME) &&
+              strcmp(integrator_packet_choose(NULL, false).name, PACKET_REFERENCE_NAME) &&
+              strcmp(integrator_packet_choose(NULL, true).name, PACKET_REFERENCE_NAME),
           "the reference build is chosen by name only");
+    CHECK(!strcmp(integrator_packet_choose(NULL, false).name, builds[0].name) &&
+              integrator_packet_choose(NULL, true).width <= PACKET_WALK_LANES_MAX,
+          "the fastest build for scenes with and without BVH walks");
     const char *files[] = {"cornell.scene", "shadows.scene",    "phong.scene",
                            "mirror.scene",  "refraction.scene", "all.scene"};
     for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) compare_file(files[k]);
