@@ -87,6 +87,16 @@ LANE_FN void keep_nearer_tie(float *best, int *id, const float *ts, int s) {
     memcpy(id, &i, sizeof i);
 }
 
+/* The smallest of the lanes' values, as a tree of halvings: the chain of LANES - 1 minimums of a
+ * plain loop lay on the walk's critical path. */
+LANE_FN float lanes_min(const float *values) {
+    float m[LANES];
+    memcpy(m, values, sizeof m);
+    for (int half = LANES / 2; half > 0; half /= 2)
+        for (int k = 0; k < half; k++) m[k] = m[k + half] < m[k] ? m[k + half] : m[k];
+    return m[0];
+}
+
 LANE_FN int any_lane(const int *mask) {
     int any = 0;
     for (int k = 0; k < LANES; k++) any |= mask[k];
@@ -135,15 +145,13 @@ LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d
             if (any_hit && all_hit(id, active)) return;
         } else {
             uint32_t left = node + 1, right = uint_bits(n->lo.w);
-            float tl[LANES], tr[LANES], near_l = INFINITY, near_r = INFINITY;
+            float tl[LANES], tr[LANES], near_l, near_r;
             for (int k = 0; k < LANES; k++) {
                 tl[k] = box_entry(&p->nodes[left], get3(o, k), get3(&inv, k), best[k]);
                 tr[k] = box_entry(&p->nodes[right], get3(o, k), get3(&inv, k), best[k]);
             }
-            for (int k = 0; k < LANES; k++) {
-                near_l = tl[k] < near_l ? tl[k] : near_l;
-                near_r = tr[k] < near_r ? tr[k] : near_r;
-            }
+            near_l = lanes_min(tl);
+            near_r = lanes_min(tr);
             if (near_l < INFINITY || near_r < INFINITY) {
                 int left_first = near_l <= near_r;
                 node = left_first ? left : right;
