@@ -47,7 +47,8 @@ typedef struct tz_uvec4 {
 #define TZ_BINDING_FRAME 0
 #define TZ_BINDING_SPHERES 1
 #define TZ_BINDING_LIGHTS 2
-/* Dynamic: bound at the first row of each band of tiles. */
+/* Dynamic: bound at the first row of each band of tiles. A vec4 a pixel: the RGB sums and the
+ * count of finite samples. */
 #define TZ_BINDING_ACCUM 3
 /* TZ_COUNTER_WORDS uints since the last reset: samples dropped as non-finite, samples dropped
  * for running out of TZ_SPEC_WALK_BUDGET, and rays traced as low and high 32 bits (a pass over a
@@ -56,6 +57,10 @@ typedef struct tz_uvec4 {
 #define TZ_COUNTER_WORDS 4
 /* Texels 2k, 2k+1: gpu_bvh_node k (one zeroed node without a BVH). */
 #define TZ_BINDING_NODES 5
+/* Dynamic, bound as TZ_BINDING_ACCUM: a vec4 a pixel, the compensation of its RGB sums (Kahan
+ * summation, src/film_sum.h), w unused. A buffer of its own, so that each stays within the 4 GiB
+ * of 32-bit dynamic offsets for images up to 16384 x 16383. */
+#define TZ_BINDING_ACCUM_COMP 6
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
  * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.size.z / .w

@@ -18,6 +18,9 @@ layout(set = 0, binding = TZ_BINDING_LIGHTS) uniform samplerBuffer light_texels;
 /* Bound at the tile's first row (a dynamic offset): a band of rows, never the whole image, so
  * the range stays within maxStorageBufferRange for any image width up to 16384. */
 layout(std430, set = 0, binding = TZ_BINDING_ACCUM) buffer accum_block { vec4 accum[]; };
+layout(std430, set = 0, binding = TZ_BINDING_ACCUM_COMP) buffer accum_comp_block {
+    vec4 accum_comp[];
+};
 layout(std430, set = 0, binding = TZ_BINDING_COUNTERS) buffer counter_block {
     uint nonfinite;
     uint overflow;
@@ -101,12 +104,24 @@ bool finite3(vec3 v) {
     return all(notEqual(e, uvec3(0x7f800000u)));
 }
 
+/* Adds value to the sums whose lost low-order parts are comp (Kahan): film_sum_add() of
+ * src/film_sum.h, the same operations; past the float range the compensation stops. */
+void film_sum_add(inout vec3 sum, inout vec3 comp, vec3 value) {
+    precise vec3 y = value - comp;
+    precise vec3 t = sum + y;
+    precise vec3 lost = (t - sum) - y;
+    bvec3 finite = notEqual(floatBitsToUint(t) & 0x7f800000u, uvec3(0x7f800000u));
+    comp = mix(vec3(0.0), lost, finite);
+    sum = t;
+}
+
 void main() {
     uint i = pass.tile.x + gl_GlobalInvocationID.x;
     uint j = pass.tile.y + gl_GlobalInvocationID.y;
     if (i >= frame.size.x || j >= frame.size.y) return;
     uint slot = gl_GlobalInvocationID.y * frame.size.x + i;
     precise vec4 sum = accum[slot];
+    vec3 comp = accum_comp[slot].xyz;
     uint dropped = 0u, overflowed = 0u;
     loop_overflow = false;
     rays_traced = 0u;
@@ -117,10 +132,16 @@ void main() {
             loop_overflow = false;
             continue;
         }
-        if (finite3(l)) sum = sum + vec4(l, 1.0);
-        else dropped++;
+        if (finite3(l)) {
+            vec3 rgb = sum.xyz;
+            film_sum_add(rgb, comp, l);
+            sum = vec4(rgb, sum.w + 1.0);
+        } else {
+            dropped++;
+        }
     }
     accum[slot] = sum;
+    accum_comp[slot] = vec4(comp, 0.0);
     if (dropped > 0u) atomicAdd(nonfinite, dropped);
     if (overflowed > 0u) atomicAdd(overflow, overflowed);
     uint before = atomicAdd(rays, rays_traced);

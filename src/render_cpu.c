@@ -1,5 +1,6 @@
 /* render_cpu.c: the C reference back end: pthreads over tiles of the image, each pixel's samples
- * summed in sample order, so the film is bit-identical for every thread count. */
+ * summed in sample order (compensated, film_sum.h), so the film is bit-identical for every thread
+ * count. */
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -8,6 +9,7 @@
 #include <unistd.h>
 
 #include "clock.h"
+#include "film_sum.h"
 #include "integrator.h"
 #include "log.h"
 #include "render.h"
@@ -37,6 +39,7 @@ static void render_tile(cpu_job *job, int tile) {
         for (int i = x0; i < x1; i += width) {
             uint32_t lanes = (uint32_t)(x1 - i < width ? x1 - i : width);
             float *row = &job->film->accum[((size_t)j * (size_t)job->film->width + (size_t)i) * 4];
+            float comp[PACKET_LANES_MAX][3] = {{0.0f}}; /* every sample of these pixels is here */
             for (int s = 0; s < job->samples; s++) {
                 vec3 l[PACKET_LANES_MAX];
                 pk->sample(job->packed, (uint32_t)i, (uint32_t)j, lanes, (uint32_t)s, l);
@@ -46,12 +49,15 @@ static void render_tile(cpu_job *job, int tile) {
                         continue;
                     }
                     float *px = row + 4 * k;
-                    px[0] += l[k].x;
-                    px[1] += l[k].y;
-                    px[2] += l[k].z;
+                    film_sum_add(&px[0], &comp[k][0], l[k].x);
+                    film_sum_add(&px[1], &comp[k][1], l[k].y);
+                    film_sum_add(&px[2], &comp[k][2], l[k].z);
                     px[3] += 1.0f;
                 }
             }
+            for (uint32_t k = 0; k < lanes; k++)
+                for (int c = 0; c < 3; c++)
+                    row[4 * k + c] = film_sum_value(row[4 * k + c], comp[k][c]);
         }
     }
     if (dropped) atomic_fetch_add(&job->nonfinite, dropped);

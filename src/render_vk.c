@@ -1,13 +1,15 @@
 /* render_vk.c: the Vulkan back end: packs and uploads the scene once, then runs shaders/trace.comp
  * over tiles of the image, sample pass after sample pass, each pass adding into one float
- * accumulation buffer in sample order (a barrier between passes), and reads the sums back into
- * the film once at the end. The film matches render_cpu's, sample for sample. */
+ * accumulation buffer of compensated sums in sample order (a barrier between passes), and reads
+ * the sums back into the film once at the end. The film matches render_cpu's, sample for
+ * sample. */
 #include <inttypes.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "clock.h"
+#include "film_sum.h"
 #include "log.h"
 #include "render.h"
 #include "scene_pack.h"
@@ -37,6 +39,8 @@
 #define MIN_CHARGED_PIXELS 1024u
 /* Loop passes a ray's BVH walk must be allowed at least on lavapipe for a scene to be tried. */
 #define MIN_WALK_BUDGET 256u
+/* Bytes a pixel takes in each accumulation buffer (sums, compensation): a vec4. */
+#define ACCUM_PIXEL_BYTES (4u * sizeof(float))
 
 /* The specialization constants of trace.comp in constant_id order, one 32-bit word each. */
 typedef struct spec_data {
@@ -49,9 +53,10 @@ _Static_assert(offsetof(spec_data, scene) == TZ_SPEC_SCENE * sizeof(uint32_t),
 
 typedef struct vk_render {
     vk_context ctx;
-    vk_buffer frame, spheres, lights, nodes, accum, counter;
-    vk_buffer upload;   /* staging for the inputs when device memory is not mapped */
-    vk_buffer readback; /* staging: the counters at 0, the accumulation at 16 */
+    vk_buffer frame, spheres, lights, nodes, accum, accum_comp, counter;
+    vk_buffer upload; /* staging for the inputs when device memory is not mapped */
+    /* staging: the counters at 0, the sums at 16, their compensation after them */
+    vk_buffer readback;
     vk_kernel kernel;
     VkFence fence;
     VkCommandBuffer cmd;
@@ -95,7 +100,7 @@ static bool check_limits(const vk_context *ctx, const scene *s, const render_opt
     /* The accumulation buffer is addressed with 32-bit dynamic offsets, and drivers cap buffers
      * below 4 GiB (lavapipe's maxBufferSize is 2^32 - 1): 16384 x 16384 pixels need 2^32 bytes. */
     uint64_t rows = ((uint64_t)s->height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
-    uint64_t row_bytes = (uint64_t)s->width * 4u * sizeof(float);
+    uint64_t row_bytes = (uint64_t)s->width * ACCUM_PIXEL_BYTES;
     uint64_t accum_bytes = rows * row_bytes;
     if (accum_bytes > UINT32_MAX) {
         log_error("a %d x %d image needs %" PRIu64
@@ -108,7 +113,7 @@ static bool check_limits(const vk_context *ctx, const scene *s, const render_opt
     }
     const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
     uint64_t sizes[] = {(uint64_t)s->sphere_count * 3u, (uint64_t)s->light_count * 2u,
-                        (uint64_t)TILE_SIZE * (uint64_t)s->width * 4u * sizeof(float),
+                        (uint64_t)TILE_SIZE * (uint64_t)s->width * ACCUM_PIXEL_BYTES,
                         use_bvh ? (uint64_t)s->sphere_count * 4u : 0u};
     uint64_t limit[] = {limits->maxTexelBufferElements, limits->maxTexelBufferElements,
                         limits->maxStorageBufferRange, limits->maxTexelBufferElements};
@@ -141,7 +146,7 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
     size_t node_bytes = (p->frame.settings.w ? p->frame.settings.w : 1u) * sizeof *p->nodes;
     /* Rows padded to whole tiles: every band binding of TILE_SIZE rows stays inside the buffer. */
     uint64_t rows = ((uint64_t)height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
-    VkDeviceSize accum_bytes = rows * (uint64_t)width * 4u * sizeof(float);
+    VkDeviceSize accum_bytes = rows * (uint64_t)width * ACCUM_PIXEL_BYTES;
     const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | input;
     if (!vk_buffer_create(ctx, sizeof p->frame, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | input,
                           VK_MEMORY_DEVICE, &r->frame) ||
@@ -152,11 +157,13 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
         !vk_buffer_create(ctx, node_bytes, texels, VK_MEMORY_DEVICE, &r->nodes) ||
         !vk_buffer_create_view(ctx, &r->nodes, VK_FORMAT_R32G32B32A32_SFLOAT) ||
         !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum) ||
+        !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum_comp) ||
         !vk_buffer_create(ctx, TZ_COUNTER_WORDS * sizeof(uint32_t), storage, VK_MEMORY_DEVICE,
                           &r->counter))
         return false;
-    if (!r->accum.mapped || !r->counter.mapped) {
-        VkDeviceSize bytes = 16u + (VkDeviceSize)width * (VkDeviceSize)height * 4u * sizeof(float);
+    if (!r->accum.mapped || !r->accum_comp.mapped || !r->counter.mapped) {
+        VkDeviceSize bytes =
+            16u + 2u * (VkDeviceSize)width * (VkDeviceSize)height * ACCUM_PIXEL_BYTES;
         if (!vk_buffer_create(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, VK_MEMORY_READBACK,
                               &r->readback))
             return false;
@@ -179,7 +186,7 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
     return true;
 }
 
-/* Copies the staged inputs into place (when staged) and zeroes the accumulation buffer. */
+/* Copies the staged inputs into place (when staged) and zeroes the accumulation buffers. */
 static void record_setup(vk_render *r) {
     if (r->upload.buffer) {
         vk_buffer *targets[] = {&r->frame, &r->spheres, &r->lights, &r->nodes};
@@ -191,6 +198,7 @@ static void record_setup(vk_render *r) {
         }
     }
     vkCmdFillBuffer(r->cmd, r->accum.buffer, 0, VK_WHOLE_SIZE, 0u);
+    vkCmdFillBuffer(r->cmd, r->accum_comp.buffer, 0, VK_WHOLE_SIZE, 0u);
 }
 
 typedef struct pass_plan {
@@ -217,9 +225,10 @@ static void record_passes(vk_render *r, const pass_plan *plan, uint32_t first, u
         for (uint32_t y0 = 0; y0 < plan->height; y0 += TILE_SIZE) {
             /* Dynamic offsets are 32-bit: at most (16384 - 256) rows of 16384 pixels of 16 bytes,
              * 4.23e9, which fits. */
-            uint32_t band_offset = y0 * plan->width * 4u * (uint32_t)sizeof(float);
+            uint32_t band_offset = y0 * plan->width * (uint32_t)ACCUM_PIXEL_BYTES;
+            const uint32_t offsets[] = {band_offset, band_offset}; /* sums, compensation */
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.layout, 0, 1,
-                                    &r->kernel.set, 1, &band_offset);
+                                    &r->kernel.set, 2, offsets);
             uint32_t th = plan->height - y0 < TILE_SIZE ? plan->height - y0 : TILE_SIZE;
             for (uint32_t x0 = 0; x0 < plan->width; x0 += TILE_SIZE) {
                 uint32_t tw = plan->width - x0 < TILE_SIZE ? plan->width - x0 : TILE_SIZE;
@@ -243,9 +252,14 @@ static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
         VkBufferCopy copy = {0, 0, TZ_COUNTER_WORDS * sizeof(uint32_t)};
         vkCmdCopyBuffer(cmd, r->counter.buffer, r->readback.buffer, 1, &copy);
     }
+    VkDeviceSize bytes = (VkDeviceSize)plan->width * plan->height * ACCUM_PIXEL_BYTES;
     if (final && !r->accum.mapped) {
-        VkBufferCopy copy = {0, 16, (VkDeviceSize)plan->width * plan->height * 4u * sizeof(float)};
+        VkBufferCopy copy = {0, 16, bytes};
         vkCmdCopyBuffer(cmd, r->accum.buffer, r->readback.buffer, 1, &copy);
+    }
+    if (final && !r->accum_comp.mapped) {
+        VkBufferCopy copy = {0, 16 + bytes, bytes};
+        vkCmdCopyBuffer(cmd, r->accum_comp.buffer, r->readback.buffer, 1, &copy);
     }
     if (r->readback.buffer)
         vk_commands_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
@@ -345,7 +359,7 @@ static void render_destroy(vk_render *r) {
         if (r->fence) vkDestroyFence(ctx->device, r->fence, NULL);
         if (r->cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &r->cmd);
         vk_kernel_destroy(ctx, &r->kernel);
-        vk_buffer *buffers[] = {&r->readback, &r->upload, &r->counter, &r->accum,
+        vk_buffer *buffers[] = {&r->readback, &r->upload, &r->counter, &r->accum_comp, &r->accum,
                                 &r->nodes,    &r->lights, &r->spheres, &r->frame};
         for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; k++)
             vk_buffer_destroy(ctx, buffers[k]);
@@ -388,6 +402,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
         [TZ_BINDING_ACCUM] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC,
         [TZ_BINDING_COUNTERS] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
         [TZ_BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+        [TZ_BINDING_ACCUM_COMP] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC,
     };
     /* Small scenes get their sphere and light loops unrolled, and their spheres and lights
      * become specialization constants: the unrolled tests read immediates, and the loop
@@ -418,7 +433,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
         .code = trace_spv,
         .code_size = sizeof trace_spv,
         .types = types,
-        .binding_count = 6,
+        .binding_count = 7,
         .push_size = sizeof(struct gpu_pass),
     };
     VkFenceCreateInfo fence_info = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
@@ -426,20 +441,32 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
         !VK_CHECK(vkCreateFence(r->ctx.device, &fence_info, NULL, &r->fence)))
         return false;
     const vk_buffer *buffers[] = {
-        [TZ_BINDING_FRAME] = &r->frame,      [TZ_BINDING_SPHERES] = &r->spheres,
-        [TZ_BINDING_LIGHTS] = &r->lights,    [TZ_BINDING_ACCUM] = &r->accum,
-        [TZ_BINDING_COUNTERS] = &r->counter, [TZ_BINDING_NODES] = &r->nodes,
+        [TZ_BINDING_FRAME] = &r->frame,           [TZ_BINDING_SPHERES] = &r->spheres,
+        [TZ_BINDING_LIGHTS] = &r->lights,         [TZ_BINDING_ACCUM] = &r->accum,
+        [TZ_BINDING_COUNTERS] = &r->counter,      [TZ_BINDING_NODES] = &r->nodes,
+        [TZ_BINDING_ACCUM_COMP] = &r->accum_comp,
     };
     const VkDeviceSize ranges[] = {
         [TZ_BINDING_FRAME] = VK_WHOLE_SIZE,
         [TZ_BINDING_SPHERES] = VK_WHOLE_SIZE,
         [TZ_BINDING_LIGHTS] = VK_WHOLE_SIZE,
-        [TZ_BINDING_ACCUM] = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)width * 4u * sizeof(float),
+        [TZ_BINDING_ACCUM] = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)width * ACCUM_PIXEL_BYTES,
         [TZ_BINDING_COUNTERS] = VK_WHOLE_SIZE,
         [TZ_BINDING_NODES] = VK_WHOLE_SIZE,
+        [TZ_BINDING_ACCUM_COMP] = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)width * ACCUM_PIXEL_BYTES,
     };
     vk_kernel_bind(&r->ctx, &r->kernel, buffers, ranges);
     return true;
+}
+
+/* The film from the accumulation buffers: each compensated sum's value (film_sum.h, as
+ * render_cpu folds its own) and the sample count. */
+static void read_film(film *f, const float *sums, const float *comps) {
+    size_t count = (size_t)f->width * (size_t)f->height;
+    for (size_t k = 0; k < 4 * count; k += 4) {
+        for (int c = 0; c < 3; c++) f->accum[k + c] = film_sum_value(sums[k + c], comps[k + c]);
+        f->accum[k + 3] = sums[k + 3];
+    }
 }
 
 bool render_vk(const scene *s, const render_opts *opts, film *f) {
@@ -485,8 +512,10 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
         opts->stats->render_seconds = t_render - t_pipeline;
         opts->stats->rays = rays;
     }
-    const char *sums = r.accum.mapped ? r.accum.mapped : (const char *)r.readback.mapped + 16;
-    memcpy(f->accum, sums, (size_t)s->width * (size_t)s->height * 4u * sizeof(float));
+    size_t bytes = (size_t)s->width * (size_t)s->height * ACCUM_PIXEL_BYTES;
+    const char *staged = (const char *)r.readback.mapped + 16;
+    read_film(f, r.accum.mapped ? r.accum.mapped : (const void *)staged,
+              r.accum_comp.mapped ? r.accum_comp.mapped : (const void *)(staged + bytes));
     double t_read = clock_seconds();
     log_debug("vulkan: rendering in %.1f ms, read-back in %.1f ms", (t_render - t_pipeline) * 1e3,
               (t_read - t_render) * 1e3);
