@@ -58,8 +58,10 @@ typedef struct tz_uvec4 {
 /* Texels 2k, 2k+1: gpu_bvh_node k (one zeroed node without a BVH). */
 #define TZ_BINDING_NODES 5
 /* Dynamic, bound as TZ_BINDING_ACCUM: a vec4 a pixel, the compensation of its RGB sums (Kahan
- * summation, src/film_sum.h), w unused. A buffer of its own, so that each stays within the 4 GiB
- * of 32-bit dynamic offsets for images up to 16384 x 16383. */
+ * summation, src/film_sum.h), w unused; the pass that completes a pixel's samples stores the
+ * compensated sums' values into TZ_BINDING_ACCUM instead, so only that buffer is read back. A
+ * buffer of its own, so that each stays within the 32-bit dynamic offsets as the sums alone did.
+ */
 #define TZ_BINDING_ACCUM_COMP 6
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
@@ -108,7 +110,8 @@ struct gpu_frame {
 
 /* Push constants of one dispatch: which tile and which samples (count >= 1, taken in order). */
 struct gpu_pass {
-    TZ_UVEC4 tile; /* x0, y0 of the tile in pixels, first sample index, sample count */
+    TZ_UVEC4 tile;  /* x0, y0 of the tile in pixels, first sample index, sample count */
+    TZ_UVEC4 total; /* x: samples per pixel in all; yzw unused (0) */
 };
 
 /* The spheres and lights of an unrolled scene in the texel layout of TZ_BINDING_SPHERES and

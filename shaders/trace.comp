@@ -140,8 +140,13 @@ void main() {
             dropped++;
         }
     }
-    accum[slot] = sum;
-    accum_comp[slot] = vec4(comp, 0.0);
+    if (pass.tile.z + pass.tile.w == pass.total.x) { /* the last samples: film_sum_value() */
+        precise vec3 value = sum.xyz - comp;
+        accum[slot] = vec4(value, sum.w);
+    } else {
+        accum[slot] = sum;
+        accum_comp[slot] = vec4(comp, 0.0);
+    }
     if (dropped > 0u) atomicAdd(nonfinite, dropped);
     if (overflowed > 0u) atomicAdd(overflow, overflowed);
     uint before = atomicAdd(rays, rays_traced);

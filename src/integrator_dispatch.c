@@ -74,6 +74,7 @@ static packet_integrator fastest(const packet_integrator *list, int n, bool walk
 packet_integrator integrator_packet_choose(const char *wanted, bool walks_bvh) {
     packet_integrator list[PACKET_VARIANTS_MAX];
     int n = integrator_packet_list(list);
+    const char *source = wanted ? "packet build " : "TRAZADOR_PACKET_BUILD="; /* for warnings */
     if (!wanted) wanted = getenv("TRAZADOR_PACKET_BUILD");
     if (!wanted || !*wanted) return fastest(list, n, walks_bvh);
     for (int k = 0; k < n; k++)
@@ -85,15 +86,15 @@ packet_integrator integrator_packet_choose(const char *wanted, bool walks_bvh) {
     for (size_t k = 0; k < COMPILED_BUILDS; k++) {
         if (!strcmp(compiled_builds[k].build.name, wanted)) {
             packet_integrator used = fastest(list, n, walks_bvh);
-            log_warn("TRAZADOR_PACKET_BUILD=%s: this processor cannot run that build; using %s",
-                     wanted, used.name);
+            log_warn("%s%s: this processor cannot run that build; using %s", source, wanted,
+                     used.name);
             return used;
         }
         snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", k ? ", " : "",
                  compiled_builds[k].build.name);
     }
     packet_integrator used = fastest(list, n, walks_bvh);
-    log_warn("TRAZADOR_PACKET_BUILD=%s: no such build (this binary has %s); using %s", wanted,
-             names, used.name);
+    log_warn("%s%s: no such build (this binary has %s); using %s", source, wanted, names,
+             used.name);
     return used;
 }

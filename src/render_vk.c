@@ -9,7 +9,6 @@
 #include <string.h>
 
 #include "clock.h"
-#include "film_sum.h"
 #include "log.h"
 #include "render.h"
 #include "scene_pack.h"
@@ -54,9 +53,8 @@ _Static_assert(offsetof(spec_data, scene) == TZ_SPEC_SCENE * sizeof(uint32_t),
 typedef struct vk_render {
     vk_context ctx;
     vk_buffer frame, spheres, lights, nodes, accum, accum_comp, counter;
-    vk_buffer upload; /* staging for the inputs when device memory is not mapped */
-    /* staging: the counters at 0, the sums at 16, their compensation after them */
-    vk_buffer readback;
+    vk_buffer upload;   /* staging for the inputs when device memory is not mapped */
+    vk_buffer readback; /* staging: the counters at 0, the accumulation at 16 */
     vk_kernel kernel;
     VkFence fence;
     VkCommandBuffer cmd;
@@ -161,9 +159,8 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
         !vk_buffer_create(ctx, TZ_COUNTER_WORDS * sizeof(uint32_t), storage, VK_MEMORY_DEVICE,
                           &r->counter))
         return false;
-    if (!r->accum.mapped || !r->accum_comp.mapped || !r->counter.mapped) {
-        VkDeviceSize bytes =
-            16u + 2u * (VkDeviceSize)width * (VkDeviceSize)height * ACCUM_PIXEL_BYTES;
+    if (!r->accum.mapped || !r->counter.mapped) {
+        VkDeviceSize bytes = 16u + (VkDeviceSize)width * (VkDeviceSize)height * ACCUM_PIXEL_BYTES;
         if (!vk_buffer_create(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, VK_MEMORY_READBACK,
                               &r->readback))
             return false;
@@ -232,7 +229,8 @@ static void record_passes(vk_render *r, const pass_plan *plan, uint32_t first, u
             uint32_t th = plan->height - y0 < TILE_SIZE ? plan->height - y0 : TILE_SIZE;
             for (uint32_t x0 = 0; x0 < plan->width; x0 += TILE_SIZE) {
                 uint32_t tw = plan->width - x0 < TILE_SIZE ? plan->width - x0 : TILE_SIZE;
-                struct gpu_pass push = {.tile = {x0, y0, sample, count}};
+                struct gpu_pass push = {.tile = {x0, y0, sample, count},
+                                        .total = {plan->samples, 0u, 0u, 0u}};
                 vkCmdPushConstants(cmd, r->kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
                                    sizeof push, &push);
                 vkCmdDispatch(cmd, (tw + TZ_GROUP_X - 1u) / TZ_GROUP_X,
@@ -252,14 +250,9 @@ static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
         VkBufferCopy copy = {0, 0, TZ_COUNTER_WORDS * sizeof(uint32_t)};
         vkCmdCopyBuffer(cmd, r->counter.buffer, r->readback.buffer, 1, &copy);
     }
-    VkDeviceSize bytes = (VkDeviceSize)plan->width * plan->height * ACCUM_PIXEL_BYTES;
     if (final && !r->accum.mapped) {
-        VkBufferCopy copy = {0, 16, bytes};
+        VkBufferCopy copy = {0, 16, (VkDeviceSize)plan->width * plan->height * ACCUM_PIXEL_BYTES};
         vkCmdCopyBuffer(cmd, r->accum.buffer, r->readback.buffer, 1, &copy);
-    }
-    if (final && !r->accum_comp.mapped) {
-        VkBufferCopy copy = {0, 16 + bytes, bytes};
-        vkCmdCopyBuffer(cmd, r->accum_comp.buffer, r->readback.buffer, 1, &copy);
     }
     if (r->readback.buffer)
         vk_commands_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
@@ -459,16 +452,6 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
     return true;
 }
 
-/* The film from the accumulation buffers: each compensated sum's value (film_sum.h, as
- * render_cpu folds its own) and the sample count. */
-static void read_film(film *f, const float *sums, const float *comps) {
-    size_t count = (size_t)f->width * (size_t)f->height;
-    for (size_t k = 0; k < 4 * count; k += 4) {
-        for (int c = 0; c < 3; c++) f->accum[k + c] = film_sum_value(sums[k + c], comps[k + c]);
-        f->accum[k + 3] = sums[k + 3];
-    }
-}
-
 bool render_vk(const scene *s, const render_opts *opts, film *f) {
     *f = (film){0};
     vk_render r = {0};
@@ -512,10 +495,9 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
         opts->stats->render_seconds = t_render - t_pipeline;
         opts->stats->rays = rays;
     }
-    size_t bytes = (size_t)s->width * (size_t)s->height * ACCUM_PIXEL_BYTES;
-    const char *staged = (const char *)r.readback.mapped + 16;
-    read_film(f, r.accum.mapped ? r.accum.mapped : (const void *)staged,
-              r.accum_comp.mapped ? r.accum_comp.mapped : (const void *)(staged + bytes));
+    /* The last pass stored each compensated sum's value (film_sum_value) in place of the sum. */
+    const char *sums = r.accum.mapped ? r.accum.mapped : (const char *)r.readback.mapped + 16;
+    memcpy(f->accum, sums, (size_t)s->width * (size_t)s->height * ACCUM_PIXEL_BYTES);
     double t_read = clock_seconds();
     log_debug("vulkan: rendering in %.1f ms, read-back in %.1f ms", (t_render - t_pipeline) * 1e3,
               (t_read - t_render) * 1e3);

@@ -31,7 +31,8 @@ _Static_assert(offsetof(struct gpu_frame, forward) == 48, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, background) == 64, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, size) == 80, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, settings) == 96, "gpu_frame layout");
-_Static_assert(sizeof(struct gpu_pass) == 16, "gpu_pass is 16 bytes");
+_Static_assert(sizeof(struct gpu_pass) == 32, "gpu_pass is 32 bytes");
+_Static_assert(offsetof(struct gpu_pass, total) == 16, "gpu_pass layout");
 
 _Static_assert(sizeof(struct gpu_unrolled) == TZ_UNROLL_MAX_SPHERES * sizeof(struct gpu_sphere) +
                                                   TZ_UNROLL_MAX_LIGHTS * sizeof(struct gpu_light),

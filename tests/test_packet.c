@@ -191,6 +191,7 @@ static bool write_coincident(FILE *fp, const void *unused) {
 }
 
 int main(void) {
+    unsetenv("TRAZADOR_PACKET_BUILD"); /* the checks of the default choice below */
     build_count = integrator_packet_list(builds);
     for (int b = 0; b < build_count; b++)
         printf("packet integrator build %s, %u lanes\n", builds[b].name, builds[b].width);
