@@ -2,7 +2,7 @@
  * spheres, by brute force or through the BVH; twin of src/integrator.c (integrator_nearest,
  * integrator_occluded, the walk of trace_ray) and of src/integrator_steps.h (ray_eps, the sphere
  * and box tests, under the names noted at each function). The including shader declares `frame`,
- * sphere_center_radius(), sphere_params(), sphere_count(), node_lo(), node_hi(), use_bvh() and
+ * sphere_center_radius(), sphere_params(), sphere_count(), node_field(), use_bvh() and
  * WALK_BUDGET. */
 #ifndef TRAZADOR_INTERSECT_GLSL
 #define TRAZADOR_INTERSECT_GLSL
@@ -76,12 +76,12 @@ float box_entry(vec4 lo, vec4 hi, vec3 o, vec3 inv, float tmax) {
 }
 
 /* Nearest sphere hit below tmax through the BVH (t_out its distance), or with any_hit the first
- * one found; -1 when none. Nearer child first, a stack of TZ_BVH_MAX_DEPTH (each level pushes at
- * most one node). One loop of at most WALK_BUDGET passes, each doing all it can: a pop when idle,
- * a node visit (the nearer child set up at once when it is a leaf), up to two spheres of the
- * leaf. Finds the same sphere as the BVH branch of trace_ray() in src/integrator.c (which tests a
- * leaf's spheres at once): with the tie rule the nearest hit does not depend on the order of
- * visits. */
+ * one found; -1 when none. Nearer child first, a stack of TZ_BVH_MAX_DEPTH child references
+ * (each level pushes at most one). One loop of at most WALK_BUDGET passes, each doing all it can:
+ * a pop when idle, a node visit (a leaf child taken at once becomes the spheres to test), up to
+ * two spheres of the current leaf. Finds the same sphere as the BVH branch of trace_ray() in
+ * src/integrator.c (which tests a leaf's spheres at once): with the tie rule the nearest hit
+ * does not depend on the order of visits. */
 int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out) {
     float tmin = ray_eps(o), best = tmax;
     int id = -1;
@@ -91,49 +91,41 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
     float stack_t[TZ_BVH_MAX_DEPTH];
     int top = 0;
     const uint none = 0xffffffffu;
-    uint node = 0u; /* the root's box holds every sphere: it is not tested */
+    uint node = 0u;                  /* the root */
     uint sphere = 0u, leaf_end = 0u; /* the leaf's spheres still to test */
     for (uint pass = 0u;; pass++) {
         if (WALK_BUDGET > 0u && pass == WALK_BUDGET) {
             loop_overflow = true;
             break;
         }
-        /* A pass pops a node when there is nothing else to do, visits a node (setting up the
-         * nearer child at once when it is a leaf) and tests up to two spheres of the current
-         * leaf. */
         if (sphere >= leaf_end && node == none) {
             if (top == 0) break;
             top--;
-            if (stack_t[top] < best) node = stack[top];
+            uint ref = stack[top], count = ref >> TZ_BVH_COUNT_SHIFT;
+            if (stack_t[top] < best) {
+                node = count == 0u ? ref : none;
+                sphere = ref & TZ_BVH_INDEX_MASK;
+                leaf_end = count == 0u ? 0u : sphere + count;
+            }
         }
         if (sphere >= leaf_end && node != none) {
-            vec4 lo = node_lo(node), hi = node_hi(node);
-            uint leaf_count = floatBitsToUint(hi.w);
-            uint left = node + 1u, right = floatBitsToUint(lo.w);
-            node = none;
-            if (leaf_count > 0u) { /* the root, or a leaf from the stack */
-                sphere = floatBitsToUint(lo.w);
-                leaf_end = sphere + leaf_count;
-            } else {
-                vec4 left_lo = node_lo(left), left_hi = node_hi(left);
-                vec4 right_lo = node_lo(right), right_hi = node_hi(right);
-                float tl = box_entry(left_lo, left_hi, o, inv, best);
-                float tr = box_entry(right_lo, right_hi, o, inv, best);
-                bool left_first = tl <= tr;
-                float near_t = left_first ? tl : tr, far_t = left_first ? tr : tl;
-                vec4 near_lo = left_first ? left_lo : right_lo;
-                uint near_count = floatBitsToUint(left_first ? left_hi.w : right_hi.w);
-                if (near_t < TZ_INFINITY && near_count > 0u) {
-                    sphere = floatBitsToUint(near_lo.w);
-                    leaf_end = sphere + near_count;
-                } else if (near_t < TZ_INFINITY) {
-                    node = left_first ? left : right;
-                }
-                if (far_t < TZ_INFINITY) {
-                    stack[top] = left_first ? right : left;
-                    stack_t[top] = far_t;
-                    top++;
-                }
+            uvec4 left_lo = node_field(node, 0u), left_hi = node_field(node, 1u);
+            uvec4 right_lo = node_field(node, 2u), right_hi = node_field(node, 3u);
+            float tl = box_entry(uintBitsToFloat(left_lo), uintBitsToFloat(left_hi), o, inv, best);
+            float tr =
+                box_entry(uintBitsToFloat(right_lo), uintBitsToFloat(right_hi), o, inv, best);
+            bool left_first = tl <= tr;
+            float near_t = left_first ? tl : tr, far_t = left_first ? tr : tl;
+            uint near_ref = left_first ? left_lo.w : right_lo.w;
+            uint near_count = near_ref >> TZ_BVH_COUNT_SHIFT;
+            bool enters = near_t < TZ_INFINITY;
+            node = enters && near_count == 0u ? near_ref : none;
+            sphere = near_ref & TZ_BVH_INDEX_MASK;
+            leaf_end = enters && near_count > 0u ? sphere + near_count : 0u;
+            if (far_t < TZ_INFINITY) {
+                stack[top] = left_first ? right_lo.w : left_lo.w;
+                stack_t[top] = far_t;
+                top++;
             }
         }
         if (sphere < leaf_end) {

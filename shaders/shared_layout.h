@@ -55,7 +55,7 @@ typedef struct tz_uvec4 {
  * big image traces more than 2^32 rays; the shader carries into the high word). */
 #define TZ_BINDING_COUNTERS 4
 #define TZ_COUNTER_WORDS 4
-/* Texels 2k, 2k+1: gpu_bvh_node k (one zeroed node without a BVH). */
+/* Texels 4k..4k+3: gpu_bvh_node k, read as uints (one zeroed node without a BVH). */
 #define TZ_BINDING_NODES 5
 /* Dynamic, bound as TZ_BINDING_ACCUM: a vec4 a pixel, the compensation of its RGB sums (Kahan
  * summation, src/film_sum.h), w unused; the pass that completes a pixel's samples stores the
@@ -121,15 +121,22 @@ struct gpu_unrolled {
     TZ_VEC4 lights[2 * TZ_UNROLL_MAX_LIGHTS];
 };
 
-/* BVH: a depth-first flat array; an inner node's first child is the next node. The w fields hold
- * uint bits (floatBitsToUint in GLSL): lo.w = inner: index of the second child, leaf: first sphere;
- * hi.w = number of spheres in a leaf (1..TZ_BVH_LEAF_MAX), 0 for an inner node. */
+/* BVH: the inner nodes of a binary SAH tree, depth first, the root first. A node holds its two
+ * children's boxes and, in lo.w (uint bits), each child's reference: a leaf's sphere count
+ * (1..TZ_BVH_LEAF_MAX) in the bits from TZ_BVH_COUNT_SHIFT up and its first sphere below them,
+ * or count 0 and the inner child's index. A tree that is one leaf is a root whose right child is
+ * empty: a box at +infinity, which no ray enters (its slab distances are all +inf or all -inf on
+ * each axis), and reference 0. */
 #define TZ_BVH_MAX_DEPTH 48 /* the build never exceeds it: traversal stacks hold this many */
 #define TZ_BVH_LEAF_MAX 8
+#define TZ_BVH_COUNT_SHIFT 28u
+#define TZ_BVH_INDEX_MASK 0x0fffffffu
 
 struct gpu_bvh_node {
-    TZ_VEC4 lo; /* xyz box minimum, w see above */
-    TZ_VEC4 hi; /* xyz box maximum, w see above */
+    TZ_VEC4 left_lo;  /* xyz the left child's box minimum, w its reference */
+    TZ_VEC4 left_hi;  /* xyz its maximum, w unused (0) */
+    TZ_VEC4 right_lo; /* the same for the right child */
+    TZ_VEC4 right_hi;
 };
 
 #endif

@@ -27,7 +27,7 @@ layout(std430, set = 0, binding = TZ_BINDING_COUNTERS) buffer counter_block {
     uint rays;
     uint rays_high;
 };
-layout(set = 0, binding = TZ_BINDING_NODES) uniform samplerBuffer node_texels;
+layout(set = 0, binding = TZ_BINDING_NODES) uniform usamplerBuffer node_texels;
 layout(push_constant) uniform pass_block { gpu_pass pass; };
 layout(constant_id = TZ_SPEC_UNROLLED_SPHERES) const uint UNROLLED_SPHERES = 0u;
 layout(constant_id = TZ_SPEC_UNROLLED_LIGHTS) const uint UNROLLED_LIGHTS = 0u;
@@ -53,8 +53,8 @@ vec4 light_position_power(int k) {
 vec4 light_color(int k) {
     return UNROLLED_LIGHTS > 0u ? spec_light_color(k) : texelFetch(light_texels, 2 * k + 1);
 }
-vec4 node_lo(uint k) { return texelFetch(node_texels, int(2u * k)); }
-vec4 node_hi(uint k) { return texelFetch(node_texels, int(2u * k + 1u)); }
+/* vec4 f of struct gpu_bvh_node k as uints (0 left_lo, 1 left_hi, 2 right_lo, 3 right_hi). */
+uvec4 node_field(uint k, uint f) { return texelFetch(node_texels, int(4u * k + f)); }
 
 /* Loop counts: a specialization constant when small enough to unroll, else the frame's. */
 uint sphere_count() { return UNROLLED_SPHERES > 0u ? UNROLLED_SPHERES : frame.size.z; }

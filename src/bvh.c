@@ -1,4 +1,5 @@
-/* bvh.c: binned-SAH BVH build over spheres into the flat node array of shared_layout.h. */
+/* bvh.c: binned-SAH BVH build over spheres: a binary tree, then its inner nodes written into the
+ * flat array of shared_layout.h, each holding its two children's boxes. */
 #include "bvh.h"
 
 #include <math.h>
@@ -14,11 +15,18 @@ typedef struct box {
     float lo[3], hi[3];
 } box;
 
+/* A node of the binary tree: depth-first, an inner node's first child is the next node. */
+typedef struct binary_node {
+    box bounds;
+    uint32_t index; /* inner: the second child; leaf: the first sphere */
+    uint32_t count; /* spheres of a leaf, 0 for an inner node */
+} binary_node;
+
 typedef struct builder {
     box *bounds;     /* per input sphere, padded for rounding */
     float *centroid; /* 3 per input sphere */
     uint32_t *index; /* the permutation being built */
-    struct gpu_bvh_node *nodes;
+    binary_node *nodes;
     uint32_t node_count;
     uint32_t depth;
     uint32_t max_depth;
@@ -140,9 +148,7 @@ static uint32_t build_node(builder *b, uint32_t begin, uint32_t end, uint32_t de
         box_grow(&cbox, &point);
     }
     if (depth > b->depth) b->depth = depth;
-    struct gpu_bvh_node *node = &b->nodes[id];
-    node->lo = (tz_vec4){bounds.lo[0], bounds.lo[1], bounds.lo[2], 0.0f};
-    node->hi = (tz_vec4){bounds.hi[0], bounds.hi[1], bounds.hi[2], 0.0f};
+    b->nodes[id] = (binary_node){.bounds = bounds};
 
     int axis = 0, bin_split = 0;
     uint32_t mid = begin;
@@ -155,8 +161,8 @@ static uint32_t build_node(builder *b, uint32_t begin, uint32_t end, uint32_t de
     if (leaf_ok &&
         (n <= 1 || !(cost < INFINITY) ||
          TRAVERSAL_COST + cost / (parent_area > 0.0f ? parent_area : 1.0f) >= (float)n)) {
-        node->lo.w = float_of(begin);
-        node->hi.w = float_of(n);
+        b->nodes[id].index = begin;
+        b->nodes[id].count = n;
         return id;
     }
     if (cost < INFINITY) {
@@ -184,7 +190,35 @@ static uint32_t build_node(builder *b, uint32_t begin, uint32_t end, uint32_t de
     }
     build_node(b, begin, mid, depth + 1);
     uint32_t right = build_node(b, mid, end, depth + 1);
-    b->nodes[id].lo.w = float_of(right);
+    b->nodes[id].index = right;
+    return id;
+}
+
+/* Writes binary node k and the inner nodes below it, depth first, into out from *count on (a
+ * leaf root becomes a node whose second child is empty); returns its index in out. */
+static uint32_t flatten(const binary_node *tree, uint32_t k, struct gpu_bvh_node *out,
+                        uint32_t *count) {
+    uint32_t id = (*count)++;
+    /* A box at +infinity, which no ray enters. */
+    static const binary_node empty = {
+        {{INFINITY, INFINITY, INFINITY}, {INFINITY, INFINITY, INFINITY}}, 0, 0};
+    const binary_node *kids[2] = {&tree[k], &empty};
+    uint32_t at[2] = {k, 0};
+    if (tree[k].count == 0) {
+        at[0] = k + 1, at[1] = tree[k].index;
+        kids[0] = &tree[at[0]], kids[1] = &tree[at[1]];
+    }
+    tz_vec4 *lo[2] = {&out[id].left_lo, &out[id].right_lo};
+    tz_vec4 *hi[2] = {&out[id].left_hi, &out[id].right_hi};
+    for (int c = 0; c < 2; c++) {
+        const binary_node *kid = kids[c];
+        uint32_t ref = kid == &empty    ? 0u
+                       : kid->count > 0 ? kid->count << TZ_BVH_COUNT_SHIFT | kid->index
+                                        : flatten(tree, at[c], out, count);
+        const box *bx = &kid->bounds;
+        *lo[c] = (tz_vec4){bx->lo[0], bx->lo[1], bx->lo[2], float_of(ref)};
+        *hi[c] = (tz_vec4){bx->hi[0], bx->hi[1], bx->hi[2], 0.0f};
+    }
     return id;
 }
 
@@ -195,10 +229,11 @@ bool bvh_build(const struct gpu_sphere *spheres, uint32_t count, uint32_t max_de
     b.bounds = malloc(n * sizeof *b.bounds);
     b.centroid = malloc(3 * n * sizeof *b.centroid);
     b.index = malloc(n * sizeof *b.index);
-    b.nodes = calloc(2 * n, sizeof *b.nodes);
-    if (!b.bounds || !b.centroid || !b.index || !b.nodes) {
+    b.nodes = malloc(2 * n * sizeof *b.nodes);
+    struct gpu_bvh_node *flat = malloc(n * sizeof *flat); /* the inner nodes: fewer than n */
+    if (!b.bounds || !b.centroid || !b.index || !b.nodes || !flat) {
         log_error("out of memory building a BVH over %u spheres", count);
-        free(b.bounds), free(b.centroid), free(b.index), free(b.nodes);
+        free(b.bounds), free(b.centroid), free(b.index), free(b.nodes), free(flat);
         return false;
     }
     for (uint32_t k = 0; k < count; k++) {
@@ -212,10 +247,15 @@ bool bvh_build(const struct gpu_sphere *spheres, uint32_t count, uint32_t max_de
         b.centroid[3 * k] = c->x, b.centroid[3 * k + 1] = c->y, b.centroid[3 * k + 2] = c->z;
         b.index[k] = k;
     }
-    if (count > 0) build_node(&b, 0, count, 0); /* no spheres, no nodes: nothing to traverse */
+    uint32_t flat_count = 0;
+    if (count > 0) { /* no spheres, no nodes: nothing to traverse */
+        build_node(&b, 0, count, 0);
+        flatten(b.nodes, 0, flat, &flat_count);
+    }
     free(b.bounds);
     free(b.centroid);
-    *out = (bvh){.nodes = b.nodes, .node_count = b.node_count, .depth = b.depth, .order = b.index};
+    free(b.nodes);
+    *out = (bvh){.nodes = flat, .node_count = flat_count, .depth = b.depth, .order = b.index};
     return true;
 }
 

@@ -46,8 +46,9 @@ uint64_t integrator_rays_traced(void) { return rays_traced; }
 
 void integrator_count_rays(uint64_t n) { rays_traced += n; }
 
-/* Walks the BVH nearer child first with a stack of TZ_BVH_MAX_DEPTH (each level pushes at
- * most one node), or, without a BVH, every sphere SOA_LANES at a time. */
+/* Walks the BVH nearer child first with a stack of TZ_BVH_MAX_DEPTH child references (each
+ * level pushes at most one), testing each leaf child as it comes, or, without a BVH, every
+ * sphere SOA_LANES at a time. */
 SIMD_CLONES static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self, float tmax,
                                  int any_hit, float *t) {
     float tmin = ray_eps(o), best = tmax;
@@ -64,23 +65,20 @@ SIMD_CLONES static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self
     uint32_t stack[TZ_BVH_MAX_DEPTH];
     float stack_t[TZ_BVH_MAX_DEPTH];
     int top = 0;
-    /* The root's box holds every sphere: testing it would only repeat the leaves' work. */
-    uint32_t node = 0;
-    int go = 1;
-    while (go) {
-        const struct gpu_bvh_node *n = &p->nodes[node];
-        uint32_t leaf_count = uint_bits(n->hi.w);
-        if (leaf_count > 0) {
-            uint32_t first = uint_bits(n->lo.w);
-            leaf_hit(p, first, first + leaf_count, o, d, tmin, self, &best, &id);
+    uint32_t ref = 0; /* the root */
+    for (;;) {
+        uint32_t leaf = child_count(ref), first = child_index(ref);
+        if (leaf > 0) {
+            leaf_hit(p, first, first + leaf, o, d, tmin, self, &best, &id);
             if (any_hit && id >= 0) break;
         } else {
-            uint32_t left = node + 1, right = uint_bits(n->lo.w);
-            float tl = box_entry(&p->nodes[left], o, inv, best);
-            float tr = box_entry(&p->nodes[right], o, inv, best);
+            const struct gpu_bvh_node *n = &p->nodes[first];
+            float tl = box_entry(&n->left_lo, &n->left_hi, o, inv, best);
+            float tr = box_entry(&n->right_lo, &n->right_hi, o, inv, best);
             if (tl < INFINITY || tr < INFINITY) {
                 int left_first = tl <= tr;
-                node = left_first ? left : right;
+                uint32_t left = uint_bits(n->left_lo.w), right = uint_bits(n->right_lo.w);
+                ref = left_first ? left : right;
                 float other_t = left_first ? tr : tl;
                 if (other_t < INFINITY) {
                     stack[top] = left_first ? right : left;
@@ -89,12 +87,13 @@ SIMD_CLONES static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self
                 continue;
             }
         }
-        go = 0; /* pop the nearest pending node that can still hold a nearer hit */
+        int go = 0; /* pop the nearest pending child that can still hold a nearer hit */
         while (top > 0 && !go) {
             top--;
-            node = stack[top];
+            ref = stack[top];
             go = stack_t[top] < best;
         }
+        if (!go) break;
     }
     *t = best;
     return id;

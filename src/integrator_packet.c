@@ -134,27 +134,26 @@ LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d
     uint32_t stack[TZ_BVH_MAX_DEPTH];
     float stack_t[TZ_BVH_MAX_DEPTH][LANES];
     int top = 0;
-    uint32_t node = 0; /* the root's box holds every sphere: no test */
+    uint32_t ref = 0; /* the root */
     for (;;) {
-        const struct gpu_bvh_node *n = &p->nodes[node];
-        uint32_t leaf_count = uint_bits(n->hi.w);
+        uint32_t leaf_count = child_count(ref), first = child_index(ref);
         if (leaf_count > 0) {
-            uint32_t first = uint_bits(n->lo.w);
             for (uint32_t s = first; s < first + leaf_count; s++)
                 packet_sphere(p, s, o, d, self, tmin, 1, best, id);
             if (any_hit && all_hit(id, active)) return;
         } else {
-            uint32_t left = node + 1, right = uint_bits(n->lo.w);
+            const struct gpu_bvh_node *n = &p->nodes[first];
             float tl[LANES], tr[LANES], near_l, near_r;
             for (int k = 0; k < LANES; k++) {
-                tl[k] = box_entry(&p->nodes[left], get3(o, k), get3(&inv, k), best[k]);
-                tr[k] = box_entry(&p->nodes[right], get3(o, k), get3(&inv, k), best[k]);
+                tl[k] = box_entry(&n->left_lo, &n->left_hi, get3(o, k), get3(&inv, k), best[k]);
+                tr[k] = box_entry(&n->right_lo, &n->right_hi, get3(o, k), get3(&inv, k), best[k]);
             }
             near_l = lanes_min(tl);
             near_r = lanes_min(tr);
             if (near_l < INFINITY || near_r < INFINITY) {
                 int left_first = near_l <= near_r;
-                node = left_first ? left : right;
+                uint32_t left = uint_bits(n->left_lo.w), right = uint_bits(n->right_lo.w);
+                ref = left_first ? left : right;
                 if ((left_first ? near_r : near_l) < INFINITY) {
                     stack[top] = left_first ? right : left;
                     memcpy(stack_t[top++], left_first ? tr : tl, sizeof tl);
@@ -162,11 +161,11 @@ LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d
                 continue;
             }
         }
-        /* pop the next pending node that a lane can still find a nearer hit in */
+        /* pop the next pending child that a lane can still find a nearer hit in */
         int go = 0;
         while (top > 0 && !go) {
             top--;
-            node = stack[top];
+            ref = stack[top];
             for (int k = 0; k < LANES; k++) go |= stack_t[top][k] < best[k];
         }
         if (!go) return;

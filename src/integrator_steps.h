@@ -74,18 +74,23 @@ static inline uint32_t uint_bits(float f) {
     return u;
 }
 
+/* The sphere count of a child reference (0: an inner node) and its index (node or first sphere).
+ */
+static inline uint32_t child_count(uint32_t ref) { return ref >> TZ_BVH_COUNT_SHIFT; }
+static inline uint32_t child_index(uint32_t ref) { return ref & TZ_BVH_INDEX_MASK; }
+
 /* 1/d with zero components of d replaced by 1e30 first, so the slab test has no NaN. */
 static inline vec3 inverse_direction(vec3 d) {
     return v3(d.x != 0.0f ? 1.0f / d.x : 1e30f, d.y != 0.0f ? 1.0f / d.y : 1e30f,
               d.z != 0.0f ? 1.0f / d.z : 1e30f);
 }
 
-/* Distance at which the ray enters the node's box, INFINITY when it misses it or enters at or
+/* Distance at which the ray enters the box lo..hi, INFINITY when it misses it or enters at or
  * beyond tmax (slab test; inv from inverse_direction). */
-static inline float box_entry(const struct gpu_bvh_node *n, vec3 o, vec3 inv, float tmax) {
-    float x1 = (n->lo.x - o.x) * inv.x, x2 = (n->hi.x - o.x) * inv.x;
-    float y1 = (n->lo.y - o.y) * inv.y, y2 = (n->hi.y - o.y) * inv.y;
-    float z1 = (n->lo.z - o.z) * inv.z, z2 = (n->hi.z - o.z) * inv.z;
+static inline float box_entry(const tz_vec4 *lo, const tz_vec4 *hi, vec3 o, vec3 inv, float tmax) {
+    float x1 = (lo->x - o.x) * inv.x, x2 = (hi->x - o.x) * inv.x;
+    float y1 = (lo->y - o.y) * inv.y, y2 = (hi->y - o.y) * inv.y;
+    float z1 = (lo->z - o.z) * inv.z, z2 = (hi->z - o.z) * inv.z;
     float near = x1 < x2 ? x1 : x2, far = x1 < x2 ? x2 : x1;
     float ny = y1 < y2 ? y1 : y2, fy = y1 < y2 ? y2 : y1;
     float nz = z1 < z2 ? z1 : z2, fz = z1 < z2 ? z2 : z1;

@@ -112,7 +112,7 @@ static bool check_limits(const vk_context *ctx, const scene *s, const render_opt
     const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
     uint64_t sizes[] = {(uint64_t)s->sphere_count * 3u, (uint64_t)s->light_count * 2u,
                         (uint64_t)TILE_SIZE * (uint64_t)s->width * ACCUM_PIXEL_BYTES,
-                        use_bvh ? (uint64_t)s->sphere_count * 4u : 0u};
+                        use_bvh ? (uint64_t)s->sphere_count * 4u : 0u}; /* < 1 node a sphere */
     uint64_t limit[] = {limits->maxTexelBufferElements, limits->maxTexelBufferElements,
                         limits->maxStorageBufferRange, limits->maxTexelBufferElements};
     const char *what[] = {"texels of spheres", "texels of lights", "bytes of accumulation rows",
@@ -153,7 +153,8 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
         !vk_buffer_create(ctx, light_bytes, texels, VK_MEMORY_DEVICE, &r->lights) ||
         !vk_buffer_create_view(ctx, &r->lights, VK_FORMAT_R32G32B32A32_SFLOAT) ||
         !vk_buffer_create(ctx, node_bytes, texels, VK_MEMORY_DEVICE, &r->nodes) ||
-        !vk_buffer_create_view(ctx, &r->nodes, VK_FORMAT_R32G32B32A32_SFLOAT) ||
+        /* As uints: child references are not floats (a GPU may flush their denormal bits). */
+        !vk_buffer_create_view(ctx, &r->nodes, VK_FORMAT_R32G32B32A32_UINT) ||
         !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum) ||
         !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum_comp) ||
         !vk_buffer_create(ctx, TZ_COUNTER_WORDS * sizeof(uint32_t), storage, VK_MEMORY_DEVICE,

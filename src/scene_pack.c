@@ -40,8 +40,13 @@ _Static_assert(sizeof(struct gpu_unrolled) == TZ_UNROLL_MAX_SPHERES * sizeof(str
 _Static_assert(offsetof(struct gpu_unrolled, lights) ==
                    TZ_UNROLL_MAX_SPHERES * sizeof(struct gpu_sphere),
                "gpu_unrolled layout");
-_Static_assert(sizeof(struct gpu_bvh_node) == 32, "gpu_bvh_node is 32 bytes");
-_Static_assert(offsetof(struct gpu_bvh_node, hi) == 16, "gpu_bvh_node layout");
+_Static_assert(sizeof(struct gpu_bvh_node) == 64, "gpu_bvh_node is 64 bytes");
+_Static_assert(offsetof(struct gpu_bvh_node, left_hi) == 16, "gpu_bvh_node layout");
+_Static_assert(offsetof(struct gpu_bvh_node, right_lo) == 32, "gpu_bvh_node layout");
+_Static_assert(offsetof(struct gpu_bvh_node, right_hi) == 48, "gpu_bvh_node layout");
+_Static_assert(TZ_BVH_LEAF_MAX < 1u << (32u - TZ_BVH_COUNT_SHIFT) &&
+                   SCENE_MAX_SPHERES - 1u <= TZ_BVH_INDEX_MASK,
+               "a leaf's count and first sphere fit a child reference");
 
 static tz_vec4 vec4_from(vec3 v, float w) { return (tz_vec4){v.x, v.y, v.z, w}; }
 

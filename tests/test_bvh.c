@@ -115,38 +115,61 @@ static uint32_t bits(float f) {
     return u;
 }
 
-/* Walks the tree: leaf sizes, coverage, containment; returns the depth below node. */
-static uint32_t check_node(const bvh *t, const struct gpu_sphere *spheres, uint32_t node,
-                           uint32_t *seen, uint32_t count, int *bad) {
-    const struct gpu_bvh_node *n = &t->nodes[node];
-    uint32_t leaf = bits(n->hi.w);
+/* 1 when box lo..hi lies within box olo..ohi. */
+static int box_within(const tz_vec4 *lo, const tz_vec4 *hi, const tz_vec4 *olo,
+                      const tz_vec4 *ohi) {
+    return lo->x >= olo->x && lo->y >= olo->y && lo->z >= olo->z && hi->x <= ohi->x &&
+           hi->y <= ohi->y && hi->z <= ohi->z;
+}
+
+/* Walks the child of box lo..hi that ref names: leaf sizes, coverage, containment; returns the
+ * depth of its deepest leaf below it (0 for a leaf). */
+static uint32_t check_child(const bvh *t, const struct gpu_sphere *spheres, uint32_t ref,
+                            const tz_vec4 *lo, const tz_vec4 *hi, uint32_t *seen, uint32_t count,
+                            int *bad) {
+    uint32_t leaf = ref >> TZ_BVH_COUNT_SHIFT, index = ref & TZ_BVH_INDEX_MASK;
     if (leaf) {
-        uint32_t first = bits(n->lo.w);
-        if (leaf > TZ_BVH_LEAF_MAX || first + leaf > count) {
+        if (leaf > TZ_BVH_LEAF_MAX || index + leaf > count) {
             (*bad)++;
             return 0;
         }
-        for (uint32_t k = first; k < first + leaf; k++) {
+        for (uint32_t k = index; k < index + leaf; k++) {
             seen[k]++;
             const tz_vec4 *c = &spheres[t->order[k]].center_radius;
-            if (c->x - c->w < n->lo.x || c->x + c->w > n->hi.x || c->y - c->w < n->lo.y ||
-                c->y + c->w > n->hi.y || c->z - c->w < n->lo.z || c->z + c->w > n->hi.z)
+            if (c->x - c->w < lo->x || c->x + c->w > hi->x || c->y - c->w < lo->y ||
+                c->y + c->w > hi->y || c->z - c->w < lo->z || c->z + c->w > hi->z)
                 (*bad)++;
         }
         return 0;
     }
-    uint32_t kids[2] = {node + 1, bits(n->lo.w)}, depth = 0;
-    for (int k = 0; k < 2; k++) {
-        const struct gpu_bvh_node *c = &t->nodes[kids[k]];
-        if (kids[k] >= t->node_count || c->lo.x < n->lo.x || c->hi.x > n->hi.x ||
-            c->lo.y < n->lo.y || c->hi.y > n->hi.y || c->lo.z < n->lo.z || c->hi.z > n->hi.z) {
-            (*bad)++;
-            continue;
-        }
-        uint32_t d = 1 + check_node(t, spheres, kids[k], seen, count, bad);
+    if (index >= t->node_count) {
+        (*bad)++;
+        return 0;
+    }
+    const struct gpu_bvh_node *n = &t->nodes[index];
+    const tz_vec4 *los[2] = {&n->left_lo, &n->right_lo}, *his[2] = {&n->left_hi, &n->right_hi};
+    uint32_t depth = 0;
+    for (int c = 0; c < 2; c++) {
+        if (!box_within(los[c], his[c], lo, hi)) (*bad)++;
+        uint32_t d = 1 + check_child(t, spheres, bits(los[c]->w), los[c], his[c], seen, count, bad);
         depth = d > depth ? d : depth;
     }
     return depth;
+}
+
+/* check_child from the root; a tree that is one leaf is a root with an empty right child. */
+static uint32_t check_root(const bvh *t, const struct gpu_sphere *spheres, uint32_t *seen,
+                           uint32_t count, int *bad) {
+    const struct gpu_bvh_node *root = &t->nodes[0];
+    if (root->right_lo.x == INFINITY) {
+        int empty = root->right_hi.x == INFINITY && bits(root->right_lo.w) == 0;
+        *bad += !empty;
+        return check_child(t, spheres, bits(root->left_lo.w), &root->left_lo, &root->left_hi, seen,
+                           count, bad);
+    }
+    const tz_vec4 everywhere_lo = {-INFINITY, -INFINITY, -INFINITY, 0};
+    const tz_vec4 everywhere_hi = {INFINITY, INFINITY, INFINITY, 0};
+    return check_child(t, spheres, 0, &everywhere_lo, &everywhere_hi, seen, count, bad);
 }
 
 static void check_tree(const char *name, const struct gpu_sphere *spheres, uint32_t count,
@@ -157,7 +180,7 @@ static void check_tree(const char *name, const struct gpu_sphere *spheres, uint3
     double seconds = (double)(clock() - start) / CLOCKS_PER_SEC;
     uint32_t *seen = calloc(count, sizeof *seen);
     int bad = 0;
-    uint32_t depth = check_node(&t, spheres, 0, seen, count, &bad);
+    uint32_t depth = check_root(&t, spheres, seen, count, &bad);
     int coverage = 0;
     for (uint32_t k = 0; k < count; k++) coverage += seen[k] != 1;
     CHECK(bad == 0, "%s: %d nodes break an invariant", name, bad);
