@@ -186,6 +186,9 @@ static void check_tree(const char *name, const struct gpu_sphere *spheres, uint3
     CHECK(bad == 0, "%s: %d nodes break an invariant", name, bad);
     CHECK(coverage == 0, "%s: %d spheres not in exactly one leaf", name, coverage);
     CHECK(depth == t.depth, "%s: depth %u, the build says %u", name, depth, t.depth);
+    /* Inner nodes only: a tree of L leaves has L - 1 (one node for a single leaf). */
+    CHECK(t.node_count <= (count > 1 ? count - 1 : 1), "%s: %u nodes for %u spheres", name,
+          t.node_count, count);
     CHECK(t.depth < max_depth, "%s: depth %u reaches the bound %u", name, t.depth, max_depth);
     printf("%s: %u spheres, %u nodes, depth %u, %.3f s\n", name, count, t.node_count, t.depth,
            seconds);
