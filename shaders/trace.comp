@@ -98,11 +98,12 @@ vec3 integrator_sample(uint i, uint j, uint sample_index) {
     return r;
 }
 
-/* isfinite() on the bits: immune to a compiler that assumes no NaN or infinity. */
-bool finite3(vec3 v) {
-    uvec3 e = floatBitsToUint(v) & 0x7f800000u;
-    return all(notEqual(e, uvec3(0x7f800000u)));
+/* isfinite() on the bits, per component: immune to a compiler that assumes no NaN or infinity. */
+bvec3 finite_parts(vec3 v) {
+    return notEqual(floatBitsToUint(v) & 0x7f800000u, uvec3(0x7f800000u));
 }
+/* True when every component is finite. */
+bool finite3(vec3 v) { return all(finite_parts(v)); }
 
 /* Adds value to the sums whose lost low-order parts are comp (Kahan): film_sum_add() of
  * src/film_sum.h, the same operations; past the float range the compensation stops. */
@@ -110,8 +111,7 @@ void film_sum_add(inout vec3 sum, inout vec3 comp, vec3 value) {
     precise vec3 y = value - comp;
     precise vec3 t = sum + y;
     precise vec3 lost = (t - sum) - y;
-    bvec3 finite = notEqual(floatBitsToUint(t) & 0x7f800000u, uvec3(0x7f800000u));
-    comp = mix(vec3(0.0), lost, finite);
+    comp = mix(vec3(0.0), lost, finite_parts(t));
     sum = t;
 }
 

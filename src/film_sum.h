@@ -1,8 +1,7 @@
 /* film_sum.h: compensated (Kahan) summation of a pixel's samples: the very operations of
  * film_sum_add() and of the last pass in shaders/trace.comp, so that both back ends sum alike,
- * operation for operation. A plain
- * float sum drifts as it grows (1,048,576 samples of 0.9 summed to a mean of 0.8913); this one
- * stays within rounding of the true mean at any sample count. */
+ * operation for operation. A plain float sum drifts as it grows (1,048,576 samples of 0.9 summed
+ * to a mean of 0.8913); this one stays within rounding of the true mean at any sample count. */
 #ifndef TRAZADOR_FILM_SUM_H
 #define TRAZADOR_FILM_SUM_H
 

@@ -440,14 +440,12 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
         [TZ_BINDING_COUNTERS] = &r->counter,      [TZ_BINDING_NODES] = &r->nodes,
         [TZ_BINDING_ACCUM_COMP] = &r->accum_comp,
     };
+    const VkDeviceSize band = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)width * ACCUM_PIXEL_BYTES;
     const VkDeviceSize ranges[] = {
-        [TZ_BINDING_FRAME] = VK_WHOLE_SIZE,
-        [TZ_BINDING_SPHERES] = VK_WHOLE_SIZE,
-        [TZ_BINDING_LIGHTS] = VK_WHOLE_SIZE,
-        [TZ_BINDING_ACCUM] = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)width * ACCUM_PIXEL_BYTES,
-        [TZ_BINDING_COUNTERS] = VK_WHOLE_SIZE,
-        [TZ_BINDING_NODES] = VK_WHOLE_SIZE,
-        [TZ_BINDING_ACCUM_COMP] = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)width * ACCUM_PIXEL_BYTES,
+        [TZ_BINDING_FRAME] = VK_WHOLE_SIZE,    [TZ_BINDING_SPHERES] = VK_WHOLE_SIZE,
+        [TZ_BINDING_LIGHTS] = VK_WHOLE_SIZE,   [TZ_BINDING_ACCUM] = band,
+        [TZ_BINDING_COUNTERS] = VK_WHOLE_SIZE, [TZ_BINDING_NODES] = VK_WHOLE_SIZE,
+        [TZ_BINDING_ACCUM_COMP] = band, /* the same band rows as the sums */
     };
     vk_kernel_bind(&r->ctx, &r->kernel, buffers, ranges);
     return true;
