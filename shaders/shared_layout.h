@@ -111,7 +111,7 @@ struct gpu_frame {
 /* Push constants of one dispatch: which tile and which samples (count >= 1, taken in order). */
 struct gpu_pass {
     TZ_UVEC4 tile;  /* x0, y0 of the tile in pixels, first sample index, sample count */
-    TZ_UVEC4 total; /* x: samples per pixel in all; yzw unused (0) */
+    TZ_UVEC4 total; /* x: samples per pixel in all, y: workgroup stride (see trace.comp), zw 0 */
 };
 
 /* The spheres and lights of an unrolled scene in the texel layout of TZ_BINDING_SPHERES and

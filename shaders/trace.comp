@@ -115,11 +115,24 @@ void film_sum_add(inout vec3 sum, inout vec3 comp, vec3 value) {
     sum = t;
 }
 
+/* The pixel of this invocation within the tile. Workgroup n of the dispatch takes block
+ * (n * pass.total.y) mod (the dispatch's workgroups), a stride coprime with that count: lavapipe
+ * gives each of its threads one run of consecutive workgroups (Mesa 22.3, lp_cs_tpool), so a
+ * run covers the whole tile, not a band of it with more or less work than the others. */
+uvec2 tile_pixel() {
+    uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
+    uint n = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    uint block = (n * pass.total.y) % groups;
+    uvec2 corner = uvec2(block % gl_NumWorkGroups.x, block / gl_NumWorkGroups.x);
+    return corner * gl_WorkGroupSize.xy + gl_LocalInvocationID.xy;
+}
+
 void main() {
-    uint i = pass.tile.x + gl_GlobalInvocationID.x;
-    uint j = pass.tile.y + gl_GlobalInvocationID.y;
+    uvec2 at = tile_pixel();
+    uint i = pass.tile.x + at.x;
+    uint j = pass.tile.y + at.y;
     if (i >= frame.size.x || j >= frame.size.y) return;
-    uint slot = gl_GlobalInvocationID.y * frame.size.x + i;
+    uint slot = at.y * frame.size.x + i;
     precise vec4 sum = accum[slot];
     vec3 comp = accum_comp[slot].xyz;
     uint dropped = 0u, overflowed = 0u;

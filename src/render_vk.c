@@ -205,6 +205,22 @@ typedef struct pass_plan {
     uint32_t passes_per_submit;
 } pass_plan;
 
+/* The workgroup stride of a dispatch of `groups` workgroups (gpu_pass.total.y): coprime with
+ * it, so every block is rendered once, and near groups / golden ratio, so that any run of
+ * consecutive workgroups spreads evenly over the tile (a Weyl sequence). */
+static uint32_t workgroup_stride(uint32_t groups) {
+    uint32_t stride = (uint32_t)(groups * 0.6180339887 + 0.5);
+    for (;; stride++) {
+        uint32_t a = groups, b = stride;
+        while (b) {
+            uint32_t t = a % b;
+            a = b;
+            b = t;
+        }
+        if (a == 1u) return stride;
+    }
+}
+
 /* Records passes [first, last) of the plan: a barrier before each, then one dispatch per tile,
  * each tile row band bound at its first row through the dynamic offset. */
 static void record_passes(vk_render *r, const pass_plan *plan, uint32_t first, uint32_t last) {
@@ -230,12 +246,14 @@ static void record_passes(vk_render *r, const pass_plan *plan, uint32_t first, u
             uint32_t th = plan->height - y0 < TILE_SIZE ? plan->height - y0 : TILE_SIZE;
             for (uint32_t x0 = 0; x0 < plan->width; x0 += TILE_SIZE) {
                 uint32_t tw = plan->width - x0 < TILE_SIZE ? plan->width - x0 : TILE_SIZE;
+                uint32_t gx = (tw + TZ_GROUP_X - 1u) / TZ_GROUP_X;
+                uint32_t gy = (th + TZ_GROUP_Y - 1u) / TZ_GROUP_Y;
                 struct gpu_pass push = {.tile = {x0, y0, sample, count},
-                                        .total = {plan->samples, 0u, 0u, 0u}};
+                                        .total = {plan->samples, workgroup_stride(gx * gy), 0u,
+                                                  0u}};
                 vkCmdPushConstants(cmd, r->kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
                                    sizeof push, &push);
-                vkCmdDispatch(cmd, (tw + TZ_GROUP_X - 1u) / TZ_GROUP_X,
-                              (th + TZ_GROUP_Y - 1u) / TZ_GROUP_Y, 1);
+                vkCmdDispatch(cmd, gx, gy, 1);
             }
         }
     }

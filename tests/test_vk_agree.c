@@ -1,7 +1,8 @@
 /* test_vk_agree.c: the Vulkan back end against the C reference, sample for sample (DESIGN section
  * 8). Scenes built here and every scene in scenes/, rendered small (96 pixels wide, 16 samples,
  * the same seed) by both back ends with validation on, must agree: PSNR >= 50 dB on 8-bit sRGB
- * and at most 0.1% of pixels differing by more than 1/255 once display-encoded. Also: staging
+ * and at most 0.1% of pixels differing by more than 1/255 once display-encoded. Also: an image of
+ * several tiles renders every pixel once a sample; staging
  * copies (the discrete-GPU path) give the very film mapped memory gives, and non-finite samples
  * are dropped and counted alike. Exits 77 only when no Vulkan device exists. */
 #include <dirent.h>
@@ -167,6 +168,14 @@ static void test_built_scenes(void) {
     check_crowd("crowd 16 spheres 4096 lights", 15, 4096, 16, 1);
 }
 
+/* Makes s `width` pixels across its own plane, the height following the plane's shape. */
+static void set_width(scene *s, int width) {
+    s->pixel_size = s->plane_width / (float)width;
+    s->width = width;
+    s->height = (int)lroundf(s->plane_height / s->pixel_size);
+    s->plane_height = (float)s->height * s->pixel_size;
+}
+
 /* Every scene in scenes/, 96 pixels across its own plane, 16 samples. */
 static void test_example_scenes(void) {
     const char *folder = TRAZADOR_SOURCE_DIR "/scenes";
@@ -184,10 +193,7 @@ static void test_example_scenes(void) {
         bool parsed = scene_parse_file(path, &s, &err);
         CHECK(parsed, "%s:%d:%d: %s", err.file, err.line, err.col, err.message);
         if (!parsed) continue;
-        s.pixel_size = s.plane_width / 96.0f;
-        s.width = 96;
-        s.height = (int)lroundf(s.plane_height / s.pixel_size);
-        s.plane_height = (float)s.height * s.pixel_size;
+        set_width(&s, 96);
         render_opts opts;
         render_opts_from_scene(&s, &opts);
         opts.samples = 16;
@@ -248,6 +254,30 @@ static void test_ties(void) {
     }
 }
 
+/* An image of several tiles, partial ones at the right and bottom edges: every pixel is
+ * rendered once a sample (the workgroups of a dispatch take the tile's blocks in a strided
+ * order), and the image agrees with the C one. */
+static void test_tiles(void) {
+    scene s = materials_scene();
+    set_width(&s, 520);
+    render_opts opts;
+    render_opts_from_scene(&s, &opts);
+    opts.samples = 2;
+    opts.indirect = false;
+    film vk = {0};
+    opts.validate = true;
+    if (render_vk(&s, &opts, &vk)) {
+        size_t n = (size_t)vk.width * (size_t)vk.height, wrong = 0;
+        for (size_t k = 0; k < n; k++) wrong += vk.accum[4 * k + 3] != 2.0f;
+        CHECK(s.height > 256 && wrong == 0, "%dx%d: %zu pixels not rendered exactly twice",
+              s.width, s.height, wrong);
+    } else {
+        CHECK(0, "tiles: the Vulkan render failed");
+    }
+    film_free(&vk);
+    check_agreement("materials 520 wide", &s, &opts);
+}
+
 /* TRAZADOR_VK_STAGING=1 sends every buffer through staging copies, as on a discrete GPU. */
 static void test_staging(void) {
     scene s = materials_scene();
@@ -299,6 +329,7 @@ int main(void) {
     test_built_scenes();
     test_example_scenes();
     test_ties();
+    test_tiles();
     test_staging();
     test_nonfinite();
     return check_summary("test_vk_agree");
