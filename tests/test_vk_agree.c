@@ -2,9 +2,9 @@
  * 8). Scenes built here and every scene in scenes/, rendered small (96 pixels wide, 16 samples,
  * the same seed) by both back ends with validation on, must agree: PSNR >= 50 dB on 8-bit sRGB
  * and at most 0.1% of pixels differing by more than 1/255 once display-encoded. Also: an image of
- * several tiles renders every pixel once a sample; staging
- * copies (the discrete-GPU path) give the very film mapped memory gives, and non-finite samples
- * are dropped and counted alike. Exits 77 only when no Vulkan device exists. */
+ * several tiles renders every pixel once a sample; staging copies (the discrete-GPU path) give
+ * the very film mapped memory gives; non-finite samples are dropped and counted alike. Exits 77
+ * only when no Vulkan device exists. */
 #include <dirent.h>
 #include <math.h>
 #include <stdio.h>
