@@ -66,12 +66,19 @@ void keep_nearest(int k, float t, inout float best, inout int id) {
 }
 
 /* Distance at which the ray enters the box lo..hi, infinity when it misses it or enters at or
- * beyond tmax (slab test; inv = 1/d with zero components replaced by 1e30, so no NaN). */
+ * beyond tmax (slab test; inv = 1/d with zero components replaced by 1e30): box_entry() in
+ * src/integrator_steps.h, the same comparisons in the same order (GLSL min and max leave NaN
+ * operands undefined, and lavapipe spends two more instructions on each). */
 float box_entry(vec4 lo, vec4 hi, vec3 o, vec3 inv, float tmax) {
     precise vec3 t1 = (lo.xyz - o) * inv, t2 = (hi.xyz - o) * inv;
-    vec3 tn = min(t1, t2), tf = max(t1, t2);
-    float near = max(max(tn.x, tn.y), max(tn.z, 0.0));
-    float far = min(tf.x, min(tf.y, tf.z));
+    float near = t1.x < t2.x ? t1.x : t2.x, far = t1.x < t2.x ? t2.x : t1.x;
+    float ny = t1.y < t2.y ? t1.y : t2.y, fy = t1.y < t2.y ? t2.y : t1.y;
+    float nz = t1.z < t2.z ? t1.z : t2.z, fz = t1.z < t2.z ? t2.z : t1.z;
+    near = near > ny ? near : ny;
+    near = near > nz ? near : nz;
+    near = near > 0.0 ? near : 0.0;
+    far = far < fy ? far : fy;
+    far = far < fz ? far : fz;
     return near <= far && near < tmax ? near : TZ_INFINITY;
 }
 
