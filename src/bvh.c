@@ -10,7 +10,7 @@
 
 /* 32 bins and a node visit costing two sphere tests, against 16 and four: random spheres (the
  * bench's camera, one thread) render 8-10% faster on the CPU at 1,000 to 1,000,000 spheres and
- * 4-5% faster on lavapipe, sphereflakes 2% faster; 1,000,000 spheres build in 0.85 s, not 0.47. */
+ * 4-5% faster on lavapipe, sphereflakes 2% faster. */
 #define BIN_COUNT 32
 #define TRAVERSAL_COST 2.0f /* relative to one sphere test */
 
@@ -94,45 +94,59 @@ static void select_median(builder *b, uint32_t begin, uint32_t end, uint32_t mid
 }
 
 /* Best binned-SAH split of [begin, end); returns the cost, *axis and *bin_split set, or INFINITY.
- */
+ * One pass over the spheres bins them on the three axes, and the sweeps skip empty bins: the
+ * same tree as a pass per axis over every bin, built in 0.59 s instead of 0.85 at 1,000,000
+ * spheres. */
 static float sah_split(const builder *b, uint32_t begin, uint32_t end, const box *cbox, int *axis,
                        int *bin_split) {
-    float best = INFINITY;
+    box bins[3][BIN_COUNT];
+    uint32_t counts[3][BIN_COUNT] = {{0}};
+    float scale[3];
+    bool binned[3];
     for (int a = 0; a < 3; a++) {
         float extent = cbox->hi[a] - cbox->lo[a];
-        if (!(extent > 0.0f)) continue;
-        box bins[BIN_COUNT];
-        uint32_t counts[BIN_COUNT] = {0};
-        for (int k = 0; k < BIN_COUNT; k++) bins[k] = box_empty();
-        float scale = BIN_COUNT / extent;
-        for (uint32_t k = begin; k < end; k++) {
-            uint32_t s = b->index[k];
-            int bin = (int)((b->centroid[3 * s + a] - cbox->lo[a]) * scale);
+        binned[a] = extent > 0.0f;
+        scale[a] = binned[a] ? BIN_COUNT / extent : 0.0f;
+        for (int k = 0; k < BIN_COUNT; k++) bins[a][k] = box_empty();
+    }
+    for (uint32_t k = begin; k < end; k++) {
+        uint32_t s = b->index[k];
+        for (int a = 0; a < 3; a++) {
+            if (!binned[a]) continue;
+            int bin = (int)((b->centroid[3 * s + a] - cbox->lo[a]) * scale[a]);
             bin = bin < 0 ? 0 : bin >= BIN_COUNT ? BIN_COUNT - 1 : bin;
-            counts[bin]++;
-            box_grow(&bins[bin], &b->bounds[s]);
+            counts[a][bin]++;
+            box_grow(&bins[a][bin], &b->bounds[s]);
         }
+    }
+    float best = INFINITY;
+    for (int a = 0; a < 3; a++) {
+        if (!binned[a]) continue;
+        /* Only the non-empty bins: splits at the empty ones cost what the split before them
+         * does, and deep in the tree most of the bins are empty. */
+        int used[BIN_COUNT], m = 0;
+        for (int k = 0; k < BIN_COUNT; k++)
+            if (counts[a][k] > 0) used[m++] = k;
         float right_area[BIN_COUNT];
         uint32_t right_count[BIN_COUNT];
         box acc = box_empty();
         uint32_t n = 0;
-        for (int k = BIN_COUNT - 1; k > 0; k--) {
-            box_grow(&acc, &bins[k]);
-            n += counts[k];
-            right_area[k] = box_area(&acc);
-            right_count[k] = n;
+        for (int u = m - 1; u > 0; u--) {
+            box_grow(&acc, &bins[a][used[u]]);
+            n += counts[a][used[u]];
+            right_area[u] = box_area(&acc);
+            right_count[u] = n;
         }
         acc = box_empty();
         n = 0;
-        for (int k = 0; k < BIN_COUNT - 1; k++) {
-            box_grow(&acc, &bins[k]);
-            n += counts[k];
-            if (n == 0 || right_count[k + 1] == 0) continue;
-            float cost = box_area(&acc) * (float)n + right_area[k + 1] * (float)right_count[k + 1];
+        for (int u = 0; u < m - 1; u++) {
+            box_grow(&acc, &bins[a][used[u]]);
+            n += counts[a][used[u]];
+            float cost = box_area(&acc) * (float)n + right_area[u + 1] * (float)right_count[u + 1];
             if (cost < best) {
                 best = cost;
                 *axis = a;
-                *bin_split = k + 1;
+                *bin_split = used[u] + 1;
             }
         }
     }
