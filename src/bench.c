@@ -36,6 +36,9 @@ static const long scaling_counts[] = {10, 1000, 100000, 1000000};
 /* A timed render shorter than this is timed again at the samples its speed asks for (the
  * warm-up's speed can be off: lavapipe compiles its shader in it). */
 #define SCALING_MIN_SECONDS (0.7 * SCALING_SECONDS)
+/* Timed renders of a row, the fastest kept: on a shared 2-core host single runs of the same row
+ * ranged over 25% (the 1,000,000-sphere CPU row from 4.8 to 6.1 Msamples/s). */
+#define SCALING_REPEATS 3
 
 /* Prints a measured figure in a column of `width`, or "-" when that back end was not timed. */
 static void print_figure(int width, double value, bool measured, const char *suffix) {
@@ -107,8 +110,9 @@ static double run_scaling(const scene *s, backend_choice backend, const char *cp
 }
 
 /* Msamples/s of s on the back end: a warm-up render, then renders at the power of two of samples
- * that the last one's speed says lasts SCALING_SECONDS, until one lasts SCALING_MIN_SECONDS;
- * *samples the spp timed. -1 on failure. */
+ * that the last one's speed says lasts SCALING_SECONDS, until one lasts SCALING_MIN_SECONDS, and
+ * the fastest of SCALING_REPEATS renders at that count; *samples the spp timed, *stats the
+ * fastest render's. -1 on failure. */
 static double time_scaling(const scene *s, backend_choice backend, const char *cpu_build,
                            int *samples, render_stats *stats) {
     *samples = SCALING_WARMUP_SAMPLES;
@@ -120,6 +124,12 @@ static double time_scaling(const scene *s, backend_choice backend, const char *c
         *stats = (render_stats){0};
         speed = run_scaling(s, backend, cpu_build, *samples, stats);
         if (stats->render_seconds >= SCALING_MIN_SECONDS || *samples == SCALING_MAX_SAMPLES) break;
+    }
+    for (int run = 1; speed >= 0.0 && run < SCALING_REPEATS; run++) {
+        render_stats again = {0};
+        double faster = run_scaling(s, backend, cpu_build, *samples, &again);
+        if (faster < 0.0) return faster;
+        if (faster > speed) speed = faster, *stats = again;
     }
     return speed;
 }
@@ -145,9 +155,9 @@ static int bench_scaling(bool want_cpu, bool want_vk) {
     printf(
         "\nscaling: random spheres, %dx%d, indirect on; Msamples/s of the passes alone (spp "
         "timed), "
-        "timed for %.2f s or more after a %d-spp warm-up; ref: the one-sample C reference "
-        "integrator (src/integrator.c) on the CPU back end's threads\n",
-        SCALING_SIZE, SCALING_SIZE, SCALING_MIN_SECONDS, SCALING_WARMUP_SAMPLES);
+        "timed for %.2f s or more after a %d-spp warm-up, the fastest of %d runs; ref: the "
+        "one-sample C reference integrator (src/integrator.c) on the CPU back end's threads\n",
+        SCALING_SIZE, SCALING_SIZE, SCALING_MIN_SECONDS, SCALING_WARMUP_SAMPLES, SCALING_REPEATS);
     printf("%10s %9s %7s %6s %14s %14s %14s %10s %10s %10s %7s %7s\n", "spheres", "build s",
            "B/sph", "depth", "cpu Msamples/s", "ref Msamples/s", "vk Msamples/s", "cpu vs 10",
            "ref vs 10", "vk vs 10", "vk/cpu", "vk/ref");
