@@ -205,6 +205,12 @@ typedef struct pass_plan {
     uint32_t passes_per_submit;
 } pass_plan;
 
+/* A dispatch has at most (TILE_SIZE / 8) x (TILE_SIZE / 4) workgroups. */
+_Static_assert((uint64_t)(TILE_SIZE / TZ_GROUP_X) * (TILE_SIZE / TZ_GROUP_Y) *
+                       (TILE_SIZE / TZ_GROUP_X) * (TILE_SIZE / TZ_GROUP_Y) <=
+                   UINT32_MAX,
+               "trace.comp's workgroup n * stride stays within 32 bits");
+
 /* The workgroup stride of a dispatch of `groups` workgroups (gpu_pass.total.y): coprime with
  * it, so every block is rendered once, and near groups / golden ratio, so that any run of
  * consecutive workgroups spreads evenly over the tile (a Weyl sequence). */
