@@ -71,7 +71,7 @@ typedef struct tz_uvec4 {
 #define TZ_SPEC_UNROLLED_SPHERES 0
 #define TZ_SPEC_UNROLLED_LIGHTS 1
 #define TZ_SPEC_FLAGS 2
-/* Loop passes one ray's BVH walk may take (a pop, a node visit and up to two sphere tests a pass)
+/* Loop passes one ray's BVH walk may take (a pop, a node visit and a sphere test a pass)
  * before the sample is dropped and counted, rather than cut short silently by lavapipe's loop
  * limit, which counts the passes of a whole SIMD group: bounding every walk bounds the group's
  * sum whatever the divergence. 0: unlimited (real GPUs have no such limit). */
