@@ -19,14 +19,17 @@
 #define PACKET_ENTRY_NAME(variant) integrator_sample_packet_##variant
 #define PACKET_ENTRY(variant) PACKET_ENTRY_NAME(variant)
 /* A packet's active lanes walk the BVH together when there are at least this many (fewer walk it
- * one by one). Measured on random scenes of 1,000 and 1,000,000 spheres and a sphereflake: three
- * quarters of the lanes for nearest hits; shadow rays, which converge on their light and end at
- * the first blocker, walk together from 3 lanes. Lanes of every direction walk together: split
- * by the octant of their directions, the cosine-distributed bounce rays of a 16-lane packet made
- * groups too small to walk together, and their one-by-one walks cost 20% more render time at
- * 1,000 and 1,000,000 spheres (the same on 8 lanes). */
-#define WALK_GROUP_MIN (LANES * 3 / 4)
-#define SHADOW_WALK_GROUP_MIN 3
+ * one by one): three eighths of the lanes for nearest hits, 2 for shadow rays, which converge on
+ * their light and end at the first blocker. Measured on 8 lanes (min of 5 alternating one-thread
+ * runs) on random scenes of 1,000 to 1,000,000 spheres and sphereflakes of depth 3 and 5, over
+ * the BVH of 32 bins: against 6 and 3 lanes (the best over the trees of 16 bins) 3-6% less render
+ * time; 2 or 1 lane do as well.
+ * Lanes of every direction walk together: split by the octant of their directions, the
+ * cosine-distributed bounce rays of a 16-lane packet made groups too small to walk together,
+ * and their one-by-one walks cost 20% more render time at 1,000 and 1,000,000 spheres (the same
+ * on 8 lanes). */
+#define WALK_GROUP_MIN (LANES * 3 / 8)
+#define SHADOW_WALK_GROUP_MIN 2
 
 /* The whole packet path is inlined into its entry point. */
 #define LANE_FN static inline __attribute__((always_inline))
