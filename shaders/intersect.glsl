@@ -71,9 +71,10 @@ void keep_nearest(int k, float t, inout float best, inout int id) {
  * operands undefined, and lavapipe spends two more instructions on each). */
 float box_entry(vec4 lo, vec4 hi, vec3 o, vec3 inv, float tmax) {
     precise vec3 t1 = (lo.xyz - o) * inv, t2 = (hi.xyz - o) * inv;
-    float near = t1.x < t2.x ? t1.x : t2.x, far = t1.x < t2.x ? t2.x : t1.x;
-    float ny = t1.y < t2.y ? t1.y : t2.y, fy = t1.y < t2.y ? t2.y : t1.y;
-    float nz = t1.z < t2.z ? t1.z : t2.z, fz = t1.z < t2.z ? t2.z : t1.z;
+    /* precise: a compiler may not turn these selects into min and max */
+    precise float near = t1.x < t2.x ? t1.x : t2.x, far = t1.x < t2.x ? t2.x : t1.x;
+    precise float ny = t1.y < t2.y ? t1.y : t2.y, fy = t1.y < t2.y ? t2.y : t1.y;
+    precise float nz = t1.z < t2.z ? t1.z : t2.z, fz = t1.z < t2.z ? t2.z : t1.z;
     near = near > ny ? near : ny;
     near = near > nz ? near : nz;
     near = near > 0.0 ? near : 0.0;
