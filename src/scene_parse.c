@@ -16,6 +16,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "decimal.h"
 #include "scene.h"
 #include "shared_layout.h"
 
@@ -275,9 +276,12 @@ static bool parse_number(parser *p, const key_spec *k, const token *t, double *o
         return fail_at(p, t->col, "expected a number for '%s', got '%s'%s", k->name, quote(p, t),
                        why);
     }
-    memcpy(p->number, t->text, (size_t)t->length);
-    p->number[t->length] = '\0';
-    double d = strtod(p->number, NULL);
+    double d;
+    if (!decimal_fast(t->text, t->length, &d)) {
+        memcpy(p->number, t->text, (size_t)t->length);
+        p->number[t->length] = '\0';
+        d = strtod(p->number, NULL);
+    }
     if (!(fabs(d) <= FLT_MAX)) {
         return fail_at(p, t->col, "number '%s' for '%s' is out of range (magnitude above %g)",
                        quote(p, t), k->name, FLT_MAX);
