@@ -2,6 +2,7 @@
 #ifndef TRAZADOR_DECIMAL_H
 #define TRAZADOR_DECIMAL_H
 
+#include <float.h>
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -44,6 +45,9 @@ static inline bool decimal_fast(const char *s, int n, double *out) {
         power += down ? -exponent : exponent;
     }
     double value = (double)mantissa;
+#if FLT_EVAL_METHOD != 0
+    if (mantissa != 0) return false; /* wider intermediates would round twice (32-bit x87) */
+#endif
     if (mantissa != 0) {
         if (power < -DECIMAL_EXACT_POWERS || power > DECIMAL_EXACT_POWERS) return false;
         value = power >= 0 ? value * powers[power] : value / powers[-power];
