@@ -136,9 +136,9 @@ static uint32_t check_child(const bvh *t, const struct gpu_sphere *spheres, uint
         for (uint32_t k = index; k < index + leaf; k++) {
             seen[k]++;
             const tz_vec4 *c = &spheres[t->order[k]].center_radius;
-            if (c->x - c->w < lo->x || c->x + c->w > hi->x || c->y - c->w < lo->y ||
-                c->y + c->w > hi->y || c->z - c->w < lo->z || c->z + c->w > hi->z)
-                (*bad)++;
+            tz_vec4 slo = {c->x - c->w, c->y - c->w, c->z - c->w, 0.0f};
+            tz_vec4 shi = {c->x + c->w, c->y + c->w, c->z + c->w, 0.0f};
+            if (!box_within(&slo, &shi, lo, hi)) (*bad)++;
         }
         return 0;
     }
