@@ -254,9 +254,9 @@ static void record_passes(vk_render *r, const pass_plan *plan, uint32_t first, u
                 uint32_t tw = plan->width - x0 < TILE_SIZE ? plan->width - x0 : TILE_SIZE;
                 uint32_t gx = (tw + TZ_GROUP_X - 1u) / TZ_GROUP_X;
                 uint32_t gy = (th + TZ_GROUP_Y - 1u) / TZ_GROUP_Y;
-                struct gpu_pass push = {.tile = {x0, y0, sample, count},
-                                        .total = {plan->samples, workgroup_stride(gx * gy), 0u,
-                                                  0u}};
+                struct gpu_pass push = {
+                    .tile = {x0, y0, sample, count},
+                    .total = {plan->samples, workgroup_stride(gx * gy), 0u, 0u}};
                 vkCmdPushConstants(cmd, r->kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
                                    sizeof push, &push);
                 vkCmdDispatch(cmd, gx, gy, 1);

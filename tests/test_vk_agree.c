@@ -269,8 +269,8 @@ static void test_tiles(void) {
     if (render_vk(&s, &opts, &vk)) {
         size_t n = (size_t)vk.width * (size_t)vk.height, wrong = 0;
         for (size_t k = 0; k < n; k++) wrong += vk.accum[4 * k + 3] != 2.0f;
-        CHECK(s.height > 256 && wrong == 0, "%dx%d: %zu pixels not rendered exactly twice",
-              s.width, s.height, wrong);
+        CHECK(s.height > 256 && wrong == 0, "%dx%d: %zu pixels not rendered exactly twice", s.width,
+              s.height, wrong);
     } else {
         CHECK(0, "tiles: the Vulkan render failed");
     }
