@@ -5,10 +5,10 @@
 #include <string.h>
 
 #include "check.h"
-#include "diff.h"
-#include "image.h"
-#include "render.h"
-#include "vk_context.h"
+#include "image/diff.h"
+#include "image/image.h"
+#include "render/render.h"
+#include "render/vk/vk_context.h"
 
 #define PI 3.14159265358979323846
 

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "decimal.h"
+#include "scene/decimal.h"
 
 /* 1 when the fast path took s (and then gave strtod's double), 0 when it left s to strtod. */
 static int agrees(const char *s) {

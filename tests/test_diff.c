@@ -9,9 +9,9 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "diff.h"
-#include "image.h"
-#include "log.h"
+#include "image/diff.h"
+#include "image/image.h"
+#include "util/log.h"
 #include "tmp_dir.h"
 
 static bool near(double got, double want, double tol) { return fabs(got - want) <= tol; }

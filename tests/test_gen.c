@@ -10,8 +10,8 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "gen.h"
-#include "render.h"
+#include "scene/gen.h"
+#include "render/render.h"
 #include "tmp_dir.h"
 
 /* Runs gen_command on a NULL-terminated argument list (argv[0] = "gen" is added). */

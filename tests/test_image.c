@@ -12,10 +12,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "atomic_file.h"
+#include "util/atomic_file.h"
 #include "check.h"
-#include "image.h"
-#include "log.h"
+#include "image/image.h"
+#include "util/log.h"
 #include "tmp_dir.h"
 
 static void write_file(const char *path, const void *data, size_t len) {

@@ -3,7 +3,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "log.h"
+#include "util/log.h"
 
 static void test_hold_long_errors(void) {
     /* Validation-layer messages run to a kilobyte or more: five of them and a summary line. */

@@ -9,10 +9,10 @@
 #include <string.h>
 
 #include "check.h"
-#include "gen.h"
-#include "integrator.h"
-#include "render.h"
-#include "scene_pack.h"
+#include "scene/gen.h"
+#include "render/cpu/integrator.h"
+#include "render/render.h"
+#include "render/scene_pack.h"
 
 #define SIDE 64 /* pixels of the square test image */
 

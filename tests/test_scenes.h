@@ -4,7 +4,7 @@
 
 #include <math.h>
 
-#include "scene.h"
+#include "scene/scene.h"
 
 /* A sphere: Phong parameters 0 and ior 1, 1.5 for glass (callers set others). */
 static inline sphere ball(float x, float y, float z, float radius, material_kind material, float r,

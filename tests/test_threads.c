@@ -3,7 +3,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "render.h"
+#include "render/render.h"
 
 int main(void) {
     scene s;

@@ -12,12 +12,12 @@
 #include <string.h>
 
 #include "check.h"
-#include "diff.h"
-#include "image.h"
-#include "render.h"
-#include "scene_pack.h"
+#include "image/diff.h"
+#include "image/image.h"
+#include "render/render.h"
+#include "render/scene_pack.h"
 #include "test_scenes.h"
-#include "vk_context.h"
+#include "render/vk/vk_context.h"
 
 #define MIN_PSNR 50.0
 #define MAX_DIFFER_SHARE 0.001

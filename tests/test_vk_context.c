@@ -4,9 +4,9 @@
 #include <stdlib.h>
 
 #include "check.h"
-#include "render.h"
+#include "render/render.h"
 #include "test_scenes.h"
-#include "vk_context.h"
+#include "render/vk/vk_context.h"
 
 /* A one-pixel scene: one Lambertian sphere in front of the camera, one light. */
 static light one_light = {

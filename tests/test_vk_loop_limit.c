@@ -7,10 +7,10 @@
 #include <stdlib.h>
 
 #include "check.h"
-#include "render.h"
+#include "render/render.h"
 #include "test_scenes.h"
-#include "vk_context.h"
-#include "vk_probe.h"
+#include "render/vk/vk_context.h"
+#include "render/vk/vk_probe.h"
 
 /* What one invocation should complete of loops of n[0] then n[1] iterations: on lavapipe a
  * budget of VK_PROBE_LAVAPIPE_LOOP_LIMIT passes, one spent at the end of every pass of either

@@ -1,0 +1,297 @@
+/* bench.c: `trazador bench`, fixed workloads timed on each back end (a benchmark, not a test). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+#include "util/clock.h"
+#include "default_scene.h"
+#include "scene/gen.h"
+#include "render/cpu/integrator.h"
+#include "util/log.h"
+#include "render/vk/vk_context.h"
+
+typedef struct workload {
+    const char *name;
+    int size; /* square image side in pixels */
+    int samples;
+    bool indirect;
+} workload;
+
+static const workload workloads[] = {
+    {"cornell 512x512 indirect", 512, 16, true},
+    {"cornell 512x512 direct", 512, 16, false},
+};
+
+/* Scene sizes of the scaling table: the same camera and image, more and more spheres. */
+static const long scaling_counts[] = {10, 1000, 100000, 1000000};
+#define SCALING_SIZE 256
+/* Each row is rendered first at SCALING_WARMUP_SAMPLES (lavapipe compiles its shader, caches and
+ * pages warm up), then timed at the power of two of samples, at most SCALING_MAX_SAMPLES, that
+ * makes its passes last SCALING_SECONDS or a little more: a 10-sphere row of 4 samples lasts 10 ms,
+ * too short to time (runs of it varied from 15 to 27 Msamples/s). */
+#define SCALING_WARMUP_SAMPLES 4
+#define SCALING_MAX_SAMPLES 256
+#define SCALING_SECONDS 0.5
+/* A timed render shorter than this is timed again at the samples its speed asks for (the
+ * warm-up's speed can be off: lavapipe compiles its shader in it). */
+#define SCALING_MIN_SECONDS (0.7 * SCALING_SECONDS)
+/* Timed renders of a row, the fastest kept: on a shared 2-core host single runs of the same row
+ * ranged over 25% (the 1,000,000-sphere CPU row from 4.8 to 6.1 Msamples/s). */
+#define SCALING_REPEATS 3
+
+/* Prints a measured figure in a column of `width`, or "-" when that back end was not timed. */
+static void print_figure(int width, double value, bool measured, const char *suffix) {
+    if (measured)
+        printf(" %*.2f%s", width - (int)strlen(suffix), value, suffix);
+    else
+        printf(" %*s", width, "-");
+}
+
+/* Renders the workload once, end to end (cpu_build: the CPU build by name, NULL the fastest);
+ * returns Msamples/s (and *mrays Mrays/s), or a negative number on failure. */
+static double run_workload(const scene *base, const workload *w, backend_choice backend,
+                           const char *cpu_build, int spp, double *mrays) {
+    scene s = *base;
+    s.plane_height = s.plane_width;
+    s.pixel_size = s.plane_width / (float)w->size;
+    s.width = s.height = w->size;
+    render_opts opts;
+    render_opts_from_scene(&s, &opts);
+    opts.samples = spp > 0 ? spp : w->samples;
+    opts.indirect = w->indirect;
+    opts.cpu_build = cpu_build;
+    render_stats stats = {0};
+    opts.stats = &stats;
+    film f = {0};
+    const char *used;
+    double start = clock_seconds();
+    bool ok = cli_render(&s, &opts, backend, &f, &used);
+    double elapsed = clock_seconds() - start;
+    film_free(&f);
+    *mrays = (double)stats.rays / elapsed * 1e-6;
+    return ok ? (double)w->size * w->size * opts.samples / elapsed * 1e-6 : -1.0;
+}
+
+/* A random-spheres scene (trazador gen random) of `count` spheres in all, ground included; false
+ * on failure. */
+static bool scaling_scene(long count, scene *out) {
+    gen_desc desc = {.kind = GEN_RANDOM, .count = 1, .seed = 1};
+    desc.count = count - (gen_sphere_count(&desc) - 1); /* the fixed spheres come on top */
+    char *text = NULL;
+    size_t length = 0;
+    FILE *fp = open_memstream(&text, &length);
+    bool ok = fp && gen_write(&desc, fp);
+    if (fp) fclose(fp);
+    scene_error err;
+    ok = ok && scene_parse_string(text, length, "gen random", out, &err);
+    free(text);
+    return ok;
+}
+
+/* Renders s with the back end at the scaling table's size and `samples` spp; Msamples/s of the
+ * sample passes alone (BVH build and, for Vulkan, device and pipeline set-up excluded), or -1 on
+ * failure. */
+static double run_scaling(const scene *s, backend_choice backend, const char *cpu_build,
+                          int samples, render_stats *stats) {
+    render_opts opts;
+    render_opts_from_scene(s, &opts);
+    opts.cpu_build = cpu_build;
+    opts.samples = samples;
+    opts.indirect = true;
+    opts.stats = stats;
+    film f = {0};
+    const char *used;
+    bool ok = cli_render(s, &opts, backend, &f, &used);
+    film_free(&f);
+    return ok && stats->render_seconds > 0.0
+               ? (double)s->width * s->height * opts.samples / stats->render_seconds * 1e-6
+               : -1.0;
+}
+
+/* Msamples/s of s on the back end: a warm-up render, then renders at the power of two of samples
+ * that the last one's speed says lasts SCALING_SECONDS, until one lasts SCALING_MIN_SECONDS, and
+ * the fastest of SCALING_REPEATS renders at that count; *samples the spp timed, *stats the
+ * fastest render's. -1 on failure. */
+static double time_scaling(const scene *s, backend_choice backend, const char *cpu_build,
+                           int *samples, render_stats *stats) {
+    *samples = SCALING_WARMUP_SAMPLES;
+    double speed = run_scaling(s, backend, cpu_build, *samples, stats);
+    for (int run = 0; speed >= 0.0 && run < 3; run++) {
+        double wanted = SCALING_SECONDS * speed * 1e6 / ((double)s->width * s->height);
+        *samples = SCALING_WARMUP_SAMPLES;
+        while (*samples < SCALING_MAX_SAMPLES && *samples < wanted) *samples *= 2;
+        *stats = (render_stats){0};
+        speed = run_scaling(s, backend, cpu_build, *samples, stats);
+        if (stats->render_seconds >= SCALING_MIN_SECONDS || *samples == SCALING_MAX_SAMPLES) break;
+    }
+    for (int run = 1; speed >= 0.0 && run < SCALING_REPEATS; run++) {
+        render_stats again = {0};
+        double faster = run_scaling(s, backend, cpu_build, *samples, &again);
+        if (faster < 0.0) return faster;
+        if (faster > speed) speed = faster, *stats = again;
+    }
+    return speed;
+}
+
+/* Prints Msamples/s with the spp timed, "12.34 (256)", in a column of `width`, or "-" when that
+ * back end was not timed. */
+static void print_speed(int width, double value, int spp, bool measured) {
+    char text[32] = "-";
+    if (measured) snprintf(text, sizeof text, "%.2f (%d)", value, spp);
+    printf(" %*s", width, text);
+}
+
+/* One engine of the scaling table: a back end, and for the CPU which build. */
+typedef struct engine {
+    backend_choice backend;
+    const char *cpu_build; /* NULL: the fastest */
+    bool wanted;
+} engine;
+
+/* The scaling table: cost per sample against the sphere count, for the CPU back end, the
+ * one-sample C reference integrator and the Vulkan back end. */
+static int bench_scaling(bool want_cpu, bool want_vk) {
+    printf(
+        "\nscaling: random spheres, %dx%d, indirect on; Msamples/s of the passes alone (spp "
+        "timed), the fastest of %d runs at a count sized to last %.2f s or more, after a %d-spp "
+        "warm-up; ref: the one-sample C reference integrator (src/integrator.c) on the CPU back "
+        "end's threads\n",
+        SCALING_SIZE, SCALING_SIZE, SCALING_REPEATS, SCALING_MIN_SECONDS, SCALING_WARMUP_SAMPLES);
+    printf("%10s %9s %7s %6s %14s %14s %14s %10s %10s %10s %7s %7s\n", "spheres", "build s",
+           "B/sph", "depth", "cpu Msamples/s", "ref Msamples/s", "vk Msamples/s", "cpu vs 10",
+           "ref vs 10", "vk vs 10", "vk/cpu", "vk/ref");
+    enum { CPU, REF, VK, ENGINES };
+    const engine engines[ENGINES] = {{BACKEND_CPU, NULL, want_cpu},
+                                     {BACKEND_CPU, PACKET_REFERENCE_NAME, want_cpu},
+                                     {BACKEND_VULKAN, NULL, want_vk}};
+    int failures = 0;
+    double base[ENGINES] = {0};
+    vec3 position = {0}, direction = {0}, up = {0};
+    for (size_t k = 0; k < sizeof scaling_counts / sizeof scaling_counts[0]; k++) {
+        scene s;
+        if (!scaling_scene(scaling_counts[k], &s)) {
+            printf("%10ld  could not generate the scene\n", scaling_counts[k]);
+            failures++;
+            continue;
+        }
+        if (k == 0) { /* every row keeps the first row's camera */
+            position = s.camera_position, direction = s.camera_direction, up = s.camera_up;
+        }
+        s.camera_position = position, s.camera_direction = direction, s.camera_up = up;
+        s.plane_height = s.plane_width;
+        s.pixel_size = s.plane_width / (float)SCALING_SIZE;
+        s.width = s.height = SCALING_SIZE;
+        render_stats stats[ENGINES] = {0};
+        int spp[ENGINES] = {0};
+        double speed[ENGINES] = {0};
+        bool ok[ENGINES];
+        for (int e = 0; e < ENGINES; e++) {
+            const engine *en = &engines[e];
+            speed[e] =
+                en->wanted ? time_scaling(&s, en->backend, en->cpu_build, &spp[e], &stats[e]) : 0.0;
+            failures += speed[e] < 0.0;
+            ok[e] = en->wanted && speed[e] > 0.0;
+            if (k == 0) base[e] = speed[e];
+        }
+        const render_stats *st = want_cpu ? &stats[CPU] : &stats[VK];
+        printf("%10d %9.3f %7.1f %6u", s.sphere_count, st->bvh_seconds,
+               (double)st->scene_bytes / s.sphere_count, st->bvh_depth);
+        for (int e = 0; e < ENGINES; e++) print_speed(14, speed[e], spp[e], ok[e]);
+        /* Cost per sample relative to the 10-sphere scene: how much slower each sample is. */
+        for (int e = 0; e < ENGINES; e++)
+            print_figure(10, base[e] / speed[e], ok[e] && base[e] > 0.0, "x");
+        print_figure(7, speed[VK] / speed[CPU], ok[VK] && ok[CPU], "");
+        print_figure(7, speed[VK] / speed[REF], ok[VK] && ok[REF], "");
+        printf("\n");
+        fflush(stdout);
+        scene_free(&s);
+    }
+    return failures;
+}
+
+int bench_command(int argc, char **argv) {
+    bool want_cpu = true, have_vk = vk_context_device_count() > 0, want_vk = have_vk;
+    bool vk_named = false; /* --backend vulkan or both: no device is an error, not a skip */
+    long long spp = 0;
+    for (int k = 1; k < argc; k++) {
+        const char *value = k + 1 < argc ? argv[k + 1] : "";
+        if (!strcmp(argv[k], "--backend")) {
+            want_cpu = !strcmp(value, "cpu") || !strcmp(value, "both") || !strcmp(value, "auto");
+            vk_named = !strcmp(value, "vulkan") || !strcmp(value, "both");
+            want_vk = vk_named || (!strcmp(value, "auto") && have_vk);
+            if (!want_cpu && !want_vk) {
+                fprintf(stderr, "trazador: bench --backend takes auto, vulkan, cpu or both\n");
+                return 2;
+            }
+            k++;
+        } else if (!strcmp(argv[k], "--spp")) {
+            if (!cli_parse_int(value, 1, 65536, &spp)) {
+                fprintf(stderr,
+                        "trazador: bench --spp takes a whole number from 1 to 65536, got '%s'\n",
+                        value);
+                return 2;
+            }
+            k++;
+        } else {
+            bool help = !strcmp(argv[k], "--help") || !strcmp(argv[k], "-h");
+            fprintf(help ? stdout : stderr,
+                    "%susage: trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
+                    "  --spp N: samples per pixel of the default-scene workloads (the scaling "
+                    "table times each row for about %.1f s)\n",
+                    help ? "" : "trazador: ", SCALING_SECONDS);
+            return help ? 0 : 2;
+        }
+    }
+    if (vk_named && !have_vk) {
+        log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
+        return 1;
+    }
+
+    scene s;
+    scene_error err;
+    if (!scene_parse_string(default_scene_text, strlen(default_scene_text), "cornell.scene", &s,
+                            &err)) {
+        scene_error_print(&err);
+        return 1;
+    }
+    int failures = 0;
+    if (want_cpu) {
+        packet_integrator every = integrator_packet_choose(NULL, false);
+        packet_integrator walk = integrator_packet_choose(NULL, true);
+        printf(
+            "cpu: packet integrator build %s (%u lanes) where every sphere is tested, %s (%u "
+            "lanes) where the BVH is walked\n",
+            every.name, every.width, walk.name, walk.width);
+    } else {
+        printf("cpu: not timed (--backend vulkan)\n");
+    }
+    if (!want_vk) printf("vulkan: not timed (%s)\n", have_vk ? "--backend cpu" : "no device");
+    printf("%-34s %15s %12s %15s %15s %12s %7s %7s\n", "workload (end to end)", "cpu Msamples/s",
+           "cpu Mrays/s", "ref Msamples/s", "vk Msamples/s", "vk Mrays/s", "vk/cpu", "vk/ref");
+    for (size_t k = 0; k < sizeof workloads / sizeof workloads[0]; k++) {
+        const workload *w = &workloads[k];
+        double cpu_rays = 0.0, ref_rays = 0.0, vk_rays = 0.0;
+        double cpu = want_cpu ? run_workload(&s, w, BACKEND_CPU, NULL, (int)spp, &cpu_rays) : 0.0;
+        double ref =
+            want_cpu ? run_workload(&s, w, BACKEND_CPU, PACKET_REFERENCE_NAME, (int)spp, &ref_rays)
+                     : 0.0;
+        double vk = want_vk ? run_workload(&s, w, BACKEND_VULKAN, NULL, (int)spp, &vk_rays) : 0.0;
+        failures += cpu < 0.0 || ref < 0.0 || vk < 0.0;
+        char name[64];
+        snprintf(name, sizeof name, "%s, %d spp", w->name, spp > 0 ? (int)spp : w->samples);
+        printf("%-34s", name);
+        print_figure(15, cpu, want_cpu && cpu > 0.0, "");
+        print_figure(12, cpu_rays, want_cpu && cpu > 0.0, "");
+        print_figure(15, ref, want_cpu && ref > 0.0, "");
+        print_figure(15, vk, want_vk && vk > 0.0, "");
+        print_figure(12, vk_rays, want_vk && vk > 0.0, "");
+        print_figure(7, vk / cpu, want_cpu && want_vk && cpu > 0.0 && vk > 0.0, "");
+        print_figure(7, vk / ref, want_cpu && want_vk && ref > 0.0 && vk > 0.0, "");
+        printf("\n");
+        fflush(stdout);
+    }
+    scene_free(&s);
+    failures += bench_scaling(want_cpu, want_vk);
+    return failures ? 1 : 0;
+}

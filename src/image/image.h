@@ -1,0 +1,44 @@
+/* image.h: float RGB images, the film -> image resolve, tonemapping, PPM/PNG/PFM read and write. */
+#ifndef TRAZADOR_IMAGE_H
+#define TRAZADOR_IMAGE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "render/render.h"
+
+typedef enum tonemap { TONEMAP_SRGB = 0, TONEMAP_LINEAR = 1 } tonemap;
+
+/* Largest width or height image_init and image_read accept. */
+#define IMAGE_MAX_DIM 16384
+
+/* Linear float RGB, rows top to bottom, 3 floats a pixel. */
+typedef struct image {
+    int width, height;
+    float *rgb;
+} image;
+
+/* Allocates a black width x height image; false on a size outside 1..IMAGE_MAX_DIM or OOM. */
+bool image_init(image *img, int width, int height);
+/* Averages the film into a new image (sum / count, black where count is 0); false on OOM. */
+bool image_from_film(const film *f, image *out);
+/* Frees the pixels; safe on a zeroed image. */
+void image_free(image *img);
+/* Clamps to [0,1] and applies the transfer function: 8-bit value of one linear channel. */
+uint8_t tonemap_channel(float linear, tonemap tm);
+/* Clamps to [0,1] (NaN to 0) and applies the transfer function, unquantized: display value in
+ * [0,1]; never fails. */
+double tonemap_encode(float linear, tonemap tm);
+/* Inverse of tonemap_channel: a linear value that encodes back to exactly `value` (never fails). */
+float tonemap_decode(uint8_t value, tonemap tm);
+/* Writes .ppm, .png or .pfm by extension via a temporary file and rename; false on error. */
+bool image_write(const char *path, const image *img, tonemap tm);
+/* The format ("ppm", "png" or "pfm") the path's extension names, any case; NULL for none. */
+const char *image_path_format(const char *path);
+/* image_write in `format` ("ppm", "png" or "pfm"; NULL: by extension) whatever the path's name,
+ * for outputs such as /dev/stdout; false on error. */
+bool image_write_as(const char *path, const char *format, const image *img, tonemap tm);
+/* Reads .ppm, .png or .pfm (8-bit formats decoded with tm back to linear); false on error. */
+bool image_read(const char *path, image *out, tonemap tm);
+
+#endif

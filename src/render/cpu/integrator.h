@@ -1,0 +1,70 @@
+/* integrator.h: the seed integrator of DESIGN section 3 in C, one sample at a time; the twin of
+ * shaders/trace.comp and the oracle the Vulkan back end is checked against. */
+#ifndef TRAZADOR_INTEGRATOR_H
+#define TRAZADOR_INTEGRATOR_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "render/scene_pack.h"
+
+/* Radiance of sample `sample_index` of pixel (i, j), i to the right and j down; never fails. */
+vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
+
+/* The widest packet of any packet integrator. */
+#define PACKET_LANES_MAX 16
+/* The most packet integrators a build has, the one-sample reference included. */
+#define PACKET_VARIANTS_MAX 4
+/* The name of the build that is integrator_sample itself, one sample at a time (never the
+ * default: the oracle, timed by bench). */
+#define PACKET_REFERENCE_NAME "reference"
+
+/* A build of the packet integrator (src/integrator_packet.c) for one vector level: sample(p, i, j,
+ * lanes, sample_index, out) sets out[k] = integrator_sample(p, i + k, j, sample_index) for
+ * k < lanes (<= width), bit for bit, computing all of them at once; never fails. */
+typedef struct packet_integrator {
+    const char *name; /* its vector level, e.g. "x86-64-v4" */
+    uint32_t width;
+    void (*sample)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                   uint32_t sample_index, vec3 *out);
+} packet_integrator;
+
+/* Scenes of at most this many spheres are intersected packet against every sphere; bigger ones
+ * through the BVH. */
+#define PACKET_BRUTE_FORCE_MAX 16
+/* The widest packet that walks the BVH well: measured on the development machine (AMD EPYC,
+ * AVX-512), the 8-lane AVX2 build renders 1,000 to 1,000,000 random spheres 15-25% faster than
+ * the 16-lane one, which is 25-30% faster where every sphere is tested. */
+#define PACKET_WALK_LANES_MAX 8
+
+/* 1 when the packet integrators walk the BVH for this scene (it has one and more than
+ * PACKET_BRUTE_FORCE_MAX spheres), 0 when they test every sphere; never fails. */
+static inline int integrator_packet_walks(const packed_scene *p) {
+    return p->frame.settings.w > 0 && p->frame.size.z > PACKET_BRUTE_FORCE_MAX;
+}
+
+/* The packet integrators this processor runs into list, fastest first (the reference last);
+ * returns how many (>= 2). */
+int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]);
+/* The build named `wanted`, or when NULL the one TRAZADOR_PACKET_BUILD names, or the fastest
+ * for the scene: the first listed, or with walks_bvh the first of at most PACKET_WALK_LANES_MAX
+ * lanes; never fails (warns, falls back to the fastest). */
+packet_integrator integrator_packet_choose(const char *wanted, bool walks_bvh);
+
+/* Nearest sphere hit by the ray o + t d (|d| = 1) with t > EPS, -1 on a miss; `self` is the
+ * sphere the ray leaves (-1 for none): its near root is the ray's own origin and is ignored. */
+int integrator_nearest(const packed_scene *p, vec3 o, vec3 d, int self, float *t_out);
+/* Nearest sphere hit below tmax (*t its distance), or with any_hit the first one found; -1 when
+ * none. Through the BVH when the scene has one, else over every sphere; counts no ray. */
+int integrator_trace(const packed_scene *p, vec3 o, vec3 d, int self, float tmax, int any_hit,
+                     float *t);
+/* Rays (nearest-hit and shadow) the calling thread has traced so far, counted by
+ * integrator_nearest, integrator_occluded and integrator_count_rays; never fails. */
+uint64_t integrator_rays_traced(void);
+/* Adds n rays to the calling thread's count; never fails. */
+void integrator_count_rays(uint64_t n);
+/* 1 when a sphere (glass too, as in the seed) blocks o + t d for EPS < t < dist, else 0; never
+ * fails. */
+int integrator_occluded(const packed_scene *p, vec3 o, vec3 d, float dist, int self);
+
+#endif

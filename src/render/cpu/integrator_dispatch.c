@@ -1,0 +1,100 @@
+/* integrator_dispatch.c: the builds of the packet integrator (src/integrator_packet.c, one per
+ * vector level, see CMakeLists.txt) and which of them this processor runs. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/cpu/integrator.h"
+#include "util/log.h"
+
+typedef void packet_sample_fn(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                              uint32_t sample_index, vec3 *out);
+
+packet_sample_fn integrator_sample_packet_baseline;
+#ifdef TRAZADOR_PACKET_X86_64_V4
+packet_sample_fn integrator_sample_packet_x86_64_v4;
+
+/* AVX-512 F, BW, CD, DQ and VL with AVX2, FMA and BMI2 (x86-64-v4), state saved by the OS. */
+static bool runs_x86_64_v4(void) {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+           __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("avx512dq") &&
+           __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx2") &&
+           __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi2");
+}
+#endif
+#ifdef TRAZADOR_PACKET_AVX2
+packet_sample_fn integrator_sample_packet_avx2;
+
+/* AVX2, state saved by the OS. */
+static bool runs_avx2(void) {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2");
+}
+#endif
+
+static bool runs_anywhere(void) { return true; }
+
+/* The reference build: integrator_sample for each lane in turn. */
+static void sample_reference(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                             uint32_t sample_index, vec3 *out) {
+    for (uint32_t k = 0; k < lanes; k++) out[k] = integrator_sample(p, i + k, j, sample_index);
+}
+
+/* Every build compiled into this binary, fastest first, with what it needs to run. */
+static const struct {
+    packet_integrator build;
+    bool (*runs)(void);
+} compiled_builds[] = {
+#ifdef TRAZADOR_PACKET_X86_64_V4
+    {{"x86-64-v4", 16, integrator_sample_packet_x86_64_v4}, runs_x86_64_v4},
+#endif
+#ifdef TRAZADOR_PACKET_AVX2
+    {{"avx2", 8, integrator_sample_packet_avx2}, runs_avx2},
+#endif
+    {{"baseline", 8, integrator_sample_packet_baseline}, runs_anywhere},
+    {{PACKET_REFERENCE_NAME, 8, sample_reference}, runs_anywhere},
+};
+#define COMPILED_BUILDS (sizeof compiled_builds / sizeof compiled_builds[0])
+
+int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]) {
+    int n = 0;
+    for (size_t k = 0; k < COMPILED_BUILDS; k++)
+        if (compiled_builds[k].runs()) list[n++] = compiled_builds[k].build;
+    return n;
+}
+
+/* The fastest build for the scene (see integrator_packet_choose) among the n of list. */
+static packet_integrator fastest(const packet_integrator *list, int n, bool walks_bvh) {
+    for (int k = 0; walks_bvh && k < n; k++)
+        if (list[k].width <= PACKET_WALK_LANES_MAX) return list[k];
+    return list[0];
+}
+
+packet_integrator integrator_packet_choose(const char *wanted, bool walks_bvh) {
+    packet_integrator list[PACKET_VARIANTS_MAX];
+    int n = integrator_packet_list(list);
+    const char *source = wanted ? "packet build " : "TRAZADOR_PACKET_BUILD="; /* for warnings */
+    if (!wanted) wanted = getenv("TRAZADOR_PACKET_BUILD");
+    if (!wanted || !*wanted) return fastest(list, n, walks_bvh);
+    for (int k = 0; k < n; k++)
+        if (!strcmp(list[k].name, wanted)) return list[k];
+    static bool warned; /* once a run: bench renders many times */
+    if (warned) return fastest(list, n, walks_bvh);
+    warned = true;
+    char names[64] = "";
+    for (size_t k = 0; k < COMPILED_BUILDS; k++) {
+        if (!strcmp(compiled_builds[k].build.name, wanted)) {
+            packet_integrator used = fastest(list, n, walks_bvh);
+            log_warn("%s%s: this processor cannot run that build; using %s", source, wanted,
+                     used.name);
+            return used;
+        }
+        snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", k ? ", " : "",
+                 compiled_builds[k].build.name);
+    }
+    packet_integrator used = fastest(list, n, walks_bvh);
+    log_warn("%s%s: no such build (this binary has %s); using %s", source, wanted, names,
+             used.name);
+    return used;
+}

@@ -1,0 +1,58 @@
+/* render.h: render options, the film, and the two back ends that share one signature. */
+#ifndef TRAZADOR_RENDER_H
+#define TRAZADOR_RENDER_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "scene/scene.h"
+
+/* What a render measured, for --verbose and bench. */
+typedef struct render_stats {
+    double pack_seconds;   /* struct scene -> GPU layout, BVH build included */
+    double bvh_seconds;    /* BVH build alone */
+    double render_seconds; /* the sample passes alone */
+    uint64_t rays;         /* nearest-hit and shadow rays traced */
+    uint32_t bvh_nodes, bvh_depth;
+    uint64_t scene_bytes;       /* spheres, lights and BVH nodes as the shaders read them */
+    unsigned validation_errors; /* Vulkan: what the validation layer reported (it fails the run) */
+} render_stats;
+
+/* The most threads the CPU back end runs. */
+#define RENDER_MAX_THREADS 256
+
+typedef struct render_opts {
+    int samples; /* samples per pixel */
+    uint32_t seed;
+    bool no_jitter; /* zero is default: jitter on */
+    bool indirect;
+    int bounces;           /* longest chain of specular events */
+    int threads;           /* CPU back end; 0 = all cores */
+    int device;            /* Vulkan back end; -1 = first */
+    bool validate;         /* Vulkan validation layer, errors fail the run */
+    bool no_bvh;           /* test every sphere for every ray (debugging, comparisons) */
+    bool progress;         /* progress line on stderr */
+    const char *cpu_build; /* CPU back end: the packet build by name; NULL: the fastest */
+    render_stats *stats;   /* filled by the back end when not NULL */
+} render_opts;
+
+/* Per-pixel accumulation: 4 floats a pixel, RGB sums and the count of finite samples. */
+typedef struct film {
+    int width, height;
+    float *accum;
+    uint64_t nonfinite; /* samples dropped because their radiance was NaN or infinite */
+} film;
+
+/* Fills opts from the scene's `render` settings (flags override afterwards); never fails. */
+void render_opts_from_scene(const scene *s, render_opts *opts);
+/* Allocates a zeroed film; false on out-of-memory. */
+bool film_init(film *f, int width, int height);
+/* Frees the film; safe on a zeroed film. */
+void film_free(film *f);
+
+/* Renders with the C reference integrator into f (allocated by the call); false on failure. */
+bool render_cpu(const scene *s, const render_opts *opts, film *f);
+/* Renders with the Vulkan compute back end into f (allocated by the call); false on failure. */
+bool render_vk(const scene *s, const render_opts *opts, film *f);
+
+#endif

@@ -1,0 +1,35 @@
+/* scene_pack.h: struct scene + render options -> the flat GPU layout both back ends consume. */
+#ifndef TRAZADOR_SCENE_PACK_H
+#define TRAZADOR_SCENE_PACK_H
+
+#include "render/render.h"
+#include "shared_layout.h"
+
+#define SOA_LANES 8
+
+/* Sphere centres and radii as separate arrays, each padded with zeros to a multiple of
+ * SOA_LANES: the C integrator tests 8 spheres at a time. */
+typedef struct sphere_soa {
+    float *cx, *cy, *cz, *r;
+} sphere_soa;
+
+typedef struct packed_scene {
+    struct gpu_frame frame;
+    struct gpu_sphere *spheres;
+    struct gpu_light *lights;
+    sphere_soa soa;             /* the C back end's copy of spheres[].center_radius */
+    struct gpu_bvh_node *nodes; /* frame.settings.w of them; NULL (0) without a BVH */
+    uint32_t bvh_depth;
+    double bvh_seconds; /* build time */
+} packed_scene;
+
+/* Packs the scene with the options applied, spheres in BVH order unless opts->no_bvh;
+ * false (logged) on out-of-memory. */
+bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out);
+/* Records the packing's figures (time since pack_start, BVH, sizes) into opts->stats if any;
+ * never fails. */
+void scene_pack_report(const packed_scene *p, const render_opts *opts, double pack_start);
+/* Frees the packed arrays; safe on a zeroed packed_scene. */
+void scene_pack_free(packed_scene *p);
+
+#endif

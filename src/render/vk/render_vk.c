@@ -1,0 +1,538 @@
+/* render_vk.c: the Vulkan back end: packs and uploads the scene once, then runs shaders/trace.comp
+ * over tiles of the image, sample pass after sample pass, each pass adding into one float
+ * accumulation buffer of compensated sums in sample order (a barrier between passes), and reads
+ * the sums back into the film once at the end. The film matches render_cpu's, sample for
+ * sample. */
+#include <inttypes.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "util/clock.h"
+#include "util/log.h"
+#include "render/render.h"
+#include "render/scene_pack.h"
+#include "trace_spv.h"
+#include "render/vk/vk_context.h"
+#include "render/vk/vk_probe.h"
+
+/* Tile side in pixels: one dispatch covers at most one tile, which bounds its duration on real
+ * GPUs (watchdogs) and the accumulation band it binds (TILE_SIZE rows of the image). */
+#define TILE_SIZE 256u
+/* Loop passes (about one ray/sphere test each) one dispatch may cost, so that a dispatch stays
+ * well under a second on a GPU; samples per dispatch are chosen to fit. */
+#define DISPATCH_BUDGET (UINT64_C(1) << 29)
+/* Loops unrolled by specialization (TZ_SPEC_UNROLLED_*, at most TZ_UNROLL_MAX_*): about 20-30%
+ * fewer instructions on lavapipe, at the price of compile time, which grows with the copies of
+ * the sphere test, spheres x lights in the shadow rays. Measured cold on lavapipe (first
+ * dispatch, Mesa's shader cache empty): plain loops ~120 ms; 8 spheres 165 ms; 16 spheres
+ * 250-280 ms; 16 spheres x 4 lights 550 ms, hence the cap on the product. */
+#define UNROLL_MAX_SHADOW_TESTS 16u /* unrolled spheres x unrolled lights */
+
+/* Loop passes one submission may cost: a few seconds on lavapipe, the granularity of the progress
+ * line and of the non-finite counter read-back. */
+#define SUBMIT_BUDGET (UINT64_C(1) << 31)
+/* Pixels an image is charged for at least: a smaller one leaves the device's lanes idle, and its
+ * few invocations take as long as this many would (a 1 x 1 image of a million samples was timed
+ * as one loop pass per sample, one submission of 14 s on lavapipe, with no progress). */
+#define MIN_CHARGED_PIXELS 1024u
+/* Loop passes a ray's BVH walk must be allowed at least on lavapipe for a scene to be tried. */
+#define MIN_WALK_BUDGET 256u
+/* Bytes a pixel takes in each accumulation buffer (sums, compensation): a vec4. */
+#define ACCUM_PIXEL_BYTES (4u * sizeof(float))
+
+/* The specialization constants of trace.comp in constant_id order, one 32-bit word each. */
+typedef struct spec_data {
+    uint32_t words[TZ_SPEC_SCENE];
+    struct gpu_unrolled scene;
+} spec_data;
+#define SPEC_COUNT (sizeof(spec_data) / sizeof(uint32_t))
+_Static_assert(offsetof(spec_data, scene) == TZ_SPEC_SCENE * sizeof(uint32_t),
+               "scene data start at constant_id TZ_SPEC_SCENE");
+
+typedef struct vk_render {
+    vk_context ctx;
+    vk_buffer frame, spheres, lights, nodes, accum, accum_comp, counter;
+    vk_buffer upload;   /* staging for the inputs when device memory is not mapped */
+    vk_buffer readback; /* staging: the counters at 0, the accumulation at 16 */
+    vk_kernel kernel;
+    VkFence fence;
+    VkCommandBuffer cmd;
+} vk_render;
+_Static_assert(TZ_COUNTER_WORDS * sizeof(uint32_t) <= 16,
+               "the counters fit before the accumulation");
+
+/* How the shader intersects a scene: every sphere in unrolled tests, a walk of the BVH (bounded on
+ * lavapipe), or a loop over every sphere; and the loop passes one sample may cost. */
+typedef struct strategy {
+    uint32_t unrolled_spheres; /* TZ_SPEC_UNROLLED_SPHERES: 0 when not unrolled */
+    bool use_bvh;
+    uint32_t walk; /* TZ_SPEC_WALK_BUDGET: 0 unlimited */
+    uint64_t sample_iterations;
+} strategy;
+
+/* Refuses what the device could not render right: scene or accumulation buffers past its limits,
+ * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit. */
+static bool check_limits(const vk_context *ctx, const scene *s, const render_opts *opts,
+                         const strategy *st) {
+    bool use_bvh = st->use_bvh;
+    uint64_t sample_iterations = st->sample_iterations;
+    if (vk_context_is_lavapipe(ctx) && use_bvh && st->walk < MIN_WALK_BUDGET) {
+        log_error(
+            "with %d lights and this bounce limit a ray could walk the BVH only %u loop "
+            "passes on lavapipe (its shaders stop loops silently after %u)" VK_CONTEXT_USE_CPU,
+            s->light_count, st->walk, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+        return false;
+    }
+    /* One sample an invocation: its passes and the sample loop's exit pass. */
+    if (vk_context_is_lavapipe(ctx) && !use_bvh &&
+        sample_iterations + 1u > VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
+        log_error("this scene needs up to %" PRIu64
+                  " loop passes per sample, past lavapipe's safe limit of %u (its shaders stop "
+                  "loops silently after %u%s)" VK_CONTEXT_USE_CPU,
+                  sample_iterations + 1u, VK_PROBE_LAVAPIPE_SAFE_ITERATIONS,
+                  VK_PROBE_LAVAPIPE_LOOP_LIMIT,
+                  opts->no_bvh ? "; --no-bvh tests every sphere for every ray" : "");
+        return false;
+    }
+    /* The accumulation buffer is addressed with 32-bit dynamic offsets, and drivers cap buffers
+     * below 4 GiB (lavapipe's maxBufferSize is 2^32 - 1): 16384 x 16384 pixels need 2^32 bytes. */
+    uint64_t rows = ((uint64_t)s->height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
+    uint64_t row_bytes = (uint64_t)s->width * ACCUM_PIXEL_BYTES;
+    uint64_t accum_bytes = rows * row_bytes;
+    if (accum_bytes > UINT32_MAX) {
+        log_error("a %d x %d image needs %" PRIu64
+                  " bytes of accumulation buffer (rows rounded up to whole %u-row tiles), past the "
+                  "4 GiB - 1 the Vulkan back end addresses (at this width %" PRIu64
+                  " rows fit)" VK_CONTEXT_USE_CPU,
+                  s->width, s->height, accum_bytes, TILE_SIZE,
+                  UINT32_MAX / row_bytes / TILE_SIZE * TILE_SIZE);
+        return false;
+    }
+    const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
+    uint64_t sizes[] = {(uint64_t)s->sphere_count * 3u, (uint64_t)s->light_count * 2u,
+                        (uint64_t)TILE_SIZE * (uint64_t)s->width * ACCUM_PIXEL_BYTES,
+                        use_bvh ? (uint64_t)s->sphere_count * 4u : 0u}; /* < 1 node a sphere */
+    uint64_t limit[] = {limits->maxTexelBufferElements, limits->maxTexelBufferElements,
+                        limits->maxStorageBufferRange, limits->maxTexelBufferElements};
+    const char *what[] = {"texels of spheres", "texels of lights", "bytes of accumulation rows",
+                          "texels of BVH nodes"};
+    for (int k = 0; k < 4; k++) {
+        if (sizes[k] > limit[k]) {
+            log_error("the scene needs %" PRIu64
+                      " %s in one buffer, past this device's limit of "
+                      "%" PRIu64 VK_CONTEXT_USE_CPU,
+                      sizes[k], what[k], limit[k]);
+            return false;
+        }
+    }
+    return true;
+}
+
+/* Creates the buffers and writes the packed scene into them (mapped, or through `upload`). */
+static bool create_buffers(vk_render *r, const packed_scene *p, int width, int height) {
+    vk_context *ctx = &r->ctx;
+    const VkBufferUsageFlags input = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                       VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                                       VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    size_t sphere_bytes = (p->frame.size.z ? p->frame.size.z : 1u) * sizeof *p->spheres;
+    size_t light_bytes = (p->frame.size.w ? p->frame.size.w : 1u) * sizeof *p->lights;
+    /* Without a BVH one zeroed node keeps the binding valid; the shader never reads it. */
+    static const struct gpu_bvh_node no_nodes[1];
+    const void *nodes = p->frame.settings.w ? (const void *)p->nodes : (const void *)no_nodes;
+    size_t node_bytes = (p->frame.settings.w ? p->frame.settings.w : 1u) * sizeof *p->nodes;
+    /* Rows padded to whole tiles: every band binding of TILE_SIZE rows stays inside the buffer. */
+    uint64_t rows = ((uint64_t)height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
+    VkDeviceSize accum_bytes = rows * (uint64_t)width * ACCUM_PIXEL_BYTES;
+    const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | input;
+    if (!vk_buffer_create(ctx, sizeof p->frame, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | input,
+                          VK_MEMORY_DEVICE, &r->frame) ||
+        !vk_buffer_create(ctx, sphere_bytes, texels, VK_MEMORY_DEVICE, &r->spheres) ||
+        !vk_buffer_create_view(ctx, &r->spheres, VK_FORMAT_R32G32B32A32_SFLOAT) ||
+        !vk_buffer_create(ctx, light_bytes, texels, VK_MEMORY_DEVICE, &r->lights) ||
+        !vk_buffer_create_view(ctx, &r->lights, VK_FORMAT_R32G32B32A32_SFLOAT) ||
+        !vk_buffer_create(ctx, node_bytes, texels, VK_MEMORY_DEVICE, &r->nodes) ||
+        /* As uints: child references are not floats (a GPU may flush their denormal bits). */
+        !vk_buffer_create_view(ctx, &r->nodes, VK_FORMAT_R32G32B32A32_UINT) ||
+        !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum) ||
+        !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum_comp) ||
+        !vk_buffer_create(ctx, TZ_COUNTER_WORDS * sizeof(uint32_t), storage, VK_MEMORY_DEVICE,
+                          &r->counter))
+        return false;
+    if (!r->accum.mapped || !r->counter.mapped) {
+        VkDeviceSize bytes = 16u + (VkDeviceSize)width * (VkDeviceSize)height * ACCUM_PIXEL_BYTES;
+        if (!vk_buffer_create(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, VK_MEMORY_READBACK,
+                              &r->readback))
+            return false;
+    }
+    const void *data[] = {&p->frame, p->spheres, p->lights, nodes};
+    vk_buffer *targets[] = {&r->frame, &r->spheres, &r->lights, &r->nodes};
+    size_t sizes[] = {sizeof p->frame, sphere_bytes, light_bytes, node_bytes};
+    if (r->frame.mapped && r->spheres.mapped && r->lights.mapped && r->nodes.mapped) {
+        for (int k = 0; k < 4; k++) memcpy(targets[k]->mapped, data[k], sizes[k]);
+        return true;
+    }
+    if (!vk_buffer_create(ctx, sizes[0] + sizes[1] + sizes[2] + sizes[3],
+                          VK_BUFFER_USAGE_TRANSFER_SRC_BIT, VK_MEMORY_UPLOAD, &r->upload))
+        return false;
+    size_t offset = 0;
+    for (int k = 0; k < 4; k++) {
+        memcpy((char *)r->upload.mapped + offset, data[k], sizes[k]);
+        offset += sizes[k];
+    }
+    return true;
+}
+
+/* Copies the staged inputs into place (when staged) and zeroes the accumulation buffers. */
+static void record_setup(vk_render *r) {
+    if (r->upload.buffer) {
+        vk_buffer *targets[] = {&r->frame, &r->spheres, &r->lights, &r->nodes};
+        VkDeviceSize offset = 0;
+        for (int k = 0; k < 4; k++) {
+            VkBufferCopy copy = {offset, 0, targets[k]->size};
+            vkCmdCopyBuffer(r->cmd, r->upload.buffer, targets[k]->buffer, 1, &copy);
+            offset += targets[k]->size;
+        }
+    }
+    vkCmdFillBuffer(r->cmd, r->accum.buffer, 0, VK_WHOLE_SIZE, 0u);
+    vkCmdFillBuffer(r->cmd, r->accum_comp.buffer, 0, VK_WHOLE_SIZE, 0u);
+}
+
+typedef struct pass_plan {
+    uint32_t width, height, samples;
+    uint32_t per_dispatch; /* samples one invocation renders, in order */
+    uint32_t passes_per_submit;
+} pass_plan;
+
+/* A dispatch has at most (TILE_SIZE / 8) x (TILE_SIZE / 4) workgroups. */
+_Static_assert((uint64_t)(TILE_SIZE / TZ_GROUP_X) * (TILE_SIZE / TZ_GROUP_Y) *
+                       (TILE_SIZE / TZ_GROUP_X) * (TILE_SIZE / TZ_GROUP_Y) <=
+                   UINT32_MAX,
+               "trace.comp's workgroup n * stride stays within 32 bits");
+
+/* The workgroup stride of a dispatch of `groups` workgroups (gpu_pass.total.y): coprime with
+ * it, so every block is rendered once, and near groups / golden ratio, so that any run of
+ * consecutive workgroups spreads evenly over the tile (a Weyl sequence). */
+static uint32_t workgroup_stride(uint32_t groups) {
+    uint32_t stride = (uint32_t)(groups * 0.6180339887 + 0.5);
+    for (;; stride++) {
+        uint32_t a = groups, b = stride;
+        while (b) {
+            uint32_t t = a % b;
+            a = b;
+            b = t;
+        }
+        if (a == 1u) return stride;
+    }
+}
+
+/* Records passes [first, last) of the plan: a barrier before each, then one dispatch per tile,
+ * each tile row band bound at its first row through the dynamic offset. */
+static void record_passes(vk_render *r, const pass_plan *plan, uint32_t first, uint32_t last) {
+    VkCommandBuffer cmd = r->cmd;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.pipeline);
+    for (uint32_t pass = first; pass < last; pass++) {
+        /* Each pass reads and writes what the one before wrote: samples add in order. */
+        vk_commands_barrier(
+            cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+            VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_UNIFORM_READ_BIT);
+        uint32_t sample = pass * plan->per_dispatch;
+        uint32_t count = plan->samples - sample < plan->per_dispatch ? plan->samples - sample
+                                                                     : plan->per_dispatch;
+        for (uint32_t y0 = 0; y0 < plan->height; y0 += TILE_SIZE) {
+            /* Dynamic offsets are 32-bit: at most (16384 - 256) rows of 16384 pixels of 16 bytes,
+             * 4.23e9, which fits. */
+            uint32_t band_offset = y0 * plan->width * (uint32_t)ACCUM_PIXEL_BYTES;
+            const uint32_t offsets[] = {band_offset, band_offset}; /* sums, compensation */
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.layout, 0, 1,
+                                    &r->kernel.set, 2, offsets);
+            uint32_t th = plan->height - y0 < TILE_SIZE ? plan->height - y0 : TILE_SIZE;
+            for (uint32_t x0 = 0; x0 < plan->width; x0 += TILE_SIZE) {
+                uint32_t tw = plan->width - x0 < TILE_SIZE ? plan->width - x0 : TILE_SIZE;
+                uint32_t gx = (tw + TZ_GROUP_X - 1u) / TZ_GROUP_X;
+                uint32_t gy = (th + TZ_GROUP_Y - 1u) / TZ_GROUP_Y;
+                struct gpu_pass push = {
+                    .tile = {x0, y0, sample, count},
+                    .total = {plan->samples, workgroup_stride(gx * gy), 0u, 0u}};
+                vkCmdPushConstants(cmd, r->kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                                   sizeof push, &push);
+                vkCmdDispatch(cmd, gx, gy, 1);
+            }
+        }
+    }
+}
+
+/* Makes the counter (and with `final` the accumulation) readable by the host after the fence. */
+static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
+    VkCommandBuffer cmd = r->cmd;
+    vk_commands_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                        VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_HOST_READ_BIT);
+    if (!r->counter.mapped) {
+        VkBufferCopy copy = {0, 0, TZ_COUNTER_WORDS * sizeof(uint32_t)};
+        vkCmdCopyBuffer(cmd, r->counter.buffer, r->readback.buffer, 1, &copy);
+    }
+    if (final && !r->accum.mapped) {
+        VkBufferCopy copy = {0, 16, (VkDeviceSize)plan->width * plan->height * ACCUM_PIXEL_BYTES};
+        vkCmdCopyBuffer(cmd, r->accum.buffer, r->readback.buffer, 1, &copy);
+    }
+    if (r->readback.buffer)
+        vk_commands_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                            VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+}
+
+/* Records and runs every pass, submission by submission; sums the non-finite counts. False when
+ * a sample ran out of loop budget (the image would be wrong) or on a Vulkan failure. */
+static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *opts,
+                       uint64_t *nonfinite, uint64_t *rays) {
+    vk_context *ctx = &r->ctx;
+    uint32_t passes = (plan->samples + plan->per_dispatch - 1u) / plan->per_dispatch;
+    const uint32_t *counter = r->counter.mapped ? r->counter.mapped : r->readback.mapped;
+    *nonfinite = 0;
+    bool ok = true;
+    uint32_t overflowed = 0; /* samples whose walk ran out of loop passes */
+    for (uint32_t first = 0; ok && first < passes; first += plan->passes_per_submit) {
+        uint32_t last =
+            passes - first < plan->passes_per_submit ? passes : first + plan->passes_per_submit;
+        if (!vk_commands_begin(ctx, &r->cmd)) {
+            ok = false;
+            break;
+        }
+        /* The counters restart each submission: the previous submission's atomics and copy
+         * are done (fence) and ordered before the fill. */
+        vk_commands_barrier(r->cmd,
+                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                            VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                            VK_ACCESS_TRANSFER_WRITE_BIT);
+        if (first == 0) record_setup(r);
+        vkCmdFillBuffer(r->cmd, r->counter.buffer, 0, VK_WHOLE_SIZE, 0u);
+        record_passes(r, plan, first, last);
+        record_readback(r, plan, last == passes);
+        if (!vk_commands_submit_wait(ctx, r->cmd, r->fence)) {
+            ok = false;
+            break;
+        }
+        *nonfinite += counter[0];
+        *rays += counter[2] | (uint64_t)counter[3] << 32;
+        overflowed = counter[1];
+        ok = overflowed == 0;
+        if (ok && opts->progress)
+            fprintf(stderr, "\rtrazador: rendering %5.1f%%", 100.0 * last / passes);
+    }
+    if (opts->progress) fprintf(stderr, "\r\033[K"); /* on failure too: messages follow */
+    if (overflowed > 0)
+        log_error(
+            "%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
+            "allows (its shaders stop loops silently past %u in all)" VK_CONTEXT_USE_CPU,
+            overflowed, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+    return ok;
+}
+
+/* Samples per dispatch and passes per submission, from the per-sample worst case. */
+static pass_plan plan_passes(const vk_context *ctx, const scene *s, const render_opts *opts,
+                             uint64_t sample_iterations) {
+    pass_plan plan = {.width = (uint32_t)s->width,
+                      .height = (uint32_t)s->height,
+                      .samples = (uint32_t)opts->samples};
+    uint64_t tile_pixels = (uint64_t)TILE_SIZE * TILE_SIZE;
+    uint64_t per_dispatch = DISPATCH_BUDGET / (tile_pixels * sample_iterations);
+    if (vk_context_is_lavapipe(ctx)) {
+        uint64_t fit = (VK_PROBE_LAVAPIPE_SAFE_ITERATIONS - 1u) / sample_iterations;
+        if (fit < per_dispatch) per_dispatch = fit;
+    }
+    /* A pass over the whole image stays within a submission, so that big images show progress
+     * (2000 x 1500 pixels at 64 spp ran as one 13 s submission). */
+    uint64_t pixels = (uint64_t)plan.width * plan.height;
+    if (pixels < MIN_CHARGED_PIXELS) pixels = MIN_CHARGED_PIXELS;
+    uint64_t whole = SUBMIT_BUDGET / pixels / sample_iterations;
+    if (whole < per_dispatch) per_dispatch = whole;
+    if (per_dispatch > plan.samples) per_dispatch = plan.samples;
+    plan.per_dispatch = per_dispatch ? (uint32_t)per_dispatch : 1u;
+    uint64_t pass_cost; /* saturated: 16384^2 pixels of 4096 lights, 2^24 spheres, --no-bvh */
+    if (__builtin_mul_overflow(pixels * plan.per_dispatch, sample_iterations, &pass_cost))
+        pass_cost = UINT64_MAX;
+    uint64_t per_submit = SUBMIT_BUDGET / pass_cost;
+    plan.passes_per_submit =
+        per_submit > 0 ? (uint32_t)(per_submit < UINT32_MAX ? per_submit : UINT32_MAX) : 1u;
+    return plan;
+}
+
+/* The most passes one ray's BVH walk may take on lavapipe so that a sample, every ray walking
+ * that far, stays within the safe limit; 0 when even walks of no length do not fit. */
+static uint32_t walk_budget(const scene *s, const render_opts *opts) {
+    uint32_t lights = (uint32_t)s->light_count, bounces = (uint32_t)opts->bounces;
+    uint64_t fixed = vk_probe_sample_iterations(0u, lights, bounces, opts->indirect);
+    uint64_t rays = vk_probe_sample_iterations(1u, lights, bounces, opts->indirect) - fixed;
+    if (fixed + 1u >= VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) return 0u;
+    return (uint32_t)((VK_PROBE_LAVAPIPE_SAFE_ITERATIONS - 1u - fixed) / rays);
+}
+
+static void render_destroy(vk_render *r) {
+    vk_context *ctx = &r->ctx;
+    if (ctx->device) {
+        VK_CHECK(vkDeviceWaitIdle(ctx->device)); /* teardown goes on either way */
+        if (r->fence) vkDestroyFence(ctx->device, r->fence, NULL);
+        if (r->cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &r->cmd);
+        vk_kernel_destroy(ctx, &r->kernel);
+        vk_buffer *buffers[] = {&r->readback, &r->upload, &r->counter, &r->accum_comp, &r->accum,
+                                &r->nodes,    &r->lights, &r->spheres, &r->frame};
+        for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; k++)
+            vk_buffer_destroy(ctx, buffers[k]);
+    }
+}
+
+/* Small scenes test every sphere in unrolled loops; bigger ones walk the BVH, each walk bounded on
+ * lavapipe by TZ_SPEC_WALK_BUDGET passes as if it tested that many spheres (a guess of 64 sizes
+ * the dispatches elsewhere). */
+static strategy choose_strategy(const vk_context *ctx, const scene *s, const render_opts *opts) {
+    uint32_t spheres = (uint32_t)s->sphere_count, lights = (uint32_t)s->light_count;
+    uint32_t bounces = (uint32_t)opts->bounces;
+    strategy st = {.unrolled_spheres = spheres <= TZ_UNROLL_MAX_SPHERES ? spheres : 0u};
+    st.use_bvh = !opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u;
+    bool lavapipe = vk_context_is_lavapipe(ctx);
+    st.walk = st.use_bvh && lavapipe ? walk_budget(s, opts) : 0u;
+    /* Unrolled sphere tests are no loop: a ray then costs only its own loop passes. */
+    uint64_t every_sphere = vk_probe_sample_iterations(st.unrolled_spheres ? 0u : spheres, lights,
+                                                       bounces, opts->indirect);
+    /* Many lights leave each walk too few passes; testing every sphere may still fit. */
+    if (st.use_bvh && lavapipe && st.walk < MIN_WALK_BUDGET &&
+        every_sphere < VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
+        st.use_bvh = false;
+        st.walk = 0u;
+    }
+    st.sample_iterations = st.use_bvh ? vk_probe_sample_iterations(lavapipe ? st.walk : 64u, lights,
+                                                                   bounces, opts->indirect)
+                                      : every_sphere;
+    return st;
+}
+
+/* Compiles trace.comp for the scene (specialization constants: the strategy, the flags, and the
+ * spheres and lights of an unrolled scene), creates the fence and binds the buffers; false
+ * (logged) on a Vulkan failure. */
+static bool create_kernel(vk_render *r, const packed_scene *packed, const strategy *st, int width) {
+    const VkDescriptorType types[] = {
+        [TZ_BINDING_FRAME] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+        [TZ_BINDING_SPHERES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+        [TZ_BINDING_LIGHTS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+        [TZ_BINDING_ACCUM] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC,
+        [TZ_BINDING_COUNTERS] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        [TZ_BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+        [TZ_BINDING_ACCUM_COMP] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC,
+    };
+    /* Small scenes get their sphere and light loops unrolled, and their spheres and lights
+     * become specialization constants: the unrolled tests read immediates, and the loop
+     * bookkeeping disappears (each such scene compiles its own pipeline, which Mesa's shader
+     * cache keeps). The flags compile out the indirect bounce when it is off. */
+    uint32_t lights = packed->frame.size.w;
+    bool unroll_lights =
+        lights <= TZ_UNROLL_MAX_LIGHTS &&
+        (st->unrolled_spheres == 0u || st->unrolled_spheres * lights <= UNROLL_MAX_SHADOW_TESTS);
+    spec_data constants = {.words = {
+                               [TZ_SPEC_UNROLLED_SPHERES] = st->unrolled_spheres,
+                               [TZ_SPEC_UNROLLED_LIGHTS] = unroll_lights ? lights : 0u,
+                               [TZ_SPEC_FLAGS] = packed->frame.settings.z,
+                               [TZ_SPEC_WALK_BUDGET] = st->walk,
+                           }};
+    /* The unrolled spheres and lights, zero past the scene's (the shader reads none of those). */
+    memcpy(constants.scene.spheres, packed->spheres,
+           st->unrolled_spheres * sizeof *packed->spheres);
+    if (unroll_lights)
+        memcpy(constants.scene.lights, packed->lights, lights * sizeof *packed->lights);
+    VkSpecializationMapEntry entries[SPEC_COUNT];
+    for (uint32_t k = 0; k < SPEC_COUNT; k++)
+        entries[k] =
+            (VkSpecializationMapEntry){k, k * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
+    const VkSpecializationInfo spec = {SPEC_COUNT, entries, sizeof constants, &constants};
+    vk_kernel_desc kernel = {
+        .spec = &spec,
+        .code = trace_spv,
+        .code_size = sizeof trace_spv,
+        .types = types,
+        .binding_count = 7,
+        .push_size = sizeof(struct gpu_pass),
+    };
+    VkFenceCreateInfo fence_info = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    if (!vk_kernel_create(&r->ctx, &kernel, &r->kernel) ||
+        !VK_CHECK(vkCreateFence(r->ctx.device, &fence_info, NULL, &r->fence)))
+        return false;
+    const vk_buffer *buffers[] = {
+        [TZ_BINDING_FRAME] = &r->frame,           [TZ_BINDING_SPHERES] = &r->spheres,
+        [TZ_BINDING_LIGHTS] = &r->lights,         [TZ_BINDING_ACCUM] = &r->accum,
+        [TZ_BINDING_COUNTERS] = &r->counter,      [TZ_BINDING_NODES] = &r->nodes,
+        [TZ_BINDING_ACCUM_COMP] = &r->accum_comp,
+    };
+    const VkDeviceSize band = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)width * ACCUM_PIXEL_BYTES;
+    const VkDeviceSize ranges[] = {
+        [TZ_BINDING_FRAME] = VK_WHOLE_SIZE,    [TZ_BINDING_SPHERES] = VK_WHOLE_SIZE,
+        [TZ_BINDING_LIGHTS] = VK_WHOLE_SIZE,   [TZ_BINDING_ACCUM] = band,
+        [TZ_BINDING_COUNTERS] = VK_WHOLE_SIZE, [TZ_BINDING_NODES] = VK_WHOLE_SIZE,
+        [TZ_BINDING_ACCUM_COMP] = band, /* the same band rows as the sums */
+    };
+    vk_kernel_bind(&r->ctx, &r->kernel, buffers, ranges);
+    return true;
+}
+
+bool render_vk(const scene *s, const render_opts *opts, film *f) {
+    *f = (film){0};
+    vk_render r = {0};
+    packed_scene packed = {0};
+    bool ok = false;
+    double t0 = clock_seconds();
+    vk_context_desc desc = {.device = opts->device, .validate = opts->validate};
+    if (!vk_context_init(&r.ctx, &desc)) return false;
+    double t_init = clock_seconds();
+    log_debug("vulkan: device %d, %s (%s), instance and device in %.1f ms", r.ctx.device_index,
+              r.ctx.properties.deviceName, r.ctx.driver_name, (t_init - t0) * 1e3);
+    strategy st = choose_strategy(&r.ctx, s, opts);
+    render_opts packing = *opts;
+    packing.no_bvh = !st.use_bvh;
+    double t_pack = clock_seconds();
+    if (!check_limits(&r.ctx, s, opts, &st) || !scene_pack(s, &packing, &packed)) goto done;
+    scene_pack_report(&packed, opts, t_pack);
+    if (!film_init(f, s->width, s->height)) {
+        log_error("out of memory for a %d x %d film", s->width, s->height);
+        goto done;
+    }
+    double t_buffers = clock_seconds(); /* after the pack, which reports its own time */
+    if (!create_buffers(&r, &packed, s->width, s->height)) goto done;
+    double t_upload = clock_seconds();
+    log_debug("vulkan: buffers and upload in %.1f ms (%s)", (t_upload - t_buffers) * 1e3,
+              r.accum.mapped ? "mapped device memory" : "staging copies");
+    if (!create_kernel(&r, &packed, &st, s->width)) goto done;
+    double t_pipeline = clock_seconds();
+    log_debug("vulkan: pipeline in %.1f ms", (t_pipeline - t_upload) * 1e3);
+
+    pass_plan plan = plan_passes(&r.ctx, s, opts, st.sample_iterations);
+    log_debug("vulkan: %" PRIu64
+              " loop passes per sample at most, %u sample%s per dispatch, "
+              "%u pass%s per submission",
+              st.sample_iterations, plan.per_dispatch, plan.per_dispatch == 1 ? "" : "s",
+              plan.passes_per_submit, plan.passes_per_submit == 1 ? "" : "es");
+    uint64_t rays = 0;
+    if (!run_passes(&r, &plan, opts, &f->nonfinite, &rays)) goto done;
+    double t_render = clock_seconds();
+    if (opts->stats) {
+        opts->stats->render_seconds = t_render - t_pipeline;
+        opts->stats->rays = rays;
+    }
+    /* The last pass stored each compensated sum's value (film_sum_value) in place of the sum. */
+    const char *sums = r.accum.mapped ? r.accum.mapped : (const char *)r.readback.mapped + 16;
+    memcpy(f->accum, sums, (size_t)s->width * (size_t)s->height * ACCUM_PIXEL_BYTES);
+    double t_read = clock_seconds();
+    log_debug("vulkan: rendering in %.1f ms, read-back in %.1f ms", (t_render - t_pipeline) * 1e3,
+              (t_read - t_render) * 1e3);
+    ok = true;
+done:
+    render_destroy(&r);
+    scene_pack_free(&packed);
+    if (!vk_context_destroy(&r.ctx)) {
+        log_error("the Vulkan validation layer reported errors: the render failed");
+        ok = false;
+    }
+    if (opts->stats) opts->stats->validation_errors = vk_context_validation_errors(&r.ctx);
+    if (!ok) film_free(f);
+    return ok;
+}

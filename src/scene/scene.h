@@ -1,0 +1,96 @@
+/* scene.h: struct scene, the one input of both back ends, its limits, and the parser API. */
+#ifndef TRAZADOR_SCENE_H
+#define TRAZADOR_SCENE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "util/vec3.h"
+
+#define SCENE_MAX_RESOLUTION 16384
+#define SCENE_MAX_SPHERES 16777216 /* the GPU addresses spheres with 24-bit-exact floats */
+#define SCENE_MAX_LIGHTS 4096
+#define SCENE_MAX_SAMPLES 1048576
+#define SCENE_MAX_BOUNCES 64
+#define SCENE_MAX_LINE 4096 /* longer lines are an error, not a slowdown */
+/* Rays leaving a sphere start TZ_EPS times its largest |coordinate| (at least 1) off it: a
+ * sphere whose radius is under this many offsets is shaded wrongly (a closed one renders black),
+ * so it warns. */
+#define SCENE_TINY_OFFSETS 2.0f
+/* Camera rays start EPS scaled by the camera's distance from the origin along their path (a near
+ * clip of 10 units at 1e5): a surface within this many times that of the camera warns. */
+#define SCENE_NEAR_CLIP_FACTOR 10.0f
+/* A sphere whose surface is within this many float spacings (at its size) of the camera warns:
+ * single precision cannot place it there. */
+#define SCENE_PRECISION_STEPS 4.0
+#define SCENE_MAX_WARNINGS 2
+
+typedef enum material_kind {
+    MATERIAL_LAMBERTIAN = 0,
+    MATERIAL_PHONG = 1,
+    MATERIAL_MIRROR = 2,
+    MATERIAL_REFRACTIVE = 3,
+} material_kind;
+
+typedef enum render_mode { RENDER_MODE_SEED = 0 } render_mode;
+
+typedef struct sphere {
+    vec3 center;
+    float radius;
+    material_kind material;
+    vec3 color;    /* kd for lambertian/phong, tint for mirror/refractive */
+    float ks;      /* phong specular weight, 0 for the others */
+    float alpha;   /* phong exponent */
+    float ior;     /* refractive index, 1 for the others */
+    vec3 emission; /* reserved for the path-tracing mode; always 0 in seed mode */
+} sphere;
+
+typedef struct light {
+    vec3 position;
+    float power;
+    vec3 color;
+} light;
+
+/* Where and why parsing failed: "file:line:col: message". */
+typedef struct scene_error {
+    char file[256];
+    int line, col;
+    char message[512];
+    bool out_of_memory; /* not the scene's fault: a runtime failure (exit 1), not a scene error */
+} scene_error;
+
+typedef struct scene {
+    vec3 camera_position, camera_direction, camera_up;
+    float plane_width, plane_height, pixel_size;
+    int width, height; /* pixels: plane size / pixel size */
+    vec3 background;
+    /* render settings; command-line flags override them */
+    int samples;
+    bool indirect;
+    int bounces;
+    uint32_t seed;
+    render_mode mode;
+    sphere *spheres;
+    int sphere_count;
+    light *lights;
+    int light_count;
+    /* What the CLI warns about: the first sphere of radius under SCENE_TINY_OFFSETS ray offsets,
+     * a sphere surface closer to the camera than SCENE_NEAR_CLIP_FACTOR times its rays' offset
+     * or than SCENE_PRECISION_STEPS float spacings at its size. */
+    scene_error warnings[SCENE_MAX_WARNINGS];
+    int warning_count;
+} scene;
+
+/* Parses scene text; false with *err filled (when non-NULL) and *out untouched on any error. */
+bool scene_parse_string(const char *text, size_t length, const char *filename, scene *out,
+                        scene_error *err);
+/* Reads and parses a file; false with *err filled on a read or parse error. */
+bool scene_parse_file(const char *path, scene *out, scene_error *err);
+/* Prints err to stderr as "file:line:col: message" ("file: message" for errors about the file
+ * itself, which have line 0); never fails. */
+void scene_error_print(const scene_error *err);
+/* Releases the arrays of a parsed scene; safe on a zeroed scene. */
+void scene_free(scene *s);
+
+#endif
