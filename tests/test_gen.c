@@ -10,11 +10,12 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "cli/cli.h"
 #include "scene/gen.h"
 #include "render/render.h"
 #include "tmp_dir.h"
 
-/* Runs gen_command on a NULL-terminated argument list (argv[0] = "gen" is added). */
+/* Runs cmd_gen on a NULL-terminated argument list (argv[0] = "gen" is added). */
 static int run_gen(const char *arg, ...) {
     char *argv[32] = {"gen"};
     int argc = 1;
@@ -23,7 +24,7 @@ static int run_gen(const char *arg, ...) {
     for (const char *a = arg; a && argc < 31; a = va_arg(ap, const char *))
         argv[argc++] = (char *)a;
     va_end(ap);
-    return gen_command(argc, argv);
+    return cmd_gen(argc, argv);
 }
 
 /* Returns the whole file in a malloc'd buffer (NULL when unreadable); *size its length. */

@@ -730,6 +730,10 @@ static bool tokenize(parser *p, const char *line, size_t length) {
         }
         if (c < 0x20 || c > 0x7e) {
             if (c == 0) return fail_at(p, col, "unexpected NUL byte (is this a text file?)");
+            if (p->line == 1 && i == 0 && length >= 3 && !memcmp(line, "\xef\xbb\xbf", 3))
+                return fail_at(p, col,
+                               "a UTF-8 byte-order mark (EF BB BF) starts the file: "
+                               "save it without one");
             return fail_at(p, col, "unexpected byte 0x%02x (only printable ASCII outside comments)",
                            c);
         }
@@ -939,7 +943,10 @@ static bool read_all(int fd, const char *path, char **data, size_t *length, scen
 
 bool scene_parse_file(const char *path, scene *out, scene_error *err) {
     if (err) err->out_of_memory = false;
-    int fd = open(path, O_RDONLY);
+    /* "-" is standard input, named as the tools name it. */
+    bool is_stdin = !strcmp(path, "-");
+    if (is_stdin) path = "<stdin>";
+    int fd = is_stdin ? dup(STDIN_FILENO) : open(path, O_RDONLY);
     if (fd < 0) return fail_file(path, err, "cannot open: %s", strerror(errno));
     char *data = NULL;
     size_t length = 0;

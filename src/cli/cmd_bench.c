@@ -1,15 +1,18 @@
-/* bench.c: `trazador bench`, fixed workloads timed on each back end (a benchmark, not a test). */
+/* cmd_bench.c: `trazador bench`, fixed workloads timed on each back end (a benchmark, not a
+ * test). */
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli/cli.h"
-#include "util/clock.h"
+#include "cli/options.h"
 #include "default_scene.h"
-#include "scene/gen.h"
 #include "render/cpu/integrator.h"
-#include "util/log.h"
 #include "render/vk/vk_context.h"
+#include "scene/gen.h"
+#include "util/clock.h"
+#include "util/log.h"
 
 typedef struct workload {
     const char *name;
@@ -66,7 +69,7 @@ static double run_workload(const scene *base, const workload *w, backend_choice 
     film f = {0};
     const char *used;
     double start = clock_seconds();
-    bool ok = cli_render(&s, &opts, backend, &f, &used);
+    bool ok = render_choose(&s, &opts, backend, &f, &used);
     double elapsed = clock_seconds() - start;
     film_free(&f);
     *mrays = (double)stats.rays / elapsed * 1e-6;
@@ -102,7 +105,7 @@ static double run_scaling(const scene *s, backend_choice backend, const char *cp
     opts.stats = stats;
     film f = {0};
     const char *used;
-    bool ok = cli_render(s, &opts, backend, &f, &used);
+    bool ok = render_choose(s, &opts, backend, &f, &used);
     film_free(&f);
     return ok && stats->render_seconds > 0.0
                ? (double)s->width * s->height * opts.samples / stats->render_seconds * 1e-6
@@ -210,39 +213,44 @@ static int bench_scaling(bool want_cpu, bool want_vk) {
     return failures;
 }
 
-int bench_command(int argc, char **argv) {
-    bool want_cpu = true, have_vk = vk_context_device_count() > 0, want_vk = have_vk;
-    bool vk_named = false; /* --backend vulkan or both: no device is an error, not a skip */
-    long long spp = 0;
-    for (int k = 1; k < argc; k++) {
-        const char *value = k + 1 < argc ? argv[k + 1] : "";
-        if (!strcmp(argv[k], "--backend")) {
-            want_cpu = !strcmp(value, "cpu") || !strcmp(value, "both") || !strcmp(value, "auto");
-            vk_named = !strcmp(value, "vulkan") || !strcmp(value, "both");
-            want_vk = vk_named || (!strcmp(value, "auto") && have_vk);
-            if (!want_cpu && !want_vk) {
-                fprintf(stderr, "trazador: bench --backend takes auto, vulkan, cpu or both\n");
-                return 2;
-            }
-            k++;
-        } else if (!strcmp(argv[k], "--spp")) {
-            if (!cli_parse_int(value, 1, 65536, &spp)) {
-                fprintf(stderr,
-                        "trazador: bench --spp takes a whole number from 1 to 65536, got '%s'\n",
-                        value);
-                return 2;
-            }
-            k++;
-        } else {
-            bool help = !strcmp(argv[k], "--help") || !strcmp(argv[k], "-h");
-            fprintf(help ? stdout : stderr,
-                    "%susage: trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
-                    "  --spp N: samples per pixel of the default-scene workloads (the scaling "
-                    "table times each row for about %.1f s)\n",
-                    help ? "" : "trazador: ", SCALING_SECONDS);
-            return help ? 0 : 2;
-        }
-    }
+typedef struct bench_args {
+    int backend;   /* BENCH_BACKENDS order */
+    long long spp; /* 0: each workload's own */
+} bench_args;
+
+#define BENCH_BACKENDS "auto|vulkan|cpu|both"
+enum { BENCH_AUTO, BENCH_VULKAN, BENCH_CPU, BENCH_BOTH };
+
+static const opt_spec bench_specs[] = {
+    OPT_ONE_OF("--backend", offsetof(bench_args, backend), BENCH_BACKENDS,
+               "the back ends timed (default auto: the CPU, and Vulkan where a device exists)"),
+    OPT_WHOLE("--spp", NULL, offsetof(bench_args, spp), 1, 65536,
+              "samples per pixel of the default-scene workloads, 1 to 65536 (default 16; the "
+              "scaling table sizes its own)"),
+};
+
+static const opt_command bench_command = {
+    .name = "bench",
+    .synopsis = "usage: trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n",
+    .about =
+        "Times fixed workloads, then a scaling table from 10 to 1,000,000 spheres whose rows "
+        "are each timed\nfor about " CLI_AS_TEXT(SCALING_SECONDS) " s.\n",
+    .specs = bench_specs,
+    .spec_count = OPT_COUNT(bench_specs),
+};
+
+int cmd_bench(int argc, char **argv) {
+    bench_args a = {0};
+    const char *none[1];
+    int count;
+    opt_result rc = opt_parse(&bench_command, argc, argv, &a, none, &count);
+    if (rc != OPT_OK) return rc == OPT_HELP ? 0 : rc;
+    bool have_vk = vk_context_device_count() > 0;
+    bool want_cpu = a.backend != BENCH_VULKAN;
+    /* --backend vulkan or both: no device is an error, not a skip */
+    bool vk_named = a.backend == BENCH_VULKAN || a.backend == BENCH_BOTH;
+    bool want_vk = vk_named || (a.backend == BENCH_AUTO && have_vk);
+    long long spp = a.spp;
     if (vk_named && !have_vk) {
         log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
         return 1;
