@@ -31,16 +31,16 @@ static const long scaling_counts[] = {10, 1000, 100000, 1000000};
 #define SCALING_SIZE 256
 /* Each row is rendered first at SCALING_WARMUP_SAMPLES (lavapipe compiles its shader, caches and
  * pages warm up), then timed at the power of two of samples, at most SCALING_MAX_SAMPLES, that
- * makes its passes last SCALING_SECONDS or a little more: a 10-sphere row of 4 samples lasts 10 ms,
- * too short to time (runs of it varied from 15 to 27 Msamples/s). */
+ * makes its passes last SCALING_SECONDS or a little more: a small row at the warm-up's samples is
+ * over too fast to time (docs/PERF.md, "Command line"). */
 #define SCALING_WARMUP_SAMPLES 4
 #define SCALING_MAX_SAMPLES 256
 #define SCALING_SECONDS 0.5
 /* A timed render shorter than this is timed again at the samples its speed asks for (the
  * warm-up's speed can be off: lavapipe compiles its shader in it). */
 #define SCALING_MIN_SECONDS (0.7 * SCALING_SECONDS)
-/* Timed renders of a row, the fastest kept: on a shared 2-core host single runs of the same row
- * ranged over 25% (the 1,000,000-sphere CPU row from 4.8 to 6.1 Msamples/s). */
+/* Timed renders of a row, the fastest kept: on a shared host single runs of the same row vary
+ * widely (docs/PERF.md, "Command line"). */
 #define SCALING_REPEATS 3
 
 /* Prints a measured figure in a column of `width`, or "-" when that back end was not timed. */
