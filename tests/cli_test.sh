@@ -328,7 +328,10 @@ run gen-any-case 0 "$tz" gen Random --count 3 -o case.scene
 # Each --help describes every flag with its default (or says it is required).
 for cmd in render diff bench "gen sphereflake" "gen random"; do
     run "$cmd-help-flags" 0 "$tz" $cmd --help
-    grep -E '^  -' "$tmp/out" >flags.txt
+    # One line per flag, its wrapped text joined.
+    awk 'substr($0, 1, 31) == sprintf("%31s", "") { line = line " " $0; next }
+         { if (line != "") print line; line = ($0 ~ /^  -/) ? $0 : "" }
+         END { if (line != "") print line }' "$tmp/out" >flags.txt
     [ -s flags.txt ] && ! grep -vqE 'default|required' flags.txt && ok \
         || bad "$cmd --help: a flag without its default: $(grep -vE 'default|required' flags.txt)"
 done

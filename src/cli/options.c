@@ -95,6 +95,31 @@ static opt_result value_error(const opt_command *cmd, const opt_spec *o, const c
     return OPT_USAGE;
 }
 
+/* Help lines: the flag in the first HELP_COLUMN columns, its text wrapped at HELP_WIDTH. */
+#define HELP_COLUMN 31
+#define HELP_WIDTH 100
+
+/* Prints `left` padded to HELP_COLUMN, then `text` broken at spaces into lines of HELP_WIDTH,
+ * each further line indented to HELP_COLUMN. */
+static void print_wrapped(FILE *fp, const char *left, const char *text) {
+    int column = fprintf(fp, "%-*s", HELP_COLUMN - 1, left);
+    if (column >= HELP_COLUMN) { /* a long flag: its text starts on the next line */
+        fprintf(fp, "\n%*s", HELP_COLUMN - 1, "");
+        column = HELP_COLUMN - 1;
+    }
+    while (*text) {
+        size_t word = strcspn(text, " ");
+        if (column > HELP_COLUMN - 1 && column + 1 + (int)word > HELP_WIDTH) {
+            fprintf(fp, "\n%*s", HELP_COLUMN - 1, "");
+            column = HELP_COLUMN - 1;
+        }
+        column += fprintf(fp, " %.*s", (int)word, text);
+        text += word;
+        text += strspn(text, " ");
+    }
+    fputc('\n', fp);
+}
+
 void opt_print_help(const opt_command *cmd, FILE *fp) {
     fputs(cmd->synopsis, fp);
     if (cmd->spec_count) fputs("options:\n", fp);
@@ -105,7 +130,7 @@ void opt_print_help(const opt_command *cmd, FILE *fp) {
                          o->alias ? ", " : "", o->name);
         if (o->type != OPT_FLAG && n > 0 && (size_t)n < sizeof left)
             snprintf(left + n, sizeof left - (size_t)n, " %s", o->choices ? o->choices : "X");
-        fprintf(fp, "%-30s %s\n", left, o->help);
+        print_wrapped(fp, left, o->help);
     }
     if (cmd->about) fputs(cmd->about, fp);
 }
