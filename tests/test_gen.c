@@ -1,6 +1,7 @@
-/* test_gen.c: the scene generators (src/gen.c): sphere counts, materials, the sphereflake's
- * geometry, the random field's spacing, framing, determinism per seed, usage errors that write
- * nothing, atomic writes, and a small render of each through the CPU back end. */
+/* test_gen.c: the scene generators (src/scene/gen.c) and `trazador gen` (src/cli/cmd_gen.c): sphere
+ * counts, materials, the sphereflake's geometry, the random field's spacing, framing, determinism
+ * per seed, usage errors that write nothing, atomic writes, and a small render of each through the
+ * CPU back end. */
 #include <dirent.h>
 #include <math.h>
 #include <stdarg.h>
@@ -11,8 +12,8 @@
 
 #include "check.h"
 #include "cli/cli.h"
-#include "scene/gen.h"
 #include "render/render.h"
+#include "scene/gen.h"
 #include "tmp_dir.h"
 
 /* Runs cmd_gen on a NULL-terminated argument list (argv[0] = "gen" is added). */
