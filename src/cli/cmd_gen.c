@@ -56,7 +56,12 @@ static const opt_command commands[] = {
      .specs = random_specs,
      .spec_count = OPT_COUNT(random_specs)},
 };
-static const opt_command gen_command = {.name = "gen", .synopsis = synopsis, .about = about};
+static const opt_command gen_command = {
+    .name = "gen",
+    .synopsis = synopsis,
+    .about =
+        "trazador gen sphereflake --help and trazador gen random --help describe their "
+        "options.\n"};
 
 int cmd_gen(int argc, char **argv) {
     if (argc < 2)
