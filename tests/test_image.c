@@ -577,6 +577,15 @@ static void test_overwrite(void) {
 }
 
 /* Writes data to name and expects image_read to fail cleanly with out zeroed. */
+/* The bytes of the 8-bit test image written as the PNG `name` (NULL when unreadable). */
+static unsigned char *written_png(const char *name, size_t *len) {
+    image src;
+    make_8bit_image(&src, TONEMAP_SRGB);
+    EXPECT(image_write(tmp_path(name), &src, TONEMAP_SRGB));
+    image_free(&src);
+    return slurp(tmp_path(name), len);
+}
+
 static void expect_bad(const char *name, const void *data, size_t len) {
     const char *path = tmp_path(name);
     write_file(path, data, len);
@@ -625,12 +634,8 @@ static void test_malformed(void) {
     BAD("wrongext.bmp", "P6\n1 1\n255\n\0\0\0");
 
     /* a real PNG cut in half, and one whose header claims 20000 x 20000 */
-    image src;
-    make_8bit_image(&src, TONEMAP_SRGB);
-    EXPECT(image_write(tmp_path("whole.png"), &src, TONEMAP_SRGB));
-    image_free(&src);
     size_t len;
-    unsigned char *png = slurp(tmp_path("whole.png"), &len);
+    unsigned char *png = written_png("whole.png", &len);
     EXPECT(png && len > 40);
     if (png && len > 40) {
         expect_bad("half.png", png, len / 2);
@@ -739,12 +744,8 @@ static void test_png_alpha(void) {
 /* A PNG whose IDAT's CRC is wrong, or whose pixel data is damaged, is refused, not read as a
  * different image. */
 static void test_png_corrupt(void) {
-    image src;
-    make_8bit_image(&src, TONEMAP_SRGB);
-    EXPECT(image_write(tmp_path("sound.png"), &src, TONEMAP_SRGB));
-    image_free(&src);
     size_t len;
-    unsigned char *png = slurp(tmp_path("sound.png"), &len);
+    unsigned char *png = written_png("sound.png", &len);
     unsigned char *idat = NULL;
     for (size_t k = 8; png && k + 8 < len && !idat; k++)
         if (!memcmp(png + k, "IDAT", 4)) idat = png + k;
