@@ -409,19 +409,26 @@ static bool claim_once(parser *p, int *first_line) {
     return true;
 }
 
-/* The renderer normalizes in float: the length must neither vanish nor overflow there. */
+/* The renderer normalizes in float by the square root of the squared length: that square must
+ * be a normal float, or the vector comes out too short (a denormal square) or zero (an infinite
+ * one). */
+static bool check_camera_square(parser *p, const key_values *kv, int key, vec3 v) {
+    float square = v3_dot(v, v);
+    if (!(square >= FLT_MIN && square <= FLT_MAX)) {
+        return fail_at(p, p->tokens[kv->key_token[key]].col,
+                       "camera %s is too small or too large to normalize in single precision "
+                       "(its length must be from about 1.1e-19 to 1.8e19)",
+                       camera_keys[key].name);
+    }
+    return true;
+}
+
 static bool check_camera_vector(parser *p, const key_values *kv, int key, vec3 v) {
     if (v.x == 0.0f && v.y == 0.0f && v.z == 0.0f) {
         return fail_at(p, p->tokens[kv->key_token[key]].col, "camera %s must not be zero",
                        camera_keys[key].name);
     }
-    float length = v3_length(v);
-    if (!(length >= FLT_MIN && length <= FLT_MAX)) {
-        return fail_at(p, p->tokens[kv->key_token[key]].col,
-                       "camera %s is too small or too large to normalize in single precision",
-                       camera_keys[key].name);
-    }
-    return true;
+    return check_camera_square(p, kv, key, v);
 }
 
 static bool parse_camera(parser *p) {
@@ -448,6 +455,9 @@ static bool parse_camera(parser *p) {
                        "camera up (%g %g %g) is parallel to direction (%g %g %g)", up.x, up.y, up.z,
                        direction.x, direction.y, direction.z);
     }
+    /* The right vector, up x forward, is normalized too: a small up at a small angle. */
+    int up_key = (kv.given & BIT(CAMERA_UP)) ? CAMERA_UP : CAMERA_DIRECTION;
+    if (!check_camera_square(p, &kv, up_key, v3_cross(up, v3_normalize(direction)))) return false;
     p->s.camera_position = value_vec3(&kv, CAMERA_POSITION, v3(0, 0, 0));
     p->camera_col = p->tokens[kv.value_token[CAMERA_POSITION][0]].col;
     p->s.camera_direction = direction;

@@ -503,7 +503,8 @@ render_status render_vk_try(const scene *s, const render_opts *opts, film *f, ch
     packed_scene packed = {0};
     bool ok = false;
     double t0 = clock_seconds();
-    vk_context_desc desc = {.device = opts->device, .validate = opts->validate};
+    vk_context_desc desc = {
+        .device = opts->device, .validate = opts->validate, .threads = opts->threads};
     if (!vk_context_init(&r.ctx, &desc)) return RENDER_FAILED;
     double t_init = clock_seconds();
     log_debug("vulkan: device %d, %s (%s), instance and device in %.1f ms", r.ctx.device_index,
