@@ -572,8 +572,7 @@ static bool merge_pixel(const part *parts, const int *order, int held, int x, in
         for (int k = 0; k < q->stack.count; k++) {
             int top = s.count, merges = chunk_stack_push(&s, q->stack.block[k]);
             if (merges < 0) return false;
-            memcpy(value[top], &q->block[k][3 * i], sizeof value[top]);
-            for (int m = 0; m < merges; m++, top--) chunk_sum_combine(value[top - 1], value[top]);
+            chunk_values_push(value, top, merges, &q->block[k][3 * i]);
         }
         count += q->count[i];
     }
