@@ -2,6 +2,7 @@
  * the fixed binary tree over chunks; parts split by regions, by chunk-aligned sample ranges and
  * both, written as EXR, read back and merged, give the whole render's film bit for bit; and every
  * refusal (other render, overlap, gaps, a part ending mid-chunk, a foreign or bad file). */
+#define _GNU_SOURCE /* memmem */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -287,7 +288,28 @@ static void test_refusals(void) {
     CHECK(strstr(why, "region 0,13,0,11 samples 128:170"), "%s", why);
 }
 
-/* Files that are not parts, or not consistent ones, are refused with the file named. */
+static unsigned char *slurp(const char *path, size_t *len) {
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return NULL;
+    fseek(fp, 0, SEEK_END);
+    long n = ftell(fp);
+    fseek(fp, 0, SEEK_SET);
+    unsigned char *buf = malloc((size_t)n);
+    *len = buf ? fread(buf, 1, (size_t)n, fp) : 0;
+    fclose(fp);
+    return buf;
+}
+
+static void write_bytes(const char *path, const unsigned char *data, size_t len) {
+    FILE *fp = fopen(path, "wb");
+    if (fp) {
+        fwrite(data, 1, len, fp);
+        fclose(fp);
+    }
+}
+
+/* Files that are not parts, or not consistent ones, or damaged, are refused with the file named.
+ */
 static void test_bad_files(void) {
     image img;
     EXPECT(image_init(&img, 4, 3));
@@ -308,6 +330,44 @@ static void test_bad_files(void) {
     EXPECT(!part_read(path, &p));
     held = log_release_errors();
     CHECK(strstr(held, "pixel (1, 0) counts 33 samples of 32"), "%s", held);
+    part_free(&q);
+    /* An attribute edited in place, and bytes flipped anywhere: refused, or read unchanged. */
+    EXPECT(render_part(0, 5, 0, 4, 32, 96, &q));
+    EXPECT(part_write(path, &q));
+    size_t len = 0;
+    unsigned char *bytes = slurp(path, &len);
+    unsigned char *at = bytes ? memmem(bytes, len, "d1g3st", 6) : NULL;
+    EXPECT(at != NULL);
+    if (at) at[5] = 'u';
+    write_bytes(path, bytes, len);
+    log_hold_errors();
+    EXPECT(!part_read(path, &p));
+    held = log_release_errors();
+    CHECK(strstr(held, "plain.exr: damaged trazador part: its content does not match its checksum"),
+          "%s", held);
+    if (at) at[5] = 't';
+    int changed = 0;
+    uint32_t rng = 1;
+    for (int k = 0; bytes && k < 300; k++) {
+        rng = hash(rng);
+        size_t where = rng % len;
+        unsigned char was = bytes[where];
+        bytes[where] ^= (unsigned char)(1u << (rng >> 29));
+        write_bytes(path, bytes, len);
+        bytes[where] = was;
+        log_hold_errors();
+        bool ok = part_read(path, &p);
+        log_release_errors();
+        if (!ok) continue;
+        if (p.stack.count != q.stack.count || memcmp(p.count, q.count, 20 * sizeof *p.count) ||
+            memcmp(&p.meta, &q.meta, sizeof p.meta))
+            changed++;
+        for (int b = 0; b < p.stack.count && b < q.stack.count; b++)
+            if (memcmp(p.block[b], q.block[b], 20 * 3 * sizeof(float))) changed++;
+        part_free(&p);
+    }
+    CHECK(changed == 0, "%d damaged files read with other content", changed);
+    free(bytes);
     part_free(&q);
     part_meta m = base_meta();
     m.x0 = 0, m.x1 = W, m.y0 = 0, m.y1 = H, m.sample_begin = 8;
