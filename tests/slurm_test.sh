@@ -3,8 +3,68 @@
 # user, slurmctld and slurmd as root, no systemd: proctrack/linuxproc, task/none, free ports),
 # then submits a 4-task job array and a job that depends on it (afterok) and checks their files;
 # and an array with a failing task, whose dependent job must never run. Everything it started is
-# stopped on exit. Exit 77 (skip) where Slurm or munge is not installed, or not as root.
+# stopped on exit. Exit 77 (skip) where Slurm or munge is not installed, or not as root. First, and
+# everywhere, tools/slurm/task.sh is checked on its own.
 set -euo pipefail
+
+# tools/slurm/task.sh on its own, with stand-ins for trazador and scontrol (no Slurm needed): the
+# sample ranges it cuts, resuming from a checkpoint, and requeueing itself on SIGUSR1.
+local_dir=$(mktemp -d /tmp/slurm_task.XXXXXX)
+trap 'rm -rf "$local_dir"' EXIT
+here=$(dirname "$(realpath "$0")")
+cat >"$local_dir/trazador" <<'EOF'
+#!/usr/bin/env bash
+# Records its arguments; "slow" in them: writes the checkpoint and waits for SIGTERM.
+out="" checkpoint=""
+for ((i = 1; i <= $#; i++)); do
+    case ${!i} in -o) j=$((i + 1)); out=${!j} ;; --checkpoint) j=$((i + 1)); checkpoint=${!j} ;; esac
+done
+echo "$*" >>"$TRAZADOR_PARTS_DIR/calls.txt"
+if [[ " $* " == *" slow "* ]]; then
+    trap 'echo checkpointed >"$checkpoint"; exit 0' TERM
+    touch "$TRAZADOR_PARTS_DIR/started"
+    while :; do sleep 0.05; done
+fi
+echo part >"$out"
+EOF
+printf '#!/bin/sh\necho "$*" >>"$TRAZADOR_PARTS_DIR/scontrol.txt"\n' >"$local_dir/scontrol"
+chmod 755 "$local_dir/trazador" "$local_dir/scontrol"
+task() { # exec: in `task ... &`, $! is task.sh itself
+    exec env PATH="$local_dir:$PATH" TRAZADOR_BIN="$local_dir/trazador" TRAZADOR_SCENE=s.scene \
+        TRAZADOR_PARTS_DIR="$local_dir" TRAZADOR_PARTS=4 TRAZADOR_SPLIT=samples TRAZADOR_SPP=100 \
+        TRAZADOR_SIZE="" SLURM_ARRAY_JOB_ID=41 SLURM_ARRAY_TASK_ID="$1" \
+        TRAZADOR_RENDER_FLAGS="$2" "$here/../tools/slurm/task.sh"
+}
+for i in 0 1 2 3; do (task "$i" "--spp 100") >/dev/null || { echo "slurm_test: FAIL: task $i" >&2; exit 1; }; done
+expected="render s.scene --spp 100 --samples 0:16 --checkpoint $local_dir/checkpoint_0.exr -o $local_dir/part_0.exr
+render s.scene --spp 100 --samples 16:48 --checkpoint $local_dir/checkpoint_1.exr -o $local_dir/part_1.exr
+render s.scene --spp 100 --samples 48:64 --checkpoint $local_dir/checkpoint_2.exr -o $local_dir/part_2.exr
+render s.scene --spp 100 --samples 64:100 --checkpoint $local_dir/checkpoint_3.exr -o $local_dir/part_3.exr"
+[ "$(cat "$local_dir/calls.txt")" = "$expected" ] ||
+    { echo "slurm_test: FAIL: task.sh ran: $(cat "$local_dir/calls.txt")" >&2; exit 1; }
+(task 2 "") | grep -q "already rendered" || { echo "slurm_test: FAIL: a done part ran again" >&2; exit 1; }
+rm "$local_dir/part_2.exr" "$local_dir/calls.txt"
+task 2 "slow 'two words'" >/dev/null &
+task_pid=$!
+for _ in $(seq 100); do [ -e "$local_dir/started" ] && break; sleep 0.05; done
+kill -USR1 "$task_pid"
+for _ in $(seq 100); do kill -0 "$task_pid" 2>/dev/null || break; sleep 0.05; done
+if kill -0 "$task_pid" 2>/dev/null; then
+    kill -TERM "$task_pid"
+    echo "slurm_test: FAIL: task.sh did not stop on SIGUSR1" >&2
+    exit 1
+fi
+wait "$task_pid" || { echo "slurm_test: FAIL: the requeued task failed" >&2; exit 1; }
+[ "$(cat "$local_dir/scontrol.txt" 2>/dev/null)" = "requeue 41_2" ] &&
+    [ "$(cat "$local_dir/checkpoint_2.exr")" = checkpointed ] && [ ! -e "$local_dir/part_2.exr" ] ||
+    { echo "slurm_test: FAIL: USR1 did not checkpoint and requeue" >&2; exit 1; }
+(task 2 "'two words'") >/dev/null
+[ "$(tail -n 1 "$local_dir/calls.txt")" = "render s.scene two words --samples 48:64 --resume $local_dir/checkpoint_2.exr --checkpoint $local_dir/checkpoint_2.exr -o $local_dir/part_2.exr" ] &&
+    [ ! -e "$local_dir/checkpoint_2.exr" ] && [ -s "$local_dir/part_2.exr" ] ||
+    { echo "slurm_test: FAIL: the requeued task did not resume: $(tail -n 1 "$local_dir/calls.txt")" >&2; exit 1; }
+rm -rf "$local_dir"
+trap - EXIT
+echo "slurm_test: task.sh cuts, resumes and requeues"
 
 for tool in munged mungekey slurmctld slurmd sbatch scontrol sinfo setpriv; do
     if ! command -v "$tool" >/dev/null 2>&1 && ! [ -x "/usr/sbin/$tool" ]; then
