@@ -135,30 +135,26 @@ typedef struct piece {
     uint32_t begin, end;
 } piece;
 
-/* Renders the pieces, writes and reads each back, merges them in the order given. */
+/* Renders the pieces, writes each, and merges the files in the order given. */
 static bool merge_pieces(const piece *pieces, int n, part *merged) {
-    part *parts = calloc((size_t)n, sizeof *parts);
-    const char **names = calloc((size_t)n, sizeof *names);
-    bool ok = parts && names;
+    char(*names)[64] = calloc((size_t)n, sizeof *names);
+    const char **paths = calloc((size_t)n, sizeof *paths);
+    bool ok = names && paths;
     for (int i = 0; ok && i < n; i++) {
         char name[32];
         snprintf(name, sizeof name, "piece%d.exr", i);
-        names[i] = tmp_path(name);
+        snprintf(names[i], sizeof names[i], "%s", tmp_path(name));
+        paths[i] = names[i];
         part p;
         const piece *q = &pieces[i];
         ok = render_part(q->x0, q->x1, q->y0, q->y1, q->begin, q->end, &p) &&
-             part_write(names[i], &p) && part_read(names[i], &parts[i]);
+             part_write(names[i], &p);
         part_free(&p);
-        names[i] = strdup(names[i]);
     }
-    ok = ok && part_merge(parts, names, n, merged);
-    for (int i = 0; i < n; i++) {
-        part_free(&parts[i]);
-        if (names && names[i]) unlink(names[i]);
-        if (names) free((void *)names[i]);
-    }
-    free(parts);
+    ok = ok && part_merge_files(paths, n, merged);
+    for (int i = 0; names && i < n; i++) unlink(names[i]);
     free(names);
+    free(paths);
     return ok;
 }
 
@@ -308,6 +304,15 @@ static void write_bytes(const char *path, const unsigned char *data, size_t len)
     }
 }
 
+/* A merge of files stops at the first that is not a part. */
+static void test_merge_files(void) {
+    const char *paths[] = {tmp_path("missing.exr")};
+    part merged;
+    log_hold_errors();
+    EXPECT(!part_merge_files(paths, 1, &merged));
+    EXPECT(strstr(log_release_errors(), "missing.exr: No such file"));
+}
+
 /* Files that are not parts, or not consistent ones, or damaged, are refused with the file named.
  */
 static void test_bad_files(void) {
@@ -407,6 +412,7 @@ int main(void) {
     CHECK_CASE(test_splits);
     CHECK_CASE(test_part_files);
     CHECK_CASE(test_refusals);
+    CHECK_CASE(test_merge_files);
     CHECK_CASE(test_bad_files);
     CHECK_CASE(test_long_sum);
     film_free(&whole_film);

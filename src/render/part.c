@@ -689,3 +689,18 @@ bool part_merge(const part *parts, const char *const *names, int n, part *out) {
     if (!ok) part_free(out);
     return ok;
 }
+
+bool part_merge_files(const char *const *paths, int n, part *out) {
+    *out = (part){0};
+    part *parts = calloc(n > 0 ? (size_t)n : 1, sizeof *parts);
+    if (!parts) {
+        log_error("merge: out of memory for %d parts", n);
+        return false;
+    }
+    bool ok = true;
+    for (int i = 0; ok && i < n; i++) ok = part_read(paths[i], &parts[i]);
+    ok = ok && part_merge(parts, paths, n, out);
+    for (int i = 0; i < n; i++) part_free(&parts[i]);
+    free(parts);
+    return ok;
+}
