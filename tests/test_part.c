@@ -380,6 +380,11 @@ static void test_bad_files(void) {
     EXPECT(!part_init(&q, &m));
     held = log_release_errors();
     CHECK(strstr(held, "does not begin at a chunk"), "%s", held);
+    m.sample_begin = 0, m.spp = SCENE_MAX_SAMPLES + 1;
+    log_hold_errors();
+    EXPECT(!part_init(&q, &m));
+    held = log_release_errors();
+    CHECK(strstr(held, "samples per pixel outside 1..1048576"), "%s", held);
     unlink(path);
 }
 

@@ -41,8 +41,10 @@ static bool meta_valid(const part_meta *m, const char *where) {
     else if (m->x0 < 0 || m->x0 >= m->x1 || m->x1 > m->width || m->y0 < 0 || m->y0 >= m->y1 ||
              m->y1 > m->height)
         why = "region is empty or outside the image";
-    else if (m->spp < 1 || m->sample_begin > m->sample_end || m->sample_end > m->spp)
-        why = "sample range is empty-ended or past the samples per pixel";
+    else if (m->spp < 1 || m->spp > SCENE_MAX_SAMPLES)
+        why = "samples per pixel outside 1..1048576";
+    else if (m->sample_begin > m->sample_end || m->sample_end > m->spp)
+        why = "sample range ends before it begins or past the samples per pixel";
     else if (m->sample_begin % CHUNK_SAMPLES != 0 && m->sample_begin != m->spp)
         why = "sample range does not begin at a chunk (a multiple of 16 samples)";
     else if (m->chunk != CHUNK_SAMPLES)
