@@ -410,7 +410,7 @@ bool exr_file_read(const char *path, exr_file *out) {
     exr_result_t rc = exr_start_read(&ctx, path, &init);
     bool ok = rc == EXR_ERR_SUCCESS
                   ? read_header(ctx, path, &io, out) && read_pixels(ctx, path, &io, out)
-                  : fail(path, &io, rc, "not a readable EXR file");
+                  : fail(path, &io, rc, "not an EXR file, or a damaged or truncated one");
     if (ctx) exr_finish(&ctx);
     free(io.data);
     if (!ok) exr_file_free(out);
