@@ -94,6 +94,11 @@ bool part_push_chunk(part *p, const float *rgb, const uint32_t *count) {
         return false;
     }
     int merges = chunk_stack_push(&p->stack, (chunk_block){0, p->stack.end});
+    if (merges < 0) { /* past 2^32 chunks: meta_valid's sample limit rules it out */
+        free(plane);
+        log_error("part: chunk %" PRIu32 " does not fit the chunk tree", p->stack.end);
+        return false;
+    }
     memcpy(plane, rgb, n * 3 * sizeof *plane);
     p->block[top] = plane;
     for (int k = 0; k < merges; k++, top--) {
@@ -123,7 +128,7 @@ static bool part_whole(const part_meta *m) {
 bool part_film(const part *p, film *out) {
     *out = (film){0};
     if (!part_whole(&p->meta)) {
-        log_error("part: only a part of every pixel and every sample is a whole render");
+        log_error("part: not a whole render (every pixel, samples 0:%" PRIu32 ")", p->meta.spp);
         return false;
     }
     if (!film_init(out, p->meta.width, p->meta.height)) {
@@ -634,10 +639,13 @@ static bool merge_pixel(const part *parts, const int *order, int held, int x, in
     return true;
 }
 
-/* Fills out's sums, cell by cell of the grid of region edges. */
+/* Fills out's sums, cell by cell of the grid of region edges; false (logged) on failure. */
 static bool merge_sums(const part *parts, int n, const merge_grid *g, part *out) {
     int *order = malloc((size_t)n * sizeof *order);
-    if (!order) return false;
+    if (!order) {
+        log_error("merge: out of memory");
+        return false;
+    }
     bool ok = true;
     for (int cy = 0; ok && cy + 1 < g->ny; cy++)
         for (int cx = 0; ok && cx + 1 < g->nx; cx++) {
@@ -656,6 +664,8 @@ static bool merge_sums(const part *parts, int n, const merge_grid *g, part *out)
                 for (int64_t x = g->xs[cx]; ok && x < g->xs[cx + 1]; x++)
                     ok = merge_pixel(parts, order, held, (int)x, (int)y, out);
         }
+    if (!ok)
+        log_error("merge: internal error: the parts' chunk blocks do not continue one another");
     free(order);
     return ok;
 }
@@ -683,10 +693,7 @@ bool part_merge(const part *parts, const char *const *names, int n, part *out) {
             ok = (out->block[k] = malloc(pixels * 3 * sizeof(float))) != NULL;
         if (!ok) log_error("merge: out of memory for a %dx%d image", m.width, m.height);
     }
-    if (ok && !merge_sums(parts, n, &g, out)) {
-        log_error("merge: internal error: the parts' chunk blocks do not continue one another");
-        ok = false;
-    }
+    ok = ok && merge_sums(parts, n, &g, out);
     grid_free(&g);
     if (!ok) part_free(out);
     return ok;
