@@ -33,6 +33,8 @@ typedef struct tz_uvec4 {
 
 #define TZ_FLAG_JITTER 1u
 #define TZ_FLAG_INDIRECT 2u
+#define TZ_FLAG_PATH 4u     /* path mode (DESIGN section 3.2), else seed mode */
+#define TZ_FLAG_ROULETTE 8u /* path mode: Russian roulette from the fourth vertex */
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
  * pixels, whose rays stay coherent; 4 x 8 runs twice the instructions), 32 lanes on real GPUs. */
@@ -88,7 +90,7 @@ typedef struct tz_uvec4 {
 struct gpu_sphere {
     TZ_VEC4 center_radius; /* xyz centre, w radius */
     TZ_VEC4 color_ks;      /* rgb kd or tint, w phong ks */
-    TZ_VEC4 params;        /* x phong alpha, y ior, z material, w unused (0) */
+    TZ_VEC4 params;        /* x phong alpha, y ior, z material, w its emitter + 1 (0: none) */
 };
 
 /* One point light, 32 bytes. */
@@ -103,9 +105,16 @@ struct gpu_frame {
     TZ_VEC4 right;      /* R, w -width/2 */
     TZ_VEC4 up;         /* U, w height/2 */
     TZ_VEC4 forward;    /* F, w distance to the plane (2 width) */
-    TZ_VEC4 background; /* rgb, w unused (0) */
+    TZ_VEC4 background; /* rgb, w camera rays' start along their direction (`near`) */
     TZ_UVEC4 size;      /* image width, height, sphere count, light count */
     TZ_UVEC4 settings;  /* seed, bounces, flags (TZ_FLAG_*), BVH node count (0: none) */
+};
+
+/* One emissive sphere of path mode, 32 bytes: emitters are picked in proportion to their power
+ * by the first cdf above a uniform number. */
+struct gpu_emitter {
+    TZ_VEC4 emission_pick; /* rgb emitted radiance, w the probability of picking it */
+    TZ_VEC4 sphere_cdf;    /* x its sphere's index (uint bits), y the running sum of picks */
 };
 
 /* Push constants of one dispatch: which tile and which samples (count >= 1, taken in order). */

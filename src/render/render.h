@@ -25,8 +25,10 @@ typedef struct render_opts {
     int samples; /* samples per pixel */
     uint32_t seed;
     bool no_jitter; /* zero is default: jitter on */
-    bool indirect;
-    int bounces;           /* longest chain of specular events */
+    bool indirect;         /* seed mode: the one bounce of indirect light */
+    render_mode mode;      /* seed (the course report's model) or path (DESIGN section 3.2) */
+    bool roulette;         /* path mode: Russian roulette from the fourth vertex */
+    int bounces;           /* seed: longest chain of specular events; path: scattering events */
     int threads;           /* CPU back end; 0 = all cores */
     int device;            /* Vulkan back end; -1 = first */
     bool validate;         /* Vulkan validation layer, errors fail the run */

@@ -1,8 +1,10 @@
 /* scene_pack.c: fills the shared_layout.h structs from struct scene and checks their layout. */
 #include "render/scene_pack.h"
 
+#include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "render/bvh.h"
 #include "util/clock.h"
@@ -40,6 +42,8 @@ _Static_assert(sizeof(struct gpu_unrolled) == TZ_UNROLL_MAX_SPHERES * sizeof(str
 _Static_assert(offsetof(struct gpu_unrolled, lights) ==
                    TZ_UNROLL_MAX_SPHERES * sizeof(struct gpu_sphere),
                "gpu_unrolled layout");
+_Static_assert(sizeof(struct gpu_emitter) == 32, "gpu_emitter is 32 bytes");
+_Static_assert(offsetof(struct gpu_emitter, sphere_cdf) == 16, "gpu_emitter layout");
 _Static_assert(sizeof(struct gpu_bvh_node) == 64, "gpu_bvh_node is 64 bytes");
 _Static_assert(offsetof(struct gpu_bvh_node, left_hi) == 16, "gpu_bvh_node layout");
 _Static_assert(offsetof(struct gpu_bvh_node, right_lo) == 32, "gpu_bvh_node layout");
@@ -78,6 +82,47 @@ static bool pack_bvh(packed_scene *out, uint32_t count, bool no_bvh) {
     return true;
 }
 
+/* The mean of an emission's channels, as double. */
+static double emission_mean(vec3 e) { return ((double)e.x + e.y + e.z) / 3.0; }
+
+/* The emitters of path mode from the spheres in their final (BVH) order, whose params.w holds
+ * their index in the scene until here: each emitter is picked in proportion to its power
+ * r^2 mean(Le), the shares summed in double; params.w becomes the emitter's slot + 1, or 0.
+ * False (logged) on out-of-memory. */
+static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode) {
+    uint32_t count = (uint32_t)sc->sphere_count, n = 0;
+    double total = 0.0;
+    for (uint32_t k = 0; path_mode && k < count; k++) {
+        const sphere *sp = &sc->spheres[k];
+        double power = (double)sp->radius * sp->radius * emission_mean(sp->emission);
+        if (power > 0.0) total += power, n++;
+    }
+    out->emitters = calloc(n ? n : 1, sizeof *out->emitters);
+    if (!out->emitters) {
+        log_error("out of memory packing %u emitters", n);
+        return false;
+    }
+    double running = 0.0;
+    uint32_t slot = 0;
+    for (uint32_t k = 0; k < count; k++) {
+        struct gpu_sphere *g = &out->spheres[k];
+        const sphere *sp = &sc->spheres[(uint32_t)g->params.w];
+        double power = (double)sp->radius * sp->radius * emission_mean(sp->emission);
+        g->params.w = 0.0f;
+        if (!path_mode || !(power > 0.0)) continue;
+        running += power;
+        float index_bits;
+        memcpy(&index_bits, &k, sizeof index_bits);
+        out->emitters[slot] = (struct gpu_emitter){
+            .emission_pick = vec4_from(sp->emission, (float)(power / total)),
+            .sphere_cdf = {index_bits, slot + 1 == n ? 1.0f : (float)(running / total), 0, 0},
+        };
+        g->params.w = (float)++slot;
+    }
+    out->emitter_count = n;
+    return true;
+}
+
 /* The structure-of-arrays copy, padded by SOA_LANES zeros past every array's end. */
 static bool pack_soa(packed_scene *out, uint32_t count) {
     size_t n = ((size_t)count + SOA_LANES - 1) / SOA_LANES * SOA_LANES + SOA_LANES;
@@ -112,7 +157,7 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         out->spheres[k] = (struct gpu_sphere){
             .center_radius = vec4_from(sp->center, sp->radius),
             .color_ks = vec4_from(sp->color, sp->ks),
-            .params = {sp->alpha, sp->ior, (float)sp->material, 0.0f},
+            .params = {sp->alpha, sp->ior, (float)sp->material, (float)k}, /* pack_emitters */
         };
     }
     for (int k = 0; k < s->light_count; k++) {
@@ -126,19 +171,25 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     vec3 f = v3_normalize(s->camera_direction);
     vec3 r = v3_normalize(v3_cross(s->camera_up, f));
     vec3 u = v3_cross(f, r);
-    uint32_t flags =
-        (opts->no_jitter ? 0u : TZ_FLAG_JITTER) | (opts->indirect ? TZ_FLAG_INDIRECT : 0u);
+    bool path = opts->mode == RENDER_MODE_PATH;
+    uint32_t flags = (opts->no_jitter ? 0u : TZ_FLAG_JITTER) |
+                     (opts->indirect && !path ? TZ_FLAG_INDIRECT : 0u) |
+                     (path ? TZ_FLAG_PATH : 0u) | (path && opts->roulette ? TZ_FLAG_ROULETTE : 0u);
+    /* The plane's distance: 2 x width (the seed's), or what the field of view asks. */
+    float distance = s->camera_fov > 0.0f
+                         ? (float)(0.5 * s->plane_width / tan(0.5 * s->camera_fov * (3.14159265358979323846 / 180.0)))
+                         : 2.0f * s->plane_width;
     out->frame = (struct gpu_frame){
         .origin = vec4_from(s->camera_position, s->pixel_size),
         .right = vec4_from(r, -0.5f * s->plane_width),
         .up = vec4_from(u, 0.5f * s->plane_height),
-        .forward = vec4_from(f, 2.0f * s->plane_width),
-        .background = vec4_from(s->background, 0.0f),
+        .forward = vec4_from(f, distance),
+        .background = vec4_from(s->background, s->camera_near),
         .size = {(uint32_t)s->width, (uint32_t)s->height, (uint32_t)s->sphere_count,
                  (uint32_t)s->light_count},
         .settings = {opts->seed, (uint32_t)opts->bounces, flags, 0u},
     };
-    bool sorted = pack_bvh(out, count, opts->no_bvh); /* logs its own failure */
+    bool sorted = pack_bvh(out, count, opts->no_bvh) && pack_emitters(out, s, path); /* logged */
     if (sorted && !pack_soa(out, count)) log_error("out of memory packing %u spheres", count);
     if (!sorted || !out->soa.cx) {
         scene_pack_free(out);
@@ -170,5 +221,6 @@ void scene_pack_free(packed_scene *p) {
     free(p->lights);
     free(p->soa.cx);
     free(p->nodes);
+    free(p->emitters);
     *p = (packed_scene){0};
 }

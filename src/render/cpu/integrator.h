@@ -11,6 +11,10 @@
 /* Radiance of sample `sample_index` of pixel (i, j), i to the right and j down; never fails. */
 vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
 
+/* Radiance of path-mode sample `sample_index` of pixel (i, j) (DESIGN section 3.2); never fails.
+ */
+vec3 integrator_path_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
+
 /* The widest packet of any packet integrator. */
 #define PACKET_LANES_MAX 16
 /* The most packet integrators a build has, the one-sample reference included. */
@@ -50,6 +54,8 @@ int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]);
  * for the scene: the first listed, or with walks_bvh the first of at most PACKET_WALK_LANES_MAX
  * lanes; never fails (warns, falls back to the fastest). */
 packet_integrator integrator_packet_choose(const char *wanted, bool walks_bvh);
+/* The build that renders path mode: integrator_path_sample one lane at a time; never fails. */
+packet_integrator integrator_packet_path(void);
 
 /* Nearest sphere hit by the ray o + t d (|d| = 1) with t > EPS, -1 on a miss; `self` is the
  * sphere the ray leaves (-1 for none): its near root is the ray's own origin and is ignored. */
