@@ -507,7 +507,9 @@ static bool parse_camera(parser *p) {
     double ux = up.x / ul, uy = up.y / ul, uz = up.z / ul;
     double cx = dy * uz - dz * uy, cy = dz * ux - dx * uz, cz = dx * uy - dy * ux;
     if (sqrt(cx * cx + cy * cy + cz * cz) < CAMERA_MIN_SINE) {
-        int key = (kv.given & BIT(CAMERA_UP)) ? CAMERA_UP : CAMERA_DIRECTION;
+        int key = (kv.given & BIT(CAMERA_UP))        ? CAMERA_UP
+                  : (kv.given & BIT(CAMERA_LOOK_AT)) ? CAMERA_LOOK_AT
+                                                     : CAMERA_DIRECTION;
         return fail_at(p, p->tokens[kv.key_token[key]].col,
                        "camera up (%g %g %g) is parallel to direction (%g %g %g)", up.x, up.y, up.z,
                        direction.x, direction.y, direction.z);
