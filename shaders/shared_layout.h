@@ -35,6 +35,10 @@ typedef struct tz_uvec4 {
 #define TZ_FLAG_INDIRECT 2u
 #define TZ_FLAG_PATH 4u     /* path mode (DESIGN section 3.2), else seed mode */
 #define TZ_FLAG_ROULETTE 8u /* path mode: Russian roulette from the fourth vertex */
+/* Path mode's light sampling alone (no MIS, emission found by BSDF rays not counted) or BSDF
+ * sampling alone (emitters not sampled): for tests that the strategies agree. */
+#define TZ_FLAG_LIGHTS_ONLY 16u
+#define TZ_FLAG_BSDF_ONLY 32u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
  * pixels, whose rays stay coherent; 4 x 8 runs twice the instructions), 32 lanes on real GPUs. */

@@ -162,6 +162,24 @@ int main(void) {
     expect_fit("power: cosine is not uniform", sample_cosine, pdf_uniform_sphere, &up, false);
     lobe_ctx c = {tilted, 12.5f, 0, 0.0};
     expect_fit("power: lobe 12.5 is not lobe 14", sample_lobe, pdf_lobe_14, &c, false);
+    /* exact Fresnel: 0.04 head-on into glass of 1.5; at Brewster's angle (tan = 1.5) only the s
+     * part, sin^2(i - t) / sin^2(i + t) halved; the same both ways through the interface; total
+     * internal reflection past the critical angle */
+    float eta = 1.0f / 1.5f, k0 = 1.0f - eta * eta * 0.0f;
+    CHECK(fabsf(fresnel_dielectric(eta, 1.0f, k0) - 0.04f) < 1e-6f, "head-on %g",
+          (double)fresnel_dielectric(eta, 1.0f, k0));
+    double bi = atan(1.5), bt = asin(sin(bi) / 1.5), rs = sin(bi - bt) / sin(bi + bt);
+    float cb = (float)cos(bi), kb = 1.0f - eta * eta * (1.0f - cb * cb);
+    CHECK(fabs(fresnel_dielectric(eta, cb, kb) - 0.5 * rs * rs) < 1e-6, "Brewster %g vs %g",
+          (double)fresnel_dielectric(eta, cb, kb), 0.5 * rs * rs);
+    float ct = sqrtf(kb), back = 1.0f - 1.5f * 1.5f * (1.0f - ct * ct);
+    CHECK(fabsf(fresnel_dielectric(1.5f, ct, back) - fresnel_dielectric(eta, cb, kb)) < 1e-6f,
+          "reciprocal %g vs %g", (double)fresnel_dielectric(1.5f, ct, back),
+          (double)fresnel_dielectric(eta, cb, kb));
+    CHECK(fresnel_dielectric(1.5f, 0.5f, 1.0f - 2.25f * 0.75f) == 1.0f, "total internal reflection");
+    CHECK(fabsf(power_heuristic(1.0f, 1.0f) - 0.5f) < 1e-7f && power_heuristic(0.0f, 1.0f) == 0.0f &&
+              power_heuristic(2.0f, 0.0f) == 1.0f,
+          "power heuristic");
     /* tiny cones: 1 - cos(theta_max) keeps its precision where 1 - sqrt(1 - s) loses it */
     float omc = cone_one_minus_cos(1e-10f, 1.0f);
     CHECK(fabsf(omc - 5e-11f) < 5e-11f * 1e-5f, "tiny cone 1 - cos %g", (double)omc);

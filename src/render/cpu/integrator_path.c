@@ -105,7 +105,8 @@ static vec3 emitter_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3 
     const struct gpu_sphere *s = &p->spheres[id];
     float x = phong_lobe_cos(n, wi, wo);
     float b = bsdf_pdf(share, s->params.x, cos_i, x);
-    float weight = pdf / (pdf * pdf + b * b);
+    /* the MIS weight over the pdf, or 1 / pdf with light sampling alone */
+    float weight = p->frame.settings.z & TZ_FLAG_LIGHTS_ONLY ? 1.0f / pdf : pdf / (pdf * pdf + b * b);
     return v3_scale(v3_mul(brdf(s, x), xyz(e->emission_pick)), cos_i * weight);
 }
 
@@ -146,8 +147,10 @@ vec3 integrator_path_sample(const packed_scene *p, uint32_t i, uint32_t j, uint3
         vec3 nout = v3_scale(v3_sub(pos, xyz(s->center_radius)), 1.0f / s->center_radius.w);
         const struct gpu_emitter *e = emitter_of(p, id);
         if (e) {
-            float w = specular ? 1.0f
-                               : power_heuristic(last.bsdf_pdf, light_pdf_at(p, &last, id, pos, d));
+            float w = specular || (fr->settings.z & TZ_FLAG_BSDF_ONLY) ? 1.0f
+                      : fr->settings.z & TZ_FLAG_LIGHTS_ONLY
+                          ? 0.0f
+                          : power_heuristic(last.bsdf_pdf, light_pdf_at(p, &last, id, pos, d));
             radiance = v3_add(radiance, v3_scale(v3_mul(beta, xyz(e->emission_pick)), w));
         }
         if (k > bounces) break;
@@ -158,7 +161,8 @@ vec3 integrator_path_sample(const packed_scene *p, uint32_t i, uint32_t j, uint3
             vec3 direct = point_lights(p, id, pos, n, wo);
             if (p->emitter_count > 0) {
                 float ul = rng_next(&rng), ua = rng_next(&rng), ub = rng_next(&rng);
-                direct = v3_add(direct, emitter_light(p, id, pos, n, wo, share, ul, ua, ub));
+                if (!(fr->settings.z & TZ_FLAG_BSDF_ONLY))
+                    direct = v3_add(direct, emitter_light(p, id, pos, n, wo, share, ul, ua, ub));
             }
             radiance = v3_add(radiance, v3_mul(beta, direct));
             float us = rng_next(&rng), u1 = rng_next(&rng), u2 = rng_next(&rng);
