@@ -62,7 +62,7 @@ void basis(vec3 n, out vec3 t, out vec3 b) {
  * -2 past the bounce limit); o, d become the last ray, weight the product of the tints. */
 int follow_specular(inout vec3 o, inout vec3 d, int self, inout vec3 weight, out vec3 pos,
                     out vec3 n) {
-    uint bounces = frame.settings.y;
+    uint bounces = frame.bounces;
     pos = vec3(0.0);
     n = vec3(0.0);
     for (uint chain = 0u;; chain++) {

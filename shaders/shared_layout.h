@@ -1,12 +1,13 @@
 /* shared_layout.h: the one definition of every buffer, binding and constant the shaders read.
  * Included by C (src/scene_pack.c, the C integrator) and by GLSL (the shaders in shaders/).
- * std430, vec4-packed; the C side asserts every size and offset in src/scene_pack.c. */
+ * std430, in 16-byte groups (vec4s or four 32-bit scalars); the C side asserts every size and offset in src/scene_pack.c. */
 #ifndef TRAZADOR_SHARED_LAYOUT_H
 #define TRAZADOR_SHARED_LAYOUT_H
 
 #ifdef GL_core_profile
 #define TZ_VEC4 vec4
 #define TZ_UVEC4 uvec4
+#define TZ_UINT uint
 #define TZ_FLOAT_CONST(x) (x)
 #else
 #include <stdint.h>
@@ -18,6 +19,7 @@ typedef struct tz_uvec4 {
 } tz_uvec4;
 #define TZ_VEC4 tz_vec4
 #define TZ_UVEC4 tz_uvec4
+#define TZ_UINT uint32_t
 #define TZ_FLOAT_CONST(x) (x##f)
 #endif
 
@@ -65,8 +67,8 @@ typedef struct tz_uvec4 {
 #define TZ_BINDING_ACCUM_COMP 6
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
- * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.size.z / .w
- * (src/render_vk.c decides); and frame.settings.z (TZ_FLAG_*), so that code a render never runs
+ * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.sphere_count / light_count
+ * (src/render_vk.c decides); and frame.flags (TZ_FLAG_*), so that code a render never runs
  * is compiled out (lavapipe pays for masked-off SIMD code). */
 #define TZ_SPEC_UNROLLED_SPHERES 0
 #define TZ_SPEC_UNROLLED_LIGHTS 1
@@ -104,14 +106,20 @@ struct gpu_frame {
     TZ_VEC4 up;         /* U, w height/2 */
     TZ_VEC4 forward;    /* F, w distance to the plane (2 width) */
     TZ_VEC4 background; /* rgb, w unused (0) */
-    TZ_UVEC4 size;      /* image width, height, sphere count, light count */
-    TZ_UVEC4 settings;  /* seed, bounces, flags (TZ_FLAG_*), BVH node count (0: none) */
+    TZ_UINT width, height; /* of the image, in pixels */
+    TZ_UINT sphere_count, light_count;
+    TZ_UINT seed, bounces;
+    TZ_UINT flags;      /* TZ_FLAG_* */
+    TZ_UINT node_count; /* of the BVH, 0 without one */
 };
 
 /* Push constants of one dispatch: which tile and which samples (count >= 1, taken in order). */
 struct gpu_pass {
-    TZ_UVEC4 tile;  /* x0, y0 of the tile in pixels, first sample index, sample count */
-    TZ_UVEC4 total; /* x: samples per pixel in all, y: workgroup stride (see trace.comp), zw 0 */
+    TZ_UINT x0, y0; /* the tile's corner in pixels */
+    TZ_UINT first_sample, sample_count;
+    TZ_UINT total_samples; /* samples per pixel in all */
+    TZ_UINT group_stride;  /* workgroup stride (see trace.comp) */
+    TZ_UINT pad0, pad1;    /* 0: 32 bytes, as the C asserts check */
 };
 
 /* The spheres and lights of an unrolled scene in the texel layout of TZ_BINDING_SPHERES and

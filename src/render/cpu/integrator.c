@@ -5,8 +5,8 @@
 #include <math.h>
 
 #include "render/cpu/integrator_steps.h"
-#include "render/rng.h"
 #include "render/cpu/simd_clones.h"
+#include "render/rng.h"
 
 /* Distances to spheres [begin, begin + SOA_LANES) into t[] (sphere_distance), INFINITY past
  * end: a fixed trip count over the padded structure-of-arrays, so it compiles to 8-wide SIMD. */
@@ -53,7 +53,7 @@ SIMD_CLONES static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self
                                  int any_hit, float *t) {
     float tmin = ray_eps(o), best = tmax;
     int id = -1;
-    uint32_t count = p->frame.size.z, node_count = p->frame.settings.w;
+    uint32_t count = p->frame.sphere_count, node_count = p->frame.node_count;
     if (node_count == 0) {
         for (uint32_t begin = 0; begin < count && !(any_hit && id >= 0); begin += SOA_LANES)
             leaf_hit(p, begin, begin + SOA_LANES < count ? begin + SOA_LANES : count, o, d, tmin,
@@ -126,7 +126,7 @@ static vec3 phong_brdf(const struct gpu_sphere *s, vec3 n, vec3 wi, vec3 wo) {
 static vec3 direct_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3 wo) {
     vec3 o = offset_origin(pos, n);
     vec3 sum = v3(0.0f, 0.0f, 0.0f);
-    for (uint32_t k = 0; k < p->frame.size.w; k++) {
+    for (uint32_t k = 0; k < p->frame.light_count; k++) {
         /* Distance and angle from the true hit point; only the shadow ray starts off the surface.
          */
         vec3 wi;
@@ -142,7 +142,7 @@ static vec3 direct_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3 w
  * -2 when the chain exceeds the bounce limit); *o, *d become the last ray, *weight the tints. */
 static int follow_specular(const packed_scene *p, vec3 *o, vec3 *d, int self, vec3 *weight,
                            vec3 *pos, vec3 *n) {
-    uint32_t bounces = p->frame.settings.y;
+    uint32_t bounces = p->frame.bounces;
     for (uint32_t chain = 0;; chain++) {
         float t;
         int id = integrator_nearest(p, *o, *d, self, &t);
@@ -188,10 +188,10 @@ static vec3 indirect_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3
 
 vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index) {
     const struct gpu_frame *fr = &p->frame;
-    uint32_t rng = rng_seed(fr->settings.x, j * fr->size.x + i, sample_index);
+    uint32_t rng = rng_seed(fr->seed, j * fr->width + i, sample_index);
     /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag. */
     float u = rng_next(&rng), v = rng_next(&rng);
-    if (!(fr->settings.z & TZ_FLAG_JITTER)) u = v = 0.5f;
+    if (!(fr->flags & TZ_FLAG_JITTER)) u = v = 0.5f;
     vec3 o = xyz(fr->origin), d = camera_direction(fr, i, j, u, v);
     vec3 weight = v3(1.0f, 1.0f, 1.0f), pos, n;
     int id = follow_specular(p, &o, &d, -1, &weight, &pos, &n);
@@ -199,7 +199,7 @@ vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t s
     if (id == -2) return v3(0.0f, 0.0f, 0.0f);
     vec3 wo = v3_scale(d, -1.0f);
     vec3 radiance = direct_light(p, id, pos, n, wo);
-    if (fr->settings.z & TZ_FLAG_INDIRECT)
+    if (fr->flags & TZ_FLAG_INDIRECT)
         radiance = v3_add(radiance, indirect_light(p, id, pos, n, wo, &rng));
     return v3_mul(weight, radiance);
 }

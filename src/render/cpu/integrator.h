@@ -40,7 +40,7 @@ typedef struct packet_integrator {
 /* 1 when the packet integrators walk the BVH for this scene (it has one and more than
  * PACKET_BRUTE_FORCE_MAX spheres), 0 when they test every sphere; never fails. */
 static inline int integrator_packet_walks(const packed_scene *p) {
-    return p->frame.settings.w > 0 && p->frame.size.z > PACKET_BRUTE_FORCE_MAX;
+    return p->frame.node_count > 0 && p->frame.sphere_count > PACKET_BRUTE_FORCE_MAX;
 }
 
 /* The packet integrators this processor runs into list, fastest first (the reference last);

@@ -212,7 +212,7 @@ LANE_FN void packet_trace(const packed_scene *p, const lanes3 *o, const lanes3 *
         rays += active[k];
     }
     integrator_count_rays((uint64_t)rays);
-    uint32_t count = p->frame.size.z;
+    uint32_t count = p->frame.sphere_count;
     if (!integrator_packet_walks(p)) {
         for (uint32_t s = 0; s < count; s++) packet_sphere(p, s, o, d, self, tmin, 0, t, id);
     } else if (rays >= (any_hit ? SHADOW_WALK_GROUP_MIN : WALK_GROUP_MIN)) {
@@ -234,7 +234,7 @@ LANE_FN void packet_trace(const packed_scene *p, const lanes3 *o, const lanes3 *
 LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d, int *self,
                                     const int *active_in, lanes3 *weight, lanes3 *pos, lanes3 *n,
                                     int *result) {
-    uint32_t bounces = p->frame.settings.y;
+    uint32_t bounces = p->frame.bounces;
     int active[LANES];
     float tmax[LANES];
     for (int k = 0; k < LANES; k++) {
@@ -345,7 +345,7 @@ LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lan
         set3(&o, k, offset_origin(pk, get3(n, k)));
         set3(sum, k, v3(0.0f, 0.0f, 0.0f));
     }
-    for (uint32_t l = 0; l < p->frame.size.w; l++) {
+    for (uint32_t l = 0; l < p->frame.light_count; l++) {
         lanes3 wi, light, f;
         float dist[LANES], cos_i;
         int facing[LANES], blocker[LANES];
@@ -431,11 +431,11 @@ void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j,
     lanes3 o, d, weight, pos, n, wo, radiance;
     for (int k = 0; k < LANES; k++) {
         active[k] = (uint32_t)k < lanes;
-        rng[k] = rng_seed(fr->settings.x, j * fr->size.x + i + (uint32_t)k, sample_index);
+        rng[k] = rng_seed(fr->seed, j * fr->width + i + (uint32_t)k, sample_index);
         /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag.
          */
         float u = rng_next(&rng[k]), v = rng_next(&rng[k]);
-        if (!(fr->settings.z & TZ_FLAG_JITTER)) u = v = 0.5f;
+        if (!(fr->flags & TZ_FLAG_JITTER)) u = v = 0.5f;
         set3(&o, k, xyz(fr->origin));
         set3(&d, k, camera_direction(fr, i + (uint32_t)k, j, u, v));
         set3(&weight, k, v3(1.0f, 1.0f, 1.0f));
@@ -445,7 +445,7 @@ void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j,
     int diffuse[LANES];
     packet_diffuse_hits(active, id, &d, diffuse, &wo);
     packet_direct_light(p, id, &pos, &n, &wo, diffuse, &radiance);
-    if (fr->settings.z & TZ_FLAG_INDIRECT)
+    if (fr->flags & TZ_FLAG_INDIRECT)
         packet_indirect_light(p, id, &pos, &n, &wo, diffuse, rng, &radiance);
     vec3 background = xyz(fr->background);
     for (int k = 0; k < LANES; k++)
