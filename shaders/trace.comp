@@ -1,8 +1,8 @@
-/* trace.comp: the per-sample compute entry point. One invocation renders `pass.sample_count` samples
- * (in sample order) of one pixel of the tile at (pass.x0, pass.y0) and adds each finite one to the
- * pixel's accumulator exactly as the C back end does; non-finite samples are counted instead.
- * Twin of integrator_sample() in src/integrator.c and camera_direction() in
- * src/integrator_steps.h. Declares the bindings and the scene accessors the included .glsl files
+/* trace.comp: the per-sample compute entry point. One invocation renders `pass.sample_count`
+ * samples (in sample order) of one pixel of the tile at (pass.x0, pass.y0) and adds each finite
+ * one to the pixel's accumulator exactly as the C back end does; non-finite samples are counted
+ * instead. integrator_sample() is the one of src/render/cpu/integrator.c, on the same shared
+ * steps (shaders/common/). Declares the bindings and the scene accessors the included files
  * use. */
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -64,15 +64,6 @@ bool use_bvh() { return UNROLLED_SPHERES == 0u && frame.node_count > 0u; }
 
 #include "shade.glsl"
 
-/* Primary ray through the plane point of pixel (i, j) offset by (u, v) in pixels. */
-vec3 camera_direction(uint i, uint j, float u, float v) {
-    float pixel = frame.origin.w;
-    precise float x = frame.right.w + (float(i) + u) * pixel;
-    precise float y = frame.up.w - (float(j) + v) * pixel;
-    precise vec3 d = frame.right.xyz * x + frame.up.xyz * y + frame.forward.xyz * frame.forward.w;
-    return v3_normalize(d);
-}
-
 /* Radiance of sample `sample_index` of pixel (i, j), i to the right and j down. */
 vec3 integrator_sample(uint i, uint j, uint sample_index) {
     uint rng = rng_seed(frame.seed, j * frame.width + i, sample_index);
@@ -80,7 +71,8 @@ vec3 integrator_sample(uint i, uint j, uint sample_index) {
     float u = rng_next(rng);
     float v = rng_next(rng);
     if ((FLAGS & TZ_FLAG_JITTER) == 0u) u = v = 0.5;
-    vec3 o = frame.origin.xyz, d = camera_direction(i, j, u, v);
+    vec3 o = frame.origin.xyz;
+    vec3 d = camera_direction(frame.right, frame.up, frame.forward, frame.origin.w, i, j, u, v);
     vec3 weight = vec3(1.0), pos, n;
     int id = follow_specular(o, d, -1, weight, pos, n);
     precise vec3 r;
