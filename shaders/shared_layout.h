@@ -1,6 +1,7 @@
 /* shared_layout.h: the one definition of every buffer, binding and constant the shaders read.
- * Included by C (src/scene_pack.c, the C integrator) and by GLSL (the shaders in shaders/).
- * std430, in 16-byte groups (vec4s or four 32-bit scalars); the C side asserts every size and offset in src/scene_pack.c. */
+ * Included by C (src/render/scene_pack.c, the C integrator) and by GLSL (the shaders in
+ * shaders/). std430 (the frame std140), in 16-byte groups of vec4s or four 32-bit scalars, so
+ * that both rules give the same offsets; src/render/scene_pack.c asserts every size and offset. */
 #ifndef TRAZADOR_SHARED_LAYOUT_H
 #define TRAZADOR_SHARED_LAYOUT_H
 
@@ -37,7 +38,8 @@ typedef struct tz_uvec4 {
 #define TZ_FLAG_INDIRECT 2u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
- * pixels, whose rays stay coherent; 4 x 8 runs twice the instructions), 32 lanes on real GPUs. */
+ * pixels, whose rays stay coherent; 4 x 8 ran more instructions: docs/PERF.md), 32 lanes on real
+ * GPUs. */
 #define TZ_GROUP_X 8
 #define TZ_GROUP_Y 4
 
@@ -60,7 +62,7 @@ typedef struct tz_uvec4 {
 /* Texels 4k..4k+3: gpu_bvh_node k, read as uints (one zeroed node without a BVH). */
 #define TZ_BINDING_NODES 5
 /* Dynamic, bound as TZ_BINDING_ACCUM: a vec4 a pixel, the compensation of its RGB sums (Kahan
- * summation, src/film_sum.h), w unused; the pass that completes a pixel's samples stores the
+ * summation, src/render/film_sum.h), w unused; the pass that completes a pixel's samples stores the
  * compensated sums' values into TZ_BINDING_ACCUM instead, so only that buffer is read back. A
  * buffer of its own, so that each stays within the 32-bit dynamic offsets as the sums alone did.
  */
@@ -68,7 +70,7 @@ typedef struct tz_uvec4 {
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
  * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.sphere_count / light_count
- * (src/render_vk.c decides); and frame.flags (TZ_FLAG_*), so that code a render never runs
+ * (src/render/vk/render_vk.c decides); and frame.flags (TZ_FLAG_*), so that code a render never runs
  * is compiled out (lavapipe pays for masked-off SIMD code). */
 #define TZ_SPEC_UNROLLED_SPHERES 0
 #define TZ_SPEC_UNROLLED_LIGHTS 1

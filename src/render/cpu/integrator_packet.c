@@ -11,7 +11,7 @@
 #include "render/cpu/integrator.h"
 
 /* Built once per vector level (CMakeLists.txt): PACKET_LANES lanes, the entry point named
- * integrator_sample_packet_<PACKET_VARIANT>; src/integrator_dispatch.c picks one at run time. */
+ * integrator_sample_packet_<PACKET_VARIANT>; src/render/cpu/integrator_dispatch.c picks one at run time. */
 #ifndef PACKET_LANES
 #define PACKET_LANES 8
 #define PACKET_VARIANT baseline
@@ -21,14 +21,9 @@
 #define PACKET_ENTRY(variant) PACKET_ENTRY_NAME(variant)
 /* A packet's active lanes walk the BVH together when there are at least this many (fewer walk it
  * one by one): three eighths of the lanes for nearest hits, 2 for shadow rays, which converge on
- * their light and end at the first blocker. Measured on 8 lanes (min of 5 alternating one-thread
- * runs) on random scenes of 1,000 to 1,000,000 spheres and sphereflakes of depth 3 and 5, over
- * the BVH of 32 bins: against 6 and 3 lanes (the best over the trees of 16 bins) 3-6% less render
- * time; 2 or 1 lane do as well.
+ * their light and end at the first blocker (the thresholds were measured: docs/PERF.md).
  * Lanes of every direction walk together: split by the octant of their directions, the
- * cosine-distributed bounce rays of a 16-lane packet made groups too small to walk together,
- * and their one-by-one walks cost 20% more render time at 1,000 and 1,000,000 spheres (the same
- * on 8 lanes). */
+ * cosine-distributed bounce rays made groups too small to walk together. */
 #define WALK_GROUP_MIN (LANES * 3 / 8)
 #define SHADOW_WALK_GROUP_MIN 2
 
@@ -179,9 +174,8 @@ LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d
 
 /* packet_walk for nearest hits and for shadow rays. The 8-lane builds compile each once, out of
  * line: inlined at every trace, the walk made their entry point big enough to slow down scenes
- * that never walk (-15..-25% on the default scene in the baseline build). The 16-lane build
- * inlines them: out of line it lost 12-20% on scenes that walk (random spheres, 1,000 to
- * 1,000,000). */
+ * that never walk. The 16-lane build inlines them: out of line it lost on scenes that walk
+ * (docs/PERF.md). */
 #if LANES > 8
 #define WALK_FN LANE_FN
 #else
