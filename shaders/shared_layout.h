@@ -1,12 +1,14 @@
 /* shared_layout.h: the one definition of every buffer, binding and constant the shaders read.
- * Included by C (src/scene_pack.c, the C integrator) and by GLSL (the shaders in shaders/).
- * std430, vec4-packed; the C side asserts every size and offset in src/scene_pack.c. */
+ * Included by C (src/render/scene_pack.c, the C integrator) and by GLSL (the shaders in
+ * shaders/). std430 (the frame std140), in 16-byte groups of vec4s or four 32-bit scalars, so
+ * that both rules give the same offsets; src/render/scene_pack.c asserts every size and offset. */
 #ifndef TRAZADOR_SHARED_LAYOUT_H
 #define TRAZADOR_SHARED_LAYOUT_H
 
 #ifdef GL_core_profile
 #define TZ_VEC4 vec4
 #define TZ_UVEC4 uvec4
+#define TZ_UINT uint
 #define TZ_FLOAT_CONST(x) (x)
 #else
 #include <stdint.h>
@@ -18,6 +20,7 @@ typedef struct tz_uvec4 {
 } tz_uvec4;
 #define TZ_VEC4 tz_vec4
 #define TZ_UVEC4 tz_uvec4
+#define TZ_UINT uint32_t
 #define TZ_FLOAT_CONST(x) (x##f)
 #endif
 
@@ -41,7 +44,8 @@ typedef struct tz_uvec4 {
 #define TZ_FLAG_BSDF_ONLY 32u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
- * pixels, whose rays stay coherent; 4 x 8 runs twice the instructions), 32 lanes on real GPUs. */
+ * pixels, whose rays stay coherent; 4 x 8 ran more instructions: docs/PERF.md), 32 lanes on real
+ * GPUs. */
 #define TZ_GROUP_X 8
 #define TZ_GROUP_Y 4
 
@@ -64,15 +68,15 @@ typedef struct tz_uvec4 {
 /* Texels 4k..4k+3: gpu_bvh_node k, read as uints (one zeroed node without a BVH). */
 #define TZ_BINDING_NODES 5
 /* Dynamic, bound as TZ_BINDING_ACCUM: a vec4 a pixel, the compensation of its RGB sums (Kahan
- * summation, src/film_sum.h), w unused; the pass that completes a pixel's samples stores the
+ * summation, src/render/film_sum.h), w unused; the pass that completes a pixel's samples stores the
  * compensated sums' values into TZ_BINDING_ACCUM instead, so only that buffer is read back. A
  * buffer of its own, so that each stays within the 32-bit dynamic offsets as the sums alone did.
  */
 #define TZ_BINDING_ACCUM_COMP 6
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
- * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.size.z / .w
- * (src/render_vk.c decides); and frame.settings.z (TZ_FLAG_*), so that code a render never runs
+ * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.sphere_count / light_count
+ * (src/render/vk/render_vk.c decides); and frame.flags (TZ_FLAG_*), so that code a render never runs
  * is compiled out (lavapipe pays for masked-off SIMD code). */
 #define TZ_SPEC_UNROLLED_SPHERES 0
 #define TZ_SPEC_UNROLLED_LIGHTS 1
@@ -109,9 +113,15 @@ struct gpu_frame {
     TZ_VEC4 right;      /* R, w -width/2 */
     TZ_VEC4 up;         /* U, w height/2 */
     TZ_VEC4 forward;    /* F, w distance to the plane (2 width) */
-    TZ_VEC4 background; /* rgb, w camera rays' start along their direction (`near`) */
-    TZ_UVEC4 size;      /* image width, height, sphere count, light count */
-    TZ_UVEC4 settings;  /* seed, bounces, flags (TZ_FLAG_*), BVH node count (0: none) */
+    TZ_VEC4 background; /* rgb, w unused (0) */
+    TZ_UINT width, height; /* of the image, in pixels */
+    TZ_UINT sphere_count, light_count;
+    TZ_UINT seed, bounces;
+    TZ_UINT flags;      /* TZ_FLAG_* */
+    TZ_UINT node_count; /* of the BVH, 0 without one */
+    float near_distance;   /* camera rays start this far along their direction (`near`) */
+    TZ_UINT emitter_count; /* path mode's emissive spheres */
+    TZ_UINT pad0, pad1;    /* 0 */
 };
 
 /* One emissive sphere of path mode, 32 bytes: emitters are picked in proportion to their power
@@ -123,8 +133,11 @@ struct gpu_emitter {
 
 /* Push constants of one dispatch: which tile and which samples (count >= 1, taken in order). */
 struct gpu_pass {
-    TZ_UVEC4 tile;  /* x0, y0 of the tile in pixels, first sample index, sample count */
-    TZ_UVEC4 total; /* x: samples per pixel in all, y: workgroup stride (see trace.comp), zw 0 */
+    TZ_UINT x0, y0; /* the tile's corner in pixels */
+    TZ_UINT first_sample, sample_count;
+    TZ_UINT total_samples; /* samples per pixel in all */
+    TZ_UINT group_stride;  /* workgroup stride (see trace.comp) */
+    TZ_UINT pad0, pad1;    /* 0: 32 bytes, as the C asserts check */
 };
 
 /* The spheres and lights of an unrolled scene in the texel layout of TZ_BINDING_SPHERES and

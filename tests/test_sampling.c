@@ -7,7 +7,7 @@
 #include <stdlib.h>
 
 #include "check.h"
-#include "render/cpu/path_steps.h"
+#include "common/sampling.h"
 #include "render/rng.h"
 
 #define PI 3.14159265358979323846

@@ -15,7 +15,8 @@ _Static_assert(MATERIAL_LAMBERTIAN == TZ_MATERIAL_LAMBERTIAN &&
                    MATERIAL_PHONG == TZ_MATERIAL_PHONG && MATERIAL_MIRROR == TZ_MATERIAL_MIRROR &&
                    MATERIAL_REFRACTIVE == TZ_MATERIAL_REFRACTIVE,
                "material numbers");
-/* std430 with vec4 members only: the C structs must have no padding of their own. */
+/* std430 in 16-byte groups (vec4s, four scalars): the C structs must have no padding of their own.
+ */
 _Static_assert(sizeof(tz_vec4) == 16, "vec4 is 16 bytes");
 _Static_assert(sizeof(tz_uvec4) == 16, "uvec4 is 16 bytes");
 _Static_assert(sizeof(struct gpu_sphere) == 48, "gpu_sphere is 48 bytes");
@@ -25,16 +26,29 @@ _Static_assert(offsetof(struct gpu_sphere, params) == 32, "gpu_sphere layout");
 _Static_assert(sizeof(struct gpu_light) == 32, "gpu_light is 32 bytes");
 _Static_assert(offsetof(struct gpu_light, position_power) == 0, "gpu_light layout");
 _Static_assert(offsetof(struct gpu_light, color) == 16, "gpu_light layout");
-_Static_assert(sizeof(struct gpu_frame) == 112, "gpu_frame is 112 bytes");
+_Static_assert(sizeof(struct gpu_frame) == 128, "gpu_frame is 128 bytes");
 _Static_assert(offsetof(struct gpu_frame, origin) == 0, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, right) == 16, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, up) == 32, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, forward) == 48, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, background) == 64, "gpu_frame layout");
-_Static_assert(offsetof(struct gpu_frame, size) == 80, "gpu_frame layout");
-_Static_assert(offsetof(struct gpu_frame, settings) == 96, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, width) == 80, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, height) == 84, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, sphere_count) == 88, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, light_count) == 92, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, seed) == 96, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, bounces) == 100, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, flags) == 104, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, node_count) == 108, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, near_distance) == 112, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, emitter_count) == 116, "gpu_frame layout");
 _Static_assert(sizeof(struct gpu_pass) == 32, "gpu_pass is 32 bytes");
-_Static_assert(offsetof(struct gpu_pass, total) == 16, "gpu_pass layout");
+_Static_assert(offsetof(struct gpu_pass, x0) == 0, "gpu_pass layout");
+_Static_assert(offsetof(struct gpu_pass, y0) == 4, "gpu_pass layout");
+_Static_assert(offsetof(struct gpu_pass, first_sample) == 8, "gpu_pass layout");
+_Static_assert(offsetof(struct gpu_pass, sample_count) == 12, "gpu_pass layout");
+_Static_assert(offsetof(struct gpu_pass, total_samples) == 16, "gpu_pass layout");
+_Static_assert(offsetof(struct gpu_pass, group_stride) == 20, "gpu_pass layout");
 
 _Static_assert(sizeof(struct gpu_unrolled) == TZ_UNROLL_MAX_SPHERES * sizeof(struct gpu_sphere) +
                                                   TZ_UNROLL_MAX_LIGHTS * sizeof(struct gpu_light),
@@ -76,7 +90,7 @@ static bool pack_bvh(packed_scene *out, uint32_t count, bool no_bvh) {
     } else {
         out->nodes = tree.nodes;
         out->bvh_depth = tree.depth;
-        out->frame.settings.w = tree.node_count;
+        out->frame.node_count = tree.node_count;
     }
     out->bvh_seconds = clock_seconds() - start;
     return true;
@@ -119,7 +133,7 @@ static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode) {
         };
         g->params.w = (float)++slot;
     }
-    out->emitter_count = n;
+    out->frame.emitter_count = n;
     return true;
 }
 
@@ -186,10 +200,15 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         .right = vec4_from(r, -0.5f * s->plane_width),
         .up = vec4_from(u, 0.5f * s->plane_height),
         .forward = vec4_from(f, distance),
-        .background = vec4_from(s->background, s->camera_near),
-        .size = {(uint32_t)s->width, (uint32_t)s->height, (uint32_t)s->sphere_count,
-                 (uint32_t)s->light_count},
-        .settings = {opts->seed, (uint32_t)opts->bounces, flags, 0u},
+        .background = vec4_from(s->background, 0.0f),
+        .width = (uint32_t)s->width,
+        .height = (uint32_t)s->height,
+        .sphere_count = (uint32_t)s->sphere_count,
+        .light_count = (uint32_t)s->light_count,
+        .seed = opts->seed,
+        .bounces = (uint32_t)opts->bounces,
+        .flags = flags,
+        .near_distance = s->camera_near,
     };
     bool sorted = pack_bvh(out, count, opts->no_bvh) && pack_emitters(out, s, path); /* logged */
     if (sorted && !pack_soa(out, count)) log_error("out of memory packing %u spheres", count);
@@ -205,15 +224,15 @@ void scene_pack_report(const packed_scene *p, const render_opts *opts, double pa
     render_stats *st = opts->stats;
     st->pack_seconds = clock_seconds() - pack_start;
     st->bvh_seconds = p->bvh_seconds;
-    st->bvh_nodes = p->frame.settings.w;
+    st->bvh_nodes = p->frame.node_count;
     st->bvh_depth = p->bvh_depth;
-    st->scene_bytes = (uint64_t)p->frame.size.z * sizeof *p->spheres +
-                      (uint64_t)p->frame.size.w * sizeof *p->lights +
-                      (uint64_t)p->frame.settings.w * sizeof *p->nodes;
+    st->scene_bytes = (uint64_t)p->frame.sphere_count * sizeof *p->spheres +
+                      (uint64_t)p->frame.light_count * sizeof *p->lights +
+                      (uint64_t)p->frame.node_count * sizeof *p->nodes;
     log_debug(
         "scene: %u sphere%s, %u BVH node%s (depth %u) built in %.3f s, %.1f MB for the "
         "shaders, packed in %.3f s in all",
-        p->frame.size.z, p->frame.size.z == 1 ? "" : "s", st->bvh_nodes,
+        p->frame.sphere_count, p->frame.sphere_count == 1 ? "" : "s", st->bvh_nodes,
         st->bvh_nodes == 1 ? "" : "s", st->bvh_depth, st->bvh_seconds,
         (double)st->scene_bytes * 1e-6, st->pack_seconds);
 }

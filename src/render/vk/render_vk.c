@@ -136,12 +136,12 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    size_t sphere_bytes = (p->frame.size.z ? p->frame.size.z : 1u) * sizeof *p->spheres;
-    size_t light_bytes = (p->frame.size.w ? p->frame.size.w : 1u) * sizeof *p->lights;
+    size_t sphere_bytes = (p->frame.sphere_count ? p->frame.sphere_count : 1u) * sizeof *p->spheres;
+    size_t light_bytes = (p->frame.light_count ? p->frame.light_count : 1u) * sizeof *p->lights;
     /* Without a BVH one zeroed node keeps the binding valid; the shader never reads it. */
     static const struct gpu_bvh_node no_nodes[1];
-    const void *nodes = p->frame.settings.w ? (const void *)p->nodes : (const void *)no_nodes;
-    size_t node_bytes = (p->frame.settings.w ? p->frame.settings.w : 1u) * sizeof *p->nodes;
+    const void *nodes = p->frame.node_count ? (const void *)p->nodes : (const void *)no_nodes;
+    size_t node_bytes = (p->frame.node_count ? p->frame.node_count : 1u) * sizeof *p->nodes;
     /* Rows padded to whole tiles: every band binding of TILE_SIZE rows stays inside the buffer. */
     uint64_t rows = ((uint64_t)height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
     VkDeviceSize accum_bytes = rows * (uint64_t)width * ACCUM_PIXEL_BYTES;
@@ -211,7 +211,7 @@ _Static_assert((uint64_t)(TILE_SIZE / TZ_GROUP_X) * (TILE_SIZE / TZ_GROUP_Y) *
                    UINT32_MAX,
                "trace.comp's workgroup n * stride stays within 32 bits");
 
-/* The workgroup stride of a dispatch of `groups` workgroups (gpu_pass.total.y): coprime with
+/* The workgroup stride of a dispatch of `groups` workgroups (gpu_pass.group_stride): coprime with
  * it, so every block is rendered once, and near groups / golden ratio, so that any run of
  * consecutive workgroups spreads evenly over the tile (a Weyl sequence). */
 static uint32_t workgroup_stride(uint32_t groups) {
@@ -254,9 +254,12 @@ static void record_passes(vk_render *r, const pass_plan *plan, uint32_t first, u
                 uint32_t tw = plan->width - x0 < TILE_SIZE ? plan->width - x0 : TILE_SIZE;
                 uint32_t gx = (tw + TZ_GROUP_X - 1u) / TZ_GROUP_X;
                 uint32_t gy = (th + TZ_GROUP_Y - 1u) / TZ_GROUP_Y;
-                struct gpu_pass push = {
-                    .tile = {x0, y0, sample, count},
-                    .total = {plan->samples, workgroup_stride(gx * gy), 0u, 0u}};
+                struct gpu_pass push = {.x0 = x0,
+                                        .y0 = y0,
+                                        .first_sample = sample,
+                                        .sample_count = count,
+                                        .total_samples = plan->samples,
+                                        .group_stride = workgroup_stride(gx * gy)};
                 vkCmdPushConstants(cmd, r->kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
                                    sizeof push, &push);
                 vkCmdDispatch(cmd, gx, gy, 1);
@@ -426,14 +429,14 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
      * become specialization constants: the unrolled tests read immediates, and the loop
      * bookkeeping disappears (each such scene compiles its own pipeline, which Mesa's shader
      * cache keeps). The flags compile out the indirect bounce when it is off. */
-    uint32_t lights = packed->frame.size.w;
+    uint32_t lights = packed->frame.light_count;
     bool unroll_lights =
         lights <= TZ_UNROLL_MAX_LIGHTS &&
         (st->unrolled_spheres == 0u || st->unrolled_spheres * lights <= UNROLL_MAX_SHADOW_TESTS);
     spec_data constants = {.words = {
                                [TZ_SPEC_UNROLLED_SPHERES] = st->unrolled_spheres,
                                [TZ_SPEC_UNROLLED_LIGHTS] = unroll_lights ? lights : 0u,
-                               [TZ_SPEC_FLAGS] = packed->frame.settings.z,
+                               [TZ_SPEC_FLAGS] = packed->frame.flags,
                                [TZ_SPEC_WALK_BUDGET] = st->walk,
                            }};
     /* The unrolled spheres and lights, zero past the scene's (the shader reads none of those). */
