@@ -73,6 +73,9 @@ typedef struct tz_uvec4 {
  * buffer of its own, so that each stays within the 32-bit dynamic offsets as the sums alone did.
  */
 #define TZ_BINDING_ACCUM_COMP 6
+/* Texels 2e, 2e + 1: gpu_emitter e (one zeroed emitter without any). */
+#define TZ_BINDING_EMITTERS 7
+#define TZ_BINDING_COUNT 8
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
  * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.sphere_count / light_count

@@ -28,6 +28,7 @@ layout(std430, set = 0, binding = TZ_BINDING_COUNTERS) buffer counter_block {
     uint rays_high;
 };
 layout(set = 0, binding = TZ_BINDING_NODES) uniform usamplerBuffer node_texels;
+layout(set = 0, binding = TZ_BINDING_EMITTERS) uniform samplerBuffer emitter_texels;
 layout(push_constant) uniform pass_block { gpu_pass pass; };
 layout(constant_id = TZ_SPEC_UNROLLED_SPHERES) const uint UNROLLED_SPHERES = 0u;
 layout(constant_id = TZ_SPEC_UNROLLED_LIGHTS) const uint UNROLLED_LIGHTS = 0u;
@@ -53,6 +54,9 @@ vec4 light_position_power(int k) {
 vec4 light_color(int k) {
     return UNROLLED_LIGHTS > 0u ? spec_light_color(k) : texelFetch(light_texels, 2 * k + 1);
 }
+/* The fields of struct gpu_emitter e (path mode). */
+vec4 emitter_emission_pick(int e) { return texelFetch(emitter_texels, 2 * e); }
+vec4 emitter_sphere_cdf(int e) { return texelFetch(emitter_texels, 2 * e + 1); }
 /* vec4 f of struct gpu_bvh_node k as uints (0 left_lo, 1 left_hi, 2 right_lo, 3 right_hi). */
 uvec4 node_field(uint k, uint f) { return texelFetch(node_texels, int(4u * k + f)); }
 
@@ -63,6 +67,7 @@ uint light_count() { return UNROLLED_LIGHTS > 0u ? UNROLLED_LIGHTS : frame.light
 bool use_bvh() { return UNROLLED_SPHERES == 0u && frame.node_count > 0u; }
 
 #include "shade.glsl"
+#include "common/path.h"
 
 /* Radiance of sample `sample_index` of pixel (i, j), i to the right and j down. */
 vec3 integrator_sample(uint i, uint j, uint sample_index) {
@@ -71,8 +76,8 @@ vec3 integrator_sample(uint i, uint j, uint sample_index) {
     float u = rng_next(rng);
     float v = rng_next(rng);
     if ((FLAGS & TZ_FLAG_JITTER) == 0u) u = v = 0.5;
-    vec3 o = frame.origin.xyz;
     vec3 d = camera_direction(frame.right, frame.up, frame.forward, frame.origin.w, i, j, u, v);
+    vec3 o = camera_origin(frame.origin, frame.near_distance, d);
     vec3 weight = vec3(1.0), pos, n;
     int id = follow_specular(o, d, -1, weight, pos, n);
     precise vec3 r;
@@ -132,7 +137,8 @@ void main() {
     loop_overflow = false;
     rays_traced = 0u;
     for (uint k = 0u; k < pass.sample_count; k++) {
-        vec3 l = integrator_sample(i, j, pass.first_sample + k);
+        vec3 l = (FLAGS & TZ_FLAG_PATH) != 0u ? path_sample(i, j, pass.first_sample + k)
+                                              : integrator_sample(i, j, pass.first_sample + k);
         if (loop_overflow) { /* a walk was cut short: the sample would be wrong */
             overflowed++;
             loop_overflow = false;

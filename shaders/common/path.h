@@ -145,7 +145,7 @@ TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index
     if ((flags & TZ_FLAG_JITTER) == 0u) u = v = 0.5f;
     vec3 d = camera_direction(TZ_FRAME.right, TZ_FRAME.up, TZ_FRAME.forward, TZ_FRAME.origin.w, i,
                               j, u, v);
-    TZ_PRECISE vec3 o = v3_add(xyz(TZ_FRAME.origin), v3_scale(d, TZ_FRAME.near_distance));
+    vec3 o = camera_origin(TZ_FRAME.origin, TZ_FRAME.near_distance, d);
     TZ_PRECISE vec3 beta = v3(1.0f, 1.0f, 1.0f), radiance = v3(0.0f, 0.0f, 0.0f);
     int self = -1;
     TZ_BOOL specular = TZ_TRUE;

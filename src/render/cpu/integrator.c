@@ -198,8 +198,8 @@ vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t s
     /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag. */
     float u = rng_next(&rng), v = rng_next(&rng);
     if (!(fr->flags & TZ_FLAG_JITTER)) u = v = 0.5f;
-    vec3 o = xyz(fr->origin);
     vec3 d = camera_direction(fr->right, fr->up, fr->forward, fr->origin.w, i, j, u, v);
+    vec3 o = camera_origin(fr->origin, fr->near_distance, d);
     vec3 weight = v3(1.0f, 1.0f, 1.0f), pos, n;
     int id = follow_specular(p, &o, &d, -1, &weight, &pos, &n);
     if (id == -1) return v3_mul(weight, xyz(fr->background));

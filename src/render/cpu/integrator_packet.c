@@ -432,10 +432,10 @@ void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j,
          */
         float u = rng_next(&rng[k]), v = rng_next(&rng[k]);
         if (!(fr->flags & TZ_FLAG_JITTER)) u = v = 0.5f;
-        set3(&o, k, xyz(fr->origin));
-        set3(&d, k,
-             camera_direction(fr->right, fr->up, fr->forward, fr->origin.w, i + (uint32_t)k, j, u,
-                              v));
+        vec3 dk =
+            camera_direction(fr->right, fr->up, fr->forward, fr->origin.w, i + (uint32_t)k, j, u, v);
+        set3(&d, k, dk);
+        set3(&o, k, camera_origin(fr->origin, fr->near_distance, dk));
         set3(&weight, k, v3(1.0f, 1.0f, 1.0f));
         self[k] = -1;
     }
