@@ -9,10 +9,11 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "cli/cli.h"
 #include "image/diff.h"
 #include "image/image.h"
-#include "util/log.h"
 #include "tmp_dir.h"
+#include "util/log.h"
 
 static bool near(double got, double want, double tol) { return fabs(got - want) <= tol; }
 
@@ -182,7 +183,7 @@ static int run_diff(const char *first, ...) {
     close(fo);
     close(fe);
     log_set_level(LOG_INFO); /* captured, so the errors can be checked */
-    int rc = diff_command(argc, argv);
+    int rc = cmd_diff(argc, argv);
     log_set_level(quiet_level);
     fflush(stdout);
     fflush(stderr);
@@ -272,12 +273,14 @@ static void test_command_thresholds(void) {
 
 static void test_command_failures(void) {
     const char *a = tmp_path("a.pfm");
-    EXPECT(run_diff(a, tmp_path("wide.pfm"), NULL) == 1);
+    /* As cmp: 2 when the images cannot be read or compared, apart from 1 (past a threshold). */
+    EXPECT(run_diff(a, tmp_path("wide.pfm"), NULL) == 2);
     EXPECT(strstr(cmd_err, "6x5") && strstr(cmd_err, "7x5"));
     EXPECT(cmd_out[0] == '\0');
-    EXPECT(run_diff(a, tmp_path("missing.pfm"), NULL) == 1);
-    EXPECT(run_diff(tmp_path("bad.ppm"), a, NULL) == 1);
-    EXPECT(run_diff(a, tmp_path("a.bmp"), NULL) == 1);
+    EXPECT(run_diff(a, tmp_path("missing.pfm"), NULL) == 2);
+    EXPECT(run_diff(tmp_path("bad.ppm"), a, NULL) == 2);
+    EXPECT(run_diff(a, tmp_path("a.bmp"), NULL) == 2);
+    EXPECT(run_diff(a, tmp_path("missing.pfm"), "--max-rmse", "1", NULL) == 2);
 }
 
 static void test_command_usage(void) {
@@ -301,9 +304,19 @@ static void test_command_usage(void) {
     EXPECT(run_diff(a, a, "--max-rmse", " 0.1", NULL) == 2);
     EXPECT(run_diff(a, a, "--max-rmse", "1e999", NULL) == 2);
     EXPECT(run_diff(a, a, "--bogus", NULL) == 2 && strstr(cmd_err, "--bogus"));
-    EXPECT(run_diff(a, a, "--max-rmse=0.1", NULL) == 2);
+    EXPECT(run_diff(a, a, "--max-rmse=abc", NULL) == 2 && strstr(cmd_err, "'abc'"));
+    EXPECT(run_diff(a, a, "--max-rmse=", NULL) == 2);
+    EXPECT(run_diff(a, a, "--max-rmsex=1", NULL) == 2 && strstr(cmd_err, "'--max-rmsex'"));
     EXPECT(cmd_out[0] == '\0'); /* nothing read, nothing printed */
+    /* --flag=value as well as --flag value; -- ends the options. */
+    EXPECT(run_diff(a, tmp_path("offset.pfm"), "--max-rmse=0.001", NULL) == 1);
+    EXPECT(run_diff(a, tmp_path("offset.pfm"), "--max-rmse=0.1", NULL) == 0);
+    EXPECT(run_diff("--max-rmse=0", "--", a, a, NULL) == 0);
+    EXPECT(run_diff("--", a, "--max-rmse", NULL) == 2 && strstr(cmd_err, "--max-rmse"));
     EXPECT(run_diff("--help", NULL) == 0 && strstr(cmd_out, "usage:"));
+    /* --help describes every flag, with its default. */
+    EXPECT(strstr(cmd_out, "--max-rmse X") && strstr(cmd_out, "--min-psnr DB") &&
+           strstr(cmd_out, "--max-diff-share FRACTION") && strstr(cmd_out, "(default: no limit)"));
 }
 
 int main(void) {

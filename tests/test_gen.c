@@ -1,6 +1,7 @@
-/* test_gen.c: the scene generators (src/gen.c): sphere counts, materials, the sphereflake's
- * geometry, the random field's spacing, framing, determinism per seed, usage errors that write
- * nothing, atomic writes, and a small render of each through the CPU back end. */
+/* test_gen.c: the scene generators (src/scene/gen.c) and `trazador gen` (src/cli/cmd_gen.c): sphere
+ * counts, materials, the sphereflake's geometry, the random field's spacing, framing, determinism
+ * per seed, usage errors that write nothing, atomic writes, and a small render of each through the
+ * CPU back end. */
 #include <dirent.h>
 #include <math.h>
 #include <stdarg.h>
@@ -10,11 +11,12 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "scene/gen.h"
+#include "cli/cli.h"
 #include "render/render.h"
+#include "scene/gen.h"
 #include "tmp_dir.h"
 
-/* Runs gen_command on a NULL-terminated argument list (argv[0] = "gen" is added). */
+/* Runs cmd_gen on a NULL-terminated argument list (argv[0] = "gen" is added). */
 static int run_gen(const char *arg, ...) {
     char *argv[32] = {"gen"};
     int argc = 1;
@@ -23,7 +25,7 @@ static int run_gen(const char *arg, ...) {
     for (const char *a = arg; a && argc < 31; a = va_arg(ap, const char *))
         argv[argc++] = (char *)a;
     va_end(ap);
-    return gen_command(argc, argv);
+    return cmd_gen(argc, argv);
 }
 
 /* Returns the whole file in a malloc'd buffer (NULL when unreadable); *size its length. */

@@ -1,8 +1,10 @@
-/* test_image.c: tonemapping, film resolve, PPM/PNG/PFM round trips and bytes, atomic writes,
-   and malformed inputs for src/image.c. */
+/* test_image.c: tonemapping (and its table), film resolve, PPM/PNG/PFM round trips and bytes,
+   atomic writes, malformed inputs, and PNGs of other depths and color types (written here with
+   libpng) for src/image/image.c and image_png.c. */
 #include <dirent.h>
 #include <errno.h>
 #include <math.h>
+#include <png.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,11 +14,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "util/atomic_file.h"
 #include "check.h"
 #include "image/image.h"
-#include "util/log.h"
 #include "tmp_dir.h"
+#include "util/atomic_file.h"
+#include "util/log.h"
 
 static void write_file(const char *path, const void *data, size_t len) {
     FILE *fp = fopen(path, "wb");
@@ -575,6 +577,15 @@ static void test_overwrite(void) {
 }
 
 /* Writes data to name and expects image_read to fail cleanly with out zeroed. */
+/* The bytes of the 8-bit test image written as the PNG `name` (NULL when unreadable). */
+static unsigned char *written_png(const char *name, size_t *len) {
+    image src;
+    make_8bit_image(&src, TONEMAP_SRGB);
+    EXPECT(image_write(tmp_path(name), &src, TONEMAP_SRGB));
+    image_free(&src);
+    return slurp(tmp_path(name), len);
+}
+
 static void expect_bad(const char *name, const void *data, size_t len) {
     const char *path = tmp_path(name);
     write_file(path, data, len);
@@ -623,17 +634,13 @@ static void test_malformed(void) {
     BAD("wrongext.bmp", "P6\n1 1\n255\n\0\0\0");
 
     /* a real PNG cut in half, and one whose header claims 20000 x 20000 */
-    image src;
-    make_8bit_image(&src, TONEMAP_SRGB);
-    EXPECT(image_write(tmp_path("whole.png"), &src, TONEMAP_SRGB));
-    image_free(&src);
     size_t len;
-    unsigned char *png = slurp(tmp_path("whole.png"), &len);
+    unsigned char *png = written_png("whole.png", &len);
     EXPECT(png && len > 40);
     if (png && len > 40) {
         expect_bad("half.png", png, len / 2);
         expect_bad("header.png", png, 30);
-        /* IHDR width 16385, height 16: small enough for stb's own limits */
+        /* IHDR width 16385, height 16: past IMAGE_MAX_DIM */
         const unsigned char big[8] = {0, 0, 0x40, 0x01, 0, 0, 0, 0x10};
         memcpy(png + 16, big, 8);
         expect_bad("bigihdr.png", png, len);
@@ -644,6 +651,146 @@ static void test_malformed(void) {
     EXPECT(!image_read(tmp_path("does_not_exist.ppm"), &img, TONEMAP_SRGB) && !img.rgb);
     mkdir(tmp_path("folder.ppm"), 0755);
     EXPECT(!image_read(tmp_path("folder.ppm"), &img, TONEMAP_SRGB) && !img.rgb);
+}
+
+/* Writes a w x h PNG of `bits` bits a sample and color type `type` from packed big-endian rows,
+ * with a palette and tRNS when given. */
+static void write_png_raw(const char *path, int w, int h, int bits, int type, const uint8_t *data,
+                          const png_color *palette, int colors, const uint8_t *alpha) {
+    FILE *fp = fopen(path, "wb");
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png_create_info_struct(png);
+    if (!fp || !png || !info || setjmp(png_jmpbuf(png))) {
+        printf("cannot write %s\n", path);
+        exit(1);
+    }
+    png_init_io(png, fp);
+    png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, bits, type, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_BASE, PNG_FILTER_TYPE_BASE);
+    if (palette) png_set_PLTE(png, info, palette, colors);
+    if (alpha) png_set_tRNS(png, info, alpha, colors, NULL);
+    png_write_info(png, info);
+    size_t row_bytes = png_get_rowbytes(png, info);
+    for (int y = 0; y < h; y++) png_write_row(png, data + (size_t)y * row_bytes);
+    png_write_end(png, NULL);
+    png_destroy_write_struct(&png, &info);
+    fclose(fp);
+}
+
+/* Reads path, expecting failure with `message` in the error. */
+static void expect_refused(const char *path, const char *message) {
+    image img = {0};
+    log_hold_errors();
+    bool ok = image_read(path, &img, TONEMAP_SRGB);
+    const char *errors = log_release_errors();
+    CHECK(!ok && !img.rgb, "%s was accepted", path);
+    CHECK(strstr(errors, message) != NULL, "%s: the error \"%s\" lacks \"%s\"", path, errors,
+          message);
+    image_free(&img);
+}
+
+/* 16 bits a channel are read to 16 bits, not their top 8: 0x1234 and 0x12ff differ. */
+static void test_png_16bit(void) {
+    const uint16_t values[6] = {0x1234, 0x12ff, 0xffff, 0x0000, 0x8001, 0x0101};
+    uint8_t data[12];
+    for (int k = 0; k < 6; k++) data[2 * k] = values[k] >> 8, data[2 * k + 1] = values[k] & 0xff;
+    const char *path = tmp_path("deep.png");
+    write_png_raw(path, 2, 1, 16, PNG_COLOR_TYPE_RGB, data, NULL, 0, NULL);
+    image img;
+    EXPECT(image_read(path, &img, TONEMAP_LINEAR));
+    for (int k = 0; k < 6 && img.rgb; k++)
+        CHECK(img.rgb[k] == (float)(values[k] / 65535.0),
+              "16-bit sample %d read as %.9g, want %.9g", k, img.rgb[k], values[k] / 65535.0);
+    image_free(&img);
+    EXPECT(image_read(path, &img, TONEMAP_SRGB));
+    if (img.rgb) EXPECT(img.rgb[0] != img.rgb[1] && img.rgb[2] == 1.0f && img.rgb[3] == 0.0f);
+    image_free(&img);
+}
+
+/* Alpha: opaque RGBA reads as its RGB; a transparent pixel is refused with a reason, not
+ * compared as if opaque; so is a palette whose tRNS makes one entry transparent. */
+static void test_png_alpha(void) {
+    uint8_t rgba[8] = {10, 20, 30, 255, 40, 50, 60, 255};
+    write_png_raw(tmp_path("opaque.png"), 2, 1, 8, PNG_COLOR_TYPE_RGBA, rgba, NULL, 0, NULL);
+    image img;
+    EXPECT(image_read(tmp_path("opaque.png"), &img, TONEMAP_SRGB));
+    if (img.rgb) EXPECT(img.rgb[4] == tonemap_decode(50, TONEMAP_SRGB));
+    image_free(&img);
+    rgba[7] = 0;
+    write_png_raw(tmp_path("clear.png"), 2, 1, 8, PNG_COLOR_TYPE_RGBA, rgba, NULL, 0, NULL);
+    expect_refused(tmp_path("clear.png"), "transparent");
+    const png_color palette[2] = {{0, 0, 0}, {200, 100, 50}};
+    const uint8_t index[2] = {0x40, 0}; /* 2 bits a pixel: entries 1 then 0 */
+    const uint8_t opaque[2] = {255, 255}, see_through[2] = {255, 0};
+    write_png_raw(tmp_path("palette.png"), 2, 1, 2, PNG_COLOR_TYPE_PALETTE, index, palette, 2,
+                  opaque);
+    EXPECT(image_read(tmp_path("palette.png"), &img, TONEMAP_SRGB));
+    if (img.rgb)
+        EXPECT(img.rgb[0] == tonemap_decode(200, TONEMAP_SRGB) &&
+               img.rgb[2] == tonemap_decode(50, TONEMAP_SRGB) && img.rgb[3] == 0.0f);
+    image_free(&img);
+    write_png_raw(tmp_path("palette_clear.png"), 2, 1, 2, PNG_COLOR_TYPE_PALETTE, index, palette, 2,
+                  see_through);
+    expect_refused(tmp_path("palette_clear.png"), "transparent");
+    const uint8_t gray[2] = {0x12, 0x34};
+    write_png_raw(tmp_path("gray16.png"), 1, 1, 16, PNG_COLOR_TYPE_GRAY, gray, NULL, 0, NULL);
+    EXPECT(image_read(tmp_path("gray16.png"), &img, TONEMAP_LINEAR));
+    if (img.rgb)
+        EXPECT(img.rgb[0] == (float)(0x1234 / 65535.0) && img.rgb[1] == img.rgb[0] &&
+               img.rgb[2] == img.rgb[0]);
+    image_free(&img);
+}
+
+/* A PNG whose IDAT's CRC is wrong, or whose pixel data is damaged, is refused, not read as a
+ * different image. */
+static void test_png_corrupt(void) {
+    size_t len;
+    unsigned char *png = written_png("sound.png", &len);
+    unsigned char *idat = NULL;
+    for (size_t k = 8; png && k + 8 < len && !idat; k++)
+        if (!memcmp(png + k, "IDAT", 4)) idat = png + k;
+    EXPECT(idat != NULL);
+    if (idat) {
+        /* The chunk's CRC alone: the pixels are sound, the file is not. */
+        uint32_t size = (uint32_t)idat[-4] << 24 | idat[-3] << 16 | idat[-2] << 8 | idat[-1];
+        idat[4 + size] ^= 0x01;
+        write_file(tmp_path("bad_crc.png"), png, len);
+        expect_refused(tmp_path("bad_crc.png"), "CRC error");
+        idat[4 + size] ^= 0x01;
+        idat[4 + 10] ^= 0x01; /* a byte of the compressed pixels, well inside the chunk */
+        write_file(tmp_path("damaged.png"), png, len);
+        expect_refused(tmp_path("damaged.png"), "corrupt");
+    }
+    free(png);
+}
+
+/* The table gives tonemap_channel's byte: at each bound, just below it, and on a million
+ * floats spread over [0, 1.5] and the special values. */
+static void test_tonemap_table(void) {
+    for (int tm = TONEMAP_SRGB; tm <= TONEMAP_LINEAR; tm++) {
+        tonemap_table t;
+        tonemap_table_init(&t, (tonemap)tm);
+        bool same = true;
+        for (int k = 1; k < 256; k++) {
+            float below = nextafterf(t.bound[k], 0.0f);
+            same &= tonemap_table_channel(&t, t.bound[k]) == tonemap_channel(t.bound[k], tm) &&
+                    tonemap_channel(t.bound[k], tm) == k &&
+                    tonemap_table_channel(&t, below) == tonemap_channel(below, tm);
+        }
+        uint32_t state = 2463534242u;
+        for (int k = 0; k < 1000000; k++) {
+            state ^= state << 13, state ^= state >> 17, state ^= state << 5;
+            uint32_t bits = state % 0x3fc00000u; /* [0, 1.5) */
+            float f;
+            memcpy(&f, &bits, sizeof f);
+            same &= tonemap_table_channel(&t, f) == tonemap_channel(f, tm);
+        }
+        const float special[] = {-0.0f,     -1.0f, 1.0f, 2.0f,   INFINITY,
+                                 -INFINITY, NAN,   -NAN, 1e-45f, 1e-38f};
+        for (size_t k = 0; k < sizeof special / sizeof special[0]; k++)
+            same &= tonemap_table_channel(&t, special[k]) == tonemap_channel(special[k], tm);
+        CHECK(same, "the tonemap table disagrees with tonemap_channel (tonemap %d)", tm);
+    }
 }
 
 int main(void) {
@@ -659,6 +806,10 @@ int main(void) {
     CHECK_CASE(test_init_limits);
     CHECK_CASE(test_roundtrip_ppm);
     CHECK_CASE(test_roundtrip_png);
+    CHECK_CASE(test_png_16bit);
+    CHECK_CASE(test_png_alpha);
+    CHECK_CASE(test_png_corrupt);
+    CHECK_CASE(test_tonemap_table);
     CHECK_CASE(test_roundtrip_pfm);
     CHECK_CASE(test_all_bytes_through_files);
     CHECK_CASE(test_ppm_bytes);

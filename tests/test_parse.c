@@ -101,6 +101,12 @@ static void test_valid(void) {
         scene_free(&s);
     }
 
+    /* Small camera vectors whose squared lengths are still normal floats normalize exactly. */
+    static const char small_camera[] =
+        "camera position 0 0 0 direction 0 0 2e-19 up 0 1e-10 0\n"
+        "plane width 2 height 1 pixel 0.5\n";
+    if (parse_ok("small camera vectors", BYTES(small_camera), &s)) scene_free(&s);
+
     static const char defaults[] =
         "camera position 1 2 3\n"
         "plane width 2 height 1 pixel 0.5\n"
@@ -416,6 +422,18 @@ static const invalid_case invalid_cases[] = {
     {"zero camera up", BYTES("camera position 0 0 0 up 0 0 0\n"), 1, 23,
      "camera up must not be zero"},
     {"tiny camera direction", BYTES("camera position 0 0 0 direction 1e-30 0 0\n"), 1, 23,
+     "camera direction is too small or too large to normalize"},
+    /* Their squares are float denormals: normalized they came out about 0.8 long. */
+    {"denormal camera direction", BYTES("camera position 0 0 0 direction 0 0 3e-23\n"), 1, 23,
+     "camera direction is too small or too large to normalize"},
+    {"denormal camera up", BYTES("camera position 0 0 0 up 0 3e-23 0\n"), 1, 23,
+     "camera up is too small or too large to normalize"},
+    /* up x direction is what gets normalized: small up and a small angle underflow together. */
+    {"camera up small and nearly parallel",
+     BYTES("camera position 0 0 0 direction 0 1 1e-3 up 0 1e-17 0\n"), 1, 42,
+     "camera up is too small or too large to normalize"},
+    /* Its square overflows to infinity, and normalized it was the zero vector. */
+    {"huge camera direction", BYTES("camera position 0 0 0 direction 0 0 1e20\n"), 1, 23,
      "camera direction is too small or too large to normalize"},
     {"up parallel to direction", BYTES("camera position 0 0 0 up 0 0 -2\n"), 1, 23,
      "camera up (0 0 -2) is parallel to direction (0 0 1)"},

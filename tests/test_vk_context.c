@@ -1,12 +1,18 @@
 /* test_vk_context.c: the Vulkan context around the renderer: device listing and choice, the
- * validation messenger (an error must fail the run), a missing validation layer, and no driver at
- * all (the one-line error, render_vk false). Exits 77 only when no Vulkan device exists. */
+ * validation messenger (an error must fail the run), a missing or unloadable validation layer,
+ * lavapipe's thread count, no driver at all (the one-line error, render_vk false), and, run as
+ * `test_vk_context no-loader`, no loader at all. Exits 77 only when no Vulkan device exists. */
+#include <dirent.h>
 #include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "render/render.h"
-#include "test_scenes.h"
 #include "render/vk/vk_context.h"
+#include "test_scenes.h"
+#include "tmp_dir.h"
+#include "util/log.h"
 
 /* A one-pixel scene: one Lambertian sphere in front of the camera, one light. */
 static light one_light = {
@@ -72,6 +78,89 @@ static void test_missing_layer(void) {
     unsetenv("VK_LAYER_PATH");
 }
 
+/* A layer manifest whose library does not exist (a half-removed package): the error must say
+ * that the layer could not be loaded, and why. */
+static void test_unloadable_layer(void) {
+    const char *missing = "/nonexistent/libVkLayer_khronos_validation.so";
+    FILE *manifest = fopen(tmp_path("VkLayer_khronos_validation.json"), "w");
+    if (!manifest) {
+        CHECK(0, "cannot write the layer manifest");
+        return;
+    }
+    fprintf(manifest,
+            "{\"file_format_version\": \"1.2.0\", \"layer\": {\"name\": "
+            "\"VK_LAYER_KHRONOS_validation\", \"type\": \"GLOBAL\", \"library_path\": \"%s\", "
+            "\"api_version\": \"1.3.0\", \"implementation_version\": \"1\", "
+            "\"description\": \"a manifest whose library is gone\"}}\n",
+            missing);
+    fclose(manifest);
+    setenv("VK_LAYER_PATH", tmpdir, 1);
+    vk_context ctx;
+    vk_context_desc desc = {.device = -1, .validate = true};
+    log_hold_errors();
+    CHECK(!vk_context_init(&ctx, &desc), "validation with an unloadable layer went on");
+    const char *errors = log_release_errors();
+    CHECK(strstr(errors, "VK_LAYER_KHRONOS_validation could not be loaded") != NULL,
+          "the error does not say the layer could not be loaded: \"%s\"", errors);
+    CHECK(strstr(errors, missing) != NULL, "the error does not say why: \"%s\"", errors);
+    CHECK(vk_context_destroy(&ctx), "destroying a failed context");
+    unsetenv("VK_LAYER_PATH");
+    remove(tmp_path("VkLayer_khronos_validation.json"));
+}
+
+/* Threads of this process while a context on `threads` lavapipe workers is open. */
+static int threads_with(int threads) {
+    vk_context ctx;
+    vk_context_desc desc = {.device = -1, .threads = threads};
+    if (!vk_context_init(&ctx, &desc)) return -1;
+    int count = 0;
+    DIR *tasks = opendir("/proc/self/task");
+    for (struct dirent *e; tasks && (e = readdir(tasks));) count += e->d_name[0] != '.';
+    if (tasks) closedir(tasks);
+    vk_context_destroy(&ctx);
+    return count;
+}
+
+/* --threads reaches lavapipe: more workers, more threads in the process; the user's own
+ * LP_NUM_THREADS is used when no count is given and left as it was. */
+static void test_threads(void) {
+    vk_context ctx;
+    vk_context_desc desc = {.device = -1};
+    if (!vk_context_init(&ctx, &desc)) {
+        CHECK(0, "context creation failed");
+        return;
+    }
+    bool lavapipe = vk_context_is_lavapipe(&ctx);
+    vk_context_destroy(&ctx);
+    if (!lavapipe) return;
+    int one = threads_with(1), six = threads_with(6);
+    CHECK(one > 0 && six > one, "1 worker: %d threads, 6 workers: %d threads", one, six);
+    CHECK(getenv("LP_NUM_THREADS") == NULL, "LP_NUM_THREADS left set");
+    setenv("LP_NUM_THREADS", "6", 1);
+    int user = threads_with(0);
+    CHECK(user == six, "LP_NUM_THREADS=6 gave %d threads, --threads 6 %d", user, six);
+    CHECK(threads_with(1) == one, "--threads 1 under LP_NUM_THREADS=6");
+    const char *kept = getenv("LP_NUM_THREADS");
+    CHECK(kept && !strcmp(kept, "6"), "LP_NUM_THREADS is %s, was 6", kept ? kept : "unset");
+    unsetenv("LP_NUM_THREADS");
+}
+
+/* No loader (TRAZADOR_VK_LOADER names one that does not exist): the error names the library
+ * that could not be opened and points nowhere else. Run in a process of its own, since the
+ * loader is opened once. */
+static int test_no_loader(void) {
+    setenv("TRAZADOR_VK_LOADER", "/nonexistent/libvulkan.so.1", 1);
+    CHECK(vk_context_device_count() == 0, "devices without a loader");
+    log_hold_errors();
+    CHECK(!render_tiny(-1), "rendered without a loader");
+    const char *errors = log_release_errors();
+    CHECK(strstr(errors, "cannot open the Vulkan loader /nonexistent/libvulkan.so.1") != NULL,
+          "the error does not name the loader: \"%s\"", errors);
+    CHECK(strstr(errors, "VK_LOADER_DEBUG") == NULL, "the error suggests VK_LOADER_DEBUG: \"%s\"",
+          errors);
+    return check_summary("test_vk_context no-loader");
+}
+
 /* No driver manifest: no device, the one-line error, render_vk false. Runs last: it leaves the
  * loader without drivers. */
 static void test_no_driver(void) {
@@ -82,7 +171,12 @@ static void test_no_driver(void) {
     CHECK(!render_tiny(-1), "rendered without a driver");
 }
 
-int main(void) {
+int main(int argc, char **argv) {
+    if (argc > 1 && !strcmp(argv[1], "no-loader")) return test_no_loader();
+    if (!tmp_dir_make("test_vk_context")) {
+        perror("test_vk_context: mkdtemp");
+        return 1;
+    }
     int count = vk_context_device_count();
     if (count == 0) {
         printf("test_vk_context: no Vulkan device, skipped\n");
@@ -91,6 +185,9 @@ int main(void) {
     test_devices(count);
     test_validation_error();
     test_missing_layer();
+    test_unloadable_layer();
+    test_threads();
     test_no_driver();
+    rmdir(tmpdir);
     return check_summary("test_vk_context");
 }

@@ -8,9 +8,10 @@
 
 #include "check.h"
 #include "render/render.h"
-#include "test_scenes.h"
 #include "render/vk/vk_context.h"
 #include "render/vk/vk_probe.h"
+#include "test_scenes.h"
+#include "vk_loop_probe.h"
 
 /* What one invocation should complete of loops of n[0] then n[1] iterations: on lavapipe a
  * budget of VK_PROBE_LAVAPIPE_LOOP_LIMIT passes, one spent at the end of every pass of either
@@ -43,7 +44,7 @@ static void test_probe(vk_context *ctx) {
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         uint32_t least[2] = {0, 0}, most[2] = {0, 0}, want[2];
         expected(lavapipe, cases[k], want);
-        CHECK(vk_probe_loop(ctx, cases[k], least, most), "probe (%u, %u) failed", cases[k][0],
+        CHECK(vk_loop_probe_run(ctx, cases[k], least, most), "probe (%u, %u) failed", cases[k][0],
               cases[k][1]);
         /* Every invocation of every workgroup and subgroup has a budget of its own. */
         CHECK(least[0] == most[0] && least[1] == most[1],

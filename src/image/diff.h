@@ -1,4 +1,4 @@
-/* diff.h: image comparison metrics and the `trazador diff` subcommand. */
+/* diff.h: image comparison metrics. */
 #ifndef TRAZADOR_DIFF_H
 #define TRAZADOR_DIFF_H
 
@@ -16,9 +16,5 @@ typedef struct diff_stats {
 
 /* Compares two images of the same size; false (and a logged error) when the sizes differ. */
 bool diff_images(const image *a, const image *b, diff_stats *out);
-/* `trazador diff A B [--max-rmse X] [--min-psnr X] [--max-diff-share X]`, argv[0] = "diff":
-   returns 0 within every threshold, 1 past one or on an unreadable image or a size mismatch,
-   2 on a usage error. */
-int diff_command(int argc, char **argv);
 
 #endif

@@ -1,17 +1,17 @@
-/* image.c: float RGB images: film resolve, tonemapping, and atomic PPM/PNG/PFM read and write. */
+/* image.c: float RGB images: film resolve, tonemapping, and atomic PPM/PNG/PFM read and write (the
+ * PNG coding itself in image_png.c). */
 #include "image/image.h"
 
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
-#include <stb_image.h>
-#include <stb_image_write.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
 
+#include "image/image_png.h"
 #include "util/atomic_file.h"
 #include "util/log.h"
 
@@ -91,6 +91,31 @@ uint8_t tonemap_channel(float linear, tonemap tm) {
     return (uint8_t)(tonemap_encode(linear, tm) * 255.0 + 0.5);
 }
 
+void tonemap_table_init(tonemap_table *t, tonemap tm) {
+    /* Non-negative floats order as their bit patterns, and the encoding never decreases. */
+    const uint32_t one = 0x3f800000u;
+    float f;
+    t->bound[0] = 0.0f;
+    for (int k = 1; k < 256; k++) {
+        uint32_t lo = 0, hi = one; /* tonemap_channel(1.0f) is 255 >= k */
+        while (lo < hi) {
+            uint32_t mid = lo + (hi - lo) / 2;
+            memcpy(&f, &mid, sizeof f);
+            if (tonemap_channel(f, tm) >= k)
+                hi = mid;
+            else
+                lo = mid + 1;
+        }
+        memcpy(&t->bound[k], &lo, sizeof lo);
+    }
+    t->bound[256] = INFINITY;
+    for (uint32_t i = 0; i < TONEMAP_TABLE_STARTS; i++) {
+        uint32_t bits = i << 16;
+        memcpy(&f, &bits, sizeof f);
+        t->start[i] = tonemap_channel(f, tm);
+    }
+}
+
 float tonemap_decode(uint8_t value, tonemap tm) {
     double c = value / 255.0;
     if (tm == TONEMAP_SRGB) c = c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
@@ -104,8 +129,10 @@ static int write_error(void) { return errno ? errno : EIO; }
 static uint8_t *encode_8bit(const image *img, tonemap tm) {
     size_t n = (size_t)img->width * (size_t)img->height * 3;
     uint8_t *bytes = malloc(n);
+    tonemap_table table;
+    tonemap_table_init(&table, tm);
     if (bytes)
-        for (size_t i = 0; i < n; i++) bytes[i] = tonemap_channel(img->rgb[i], tm);
+        for (size_t i = 0; i < n; i++) bytes[i] = tonemap_table_channel(&table, img->rgb[i]);
     return bytes;
 }
 
@@ -119,30 +146,6 @@ static int write_ppm(FILE *fp, const image *img, tonemap tm) {
         err = write_error();
     free(bytes);
     return err;
-}
-
-typedef struct png_sink {
-    FILE *fp;
-    int err;
-} png_sink;
-
-static void png_sink_write(void *context, void *data, int size) {
-    png_sink *sink = context;
-    if (!sink->err && fwrite(data, 1, (size_t)size, sink->fp) != (size_t)size)
-        sink->err = write_error();
-}
-
-static int write_png(FILE *fp, const image *img, tonemap tm) {
-    uint8_t *bytes = encode_8bit(img, tm);
-    if (!bytes) return ENOMEM;
-    png_sink sink = {fp, 0};
-    /* stb returns 0 only when its own buffers cannot be allocated */
-    if (!stbi_write_png_to_func(png_sink_write, &sink, img->width, img->height, 3, bytes,
-                                img->width * 3) &&
-        !sink.err)
-        sink.err = ENOMEM;
-    free(bytes);
-    return sink.err;
 }
 
 static int write_pfm(FILE *fp, const image *img, tonemap tm) {
@@ -167,7 +170,7 @@ static int write_pfm(FILE *fp, const image *img, tonemap tm) {
 }
 
 static int (*const writers[])(FILE *, const image *, tonemap) = {
-    [FORMAT_PPM] = write_ppm, [FORMAT_PNG] = write_png, [FORMAT_PFM] = write_pfm};
+    [FORMAT_PPM] = write_ppm, [FORMAT_PNG] = image_png_write, [FORMAT_PFM] = write_pfm};
 
 typedef struct image_sink {
     image_format format;
@@ -373,34 +376,6 @@ static bool read_pfm(FILE *fp, const char *path, image *out) {
     return ok || fail_truncated(fp, path);
 }
 
-static bool fail_png(FILE *fp, const char *path) {
-    if (ferror(fp))
-        log_error("%s: %s", path, strerror(errno));
-    else /* stbi_failure_reason() of Debian's libstb is often empty or cryptic */
-        log_error("%s: not a PNG, or corrupt or truncated", path);
-    return false;
-}
-
-static bool read_png(FILE *fp, const char *path, image *out, tonemap tm) {
-    int w, h, n;
-    if (!stbi_info_from_file(fp, &w, &h, &n)) return fail_png(fp, path);
-    if (!size_ok(w, h)) {
-        log_error("%s: image size %dx%d is not within 1..%d", path, w, h, IMAGE_MAX_DIM);
-        return false;
-    }
-    uint8_t *px = stbi_load_from_file(fp, &w, &h, &n, 3);
-    if (!px) return fail_png(fp, path);
-    bool ok = image_init(out, w, h);
-    if (ok) {
-        float lut[256];
-        for (int i = 0; i < 256; i++) lut[i] = tonemap_decode((uint8_t)i, tm);
-        size_t count = (size_t)w * (size_t)h * 3;
-        for (size_t i = 0; i < count; i++) out->rgb[i] = lut[px[i]];
-    }
-    stbi_image_free(px);
-    return ok;
-}
-
 bool image_read(const char *path, image *out, tonemap tm) {
     *out = (image){0};
     image_format fmt = format_of(path);
@@ -414,7 +389,7 @@ bool image_read(const char *path, image *out, tonemap tm) {
         return false;
     }
     bool ok = fmt == FORMAT_PPM   ? read_ppm(fp, path, out, tm)
-              : fmt == FORMAT_PNG ? read_png(fp, path, out, tm)
+              : fmt == FORMAT_PNG ? image_png_read(fp, path, out, tm)
                                   : read_pfm(fp, path, out);
     fclose(fp);
     if (!ok) image_free(out);

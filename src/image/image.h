@@ -1,9 +1,11 @@
-/* image.h: float RGB images, the film -> image resolve, tonemapping, PPM/PNG/PFM read and write. */
+/* image.h: float RGB images, the film -> image resolve, tonemapping, PPM/PNG/PFM read and write
+ * (PNG in image_png.c). */
 #ifndef TRAZADOR_IMAGE_H
 #define TRAZADOR_IMAGE_H
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "render/render.h"
 
@@ -29,6 +31,26 @@ uint8_t tonemap_channel(float linear, tonemap tm);
 /* Clamps to [0,1] (NaN to 0) and applies the transfer function, unquantized: display value in
  * [0,1]; never fails. */
 double tonemap_encode(float linear, tonemap tm);
+/* tonemap_channel as tables: bound[k] is the least float that encodes to k or more (k = 1..255),
+ * and start[i] the byte of the least float in [0, 1) whose bits begin with the 16 bits i, so a
+ * channel costs a look-up and a comparison or two instead of a pow. */
+#define TONEMAP_TABLE_STARTS (0x3f800000u >> 16) /* the bits of 1.0f, shifted */
+typedef struct tonemap_table {
+    float bound[257]; /* bound[256] is +infinity, past every value */
+    uint8_t start[TONEMAP_TABLE_STARTS];
+} tonemap_table;
+/* Fills the table for tm from tonemap_channel itself; never fails. */
+void tonemap_table_init(tonemap_table *t, tonemap tm);
+/* tonemap_channel(linear, tm) through the table, to the same byte; never fails. */
+static inline uint8_t tonemap_table_channel(const tonemap_table *t, float linear) {
+    uint32_t bits;
+    memcpy(&bits, &linear, sizeof bits);
+    /* Past 1.0f come the sign bit (negatives and -0 encode to 0), +infinity and NaN. */
+    if (bits >= 0x3f800000u) return bits <= 0x7f800000u ? 255 : 0;
+    unsigned k = t->start[bits >> 16];
+    while (linear >= t->bound[k + 1]) k++;
+    return (uint8_t)k;
+}
 /* Inverse of tonemap_channel: a linear value that encodes back to exactly `value` (never fails). */
 float tonemap_decode(uint8_t value, tonemap tm);
 /* Writes .ppm, .png or .pfm by extension via a temporary file and rename; false on error. */

@@ -1,4 +1,5 @@
-/* render.h: render options, the film, and the two back ends that share one signature. */
+/* render.h: render options, the film, the progress line, the two back ends and the choice between
+ * them. */
 #ifndef TRAZADOR_RENDER_H
 #define TRAZADOR_RENDER_H
 
@@ -56,9 +57,35 @@ bool film_init(film *f, int width, int height);
 /* Frees the film; safe on a zeroed film. */
 void film_free(film *f);
 
-/* Renders with the C reference integrator into f (allocated by the call); false on failure. */
+/* Prints the progress line on stderr: share done, time so far, samples per second and the time
+ * left (samples: of the whole render); never fails. */
+void render_progress_print(double share, double seconds, double samples);
+/* Clears the progress line, so that messages start a clean line; never fails. */
+void render_progress_clear(void);
+
+/* Renders with the CPU back end (the packet integrator) into f (allocated by the call); false
+ * on failure (logged). */
 bool render_cpu(const scene *s, const render_opts *opts, film *f);
-/* Renders with the Vulkan compute back end into f (allocated by the call); false on failure. */
+
+/* How a Vulkan render ended: done; refused, because this device cannot render this scene right
+ * (the reason is given, nothing is logged: the caller may render it elsewhere); or failed
+ * (logged). */
+typedef enum render_status { RENDER_DONE, RENDER_REFUSED, RENDER_FAILED } render_status;
+/* Bytes of a refusal's reason, its terminating NUL included. */
+#define RENDER_REASON_SIZE 512
+/* Renders with the Vulkan compute back end into f (allocated by the call); on RENDER_REFUSED
+ * `reason` (RENDER_REASON_SIZE bytes) says why, on the other results it is "". */
+render_status render_vk_try(const scene *s, const render_opts *opts, film *f, char *reason);
+/* render_vk_try with a refusal logged as an error; true only when done. */
 bool render_vk(const scene *s, const render_opts *opts, film *f);
+
+/* The back end a render asks for: auto (Vulkan when it can render the scene, else the CPU). */
+typedef enum backend_choice { BACKEND_AUTO = 0, BACKEND_VULKAN, BACKEND_CPU } backend_choice;
+/* Renders with the back end chosen; *used names the one that rendered ("vulkan" or "cpu").
+ * auto falls back to the CPU, with one line saying why, where Vulkan has no device, refuses the
+ * scene or fails; a device or validation asked for (opts) makes Vulkan's verdict final. False
+ * on failure (logged). */
+bool render_choose(const scene *s, const render_opts *opts, backend_choice backend, film *f,
+                   const char **used);
 
 #endif

@@ -1,4 +1,6 @@
-/* render_common.c: what both back ends share: options from the scene and the film. */
+/* render_common.c: what both back ends share: options from the scene, the film and the progress
+ * line. */
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "render/render.h"
@@ -27,3 +29,15 @@ void film_free(film *f) {
     free(f->accum);
     *f = (film){0};
 }
+
+void render_progress_print(double share, double seconds, double samples) {
+    char rate[48] = "", left[48] = "";
+    if (seconds > 0.0 && share > 0.0) {
+        snprintf(rate, sizeof rate, ", %.2f Msamples/s", share * samples / seconds * 1e-6);
+        snprintf(left, sizeof left, ", %.1f s left", seconds * (1.0 - share) / share);
+    }
+    fprintf(stderr, "\r\033[Ktrazador: rendering %5.1f%%, %.1f s%s%s", 100.0 * share, seconds, rate,
+            left);
+}
+
+void render_progress_clear(void) { fprintf(stderr, "\r\033[K"); }

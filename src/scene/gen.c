@@ -1,4 +1,4 @@
-/* gen.c: the scene generators of gen.h and the `trazador gen` subcommand.
+/* gen.c: the scene generators of gen.h (the `trazador gen` subcommand is src/cli/cmd_gen.c).
  *
  * - sphereflake: Eric Haines' SPD "balls": every sphere carries 9 children of a third of its
  *   radius, touching it, 6 around its equator and 3 on its upper hemisphere, turned towards the
@@ -7,7 +7,8 @@
  *   on a jittered grid that grows with N, all resting on a huge ground sphere.
  *
  * Scenes are streamed through one buffer with a hand-made fixed-point number formatter (no
- * per-sphere allocation, no printf per number), so millions of spheres take about a second.
+ * per-sphere allocation, no printf per number): millions of spheres are written at the speed of
+ * the disk, not of printf.
  * Random choices come from the project's counter-based RNG, one stream per sphere, so a seed
  * gives the same bytes on every machine. */
 #include "scene/gen.h"
@@ -18,7 +19,6 @@
 #include <string.h>
 
 #include "util/atomic_file.h"
-#include "cli/cli.h"
 #include "util/log.h"
 #include "render/rng.h"
 #include "scene/scene.h"
@@ -436,84 +436,4 @@ bool gen_write_file(const gen_desc *desc, const char *path) {
     }
     /* A failed run leaves no truncated scene and any old file intact. */
     return atomic_file_write(path, write_scene, desc);
-}
-
-/* ---- command line ---- */
-
-/* The limits as text, for the messages. */
-#define MAX_DEPTH CLI_AS_TEXT(GEN_MAX_DEPTH)
-#define MAX_COUNT CLI_AS_TEXT(GEN_MAX_COUNT)
-
-static const char usage[] =
-    "usage: trazador gen sphereflake --depth N [-o FILE] [--seed N]   N: 0 to " MAX_DEPTH
-    " levels\n"
-    "       trazador gen random --count N [-o FILE] [--seed N]        N: 1 to " MAX_COUNT
-    " spheres\n"
-    "Writes the scene to FILE (atomically) or to stdout; --seed defaults to 1.\n";
-
-/* Logs "gen: " and the message (fmt with one %s for arg, or plain when arg is NULL), then the
-   usage; returns exit code 2. */
-static int usage_error(const char *fmt, const char *arg) {
-    char message[256];
-    if (arg)
-        snprintf(message, sizeof message, fmt, arg);
-    else
-        snprintf(message, sizeof message, "%s", fmt);
-    log_error("gen: %s", message);
-    fputs(usage, stderr);
-    return 2;
-}
-
-int gen_command(int argc, char **argv) {
-    if (argc < 2) return usage_error("expected a generator: sphereflake or random", NULL);
-    const char *name = argv[1];
-    if (!strcmp(name, "-h") || !strcmp(name, "--help")) {
-        fputs(usage, stdout);
-        return 0;
-    }
-    gen_desc desc = {.seed = 1, .depth = -1, .count = -1};
-    if (!strcmp(name, "sphereflake"))
-        desc.kind = GEN_SPHEREFLAKE;
-    else if (!strcmp(name, "random"))
-        desc.kind = GEN_RANDOM;
-    else
-        return usage_error("unknown generator '%s' (expected sphereflake or random)", name);
-    const char *path = NULL;
-    for (int i = 2; i < argc; i += 2) { /* every option but --help takes a value */
-        const char *arg = argv[i], *value = i + 1 < argc ? argv[i + 1] : NULL;
-        long long v = 0;
-        if (!strcmp(arg, "-h") || !strcmp(arg, "--help")) {
-            fputs(usage, stdout);
-            return 0;
-        } else if (!strcmp(arg, "-o") || !strcmp(arg, "--output")) {
-            if (!value || !*value) return usage_error("%s needs a file name", arg);
-            path = value;
-        } else if (!strcmp(arg, "--seed")) {
-            if (!cli_parse_int(value, 0, 4294967295LL, &v))
-                return usage_error("--seed takes a whole number from 0 to 4294967295, got '%s'",
-                                   value ? value : "");
-            desc.seed = (uint32_t)v;
-        } else if (desc.kind == GEN_SPHEREFLAKE && !strcmp(arg, "--depth")) {
-            if (!cli_parse_int(value, 0, GEN_MAX_DEPTH, &v))
-                return usage_error("--depth takes a whole number from 0 to " MAX_DEPTH ", got '%s'",
-                                   value ? value : "");
-            desc.depth = (int)v;
-        } else if (desc.kind == GEN_RANDOM && !strcmp(arg, "--count")) {
-            if (!cli_parse_int(value, 1, GEN_MAX_COUNT, &v))
-                return usage_error("--count takes a whole number from 1 to " MAX_COUNT ", got '%s'",
-                                   value ? value : "");
-            desc.count = (long)v;
-        } else {
-            return usage_error(
-                desc.kind == GEN_SPHEREFLAKE
-                    ? "unknown option '%s' for sphereflake (it takes --depth, -o, --seed)"
-                    : "unknown option '%s' for random (it takes --count, -o, --seed)",
-                arg);
-        }
-    }
-    if (desc.kind == GEN_SPHEREFLAKE && desc.depth < 0)
-        return usage_error("sphereflake needs --depth N (0 to " MAX_DEPTH ")", NULL);
-    if (desc.kind == GEN_RANDOM && desc.count < 0)
-        return usage_error("random needs --count N (1 to " MAX_COUNT ")", NULL);
-    return gen_write_file(&desc, path) ? 0 : 1;
 }

@@ -28,8 +28,5 @@ bool gen_write(const gen_desc *desc, FILE *fp);
 /* Writes the scene to path via a temporary file in the same folder and a rename, or to stdout
    when path is NULL or "-"; false on error (logged), leaving no file and any old one intact. */
 bool gen_write_file(const gen_desc *desc, const char *path);
-/* `trazador gen sphereflake|random ...`, argv[0] = "gen": returns 0, 1 on a write failure, 2 on
-   a usage error (nothing written). */
-int gen_command(int argc, char **argv);
 
 #endif

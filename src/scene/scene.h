@@ -94,7 +94,8 @@ typedef struct scene {
 /* Parses scene text; false with *err filled (when non-NULL) and *out untouched on any error. */
 bool scene_parse_string(const char *text, size_t length, const char *filename, scene *out,
                         scene_error *err);
-/* Reads and parses a file; false with *err filled on a read or parse error. */
+/* Reads and parses a file ("-": standard input, named <stdin>); false with *err filled on a
+ * read or parse error. */
 bool scene_parse_file(const char *path, scene *out, scene_error *err);
 /* Prints err to stderr as "file:line:col: message" ("file: message" for errors about the file
  * itself, which have line 0); never fails. */

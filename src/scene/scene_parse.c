@@ -456,19 +456,26 @@ static bool claim_once(parser *p, int *first_line) {
     return true;
 }
 
-/* The renderer normalizes in float: the length must neither vanish nor overflow there. */
+/* The renderer normalizes in float by the square root of the squared length: that square must
+ * be a normal float, or the vector comes out too short (a denormal square) or zero (an infinite
+ * one). */
+static bool check_camera_square(parser *p, const key_values *kv, int key, vec3 v) {
+    float square = v3_dot(v, v);
+    if (!(square >= FLT_MIN && square <= FLT_MAX)) {
+        return fail_at(p, p->tokens[kv->key_token[key]].col,
+                       "camera %s is too small or too large to normalize in single precision "
+                       "(its length must be from about 1.1e-19 to 1.8e19)",
+                       camera_keys[key].name);
+    }
+    return true;
+}
+
 static bool check_camera_vector(parser *p, const key_values *kv, int key, vec3 v) {
     if (v.x == 0.0f && v.y == 0.0f && v.z == 0.0f) {
         return fail_at(p, p->tokens[kv->key_token[key]].col, "camera %s must not be zero",
                        camera_keys[key].name);
     }
-    float length = v3_length(v);
-    if (!(length >= FLT_MIN && length <= FLT_MAX)) {
-        return fail_at(p, p->tokens[kv->key_token[key]].col,
-                       "camera %s is too small or too large to normalize in single precision",
-                       camera_keys[key].name);
-    }
-    return true;
+    return check_camera_square(p, kv, key, v);
 }
 
 static bool parse_camera(parser *p) {
@@ -506,14 +513,17 @@ static bool parse_camera(parser *p) {
     double dx = direction.x / dl, dy = direction.y / dl, dz = direction.z / dl;
     double ux = up.x / ul, uy = up.y / ul, uz = up.z / ul;
     double cx = dy * uz - dz * uy, cy = dz * ux - dx * uz, cz = dx * uy - dy * ux;
+    /* Errors of the frame are reported at up, else at what gave the direction. */
+    int up_key = (kv.given & BIT(CAMERA_UP))        ? CAMERA_UP
+                 : (kv.given & BIT(CAMERA_LOOK_AT)) ? CAMERA_LOOK_AT
+                                                    : CAMERA_DIRECTION;
     if (sqrt(cx * cx + cy * cy + cz * cz) < CAMERA_MIN_SINE) {
-        int key = (kv.given & BIT(CAMERA_UP))        ? CAMERA_UP
-                  : (kv.given & BIT(CAMERA_LOOK_AT)) ? CAMERA_LOOK_AT
-                                                     : CAMERA_DIRECTION;
-        return fail_at(p, p->tokens[kv.key_token[key]].col,
+        return fail_at(p, p->tokens[kv.key_token[up_key]].col,
                        "camera up (%g %g %g) is parallel to direction (%g %g %g)", up.x, up.y, up.z,
                        direction.x, direction.y, direction.z);
     }
+    /* The right vector, up x forward, is normalized too: a small up at a small angle. */
+    if (!check_camera_square(p, &kv, up_key, v3_cross(up, v3_normalize(direction)))) return false;
     p->s.camera_position = position;
     p->s.camera_fov = (float)value_or(&kv, CAMERA_FOV, 0.0);
     p->s.camera_near = (float)value_or(&kv, CAMERA_NEAR, 0.0);
@@ -805,6 +815,10 @@ static bool tokenize(parser *p, const char *line, size_t length) {
         }
         if (c < 0x20 || c > 0x7e) {
             if (c == 0) return fail_at(p, col, "unexpected NUL byte (is this a text file?)");
+            if (p->line == 1 && i == 0 && length >= 3 && !memcmp(line, "\xef\xbb\xbf", 3))
+                return fail_at(p, col,
+                               "a UTF-8 byte-order mark (EF BB BF) starts the file: "
+                               "save it without one");
             return fail_at(p, col, "unexpected byte 0x%02x (only printable ASCII outside comments)",
                            c);
         }
@@ -1021,7 +1035,10 @@ static bool read_all(int fd, const char *path, char **data, size_t *length, scen
 
 bool scene_parse_file(const char *path, scene *out, scene_error *err) {
     if (err) err->out_of_memory = false;
-    int fd = open(path, O_RDONLY);
+    /* "-" is standard input, named as the tools name it. */
+    bool is_stdin = !strcmp(path, "-");
+    if (is_stdin) path = "<stdin>";
+    int fd = is_stdin ? dup(STDIN_FILENO) : open(path, O_RDONLY);
     if (fd < 0) return fail_file(path, err, "cannot open: %s", strerror(errno));
     char *data = NULL;
     size_t length = 0;

@@ -4,7 +4,6 @@
 
 #include <errno.h>
 #include <fcntl.h>
-#include <libgen.h>
 #include <limits.h>
 #include <signal.h>
 #include <stdlib.h>
@@ -89,18 +88,40 @@ static bool write_in_place(const char *path, atomic_file_fill fill, const void *
     return !err;
 }
 
+/* The temporary file's name in the destination's folder: a fixed short name, not the
+ * destination's plus a suffix, which would pass NAME_MAX for names near it. */
+#define TEMP_NAME ".trazador-XXXXXX"
+
+/* The length of path's folder part, its last slash included (0 for a name in "."). */
+static size_t folder_length(const char *path) {
+    const char *slash = strrchr(path, '/');
+    return slash ? (size_t)(slash - path) + 1 : 0;
+}
+
+/* Makes the rename durable: the folder's entry is synced too, or a power cut could lose the new
+ * file. A file system that cannot sync folders (EINVAL) has nothing to do. */
+static void sync_folder(const char *path, const char *shown) {
+    size_t n = folder_length(path);
+    char *folder = n ? strndup(path, n) : strdup(".");
+    int fd = folder ? open(folder, O_RDONLY | O_DIRECTORY) : -1;
+    if (fd < 0 || (fsync(fd) != 0 && errno != EINVAL))
+        log_warn("%s: written, but its folder could not be synced: %s", shown, strerror(errno));
+    if (fd >= 0) close(fd);
+    free(folder);
+}
+
 /* Writes path through a temporary file beside it, renamed over it once complete; messages name
  * `shown` (what the user gave, when path is a link's target). */
 static bool write_replacing(const char *path, const char *shown, atomic_file_fill fill,
                             const void *context) {
-    size_t len = strlen(path);
-    char *tmp = malloc(len + sizeof ".XXXXXX");
+    size_t folder = folder_length(path);
+    char *tmp = malloc(folder + sizeof TEMP_NAME);
     if (!tmp) {
         log_error("%s: %s", shown, strerror(ENOMEM));
         return false;
     }
-    memcpy(tmp, path, len);
-    memcpy(tmp + len, ".XXXXXX", sizeof ".XXXXXX");
+    memcpy(tmp, path, folder);
+    memcpy(tmp + folder, TEMP_NAME, sizeof TEMP_NAME);
     mode_t mode = target_mode(path);
     interrupts_saved saved;
     interrupts_catch(remove_pending_temp, &saved);
@@ -131,6 +152,7 @@ static bool write_replacing(const char *path, const char *shown, atomic_file_fil
     pending_temp = NULL;
     interrupts_restore(&saved);
     if (err) log_error("%s: cannot %s: %s", shown, step, strerror(err));
+    if (!err) sync_folder(path, shown);
     free(tmp);
     return !err;
 }
@@ -206,6 +228,11 @@ static write_way how_to_write(const char *path, char **file) {
         return WRITE_REFUSED;
     }
     if ((exists && !S_ISREG(st.st_mode)) || names_open_file(path)) return WRITE_IN_PLACE;
+    size_t length = strlen(path);
+    if (!exists && length > 0 && path[length - 1] == '/') {
+        log_error("%s: names a folder (it ends in '/'), not a file to write", path);
+        return WRITE_REFUSED;
+    }
     if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode)) {
         *file = link_target(path);
         if (!*file) log_error("%s: cannot follow the symbolic link: %s", path, strerror(errno));
@@ -235,17 +262,50 @@ bool atomic_file_write(const char *path, atomic_file_fill fill, const void *cont
     return ok;
 }
 
-bool atomic_file_check(const char *path) {
+/* True (logged) when the file's name is longer than its folder's file system allows. */
+static bool name_too_long(const char *shown, const char *file, const char *folder) {
+    const char *name = file + folder_length(file);
+    long most = pathconf(folder, _PC_NAME_MAX);
+    if (most < 0 || strlen(name) <= (size_t)most) return false;
+    log_error("%s: the file name is %zu bytes long, past the %ld this file system allows", shown,
+              strlen(name), most);
+    return true;
+}
+
+/* True (logged) when an existing file is write-protected: the caller may not write it, or it has
+ * no write bit at all (which root's permissions would pass over, as the shell's > does not
+ * for others). */
+static bool write_protected(const char *shown, const char *file) {
+    struct stat st;
+    if (stat(file, &st) != 0) return false;
+    if (access(file, W_OK) == 0 && (st.st_mode & 0222)) return false;
+    log_error("%s: the file is write-protected (mode %03o): --force replaces it", shown,
+              (unsigned)(st.st_mode & 0777));
+    return true;
+}
+
+bool atomic_file_check_force(const char *path, bool force) {
     char *file;
     write_way way = how_to_write(path, &file);
     if (way == WRITE_REFUSED) return false;
-    /* In place, the file must take writes; replaced, its folder must take a new file. */
-    bool in_place = way == WRITE_IN_PLACE;
-    const char *where = in_place ? path : dirname(file);
-    bool ok = access(where, in_place ? W_OK : W_OK | X_OK) == 0;
-    if (!ok)
-        log_error("%s: cannot write%s%s: %s", path, in_place ? "" : " in ", in_place ? "" : where,
-                  strerror(errno));
+    if (way == WRITE_IN_PLACE) { /* the file must take writes */
+        bool ok = access(path, W_OK) == 0;
+        if (!ok) log_error("%s: cannot write: %s", path, strerror(errno));
+        return ok;
+    }
+    /* Replaced: its folder must take a new file of that name. */
+    size_t n = folder_length(file);
+    char *folder = n > 1 ? strndup(file, n - 1) : strdup(n ? "/" : ".");
+    bool ok = folder != NULL;
+    if (!ok) log_error("%s: %s", path, strerror(ENOMEM));
+    if (ok && access(folder, W_OK | X_OK) != 0) {
+        log_error("%s: cannot write in %s: %s", path, folder, strerror(errno));
+        ok = false;
+    }
+    ok = ok && !name_too_long(path, file, folder) && (force || !write_protected(path, file));
+    free(folder);
     free(file);
     return ok;
 }
+
+bool atomic_file_check(const char *path) { return atomic_file_check_force(path, false); }

@@ -74,27 +74,29 @@ typedef struct strategy {
 } strategy;
 
 /* Refuses what the device could not render right: scene or accumulation buffers past its limits,
- * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit. */
+ * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit; false
+ * with the reason in `reason` (RENDER_REASON_SIZE bytes), nothing logged. */
 static bool check_limits(const vk_context *ctx, const scene *s, const render_opts *opts,
-                         const strategy *st) {
+                         const strategy *st, char *reason) {
     bool use_bvh = st->use_bvh;
     uint64_t sample_iterations = st->sample_iterations;
     if (vk_context_is_lavapipe(ctx) && use_bvh && st->walk < MIN_WALK_BUDGET) {
-        log_error(
-            "with %d lights and this bounce limit a ray could walk the BVH only %u loop "
-            "passes on lavapipe (its shaders stop loops silently after %u)" VK_CONTEXT_USE_CPU,
-            s->light_count, st->walk, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+        snprintf(reason, RENDER_REASON_SIZE,
+                 "with %d lights and this bounce limit a ray could walk the BVH only %u loop "
+                 "passes on lavapipe (its shaders stop loops silently after %u)",
+                 s->light_count, st->walk, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
         return false;
     }
     /* One sample an invocation: its passes and the sample loop's exit pass. */
     if (vk_context_is_lavapipe(ctx) && !use_bvh &&
         sample_iterations + 1u > VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
-        log_error("this scene needs up to %" PRIu64
-                  " loop passes per sample, past lavapipe's safe limit of %u (its shaders stop "
-                  "loops silently after %u%s)" VK_CONTEXT_USE_CPU,
-                  sample_iterations + 1u, VK_PROBE_LAVAPIPE_SAFE_ITERATIONS,
-                  VK_PROBE_LAVAPIPE_LOOP_LIMIT,
-                  opts->no_bvh ? "; --no-bvh tests every sphere for every ray" : "");
+        snprintf(reason, RENDER_REASON_SIZE,
+                 "this scene needs up to %" PRIu64
+                 " loop passes per sample, past lavapipe's safe limit of %u (its shaders stop "
+                 "loops silently after %u%s)",
+                 sample_iterations + 1u, VK_PROBE_LAVAPIPE_SAFE_ITERATIONS,
+                 VK_PROBE_LAVAPIPE_LOOP_LIMIT,
+                 opts->no_bvh ? "; --no-bvh tests every sphere for every ray" : "");
         return false;
     }
     /* The accumulation buffer is addressed with 32-bit dynamic offsets, and drivers cap buffers
@@ -103,12 +105,12 @@ static bool check_limits(const vk_context *ctx, const scene *s, const render_opt
     uint64_t row_bytes = (uint64_t)s->width * ACCUM_PIXEL_BYTES;
     uint64_t accum_bytes = rows * row_bytes;
     if (accum_bytes > UINT32_MAX) {
-        log_error("a %d x %d image needs %" PRIu64
-                  " bytes of accumulation buffer (rows rounded up to whole %u-row tiles), past the "
-                  "4 GiB - 1 the Vulkan back end addresses (at this width %" PRIu64
-                  " rows fit)" VK_CONTEXT_USE_CPU,
-                  s->width, s->height, accum_bytes, TILE_SIZE,
-                  UINT32_MAX / row_bytes / TILE_SIZE * TILE_SIZE);
+        snprintf(reason, RENDER_REASON_SIZE,
+                 "a %d x %d image needs %" PRIu64
+                 " bytes of accumulation buffer (rows rounded up to whole %u-row tiles), past the "
+                 "4 GiB - 1 the Vulkan back end addresses (at this width %" PRIu64 " rows fit)",
+                 s->width, s->height, accum_bytes, TILE_SIZE,
+                 UINT32_MAX / row_bytes / TILE_SIZE * TILE_SIZE);
         return false;
     }
     const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
@@ -121,10 +123,10 @@ static bool check_limits(const vk_context *ctx, const scene *s, const render_opt
                           "texels of BVH nodes"};
     for (int k = 0; k < 4; k++) {
         if (sizes[k] > limit[k]) {
-            log_error("the scene needs %" PRIu64
-                      " %s in one buffer, past this device's limit of "
-                      "%" PRIu64 VK_CONTEXT_USE_CPU,
-                      sizes[k], what[k], limit[k]);
+            snprintf(reason, RENDER_REASON_SIZE,
+                     "the scene needs %" PRIu64
+                     " %s in one buffer, past this device's limit of %" PRIu64,
+                     sizes[k], what[k], limit[k]);
             return false;
         }
     }
@@ -239,44 +241,52 @@ static uint32_t workgroup_stride(uint32_t groups) {
     }
 }
 
-/* Records passes [first, last) of the plan: a barrier before each, then one dispatch per tile,
- * each tile row band bound at its first row through the dynamic offset. */
-static void record_passes(vk_render *r, const pass_plan *plan, uint32_t first, uint32_t last) {
+/* Tiles of one pass: the steps of the plan are (pass, tile) pairs, pass after pass. */
+static uint32_t plan_tiles(const pass_plan *plan) {
+    return ((plan->width + TILE_SIZE - 1u) / TILE_SIZE) *
+           ((plan->height + TILE_SIZE - 1u) / TILE_SIZE);
+}
+
+/* Records steps [first, last) of the plan: one dispatch per tile, a barrier before each pass
+ * (and at the first step), each tile's row band bound at its first row through the dynamic
+ * offset. */
+static void record_steps(vk_render *r, const pass_plan *plan, uint64_t first, uint64_t last) {
     VkCommandBuffer cmd = r->cmd;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.pipeline);
-    for (uint32_t pass = first; pass < last; pass++) {
+    uint32_t tiles = plan_tiles(plan), tiles_x = (plan->width + TILE_SIZE - 1u) / TILE_SIZE;
+    for (uint64_t step = first; step < last; step++) {
+        uint32_t pass = (uint32_t)(step / tiles), tile = (uint32_t)(step % tiles);
         /* Each pass reads and writes what the one before wrote: samples add in order. */
-        vk_commands_barrier(
-            cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-            VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_UNIFORM_READ_BIT);
+        if (tile == 0u || step == first)
+            vk_commands_barrier(
+                cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                    VK_ACCESS_UNIFORM_READ_BIT);
         uint32_t sample = pass * plan->per_dispatch;
         uint32_t count = plan->samples - sample < plan->per_dispatch ? plan->samples - sample
                                                                      : plan->per_dispatch;
-        for (uint32_t y0 = 0; y0 < plan->height; y0 += TILE_SIZE) {
-            /* Dynamic offsets are 32-bit: at most (16384 - 256) rows of 16384 pixels of 16 bytes,
-             * 4.23e9, which fits. */
-            uint32_t band_offset = y0 * plan->width * (uint32_t)ACCUM_PIXEL_BYTES;
-            const uint32_t offsets[] = {band_offset, band_offset}; /* sums, compensation */
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.layout, 0, 1,
-                                    &r->kernel.set, 2, offsets);
-            uint32_t th = plan->height - y0 < TILE_SIZE ? plan->height - y0 : TILE_SIZE;
-            for (uint32_t x0 = 0; x0 < plan->width; x0 += TILE_SIZE) {
-                uint32_t tw = plan->width - x0 < TILE_SIZE ? plan->width - x0 : TILE_SIZE;
-                uint32_t gx = (tw + TZ_GROUP_X - 1u) / TZ_GROUP_X;
-                uint32_t gy = (th + TZ_GROUP_Y - 1u) / TZ_GROUP_Y;
-                struct gpu_pass push = {.x0 = x0,
-                                        .y0 = y0,
-                                        .first_sample = sample,
-                                        .sample_count = count,
-                                        .total_samples = plan->samples,
-                                        .group_stride = workgroup_stride(gx * gy)};
-                vkCmdPushConstants(cmd, r->kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
-                                   sizeof push, &push);
-                vkCmdDispatch(cmd, gx, gy, 1);
-            }
-        }
+        uint32_t x0 = tile % tiles_x * TILE_SIZE, y0 = tile / tiles_x * TILE_SIZE;
+        /* Dynamic offsets are 32-bit: at most (16384 - 256) rows of 16384 pixels of 16 bytes,
+         * 4.23e9, which fits. */
+        uint32_t band_offset = y0 * plan->width * (uint32_t)ACCUM_PIXEL_BYTES;
+        const uint32_t offsets[] = {band_offset, band_offset}; /* sums, compensation */
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.layout, 0, 1,
+                                &r->kernel.set, 2, offsets);
+        uint32_t th = plan->height - y0 < TILE_SIZE ? plan->height - y0 : TILE_SIZE;
+        uint32_t tw = plan->width - x0 < TILE_SIZE ? plan->width - x0 : TILE_SIZE;
+        uint32_t gx = (tw + TZ_GROUP_X - 1u) / TZ_GROUP_X;
+        uint32_t gy = (th + TZ_GROUP_Y - 1u) / TZ_GROUP_Y;
+        struct gpu_pass push = {.x0 = x0,
+                                .y0 = y0,
+                                .first_sample = sample,
+                                .sample_count = count,
+                                .total_samples = plan->samples,
+                                .group_stride = workgroup_stride(gx * gy)};
+        vkCmdPushConstants(cmd, r->kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push,
+                           &push);
+        vkCmdDispatch(cmd, gx, gy, 1);
     }
 }
 
@@ -299,19 +309,30 @@ static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
                             VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
 }
 
-/* Records and runs every pass, submission by submission; sums the non-finite counts. False when
- * a sample ran out of loop budget (the image would be wrong) or on a Vulkan failure. */
+/* Updates of the progress line one render shows at most: each is a submission of its own, and
+ * a submission costs lavapipe a fence wait and a fork and join of its threads. */
+#define PROGRESS_UPDATES 200u
+
+/* Records and runs every pass, submission by submission; sums the non-finite counts. With
+ * progress, submissions are cut finer (down to one tile) so that the line moves. False when a
+ * sample ran out of loop budget (the reason in `refusal`, else "") or on a Vulkan failure. */
 static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *opts,
-                       uint64_t *nonfinite, uint64_t *rays) {
+                       uint64_t *nonfinite, uint64_t *rays, char *refusal) {
     vk_context *ctx = &r->ctx;
     uint32_t passes = (plan->samples + plan->per_dispatch - 1u) / plan->per_dispatch;
+    uint64_t tiles = plan_tiles(plan), steps = (uint64_t)passes * tiles;
+    uint64_t per_submit = (uint64_t)plan->passes_per_submit * tiles;
+    if (opts->progress) {
+        uint64_t fine = (steps + PROGRESS_UPDATES - 1u) / PROGRESS_UPDATES;
+        if (fine < per_submit) per_submit = fine;
+    }
     const uint32_t *counter = r->counter.mapped ? r->counter.mapped : r->readback.mapped;
     *nonfinite = 0;
     bool ok = true;
     uint32_t overflowed = 0; /* samples whose walk ran out of loop passes */
-    for (uint32_t first = 0; ok && first < passes; first += plan->passes_per_submit) {
-        uint32_t last =
-            passes - first < plan->passes_per_submit ? passes : first + plan->passes_per_submit;
+    double start = clock_seconds();
+    for (uint64_t first = 0; ok && first < steps; first += per_submit) {
+        uint64_t last = steps - first < per_submit ? steps : first + per_submit;
         if (!vk_commands_begin(ctx, &r->cmd)) {
             ok = false;
             break;
@@ -324,8 +345,8 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
                             VK_ACCESS_TRANSFER_WRITE_BIT);
         if (first == 0) record_setup(r);
         vkCmdFillBuffer(r->cmd, r->counter.buffer, 0, VK_WHOLE_SIZE, 0u);
-        record_passes(r, plan, first, last);
-        record_readback(r, plan, last == passes);
+        record_steps(r, plan, first, last);
+        record_readback(r, plan, last == steps);
         if (!vk_commands_submit_wait(ctx, r->cmd, r->fence)) {
             ok = false;
             break;
@@ -335,14 +356,15 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
         overflowed = counter[1];
         ok = overflowed == 0;
         if (ok && opts->progress)
-            fprintf(stderr, "\rtrazador: rendering %5.1f%%", 100.0 * last / passes);
+            render_progress_print((double)last / (double)steps, clock_seconds() - start,
+                                  (double)plan->width * plan->height * plan->samples);
     }
-    if (opts->progress) fprintf(stderr, "\r\033[K"); /* on failure too: messages follow */
+    if (opts->progress) render_progress_clear(); /* on failure too: messages follow */
     if (overflowed > 0)
-        log_error(
-            "%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
-            "allows (its shaders stop loops silently past %u in all)" VK_CONTEXT_USE_CPU,
-            overflowed, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+        snprintf(refusal, RENDER_REASON_SIZE,
+                 "%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
+                 "allows (its shaders stop loops silently past %u in all)",
+                 overflowed, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
     return ok;
 }
 
@@ -503,14 +525,16 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
     return true;
 }
 
-bool render_vk(const scene *s, const render_opts *opts, film *f) {
+render_status render_vk_try(const scene *s, const render_opts *opts, film *f, char *reason) {
     *f = (film){0};
+    reason[0] = '\0';
     vk_render r = {0};
     packed_scene packed = {0};
     bool ok = false;
     double t0 = clock_seconds();
-    vk_context_desc desc = {.device = opts->device, .validate = opts->validate};
-    if (!vk_context_init(&r.ctx, &desc)) return false;
+    vk_context_desc desc = {
+        .device = opts->device, .validate = opts->validate, .threads = opts->threads};
+    if (!vk_context_init(&r.ctx, &desc)) return RENDER_FAILED;
     double t_init = clock_seconds();
     log_debug("vulkan: device %d, %s (%s), instance and device in %.1f ms", r.ctx.device_index,
               r.ctx.properties.deviceName, r.ctx.driver_name, (t_init - t0) * 1e3);
@@ -518,7 +542,7 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
     render_opts packing = *opts;
     packing.no_bvh = !st.use_bvh;
     double t_pack = clock_seconds();
-    if (!check_limits(&r.ctx, s, opts, &st) || !scene_pack(s, &packing, &packed)) goto done;
+    if (!check_limits(&r.ctx, s, opts, &st, reason) || !scene_pack(s, &packing, &packed)) goto done;
     scene_pack_report(&packed, opts, t_pack);
     if (!film_init(f, s->width, s->height)) {
         log_error("out of memory for a %d x %d film", s->width, s->height);
@@ -540,7 +564,7 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
               st.sample_iterations, plan.per_dispatch, plan.per_dispatch == 1 ? "" : "s",
               plan.passes_per_submit, plan.passes_per_submit == 1 ? "" : "es");
     uint64_t rays = 0;
-    if (!run_passes(&r, &plan, opts, &f->nonfinite, &rays)) goto done;
+    if (!run_passes(&r, &plan, opts, &f->nonfinite, &rays, reason)) goto done;
     double t_render = clock_seconds();
     if (opts->stats) {
         opts->stats->render_seconds = t_render - t_pipeline;
@@ -556,11 +580,20 @@ bool render_vk(const scene *s, const render_opts *opts, film *f) {
 done:
     render_destroy(&r);
     scene_pack_free(&packed);
-    if (!vk_context_destroy(&r.ctx)) {
-        log_error("the Vulkan validation layer reported errors: the render failed");
-        ok = false;
-    }
+    bool valid = vk_context_destroy(&r.ctx);
+    if (!valid) log_error("the Vulkan validation layer reported errors: the render failed");
     if (opts->stats) opts->stats->validation_errors = vk_context_validation_errors(&r.ctx);
-    if (!ok) film_free(f);
-    return ok;
+    if (!ok || !valid) film_free(f);
+    /* A refusal stands only when nothing else went wrong: validation errors fail the run. */
+    if (ok && valid) return RENDER_DONE;
+    if (reason[0] && valid) return RENDER_REFUSED;
+    if (reason[0]) log_error("%s" VK_CONTEXT_USE_CPU, reason);
+    return RENDER_FAILED;
+}
+
+bool render_vk(const scene *s, const render_opts *opts, film *f) {
+    char reason[RENDER_REASON_SIZE];
+    render_status status = render_vk_try(s, opts, f, reason);
+    if (status == RENDER_REFUSED) log_error("%s" VK_CONTEXT_USE_CPU, reason);
+    return status == RENDER_DONE;
 }

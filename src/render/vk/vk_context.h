@@ -1,6 +1,7 @@
-/* vk_context.h: the Vulkan loader (opened at run time, so a machine without Vulkan still runs the
- * CPU back end), one context (instance, validation messenger, physical device, device, compute
- * queue, command pool), buffers and compute kernels built on it, device listing, and VK_CHECK. */
+/* vk_context.h: the Vulkan layer the renderer uses: the functions loaded from the loader
+ * (vk_loader.c), one context (instance, validation messenger, device, compute queue, command
+ * pool: vk_context.c, vk_instance.c, vk_device.c), device listing, buffers (vk_buffer.c), compute
+ * kernels (vk_kernel.c), one-shot command buffers (vk_commands.c), and VK_CHECK. */
 #ifndef TRAZADOR_VK_CONTEXT_H
 #define TRAZADOR_VK_CONTEXT_H
 
@@ -85,6 +86,8 @@ bool vk_check_result(VkResult result, const char *call, const char *file, int li
 typedef struct vk_context_desc {
     int device;    /* physical device index; -1 picks the first usable one */
     bool validate; /* validation layer + messenger; also forced on by TRAZADOR_VALIDATE=1 */
+    int threads;   /* lavapipe's worker threads (LP_NUM_THREADS for this context); 0 leaves the
+                      driver's choice or the user's own LP_NUM_THREADS */
 } vk_context_desc;
 
 typedef struct vk_context {
@@ -105,6 +108,7 @@ typedef struct vk_context {
     bool force_staging; /* TRAZADOR_VK_STAGING=1: copy through staging buffers even when
                            device memory is mappable, to exercise the discrete-GPU path */
     atomic_uint validation_errors;
+    char loader_error[512]; /* the loader's first complaint while the instance was created */
 } vk_context;
 
 /* Creates the whole context; false (one logged error, e.g. the no-device message) on failure,

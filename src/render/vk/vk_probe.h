@@ -1,6 +1,6 @@
 /* vk_probe.h: lavapipe's loop budget. Its compiled shaders silently stop every loop once one
  * invocation has run LAVAPIPE_LOOP_LIMIT iterations in total, all loops together (measured by
- * tests/test_vk_loop_limit.c through vk_probe_loop); the renderer refuses scenes whose worst
+ * tests/test_vk_loop_limit.c); the renderer refuses scenes whose worst
  * case could reach it rather than render a wrong image. */
 #ifndef TRAZADOR_VK_PROBE_H
 #define TRAZADOR_VK_PROBE_H
@@ -8,21 +8,11 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "render/vk/vk_context.h"
-
 /* Loop passes one lavapipe invocation may run (Mesa 22.3 with LLVM 15:
  * LP_MAX_TGSI_LOOP_ITERATIONS). */
 #define VK_PROBE_LAVAPIPE_LOOP_LIMIT 65535u
 /* Loop passes the renderer allows one invocation on lavapipe, a margin below the budget. */
 #define VK_PROBE_LAVAPIPE_SAFE_ITERATIONS 60000u
-
-/* Invocations the probe runs: two workgroups of 64 (eight lavapipe subgroups each). */
-#define VK_PROBE_INVOCATIONS 128u
-
-/* Runs shaders/loop_probe.comp once: in every invocation a loop of n[0] iterations, then one of
- * n[1]; least[k] and most[k] receive the fewest and most iterations loop k completed in any
- * invocation. False (logged) on a Vulkan failure. */
-bool vk_probe_loop(vk_context *ctx, const uint32_t n[2], uint32_t least[2], uint32_t most[2]);
 
 /* Worst-case loop passes of one sample of shaders/trace.comp (brute force over the spheres),
  * counted as lavapipe spends its budget; an invocation of S samples costs S times this plus one.

@@ -1,15 +1,18 @@
-/* bench.c: `trazador bench`, fixed workloads timed on each back end (a benchmark, not a test). */
+/* cmd_bench.c: `trazador bench`, fixed workloads timed on each back end (a benchmark, not a
+ * test). */
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli/cli.h"
-#include "util/clock.h"
+#include "cli/options.h"
 #include "default_scene.h"
-#include "scene/gen.h"
 #include "render/cpu/integrator.h"
-#include "util/log.h"
 #include "render/vk/vk_context.h"
+#include "scene/gen.h"
+#include "util/clock.h"
+#include "util/log.h"
 
 typedef struct workload {
     const char *name;
@@ -28,16 +31,16 @@ static const long scaling_counts[] = {10, 1000, 100000, 1000000};
 #define SCALING_SIZE 256
 /* Each row is rendered first at SCALING_WARMUP_SAMPLES (lavapipe compiles its shader, caches and
  * pages warm up), then timed at the power of two of samples, at most SCALING_MAX_SAMPLES, that
- * makes its passes last SCALING_SECONDS or a little more: a 10-sphere row of 4 samples lasts 10 ms,
- * too short to time (runs of it varied from 15 to 27 Msamples/s). */
+ * makes its passes last SCALING_SECONDS or a little more: a small row at the warm-up's samples is
+ * over too fast to time (docs/PERF.md, "Command line"). */
 #define SCALING_WARMUP_SAMPLES 4
 #define SCALING_MAX_SAMPLES 256
 #define SCALING_SECONDS 0.5
 /* A timed render shorter than this is timed again at the samples its speed asks for (the
  * warm-up's speed can be off: lavapipe compiles its shader in it). */
 #define SCALING_MIN_SECONDS (0.7 * SCALING_SECONDS)
-/* Timed renders of a row, the fastest kept: on a shared 2-core host single runs of the same row
- * ranged over 25% (the 1,000,000-sphere CPU row from 4.8 to 6.1 Msamples/s). */
+/* Timed renders of a row, the fastest kept: on a shared host single runs of the same row vary
+ * widely (docs/PERF.md, "Command line"). */
 #define SCALING_REPEATS 3
 
 /* Prints a measured figure in a column of `width`, or "-" when that back end was not timed. */
@@ -66,7 +69,7 @@ static double run_workload(const scene *base, const workload *w, backend_choice 
     film f = {0};
     const char *used;
     double start = clock_seconds();
-    bool ok = cli_render(&s, &opts, backend, &f, &used);
+    bool ok = render_choose(&s, &opts, backend, &f, &used);
     double elapsed = clock_seconds() - start;
     film_free(&f);
     *mrays = (double)stats.rays / elapsed * 1e-6;
@@ -102,7 +105,7 @@ static double run_scaling(const scene *s, backend_choice backend, const char *cp
     opts.stats = stats;
     film f = {0};
     const char *used;
-    bool ok = cli_render(s, &opts, backend, &f, &used);
+    bool ok = render_choose(s, &opts, backend, &f, &used);
     film_free(&f);
     return ok && stats->render_seconds > 0.0
                ? (double)s->width * s->height * opts.samples / stats->render_seconds * 1e-6
@@ -155,8 +158,8 @@ static int bench_scaling(bool want_cpu, bool want_vk) {
     printf(
         "\nscaling: random spheres, %dx%d, indirect on; Msamples/s of the passes alone (spp "
         "timed), the fastest of %d runs at a count sized to last %.2f s or more, after a %d-spp "
-        "warm-up; ref: the one-sample C reference integrator (src/integrator.c) on the CPU back "
-        "end's threads\n",
+        "warm-up; ref: the one-sample C reference integrator (src/render/cpu/integrator.c) on "
+        "the CPU back end's threads\n",
         SCALING_SIZE, SCALING_SIZE, SCALING_REPEATS, SCALING_MIN_SECONDS, SCALING_WARMUP_SAMPLES);
     printf("%10s %9s %7s %6s %14s %14s %14s %10s %10s %10s %7s %7s\n", "spheres", "build s",
            "B/sph", "depth", "cpu Msamples/s", "ref Msamples/s", "vk Msamples/s", "cpu vs 10",
@@ -210,39 +213,44 @@ static int bench_scaling(bool want_cpu, bool want_vk) {
     return failures;
 }
 
-int bench_command(int argc, char **argv) {
-    bool want_cpu = true, have_vk = vk_context_device_count() > 0, want_vk = have_vk;
-    bool vk_named = false; /* --backend vulkan or both: no device is an error, not a skip */
-    long long spp = 0;
-    for (int k = 1; k < argc; k++) {
-        const char *value = k + 1 < argc ? argv[k + 1] : "";
-        if (!strcmp(argv[k], "--backend")) {
-            want_cpu = !strcmp(value, "cpu") || !strcmp(value, "both") || !strcmp(value, "auto");
-            vk_named = !strcmp(value, "vulkan") || !strcmp(value, "both");
-            want_vk = vk_named || (!strcmp(value, "auto") && have_vk);
-            if (!want_cpu && !want_vk) {
-                fprintf(stderr, "trazador: bench --backend takes auto, vulkan, cpu or both\n");
-                return 2;
-            }
-            k++;
-        } else if (!strcmp(argv[k], "--spp")) {
-            if (!cli_parse_int(value, 1, 65536, &spp)) {
-                fprintf(stderr,
-                        "trazador: bench --spp takes a whole number from 1 to 65536, got '%s'\n",
-                        value);
-                return 2;
-            }
-            k++;
-        } else {
-            bool help = !strcmp(argv[k], "--help") || !strcmp(argv[k], "-h");
-            fprintf(help ? stdout : stderr,
-                    "%susage: trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
-                    "  --spp N: samples per pixel of the default-scene workloads (the scaling "
-                    "table times each row for about %.1f s)\n",
-                    help ? "" : "trazador: ", SCALING_SECONDS);
-            return help ? 0 : 2;
-        }
-    }
+typedef struct bench_args {
+    int backend;   /* BENCH_BACKENDS order */
+    long long spp; /* 0: each workload's own */
+} bench_args;
+
+#define BENCH_BACKENDS "auto|vulkan|cpu|both"
+enum { BENCH_AUTO, BENCH_VULKAN, BENCH_CPU, BENCH_BOTH };
+
+static const opt_spec bench_specs[] = {
+    OPT_ONE_OF("--backend", offsetof(bench_args, backend), BENCH_BACKENDS,
+               "the back ends timed (default auto: the CPU, and Vulkan where a device exists)"),
+    OPT_WHOLE("--spp", NULL, offsetof(bench_args, spp), 1, 65536,
+              "samples per pixel of the default-scene workloads, 1 to 65536 (default 16; the "
+              "scaling table sizes its own)"),
+};
+
+static const opt_command bench_command = {
+    .name = "bench",
+    .synopsis = "usage: trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n",
+    .about =
+        "Times fixed workloads, then a scaling table from 10 to 1,000,000 spheres whose rows "
+        "are each timed\nfor about " CLI_AS_TEXT(SCALING_SECONDS) " s.\n",
+    .specs = bench_specs,
+    .spec_count = OPT_COUNT(bench_specs),
+};
+
+int cmd_bench(int argc, char **argv) {
+    bench_args a = {0};
+    const char *none[1];
+    int count;
+    opt_result rc = opt_parse(&bench_command, argc, argv, &a, none, &count);
+    if (rc != OPT_OK) return rc == OPT_HELP ? 0 : rc;
+    bool have_vk = vk_context_device_count() > 0;
+    bool want_cpu = a.backend != BENCH_VULKAN;
+    /* --backend vulkan or both: no device is an error, not a skip */
+    bool vk_named = a.backend == BENCH_VULKAN || a.backend == BENCH_BOTH;
+    bool want_vk = vk_named || (a.backend == BENCH_AUTO && have_vk);
+    long long spp = a.spp;
     if (vk_named && !have_vk) {
         log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
         return 1;

@@ -1,0 +1,17 @@
+/* cmd_devices.c: `trazador devices`, the Vulkan devices and the default one. */
+#include "cli/cli.h"
+#include "cli/options.h"
+#include "render/vk/vk_context.h"
+
+int cmd_devices(int argc, char **argv) {
+    static const opt_command command = {
+        .name = "devices",
+        .synopsis = "usage: trazador devices\n",
+        .about = "Lists the Vulkan devices; * marks the default (--device picks another).\n",
+    };
+    const char *positional[1];
+    int count;
+    opt_result rc = opt_parse(&command, argc, argv, NULL, positional, &count);
+    if (rc != OPT_OK) return rc == OPT_HELP ? 0 : rc;
+    return vk_context_print_devices() ? 0 : 1;
+}

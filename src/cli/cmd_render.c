@@ -1,0 +1,311 @@
+/* cmd_render.c: `trazador render`: its options, the checks made before rendering (the output can
+ * be written and is not the scene), the render and its summary line. */
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "cli/cli.h"
+#include "cli/options.h"
+#include "default_scene.h"
+#include "image/image.h"
+#include "render/vk/vk_context.h"
+#include "scene/scene.h"
+#include "util/atomic_file.h"
+#include "util/clock.h"
+#include "util/interrupts.h"
+#include "util/log.h"
+
+typedef struct render_args {
+    const char *output; /* NULL: render.png, or render.<format> */
+    int format;         /* index in FORMATS, -1: the output's extension */
+    int backend;        /* backend_choice */
+    int tm;             /* tonemap */
+    long long spp, seed, bounces, threads, device, width; /* -1: not given */
+    int indirect;                                         /* -1 not given, 0 off, 1 on */
+    int no_jitter, validate, verbose, quiet, no_bvh, force;
+} render_args;
+
+#define FORMATS "png|ppm|pfm"
+static const char *const format_names[] = {"png", "ppm", "pfm"};
+static const char *const default_outputs[] = {"render.png", "render.ppm", "render.pfm"};
+
+#define ARG(field) offsetof(render_args, field)
+static const opt_spec render_specs[] = {
+    OPT_TEXT("--output", "-o", ARG(output), "FILE", "a file name",
+             "the image to write, its format from the extension (default render.png); - is "
+             "standard output"),
+    OPT_ONE_OF("--format", ARG(format), FORMATS,
+               "the output's format, for any name (default: from the extension)"),
+    OPT_ONE_OF("--backend", ARG(backend), "auto|vulkan|cpu",
+               "the back end (default auto: Vulkan where it can render the scene, else the CPU)"),
+    OPT_WHOLE("--spp", NULL, ARG(spp), 1, SCENE_MAX_SAMPLES,
+              "samples per pixel, 1 to " CLI_AS_TEXT(
+                  SCENE_MAX_SAMPLES) " (default: the scene's, else 64)"),
+    OPT_WHOLE("--seed", NULL, ARG(seed), 0, 4294967295.0,
+              "the random seed, 0 to 4294967295 (default: the scene's, else 1)"),
+    OPT_WHOLE("--bounces", NULL, ARG(bounces), 0, SCENE_MAX_BOUNCES,
+              "longest chain of specular events, 0 to " CLI_AS_TEXT(
+                  SCENE_MAX_BOUNCES) " (default: the scene's, else 5)"),
+    OPT_SET("--indirect", NULL, ARG(indirect), 1,
+            "one diffuse bounce of indirect light (default: the scene's, else on)"),
+    OPT_SET("--no-indirect", NULL, ARG(indirect), 0,
+            "direct light only (default: the scene's, else indirect on)"),
+    OPT_SET("--no-jitter", NULL, ARG(no_jitter), 1,
+            "every sample through the pixel's centre (default: jittered)"),
+    OPT_WHOLE("--width", NULL, ARG(width), 1, SCENE_MAX_RESOLUTION,
+              "N pixels across the scene's plane, 1 to " CLI_AS_TEXT(
+                  SCENE_MAX_RESOLUTION) " (default: the scene's pixel size)"),
+    OPT_WHOLE(
+        "--threads", NULL, ARG(threads), 1, RENDER_MAX_THREADS,
+        "CPU back end threads, 1 to " CLI_AS_TEXT(RENDER_MAX_THREADS) " (default: one per core)"),
+    {.name = "--device",
+     .type = OPT_INT,
+     .offset = ARG(device),
+     .min = 0,
+     .max = 255,
+     .choices = "N",
+     .takes = "a device index (see `trazador devices`)",
+     .help = "the Vulkan device, 0 to 255, no fallback (default: the one * marks in `trazador "
+             "devices`)"},
+    OPT_SET("--validate", NULL, ARG(validate), 1,
+            "Vulkan's validation layer on; any error fails the run (default off)"),
+    OPT_SET("--no-bvh", NULL, ARG(no_bvh), 1,
+            "test every sphere for every ray (default: walk the BVH)"),
+    OPT_ONE_OF("--tonemap", ARG(tm), "srgb|linear",
+               "8-bit encoding: sRGB or a plain clamp (default srgb; .pfm is linear)"),
+    OPT_SET("--force", NULL, ARG(force), 1,
+            "replace a write-protected output (default: refuse it, as the shell's > does)"),
+    OPT_SET("--quiet", "-q", ARG(quiet), 1,
+            "warnings and errors only (default: progress on a terminal, a summary line)"),
+    OPT_SET("--verbose", "-v", ARG(verbose), 1, "the timings of each stage (default off)"),
+};
+#undef ARG
+
+static const opt_command render_command = {
+    .name = "render",
+    .synopsis =
+        "usage: trazador render [SCENE] [options]\n"
+        "Renders SCENE (default: the embedded scenes/cornell.scene; - reads standard "
+        "input) into an image.\n",
+    .about =
+        "Values are given as --flag value or --flag=value; -- ends the options. Choices\n"
+        "(auto, png, srgb, ...) are matched without regard to case.\n",
+    .specs = render_specs,
+    .spec_count = OPT_COUNT(render_specs),
+    .max_positional = 1,
+};
+
+/* Parses `render` arguments; OPT_OK to go on, OPT_HELP, or OPT_USAGE (printed). */
+static opt_result parse_render_args(int argc, char **argv, render_args *a,
+                                    const char **scene_path) {
+    *a = (render_args){.format = -1,
+                       .spp = -1,
+                       .seed = -1,
+                       .bounces = -1,
+                       .threads = -1,
+                       .device = -1,
+                       .width = -1,
+                       .indirect = -1};
+    int count;
+    *scene_path = NULL;
+    opt_result rc = opt_parse(&render_command, argc, argv, a, scene_path, &count);
+    if (rc != OPT_OK) return rc;
+    const char *format = a->format >= 0 ? format_names[a->format] : NULL;
+    if (!a->output) a->output = a->format >= 0 ? default_outputs[a->format] : "render.png";
+    if (!strcmp(a->output, "-")) { /* the usual name of standard output */
+        if (!format)
+            return opt_usage_error(&render_command,
+                                   "-o - (standard output) needs --format " FORMATS);
+        a->output = "/dev/stdout";
+    }
+    const char *named = image_path_format(a->output);
+    if (format && named && strcmp(named, format))
+        return opt_usage_error(&render_command, "output '%s' names another format than --format",
+                               a->output);
+    if (!format && !named)
+        return opt_usage_error(&render_command,
+                               "output '%s' must end in .png, .ppm or .pfm, or take --format",
+                               a->output);
+    if (a->device >= 0 && a->backend == BACKEND_CPU)
+        return opt_usage_error(&render_command,
+                               "--device names a Vulkan device: it cannot go with --backend cpu");
+    if (a->validate && a->backend == BACKEND_CPU)
+        return opt_usage_error(
+            &render_command,
+            "--validate turns on Vulkan's validation: it cannot go with --backend cpu");
+    return OPT_OK;
+}
+
+/* --width N: N pixels across the same plane; the height must come out whole too. */
+static bool apply_width(long long width, scene *s) {
+    if (width < 0) return true;
+    double pixel = (double)s->plane_width / (double)width;
+    double height = (double)s->plane_height / pixel;
+    long long rows = llround(height);
+    if (rows < 1 || rows > SCENE_MAX_RESOLUTION) {
+        fprintf(stderr,
+                "trazador: --width %lld gives a height of %.7g pixels for a %g x %g plane; the "
+                "height must be 1 to %d pixels\n",
+                width, height, s->plane_width, s->plane_height, SCENE_MAX_RESOLUTION);
+        return false;
+    }
+    if (fabs(height - (double)rows) > 1e-6 * height) {
+        fprintf(stderr,
+                "trazador: --width %lld gives a height of %.7g pixels for a %g x %g plane; "
+                "pick a width that makes it whole\n",
+                width, height, s->plane_width, s->plane_height);
+        return false;
+    }
+    s->pixel_size = (float)pixel;
+    s->width = (int)width;
+    s->height = (int)rows;
+    return true;
+}
+
+/* True (logged) when the output is the scene file itself, the same file on the same device
+ * (through another name or a link): writing it would replace the scene with the image. */
+static bool output_is_scene(const char *output, const char *scene_path) {
+    struct stat out, in;
+    if (!scene_path || stat(output, &out) != 0 || !S_ISREG(out.st_mode)) return false;
+    bool is_stdin = !strcmp(scene_path, "-");
+    if ((is_stdin ? fstat(STDIN_FILENO, &in) : stat(scene_path, &in)) != 0) return false;
+    if (in.st_dev != out.st_dev || in.st_ino != out.st_ino) return false;
+    fprintf(stderr,
+            "trazador: render: output '%s' is the scene being rendered (%s): give another\n",
+            output, is_stdin ? "<stdin>" : scene_path);
+    return true;
+}
+
+/* Warns about what the film cannot show as rendered: samples dropped as non-finite (and the
+ * pixels they left with no sample, black), and finite samples that summed past the float range
+ * (radiance near 3.4e38), written as infinity (PFM) or white. One pass over the film. */
+static void warn_film_problems(const film *f) {
+    size_t pixels = (size_t)f->width * (size_t)f->height, empty = 0, overflowed = 0;
+    for (size_t k = 0; k < pixels; k++) {
+        const float *px = &f->accum[4 * k];
+        empty += !(px[3] > 0.0f);
+        overflowed += !isfinite(px[0]) || !isfinite(px[1]) || !isfinite(px[2]);
+    }
+    if (f->nonfinite) {
+        char black[96] = "";
+        if (empty)
+            snprintf(black, sizeof black, "; %zu pixel%s kept no sample and %s black", empty,
+                     empty == 1 ? "" : "s", empty == 1 ? "is" : "are");
+        log_warn("%llu samples had non-finite radiance and were not accumulated%s",
+                 (unsigned long long)f->nonfinite, black);
+    }
+    if (overflowed)
+        log_warn(
+            "%zu pixels summed their samples past the float range (radiance near 3.4e38): "
+            "they are infinite in PFM and white in 8-bit images",
+            overflowed);
+}
+
+/* An interrupted render clears its progress line, so the shell's prompt starts a clean line. */
+static void clear_progress(int sig) {
+    static const char clear[] = "\r\033[K";
+    ssize_t written = write(STDERR_FILENO, clear, sizeof clear - 1); /* async-signal-safe */
+    (void)written;
+    interrupts_die(sig);
+}
+
+static void apply_overrides(const render_args *a, render_opts *o) {
+    if (a->spp >= 0) o->samples = (int)a->spp;
+    if (a->seed >= 0) o->seed = (uint32_t)a->seed;
+    if (a->bounces >= 0) o->bounces = (int)a->bounces;
+    if (a->threads >= 0) o->threads = (int)a->threads;
+    if (a->device >= 0) o->device = (int)a->device;
+    if (a->indirect >= 0) o->indirect = a->indirect;
+    o->no_jitter = a->no_jitter;
+    o->validate = a->validate;
+    o->no_bvh = a->no_bvh;
+    o->progress = !a->quiet && isatty(STDERR_FILENO);
+}
+
+/* Naming a device asks for Vulkan: none at all is the usual runtime failure (1), a number past
+ * the devices a mistake on the command line (2); neither falls back to the CPU. 0 to go on. */
+static int check_device(long long device) {
+    int devices = device >= 0 ? vk_context_device_count() : -1;
+    if (devices == 0) {
+        log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
+        return 1;
+    }
+    if (devices > 0 && device >= devices) {
+        fprintf(stderr,
+                "trazador: --device %lld: there %s %d Vulkan device%s (see `trazador devices`)\n",
+                device, devices == 1 ? "is" : "are", devices, devices == 1 ? "" : "s");
+        return 2;
+    }
+    return 0;
+}
+
+/* Renders and writes the image; the exit code. */
+static int render_and_write(const render_args *a, const scene *s) {
+    render_opts opts;
+    render_opts_from_scene(s, &opts);
+    apply_overrides(a, &opts);
+    render_stats stats = {0};
+    opts.stats = &stats;
+    film f = {0};
+    image img = {0};
+    const char *used = "";
+    double start = clock_seconds();
+    interrupts_saved saved;
+    if (opts.progress) interrupts_catch(clear_progress, &saved);
+    bool ok = render_choose(s, &opts, (backend_choice)a->backend, &f, &used);
+    if (opts.progress) interrupts_restore(&saved);
+    double elapsed = clock_seconds() - start;
+    if (ok) warn_film_problems(&f);
+    double write_start = clock_seconds();
+    const char *format = a->format >= 0 ? format_names[a->format] : NULL;
+    ok = ok && image_from_film(&f, &img) && image_write_as(a->output, format, &img, a->tm);
+    if (ok) log_debug("image: written in %.1f ms", (clock_seconds() - write_start) * 1e3);
+    if (ok && !a->quiet) {
+        /* The rates are the sample passes' own: set-up (device, pipeline, BVH) is apart. */
+        double render = stats.render_seconds > 0.0 ? stats.render_seconds : elapsed;
+        double samples = (double)s->width * s->height * opts.samples;
+        log_info(
+            "%s: %dx%d, %d spp, %s back end, %.3f s rendering + %.3f s set-up, %.2f "
+            "Msamples/s, %.1f Mrays/s",
+            a->output, s->width, s->height, opts.samples, used, render, elapsed - render,
+            samples / render * 1e-6, (double)stats.rays / render * 1e-6);
+    }
+    image_free(&img);
+    film_free(&f);
+    return ok ? 0 : 1;
+}
+
+int cmd_render(int argc, char **argv) {
+    render_args a;
+    const char *scene_path;
+    opt_result parsed_args = parse_render_args(argc, argv, &a, &scene_path);
+    if (parsed_args != OPT_OK) return parsed_args == OPT_HELP ? 0 : parsed_args;
+    if (a.verbose) log_set_level(LOG_DEBUG);
+    if (a.quiet) log_set_level(LOG_WARN);
+    scene s;
+    scene_error err;
+    double parse_start = clock_seconds();
+    bool parsed = scene_path ? scene_parse_file(scene_path, &s, &err)
+                             : scene_parse_string(default_scene_text, strlen(default_scene_text),
+                                                  "scenes/cornell.scene (embedded)", &s, &err);
+    if (!parsed) {
+        scene_error_print(&err);
+        return err.out_of_memory ? 1 : 2;
+    }
+    log_debug("scene: read and parsed in %.1f ms", (clock_seconds() - parse_start) * 1e3);
+    for (int k = 0; k < s.warning_count; k++) {
+        const scene_error *w = &s.warnings[k];
+        log_warn("%s:%d:%d: %s", w->file, w->line, w->col, w->message);
+    }
+    /* An output that cannot be written is said before the render, not after it. */
+    int rc = !apply_width(a.width, &s)                     ? 2
+             : output_is_scene(a.output, scene_path)       ? 2
+             : !atomic_file_check_force(a.output, a.force) ? 1
+                                                           : check_device(a.device);
+    if (rc == 0) rc = render_and_write(&a, &s);
+    scene_free(&s);
+    return rc;
+}

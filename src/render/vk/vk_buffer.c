@@ -1,0 +1,86 @@
+/* vk_buffer.c: buffers with their own memory, placed by how they are used, and their views. */
+#include <inttypes.h>
+
+#include "render/vk/vk_context.h"
+#include "util/log.h"
+
+/* First memory type allowed by type_bits with all of `required`, preferring `preferred` too;
+ * -1 when none. */
+static int find_memory_type(const vk_context *ctx, uint32_t type_bits,
+                            VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred) {
+    for (int pass = 0; pass < 2; pass++) {
+        VkMemoryPropertyFlags want = pass == 0 ? required | preferred : required;
+        for (uint32_t k = 0; k < ctx->memory.memoryTypeCount; k++)
+            if ((type_bits & (1u << k)) &&
+                (ctx->memory.memoryTypes[k].propertyFlags & want) == want)
+                return (int)k;
+    }
+    return -1;
+}
+
+bool vk_buffer_create(vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usage,
+                      vk_memory_use use, vk_buffer *out) {
+    *out = (vk_buffer){.size = size};
+    VkBufferCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO,
+        .size = size,
+        .usage = usage,
+        .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
+    };
+    if (!VK_CHECK(vkCreateBuffer(ctx->device, &info, NULL, &out->buffer))) return false;
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(ctx->device, out->buffer, &req);
+    const VkMemoryPropertyFlags host =
+        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    int type =
+        use == VK_MEMORY_DEVICE
+            ? find_memory_type(ctx, req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)
+            : find_memory_type(ctx, req.memoryTypeBits, host,
+                               use == VK_MEMORY_READBACK ? VK_MEMORY_PROPERTY_HOST_CACHED_BIT : 0);
+    if (type < 0) {
+        log_error("no Vulkan memory type fits a %s buffer of %" PRIu64 " bytes",
+                  use == VK_MEMORY_DEVICE ? "device" : "staging", (uint64_t)size);
+        vk_buffer_destroy(ctx, out);
+        return false;
+    }
+    VkMemoryAllocateInfo alloc = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+        .allocationSize = req.size,
+        .memoryTypeIndex = (uint32_t)type,
+    };
+    if (!VK_CHECK(vkAllocateMemory(ctx->device, &alloc, NULL, &out->memory)) ||
+        !VK_CHECK(vkBindBufferMemory(ctx->device, out->buffer, out->memory, 0))) {
+        vk_buffer_destroy(ctx, out);
+        return false;
+    }
+    /* Device memory is used in place only when reading it back is cheap: host-cached and
+     * coherent (lavapipe, integrated GPUs); a discrete GPU's BAR goes through staging. */
+    VkMemoryPropertyFlags flags = ctx->memory.memoryTypes[type].propertyFlags;
+    bool map = use != VK_MEMORY_DEVICE ||
+               (!ctx->force_staging && (flags & (host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT)) ==
+                                           (host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT));
+    if (map &&
+        !VK_CHECK(vkMapMemory(ctx->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped))) {
+        vk_buffer_destroy(ctx, out);
+        return false;
+    }
+    return true;
+}
+
+bool vk_buffer_create_view(vk_context *ctx, vk_buffer *b, VkFormat format) {
+    VkBufferViewCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO,
+        .buffer = b->buffer,
+        .format = format,
+        .range = VK_WHOLE_SIZE,
+    };
+    return VK_CHECK(vkCreateBufferView(ctx->device, &info, NULL, &b->view));
+}
+
+void vk_buffer_destroy(vk_context *ctx, vk_buffer *b) {
+    if (b->view) vkDestroyBufferView(ctx->device, b->view, NULL);
+    if (b->mapped) vkUnmapMemory(ctx->device, b->memory);
+    if (b->buffer) vkDestroyBuffer(ctx->device, b->buffer, NULL);
+    if (b->memory) vkFreeMemory(ctx->device, b->memory, NULL);
+    *b = (vk_buffer){0};
+}

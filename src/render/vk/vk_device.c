@@ -1,0 +1,223 @@
+/* vk_device.c: physical devices (what each offers, which is the default, the listing the user
+ * sees) and the logical device, queue and command pool of a context. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/vk/vk_internal.h"
+#include "util/log.h"
+
+static bool has_device_extension(VkPhysicalDevice device, const char *name) {
+    uint32_t count = 0;
+    if (vkEnumerateDeviceExtensionProperties(device, NULL, &count, NULL) != VK_SUCCESS ||
+        count == 0)
+        return false;
+    VkExtensionProperties *exts = calloc(count, sizeof *exts);
+    bool found = false;
+    if (exts && vkEnumerateDeviceExtensionProperties(device, NULL, &count, exts) >= 0)
+        for (uint32_t k = 0; k < count && !found; k++) found = !strcmp(exts[k].extensionName, name);
+    free(exts);
+    return found;
+}
+
+/* What trazador needs to know of one physical device to list or choose it. */
+typedef struct device_info {
+    VkPhysicalDeviceProperties properties;
+    VkDriverId driver_id;
+    char driver_name[VK_MAX_DRIVER_NAME_SIZE];
+    char driver_info[VK_MAX_DRIVER_INFO_SIZE];
+    uint32_t compute_family; /* UINT32_MAX when the device has no compute queue */
+    bool usable;             /* Vulkan 1.1 and a compute queue */
+} device_info;
+
+static void query_device(VkPhysicalDevice device, device_info *out) {
+    *out = (device_info){.compute_family = UINT32_MAX};
+    vkGetPhysicalDeviceProperties(device, &out->properties);
+    /* Driver properties are core in 1.2 and an extension before: ask only when offered. */
+    if (out->properties.apiVersion >= VK_API_VERSION_1_2 ||
+        has_device_extension(device, VK_KHR_DRIVER_PROPERTIES_EXTENSION_NAME)) {
+        VkPhysicalDeviceDriverProperties driver = {
+            .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+        VkPhysicalDeviceProperties2 props2 = {
+            .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, .pNext = &driver};
+        vkGetPhysicalDeviceProperties2(device, &props2);
+        out->driver_id = driver.driverID;
+        memcpy(out->driver_name, driver.driverName, sizeof out->driver_name);
+        memcpy(out->driver_info, driver.driverInfo, sizeof out->driver_info);
+        out->driver_name[sizeof out->driver_name - 1] = '\0';
+        out->driver_info[sizeof out->driver_info - 1] = '\0';
+    }
+    uint32_t count = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(device, &count, NULL);
+    VkQueueFamilyProperties *families = calloc(count ? count : 1, sizeof *families);
+    if (families) {
+        vkGetPhysicalDeviceQueueFamilyProperties(device, &count, families);
+        for (uint32_t k = 0; k < count && out->compute_family == UINT32_MAX; k++)
+            if (families[k].queueFlags & VK_QUEUE_COMPUTE_BIT) out->compute_family = k;
+        free(families);
+    }
+    out->usable =
+        out->properties.apiVersion >= VK_API_VERSION_1_1 && out->compute_family != UINT32_MAX;
+}
+
+/* Enumerates the instance's devices into a new array; false (nothing allocated) when none. */
+static bool list_devices(VkInstance instance, VkPhysicalDevice **out, uint32_t *count) {
+    *out = NULL;
+    *count = 0;
+    if (vkEnumeratePhysicalDevices(instance, count, NULL) < 0 || *count == 0) return false;
+    *out = calloc(*count, sizeof **out);
+    if (!*out || vkEnumeratePhysicalDevices(instance, count, *out) < 0 || *count == 0) {
+        free(*out);
+        *out = NULL;
+        *count = 0;
+        return false;
+    }
+    return true;
+}
+
+/* Index of the first usable device, -1 when none is. */
+static int default_device(VkPhysicalDevice *devices, uint32_t count) {
+    for (uint32_t k = 0; k < count; k++) {
+        device_info info;
+        query_device(devices[k], &info);
+        if (info.usable) return (int)k;
+    }
+    return -1;
+}
+
+/* A bare instance for listing and counting; VK_NULL_HANDLE (nothing logged) when there is none. */
+static VkInstance open_listing_instance(void) {
+    VkInstance instance = VK_NULL_HANDLE;
+    if (!vk_loader_ready() || vk_instance_create(NULL, &instance) != VK_SUCCESS)
+        return VK_NULL_HANDLE;
+    if (!vk_loader_load_instance(instance)) {
+        PFN_vkDestroyInstance destroy =
+            (PFN_vkDestroyInstance)vk_loader_proc(instance, "vkDestroyInstance");
+        if (destroy) destroy(instance, NULL);
+        return VK_NULL_HANDLE;
+    }
+    return instance;
+}
+
+int vk_context_device_count(void) {
+    VkInstance instance = open_listing_instance();
+    if (!instance) return 0;
+    uint32_t count = 0;
+    if (vkEnumeratePhysicalDevices(instance, &count, NULL) < 0) count = 0;
+    vkDestroyInstance(instance, NULL);
+    return (int)count;
+}
+
+static const char *device_type_name(VkPhysicalDeviceType type) {
+    switch (type) {
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return "integrated GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return "discrete GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return "virtual GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return "CPU";
+        default:
+            return "other";
+    }
+}
+
+bool vk_context_print_devices(void) {
+    VkInstance instance = open_listing_instance();
+    VkPhysicalDevice *devices = NULL;
+    uint32_t count = 0;
+    if (!instance || !list_devices(instance, &devices, &count)) {
+        if (vk_loader_ready())
+            log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
+        else
+            vk_loader_report();
+        if (instance) vkDestroyInstance(instance, NULL);
+        return false;
+    }
+    int chosen = default_device(devices, count);
+    for (uint32_t k = 0; k < count; k++) {
+        device_info info;
+        query_device(devices[k], &info);
+        uint32_t v = info.properties.apiVersion;
+        printf("%c %u: %s (%s), driver %s%s%s, Vulkan %u.%u.%u%s\n", (int)k == chosen ? '*' : ' ',
+               k, info.properties.deviceName, device_type_name(info.properties.deviceType),
+               info.driver_name[0] ? info.driver_name : "(unnamed)", info.driver_info[0] ? " " : "",
+               info.driver_info, VK_API_VERSION_MAJOR(v), VK_API_VERSION_MINOR(v),
+               VK_API_VERSION_PATCH(v),
+               info.usable ? "" : " (unusable: needs Vulkan 1.1 and a compute queue)");
+    }
+    if (chosen >= 0) printf("(* marks the device used when --device is not given)\n");
+    free(devices);
+    vkDestroyInstance(instance, NULL);
+    return true;
+}
+
+bool vk_device_open(vk_context *ctx, int requested) {
+    VkPhysicalDevice *devices = NULL;
+    uint32_t count = 0;
+    if (!list_devices(ctx->instance, &devices, &count)) {
+        log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
+        return false;
+    }
+    int index = requested >= 0 ? requested : default_device(devices, count);
+    if (requested >= (int)count) {
+        log_error("--device %d is out of range: %u Vulkan device%s found (see `trazador devices`)",
+                  requested, count, count == 1 ? "" : "s");
+        free(devices);
+        return false;
+    }
+    if (index < 0) {
+        log_error(
+            "no usable Vulkan device: none of the %u found has Vulkan 1.1 and a compute "
+            "queue" VK_CONTEXT_USE_CPU,
+            count);
+        free(devices);
+        return false;
+    }
+    ctx->physical = devices[index];
+    free(devices);
+    device_info info;
+    query_device(ctx->physical, &info);
+    if (!info.usable) {
+        log_error("Vulkan device %d (%s) is unusable: it needs Vulkan 1.1 and a compute queue",
+                  index, info.properties.deviceName);
+        return false;
+    }
+    ctx->device_index = index;
+    ctx->properties = info.properties;
+    ctx->driver_id = info.driver_id;
+    memcpy(ctx->driver_name, info.driver_name, sizeof ctx->driver_name);
+    ctx->queue_family = info.compute_family;
+    vkGetPhysicalDeviceMemoryProperties(ctx->physical, &ctx->memory);
+
+    float priority = 1.0f;
+    VkDeviceQueueCreateInfo queue = {
+        .sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
+        .queueFamilyIndex = ctx->queue_family,
+        .queueCount = 1,
+        .pQueuePriorities = &priority,
+    };
+    /* A portability (MoltenVK) device must have its subset extension enabled when it offers it. */
+    const char *portability = "VK_KHR_portability_subset";
+    bool subset = has_device_extension(ctx->physical, portability);
+    VkDeviceCreateInfo create_info = {
+        .sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
+        .queueCreateInfoCount = 1,
+        .pQueueCreateInfos = &queue,
+        .enabledExtensionCount = subset ? 1u : 0u,
+        .ppEnabledExtensionNames = &portability,
+    };
+    if (!VK_CHECK(vkCreateDevice(ctx->physical, &create_info, NULL, &ctx->device))) return false;
+    vkGetDeviceQueue(ctx->device, ctx->queue_family, 0, &ctx->queue);
+    VkCommandPoolCreateInfo pool = {
+        .sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+        .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
+        .queueFamilyIndex = ctx->queue_family,
+    };
+    return VK_CHECK(vkCreateCommandPool(ctx->device, &pool, NULL, &ctx->command_pool));
+}
+
+bool vk_context_is_lavapipe(const vk_context *ctx) {
+    return ctx->driver_id == VK_DRIVER_ID_MESA_LLVMPIPE;
+}
