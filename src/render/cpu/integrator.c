@@ -93,11 +93,13 @@ static inline int trace_bvh(const packed_scene *p, vec3 o, vec3 d, int self, flo
     return id;
 }
 
-/* integrator_trace: through the BVH (trace_bvh), or without one over every sphere SOA_LANES at
- * a time. */
+/* integrator_trace: through the BVH (trace_bvh), or over every sphere SOA_LANES at a time when
+ * there is none or the scene is as small as the packets test whole (the tie rule makes both
+ * find the same hit). */
 SIMD_CLONES static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self, float tmax,
                                  int any_hit, float *t) {
-    if (p->frame.node_count > 0) return trace_bvh(p, o, d, self, tmax, any_hit, t);
+    if (p->frame.node_count > 0 && p->frame.sphere_count > PACKET_BRUTE_FORCE_MAX)
+        return trace_bvh(p, o, d, self, tmax, any_hit, t);
     float tmin = ray_eps(o), best = tmax;
     int id = -1;
     uint32_t count = p->frame.sphere_count;
