@@ -1,68 +1,38 @@
-/* shade.glsl: the Phong BRDF, direct light, the specular chain and the one indirect bounce;
- * twin of the functions of the same names in src/integrator.c and src/integrator_steps.h (basis
- * and the bounce direction: cosine_direction()), in the same operation order and
- * drawing the same random numbers. The including shader declares `frame` and the sphere_*(),
- * light_*() accessors. */
+/* shade.glsl: the GLSL back end's path of a sample after its camera ray: the specular chain,
+ * direct light and the one indirect bounce, on the shared steps of common/shade.h and
+ * common/rng.h. The C back end's are the functions of the same names in
+ * src/render/cpu/integrator.c; both draw the same random numbers in the same order. The
+ * including shader declares `frame` and the sphere_*(), light_*() accessors. */
 #ifndef TRAZADOR_SHADE_GLSL
 #define TRAZADOR_SHADE_GLSL
 
+#include "common/rng.h"
+#include "common/shade.h"
 #include "intersect.glsl"
-#include "rng.glsl"
 
-/* Normalized Phong BRDF: kd/pi + ks (alpha+2)/(2 pi) max(0, wo.wr)^alpha, wr = 2(n.wi)n - wi. */
-vec3 phong_brdf(int id, vec3 n, vec3 wi, vec3 wo) {
+/* The Phong BRDF of sphere id (phong_brdf). */
+vec3 sphere_brdf(int id, vec3 n, vec3 wi, vec3 wo) {
     vec4 color_ks = sphere_color_ks(id);
-    float alpha = sphere_params(id).x;
-    precise vec3 f = color_ks.xyz * (1.0 / TZ_PI);
-    float ks = color_ks.w;
-    if (ks > 0.0) {
-        precise vec3 wr = n * (2.0 * v3_dot(n, wi)) - wi;
-        float x = v3_dot(wo, wr);
-        /* 0^alpha is taken as 0 (even for alpha 0) so both back ends agree on it. */
-        float lobe = x > 0.0 ? pow(x, alpha) : 0.0;
-        precise float spec = ks * (alpha + 2.0) / (2.0 * TZ_PI) * lobe;
-        f = f + vec3(spec, spec, spec);
-    }
-    return f;
+    return phong_brdf(color_ks.xyz, color_ks.w, sphere_params(id).x, n, wi, wo);
 }
 
 /* Direct light from every point light at pos (shading normal n, facing wo) on sphere id. */
 vec3 direct_light(int id, vec3 pos, vec3 n, vec3 wo) {
-    precise vec3 o = pos + n * ray_eps(pos);
+    vec3 o = offset_origin(pos, n);
     precise vec3 sum = vec3(0.0);
     [[unroll]] for (uint k = 0u; k < light_count(); k++) {
-        vec4 position_power = light_position_power(int(k));
-        /* Distance and angle from the true hit point; only the shadow ray starts off the
-         * surface. */
-        precise vec3 to_light = position_power.xyz - pos;
-        precise float dist2 = v3_dot(to_light, to_light);
-        precise float dist = sqrt(dist2);
-        precise vec3 wi = to_light * (1.0 / dist);
-        float cos_i = v3_dot(n, wi);
-        if (cos_i <= 0.0 || integrator_occluded(o, wi, dist, id)) continue;
-        vec3 f = phong_brdf(id, n, wi, wo);
-        precise float scale = cos_i * position_power.w / dist2;
-        sum = sum + f * (light_color(int(k)).xyz * scale);
+        light_sample l = point_light(light_position_power(int(k)), light_color(int(k)), pos, n);
+        if (l.cos_i <= 0.0 || integrator_occluded(o, l.wi, l.dist, id)) continue;
+        sum = sum + sphere_brdf(id, n, l.wi, wo) * l.radiance;
     }
     return sum;
-}
-
-/* Duff et al. 2017 orthonormal basis (t, b) around unit n. */
-void basis(vec3 n, out vec3 t, out vec3 b) {
-    float sign = n.z >= 0.0 ? 1.0 : -1.0;
-    precise float a = -1.0 / (sign + n.z);
-    precise float c = n.x * n.y * a;
-    precise vec3 tt = vec3(1.0 + sign * n.x * n.x * a, sign * c, -sign * n.x);
-    precise vec3 bb = vec3(c, sign + n.y * n.y * a, -n.y);
-    t = tt;
-    b = bb;
 }
 
 /* Follows a ray through mirrors and glass to a diffuse hit. Returns the sphere id (-1 on a miss,
  * -2 past the bounce limit); o, d become the last ray, weight the product of the tints. */
 int follow_specular(inout vec3 o, inout vec3 d, int self, inout vec3 weight, out vec3 pos,
                     out vec3 n) {
-    uint bounces = frame.settings.y;
+    uint bounces = frame.bounces;
     pos = vec3(0.0);
     n = vec3(0.0);
     for (uint chain = 0u;; chain++) {
@@ -76,32 +46,15 @@ int follow_specular(inout vec3 o, inout vec3 d, int self, inout vec3 weight, out
         vec4 params = sphere_params(id);
         int material = int(params.z);
         if (material == TZ_MATERIAL_LAMBERTIAN || material == TZ_MATERIAL_PHONG) {
-            /* Opaque surfaces are two-sided: shade with the normal facing the ray. */
-            n = v3_dot(nout, d) < 0.0 ? nout : nout * -1.0;
+            n = facing_normal(nout, d);
             return id;
         }
         if (chain == bounces) return -2;
         precise vec3 tinted = weight * sphere_color_ks(id).xyz;
         weight = tinted;
-        float eps = ray_eps(hit);
-        bool entering = v3_dot(d, nout) < 0.0;
-        precise vec3 side = entering ? nout : nout * -1.0; /* faces the incoming ray */
-        /* Normalized, as in the C twin: errors of |d| would grow reflection by reflection. */
-        precise vec3 reflected = v3_normalize(d - side * (2.0 * v3_dot(side, d)));
-        precise vec3 next_o = hit + side * eps;
-        precise vec3 next_d = reflected;
-        if (material == TZ_MATERIAL_REFRACTIVE) {
-            float ior = params.y;
-            precise float eta = entering ? 1.0 / ior : ior;
-            precise float c1 = -v3_dot(d, side);
-            precise float k = 1.0 - eta * eta * (1.0 - c1 * c1);
-            if (k >= 0.0) { /* otherwise total internal reflection: keep the reflected ray */
-                next_d = v3_normalize(d * eta + side * (eta * c1 - sqrt(k)));
-                next_o = hit - side * eps;
-            }
-        }
-        o = next_o;
-        d = next_d;
+        next_ray next = specular_next(hit, nout, d, material == TZ_MATERIAL_REFRACTIVE, params.y);
+        o = next.o;
+        d = next.d;
         self = id;
     }
 }
@@ -124,15 +77,13 @@ vec3 indirect_light(int id, vec3 pos, vec3 n, vec3 wo, inout uint rng) {
     float y1 = rng_next(rng);
     float y2 = rng_next(rng);
     precise float cos_t = sqrt(1.0 - y1);
-    precise float sin_t = sqrt(y1);
     precise float phi = 2.0 * TZ_PI * y2;
-    vec3 t, b;
-    basis(n, t, b);
-    precise vec3 wi = t * (sin_t * cos(phi)) + b * (sin_t * sin(phi)) + n * cos_t;
-    precise vec3 o = pos + n * ray_eps(pos);
+    precise float cos_phi = cos(phi), sin_phi = sin(phi);
+    vec3 wi = cosine_direction(n, y1, cos_phi, sin_phi);
+    vec3 o = offset_origin(pos, n);
     vec3 incoming = radiance_direct_only(o, wi, id);
     precise float pdf = cos_t / TZ_PI;
-    vec3 f = phong_brdf(id, n, wi, wo);
+    vec3 f = sphere_brdf(id, n, wi, wo);
     precise vec3 r = f * (incoming * (cos_t / pdf));
     return r;
 }

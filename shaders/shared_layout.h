@@ -1,12 +1,14 @@
 /* shared_layout.h: the one definition of every buffer, binding and constant the shaders read.
- * Included by C (src/scene_pack.c, the C integrator) and by GLSL (the shaders in shaders/).
- * std430, vec4-packed; the C side asserts every size and offset in src/scene_pack.c. */
+ * Included by C (src/render/scene_pack.c, the C integrator) and by GLSL (the shaders in
+ * shaders/). std430 (the frame std140), in 16-byte groups of vec4s or four 32-bit scalars, so
+ * that both rules give the same offsets; src/render/scene_pack.c asserts every size and offset. */
 #ifndef TRAZADOR_SHARED_LAYOUT_H
 #define TRAZADOR_SHARED_LAYOUT_H
 
 #ifdef GL_core_profile
 #define TZ_VEC4 vec4
 #define TZ_UVEC4 uvec4
+#define TZ_UINT uint
 #define TZ_FLOAT_CONST(x) (x)
 #else
 #include <stdint.h>
@@ -18,6 +20,7 @@ typedef struct tz_uvec4 {
 } tz_uvec4;
 #define TZ_VEC4 tz_vec4
 #define TZ_UVEC4 tz_uvec4
+#define TZ_UINT uint32_t
 #define TZ_FLOAT_CONST(x) (x##f)
 #endif
 
@@ -33,9 +36,16 @@ typedef struct tz_uvec4 {
 
 #define TZ_FLAG_JITTER 1u
 #define TZ_FLAG_INDIRECT 2u
+#define TZ_FLAG_PATH 4u     /* path mode (DESIGN section 3.2), else seed mode */
+#define TZ_FLAG_ROULETTE 8u /* path mode: Russian roulette from the fourth vertex */
+/* Path mode's light sampling alone (no MIS, emission found by BSDF rays not counted) or BSDF
+ * sampling alone (emitters not sampled): for tests that the strategies agree. */
+#define TZ_FLAG_LIGHTS_ONLY 16u
+#define TZ_FLAG_BSDF_ONLY 32u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
- * pixels, whose rays stay coherent; 4 x 8 runs twice the instructions), 32 lanes on real GPUs. */
+ * pixels, whose rays stay coherent; 4 x 8 ran more instructions: docs/PERF.md), 32 lanes on real
+ * GPUs. */
 #define TZ_GROUP_X 8
 #define TZ_GROUP_Y 4
 
@@ -58,15 +68,18 @@ typedef struct tz_uvec4 {
 /* Texels 4k..4k+3: gpu_bvh_node k, read as uints (one zeroed node without a BVH). */
 #define TZ_BINDING_NODES 5
 /* Dynamic, bound as TZ_BINDING_ACCUM: a vec4 a pixel, the compensation of its RGB sums (Kahan
- * summation, src/film_sum.h), w unused; the pass that completes a pixel's samples stores the
+ * summation, src/render/film_sum.h), w unused; the pass that completes a pixel's samples stores the
  * compensated sums' values into TZ_BINDING_ACCUM instead, so only that buffer is read back. A
  * buffer of its own, so that each stays within the 32-bit dynamic offsets as the sums alone did.
  */
 #define TZ_BINDING_ACCUM_COMP 6
+/* Texels 2e, 2e + 1: gpu_emitter e (one zeroed emitter without any). */
+#define TZ_BINDING_EMITTERS 7
+#define TZ_BINDING_COUNT 8
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
- * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.size.z / .w
- * (src/render_vk.c decides); and frame.settings.z (TZ_FLAG_*), so that code a render never runs
+ * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.sphere_count / light_count
+ * (src/render/vk/render_vk.c decides); and frame.flags (TZ_FLAG_*), so that code a render never runs
  * is compiled out (lavapipe pays for masked-off SIMD code). */
 #define TZ_SPEC_UNROLLED_SPHERES 0
 #define TZ_SPEC_UNROLLED_LIGHTS 1
@@ -88,7 +101,7 @@ typedef struct tz_uvec4 {
 struct gpu_sphere {
     TZ_VEC4 center_radius; /* xyz centre, w radius */
     TZ_VEC4 color_ks;      /* rgb kd or tint, w phong ks */
-    TZ_VEC4 params;        /* x phong alpha, y ior, z material, w unused (0) */
+    TZ_VEC4 params;        /* x phong alpha, y ior, z material, w its emitter + 1 (0: none) */
 };
 
 /* One point light, 32 bytes. */
@@ -104,14 +117,30 @@ struct gpu_frame {
     TZ_VEC4 up;         /* U, w height/2 */
     TZ_VEC4 forward;    /* F, w distance to the plane (2 width) */
     TZ_VEC4 background; /* rgb, w unused (0) */
-    TZ_UVEC4 size;      /* image width, height, sphere count, light count */
-    TZ_UVEC4 settings;  /* seed, bounces, flags (TZ_FLAG_*), BVH node count (0: none) */
+    TZ_UINT width, height; /* of the image, in pixels */
+    TZ_UINT sphere_count, light_count;
+    TZ_UINT seed, bounces;
+    TZ_UINT flags;      /* TZ_FLAG_* */
+    TZ_UINT node_count; /* of the BVH, 0 without one */
+    float near_distance;   /* camera rays start this far along their direction (`near`) */
+    TZ_UINT emitter_count; /* path mode's emissive spheres */
+    TZ_UINT pad0, pad1;    /* 0 */
+};
+
+/* One emissive sphere of path mode, 32 bytes: emitters are picked in proportion to their power
+ * by the first cdf above a uniform number. */
+struct gpu_emitter {
+    TZ_VEC4 emission_pick; /* rgb emitted radiance, w the probability of picking it */
+    TZ_VEC4 sphere_cdf;    /* x its sphere's index (uint bits), y the running sum of picks */
 };
 
 /* Push constants of one dispatch: which tile and which samples (count >= 1, taken in order). */
 struct gpu_pass {
-    TZ_UVEC4 tile;  /* x0, y0 of the tile in pixels, first sample index, sample count */
-    TZ_UVEC4 total; /* x: samples per pixel in all, y: workgroup stride (see trace.comp), zw 0 */
+    TZ_UINT x0, y0; /* the tile's corner in pixels */
+    TZ_UINT first_sample, sample_count;
+    TZ_UINT total_samples; /* samples per pixel in all */
+    TZ_UINT group_stride;  /* workgroup stride (see trace.comp) */
+    TZ_UINT pad0, pad1;    /* 0: 32 bytes, as the C asserts check */
 };
 
 /* The spheres and lights of an unrolled scene in the texel layout of TZ_BINDING_SPHERES and

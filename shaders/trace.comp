@@ -1,8 +1,8 @@
-/* trace.comp: the per-sample compute entry point. One invocation renders `pass.tile.w` samples
- * (in sample order) of one pixel of the tile at pass.tile.xy and adds each finite one to the
- * pixel's accumulator exactly as the C back end does; non-finite samples are counted instead.
- * Twin of integrator_sample() in src/integrator.c and camera_direction() in
- * src/integrator_steps.h. Declares the bindings and the scene accessors the included .glsl files
+/* trace.comp: the per-sample compute entry point. One invocation renders `pass.sample_count`
+ * samples (in sample order) of one pixel of the tile at (pass.x0, pass.y0) and adds each finite
+ * one to the pixel's accumulator exactly as the C back end does; non-finite samples are counted
+ * instead. integrator_sample() is the one of src/render/cpu/integrator.c, on the same shared
+ * steps (shaders/common/). Declares the bindings and the scene accessors the included files
  * use. */
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -28,10 +28,11 @@ layout(std430, set = 0, binding = TZ_BINDING_COUNTERS) buffer counter_block {
     uint rays_high;
 };
 layout(set = 0, binding = TZ_BINDING_NODES) uniform usamplerBuffer node_texels;
+layout(set = 0, binding = TZ_BINDING_EMITTERS) uniform samplerBuffer emitter_texels;
 layout(push_constant) uniform pass_block { gpu_pass pass; };
 layout(constant_id = TZ_SPEC_UNROLLED_SPHERES) const uint UNROLLED_SPHERES = 0u;
 layout(constant_id = TZ_SPEC_UNROLLED_LIGHTS) const uint UNROLLED_LIGHTS = 0u;
-layout(constant_id = TZ_SPEC_FLAGS) const uint FLAGS = 0u; /* frame.settings.z */
+layout(constant_id = TZ_SPEC_FLAGS) const uint FLAGS = 0u; /* frame.flags */
 layout(constant_id = TZ_SPEC_WALK_BUDGET) const uint WALK_BUDGET = 0u;
 
 #include "spec_scene.glsl"
@@ -53,34 +54,30 @@ vec4 light_position_power(int k) {
 vec4 light_color(int k) {
     return UNROLLED_LIGHTS > 0u ? spec_light_color(k) : texelFetch(light_texels, 2 * k + 1);
 }
+/* The fields of struct gpu_emitter e (path mode). */
+vec4 emitter_emission_pick(int e) { return texelFetch(emitter_texels, 2 * e); }
+vec4 emitter_sphere_cdf(int e) { return texelFetch(emitter_texels, 2 * e + 1); }
 /* vec4 f of struct gpu_bvh_node k as uints (0 left_lo, 1 left_hi, 2 right_lo, 3 right_hi). */
 uvec4 node_field(uint k, uint f) { return texelFetch(node_texels, int(4u * k + f)); }
 
 /* Loop counts: a specialization constant when small enough to unroll, else the frame's. */
-uint sphere_count() { return UNROLLED_SPHERES > 0u ? UNROLLED_SPHERES : frame.size.z; }
-uint light_count() { return UNROLLED_LIGHTS > 0u ? UNROLLED_LIGHTS : frame.size.w; }
-/* The BVH serves the scenes too big to unroll, when it was built (frame.settings.w nodes). */
-bool use_bvh() { return UNROLLED_SPHERES == 0u && frame.settings.w > 0u; }
+uint sphere_count() { return UNROLLED_SPHERES > 0u ? UNROLLED_SPHERES : frame.sphere_count; }
+uint light_count() { return UNROLLED_LIGHTS > 0u ? UNROLLED_LIGHTS : frame.light_count; }
+/* The BVH serves the scenes too big to unroll, when it was built (frame.node_count nodes). */
+bool use_bvh() { return UNROLLED_SPHERES == 0u && frame.node_count > 0u; }
 
 #include "shade.glsl"
-
-/* Primary ray through the plane point of pixel (i, j) offset by (u, v) in pixels. */
-vec3 camera_direction(uint i, uint j, float u, float v) {
-    float pixel = frame.origin.w;
-    precise float x = frame.right.w + (float(i) + u) * pixel;
-    precise float y = frame.up.w - (float(j) + v) * pixel;
-    precise vec3 d = frame.right.xyz * x + frame.up.xyz * y + frame.forward.xyz * frame.forward.w;
-    return v3_normalize(d);
-}
+#include "common/path.h"
 
 /* Radiance of sample `sample_index` of pixel (i, j), i to the right and j down. */
 vec3 integrator_sample(uint i, uint j, uint sample_index) {
-    uint rng = rng_seed(frame.settings.x, j * frame.size.x + i, sample_index);
+    uint rng = rng_seed(frame.seed, j * frame.width + i, sample_index);
     /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag. */
     float u = rng_next(rng);
     float v = rng_next(rng);
     if ((FLAGS & TZ_FLAG_JITTER) == 0u) u = v = 0.5;
-    vec3 o = frame.origin.xyz, d = camera_direction(i, j, u, v);
+    vec3 d = camera_direction(frame.right, frame.up, frame.forward, frame.origin.w, i, j, u, v);
+    vec3 o = camera_origin(frame.origin, frame.near_distance, d);
     vec3 weight = vec3(1.0), pos, n;
     int id = follow_specular(o, d, -1, weight, pos, n);
     precise vec3 r;
@@ -116,30 +113,32 @@ void film_sum_add(inout vec3 sum, inout vec3 comp, vec3 value) {
 }
 
 /* The pixel of this invocation within the tile. Workgroup n of the dispatch takes block
- * (n * pass.total.y) mod (the dispatch's workgroups), a stride coprime with that count: lavapipe
- * gives each of its threads one run of consecutive workgroups (Mesa 22.3, lp_cs_tpool), so a
- * run covers the whole tile, not a band of it with more or less work than the others. */
+ * (n * pass.group_stride) mod (the dispatch's workgroups), a stride coprime with that count:
+ * lavapipe gives each of its threads one run of consecutive workgroups (Mesa 22.3,
+ * lp_cs_tpool), so a run covers the whole tile, not a band of it with more or less work than the
+ * others. */
 uvec2 tile_pixel() {
     uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
     uint n = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-    uint block = (n * pass.total.y) % groups;
+    uint block = (n * pass.group_stride) % groups;
     uvec2 corner = uvec2(block % gl_NumWorkGroups.x, block / gl_NumWorkGroups.x);
     return corner * gl_WorkGroupSize.xy + gl_LocalInvocationID.xy;
 }
 
 void main() {
     uvec2 at = tile_pixel();
-    uint i = pass.tile.x + at.x;
-    uint j = pass.tile.y + at.y;
-    if (i >= frame.size.x || j >= frame.size.y) return;
-    uint slot = at.y * frame.size.x + i;
+    uint i = pass.x0 + at.x;
+    uint j = pass.y0 + at.y;
+    if (i >= frame.width || j >= frame.height) return;
+    uint slot = at.y * frame.width + i;
     precise vec4 sum = accum[slot];
     vec3 comp = accum_comp[slot].xyz;
     uint dropped = 0u, overflowed = 0u;
     loop_overflow = false;
     rays_traced = 0u;
-    for (uint k = 0u; k < pass.tile.w; k++) {
-        vec3 l = integrator_sample(i, j, pass.tile.z + k);
+    for (uint k = 0u; k < pass.sample_count; k++) {
+        vec3 l = (FLAGS & TZ_FLAG_PATH) != 0u ? path_sample(i, j, pass.first_sample + k)
+                                              : integrator_sample(i, j, pass.first_sample + k);
         if (loop_overflow) { /* a walk was cut short: the sample would be wrong */
             overflowed++;
             loop_overflow = false;
@@ -153,7 +152,8 @@ void main() {
             dropped++;
         }
     }
-    if (pass.tile.z + pass.tile.w == pass.total.x) { /* the last samples: film_sum_value() */
+    /* the last samples: film_sum_value() */
+    if (pass.first_sample + pass.sample_count == pass.total_samples) {
         precise vec3 value = sum.xyz - comp;
         accum[slot] = vec4(value, sum.w);
     } else {

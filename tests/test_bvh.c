@@ -47,7 +47,7 @@ static void random_scene(scene *s, int n) {
 
 /* The packed index of the sphere equal to input sphere k (the BVH reorders them). */
 static int packed_index(const packed_scene *p, const sphere *sp) {
-    for (uint32_t k = 0; k < p->frame.size.z; k++) {
+    for (uint32_t k = 0; k < p->frame.sphere_count; k++) {
         const tz_vec4 *c = &p->spheres[k].center_radius;
         if (c->x == sp->center.x && c->y == sp->center.y && c->z == sp->center.z &&
             c->w == sp->radius)
@@ -70,7 +70,7 @@ static void compare_rays(int sphere_count, int rays) {
         CHECK(0, "pack failed");
         return;
     }
-    CHECK(tree.frame.settings.w > 0 && brute.frame.settings.w == 0, "BVH present only when asked");
+    CHECK(tree.frame.node_count > 0 && brute.frame.node_count == 0, "BVH present only when asked");
     int nearest_bad = 0, shadow_bad = 0, hits = 0;
     for (int r = 0; r < rays; r++) {
         vec3 o, d = random_direction();

@@ -1,7 +1,6 @@
 /* test_packet.c: every build of the packet integrator this machine runs (the CPU back end renders
  * with the fastest) returns bit for bit what the one-sample reference integrator_sample returns,
- * and traces
- * the same rays, on every scene of scenes/, generated scenes on both of its intersection paths
+ * and traces the same rays, on every scene of scenes/, generated scenes on both of its intersection paths
  * (every sphere, the BVH), a scene of nested and overlapping spheres with the camera inside glass
  * and a cloud of overlapping spheres with exact duplicates; under every option that changes the
  * integrator's path. */

@@ -1,6 +1,7 @@
 /* test_rng.c: pins the first numbers of a few streams of the counter-based RNG (DESIGN section 4),
- * so that any change to src/rng.h (or a drift of its GLSL twin) is caught. The values were
- * computed by an independent Python implementation of the same definition. */
+ * so that any change to its one text, shaders/common/rng.h (compiled by C and GLSL alike), is
+ * caught. The values were computed by an independent Python implementation of the same
+ * definition. */
 #include <string.h>
 
 #include "check.h"

@@ -8,6 +8,7 @@
 #include "cli/cli.h"
 #include "cli/options.h"
 #include "default_scene.h"
+#include "path_scene.h"
 #include "render/cpu/integrator.h"
 #include "render/vk/vk_context.h"
 #include "scene/gen.h"
@@ -19,11 +20,13 @@ typedef struct workload {
     int size; /* square image side in pixels */
     int samples;
     bool indirect;
+    bool path; /* path mode on scenes/cornell_path.scene, else seed mode on the default scene */
 } workload;
 
 static const workload workloads[] = {
-    {"cornell 512x512 indirect", 512, 16, true},
-    {"cornell 512x512 direct", 512, 16, false},
+    {"cornell 512x512 indirect", 512, 16, true, false},
+    {"cornell 512x512 direct", 512, 16, false, false},
+    {"cornell_path 256x256 path", 256, 16, false, true},
 };
 
 /* Scene sizes of the scaling table: the same camera and image, more and more spheres. */
@@ -53,9 +56,9 @@ static void print_figure(int width, double value, bool measured, const char *suf
 
 /* Renders the workload once, end to end (cpu_build: the CPU build by name, NULL the fastest);
  * returns Msamples/s (and *mrays Mrays/s), or a negative number on failure. */
-static double run_workload(const scene *base, const workload *w, backend_choice backend,
-                           const char *cpu_build, int spp, double *mrays) {
-    scene s = *base;
+static double run_workload(const scene *seed_scene, const scene *path_scene, const workload *w,
+                           backend_choice backend, const char *cpu_build, int spp, double *mrays) {
+    scene s = w->path ? *path_scene : *seed_scene;
     s.plane_height = s.plane_width;
     s.pixel_size = s.plane_width / (float)w->size;
     s.width = s.height = w->size;
@@ -256,11 +259,17 @@ int cmd_bench(int argc, char **argv) {
         return 1;
     }
 
-    scene s;
+    scene s, path;
     scene_error err;
     if (!scene_parse_string(default_scene_text, strlen(default_scene_text), "cornell.scene", &s,
                             &err)) {
         scene_error_print(&err);
+        return 1;
+    }
+    if (!scene_parse_string(path_scene_text, strlen(path_scene_text), "cornell_path.scene", &path,
+                            &err)) {
+        scene_error_print(&err);
+        scene_free(&s);
         return 1;
     }
     int failures = 0;
@@ -280,11 +289,11 @@ int cmd_bench(int argc, char **argv) {
     for (size_t k = 0; k < sizeof workloads / sizeof workloads[0]; k++) {
         const workload *w = &workloads[k];
         double cpu_rays = 0.0, ref_rays = 0.0, vk_rays = 0.0;
-        double cpu = want_cpu ? run_workload(&s, w, BACKEND_CPU, NULL, (int)spp, &cpu_rays) : 0.0;
+        double cpu = want_cpu ? run_workload(&s, &path, w, BACKEND_CPU, NULL, (int)spp, &cpu_rays) : 0.0;
         double ref =
-            want_cpu ? run_workload(&s, w, BACKEND_CPU, PACKET_REFERENCE_NAME, (int)spp, &ref_rays)
+            want_cpu ? run_workload(&s, &path, w, BACKEND_CPU, PACKET_REFERENCE_NAME, (int)spp, &ref_rays)
                      : 0.0;
-        double vk = want_vk ? run_workload(&s, w, BACKEND_VULKAN, NULL, (int)spp, &vk_rays) : 0.0;
+        double vk = want_vk ? run_workload(&s, &path, w, BACKEND_VULKAN, NULL, (int)spp, &vk_rays) : 0.0;
         failures += cpu < 0.0 || ref < 0.0 || vk < 0.0;
         char name[64];
         snprintf(name, sizeof name, "%s, %d spp", w->name, spp > 0 ? (int)spp : w->samples);
@@ -300,6 +309,7 @@ int cmd_bench(int argc, char **argv) {
         fflush(stdout);
     }
     scene_free(&s);
+    scene_free(&path);
     failures += bench_scaling(want_cpu, want_vk);
     return failures ? 1 : 0;
 }

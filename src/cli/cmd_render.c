@@ -25,6 +25,7 @@ typedef struct render_args {
     int tm;             /* tonemap */
     long long spp, seed, bounces, threads, device, width; /* -1: not given */
     int indirect;                                         /* -1 not given, 0 off, 1 on */
+    int mode;                                             /* -1 not given, else render_mode */
     int no_jitter, validate, verbose, quiet, no_bvh, force;
 } render_args;
 
@@ -46,9 +47,13 @@ static const opt_spec render_specs[] = {
                   SCENE_MAX_SAMPLES) " (default: the scene's, else 64)"),
     OPT_WHOLE("--seed", NULL, ARG(seed), 0, 4294967295.0,
               "the random seed, 0 to 4294967295 (default: the scene's, else 1)"),
+    OPT_ONE_OF("--mode", ARG(mode), "seed|path",
+               "the integrator: seed, the course report's model, or path, physically based path "
+               "tracing (default: the scene's, else seed)"),
     OPT_WHOLE("--bounces", NULL, ARG(bounces), 0, SCENE_MAX_BOUNCES,
-              "longest chain of specular events, 0 to " CLI_AS_TEXT(
-                  SCENE_MAX_BOUNCES) " (default: the scene's, else 5)"),
+              "seed mode: the longest chain of specular events; path mode: the most scattering "
+              "events of a path; 0 to " CLI_AS_TEXT(
+                  SCENE_MAX_BOUNCES) " (default: the scene's, else 5 in seed mode, 16 in path)"),
     OPT_SET("--indirect", NULL, ARG(indirect), 1,
             "one diffuse bounce of indirect light (default: the scene's, else on)"),
     OPT_SET("--no-indirect", NULL, ARG(indirect), 0,
@@ -108,7 +113,8 @@ static opt_result parse_render_args(int argc, char **argv, render_args *a,
                        .threads = -1,
                        .device = -1,
                        .width = -1,
-                       .indirect = -1};
+                       .indirect = -1,
+                       .mode = -1};
     int count;
     *scene_path = NULL;
     opt_result rc = opt_parse(&render_command, argc, argv, a, scene_path, &count);
@@ -212,9 +218,12 @@ static void clear_progress(int sig) {
     interrupts_die(sig);
 }
 
-static void apply_overrides(const render_args *a, render_opts *o) {
+/* The flags over the scene's settings; a mode named without bounces takes that mode's default. */
+static void apply_overrides(const render_args *a, const scene *s, render_opts *o) {
     if (a->spp >= 0) o->samples = (int)a->spp;
     if (a->seed >= 0) o->seed = (uint32_t)a->seed;
+    if (a->mode >= 0) o->mode = (render_mode)a->mode;
+    if (a->mode >= 0 && !s->bounces_given) o->bounces = scene_default_bounces(o->mode);
     if (a->bounces >= 0) o->bounces = (int)a->bounces;
     if (a->threads >= 0) o->threads = (int)a->threads;
     if (a->device >= 0) o->device = (int)a->device;
@@ -223,6 +232,22 @@ static void apply_overrides(const render_args *a, render_opts *o) {
     o->validate = a->validate;
     o->no_bvh = a->no_bvh;
     o->progress = !a->quiet && isatty(STDERR_FILENO);
+}
+
+/* --mode seed on a scene with emission: seed mode has no emitted light. False (said) then. */
+static bool check_mode(int mode, const scene *s) {
+    if (mode != RENDER_MODE_SEED) return true;
+    for (int k = 0; k < s->sphere_count; k++) {
+        vec3 e = s->spheres[k].emission;
+        if (e.x > 0.0f || e.y > 0.0f || e.z > 0.0f) {
+            fprintf(stderr,
+                    "trazador: render --mode seed: sphere %d of the scene has emission, which "
+                    "needs path mode (the scene's own mode, or --mode path)\n",
+                    k + 1);
+            return false;
+        }
+    }
+    return true;
 }
 
 /* Naming a device asks for Vulkan: none at all is the usual runtime failure (1), a number past
@@ -246,7 +271,7 @@ static int check_device(long long device) {
 static int render_and_write(const render_args *a, const scene *s) {
     render_opts opts;
     render_opts_from_scene(s, &opts);
-    apply_overrides(a, &opts);
+    apply_overrides(a, s, &opts);
     render_stats stats = {0};
     opts.stats = &stats;
     film f = {0};
@@ -302,6 +327,7 @@ int cmd_render(int argc, char **argv) {
     }
     /* An output that cannot be written is said before the render, not after it. */
     int rc = !apply_width(a.width, &s)                     ? 2
+             : !check_mode(a.mode, &s)                     ? 2
              : output_is_scene(a.output, scene_path)       ? 2
              : !atomic_file_check_force(a.output, a.force) ? 1
                                                            : check_device(a.device);

@@ -19,6 +19,9 @@ typedef struct render_stats {
     unsigned validation_errors; /* Vulkan: what the validation layer reported (it fails the run) */
 } render_stats;
 
+/* How path mode samples emitters: both strategies weighted by MIS, or one alone. */
+typedef enum path_strategy { PATH_MIS = 0, PATH_LIGHTS_ONLY, PATH_BSDF_ONLY } path_strategy;
+
 /* The most threads the CPU back end runs. */
 #define RENDER_MAX_THREADS 256
 
@@ -26,8 +29,11 @@ typedef struct render_opts {
     int samples; /* samples per pixel */
     uint32_t seed;
     bool no_jitter; /* zero is default: jitter on */
-    bool indirect;
-    int bounces;           /* longest chain of specular events */
+    bool indirect;         /* seed mode: the one bounce of indirect light */
+    render_mode mode;      /* seed (the course report's model) or path (DESIGN section 3.2) */
+    bool roulette;         /* path mode: Russian roulette from the fourth vertex */
+    path_strategy strategy; /* path mode: MIS (the default), or one strategy alone (tests) */
+    int bounces;           /* seed: longest chain of specular events; path: scattering events */
     int threads;           /* CPU back end; 0 = all cores */
     int device;            /* Vulkan back end; -1 = first */
     bool validate;         /* Vulkan validation layer, errors fail the run */

@@ -11,6 +11,8 @@ void render_opts_from_scene(const scene *s, render_opts *opts) {
     opts->seed = s->seed;
     opts->indirect = s->indirect;
     opts->bounces = s->bounces;
+    opts->mode = s->mode;
+    opts->roulette = s->roulette;
     opts->device = -1;
 }
 

@@ -33,7 +33,12 @@ typedef enum material_kind {
     MATERIAL_REFRACTIVE = 3,
 } material_kind;
 
-typedef enum render_mode { RENDER_MODE_SEED = 0 } render_mode;
+typedef enum render_mode { RENDER_MODE_SEED = 0, RENDER_MODE_PATH = 1 } render_mode;
+
+/* The bounces of a mode when the scene and the command line name none. */
+static inline int scene_default_bounces(render_mode mode) {
+    return mode == RENDER_MODE_PATH ? 16 : 5;
+}
 
 typedef struct sphere {
     vec3 center;
@@ -43,7 +48,7 @@ typedef struct sphere {
     float ks;      /* phong specular weight, 0 for the others */
     float alpha;   /* phong exponent */
     float ior;     /* refractive index, 1 for the others */
-    vec3 emission; /* reserved for the path-tracing mode; always 0 in seed mode */
+    vec3 emission; /* radiance emitted (path mode; an error in seed mode) */
 } sphere;
 
 typedef struct light {
@@ -62,13 +67,17 @@ typedef struct scene_error {
 
 typedef struct scene {
     vec3 camera_position, camera_direction, camera_up;
+    float camera_fov;  /* horizontal field of view in degrees; 0: the plane sits 2 x width away */
+    float camera_near; /* camera rays start this far along their direction */
     float plane_width, plane_height, pixel_size;
     int width, height; /* pixels: plane size / pixel size */
     vec3 background;
     /* render settings; command-line flags override them */
     int samples;
     bool indirect;
-    int bounces;
+    int bounces; /* scene_default_bounces(mode) unless the scene names it */
+    bool bounces_given;
+    bool roulette; /* path mode: Russian roulette from the fourth vertex */
     uint32_t seed;
     render_mode mode;
     sphere *spheres;

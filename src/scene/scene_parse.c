@@ -26,8 +26,8 @@
 #define MAX_TOKENS (SCENE_MAX_LINE / 2 + 1)
 /* Characters of a bad token quoted back in an error message. */
 #define MAX_QUOTED_CHARS 60
-/* Keys per directive: the sphere has the most (center radius color ks alpha ior). */
-#define MAX_KEYS 6
+/* Keys per directive: the sphere has the most (center radius color ks alpha ior emission). */
+#define MAX_KEYS 7
 /* |cross(direction, up)| below this fraction of |direction| |up| leaves the camera frame
  * undefined in single precision (about 0.006 degrees). */
 #define CAMERA_MIN_SINE 1e-4
@@ -40,11 +40,13 @@ typedef struct token {
     int col;
 } token;
 
-typedef enum value_kind { VALUE_NUMBER, VALUE_INTEGER, VALUE_SWITCH } value_kind;
+/* VALUE_WORD: one of the words listed in the key's `components`, its index the value. */
+typedef enum value_kind { VALUE_NUMBER, VALUE_INTEGER, VALUE_SWITCH, VALUE_WORD } value_kind;
 
 typedef struct key_spec {
     const char *name;
-    const char *components; /* "x y z" or "r g b" for three numbers, NULL for one value */
+    const char *components; /* "x y z" or "r g b" for three numbers, NULL for one value; the
+                             * words of a VALUE_WORD */
     value_kind kind;
     double min, max;    /* inclusive range of every value */
     bool min_exclusive; /* min itself is invalid: radius, plane sizes */
@@ -72,6 +74,7 @@ typedef struct parser {
     int camera_line, plane_line, background_line, render_line;
     int camera_col; /* of the camera position, for the near-clip warning */
     bool tiny_warned;
+    int emission_line, emission_col; /* the first sphere's emission, an error in seed mode */
     char number[SCENE_MAX_LINE + 1];      /* a token NUL-terminated for strtod */
     char quoted[2][MAX_QUOTED_CHARS + 4]; /* two, so one message can quote two tokens */
     int quoted_next;
@@ -86,12 +89,25 @@ typedef struct parser {
  * about 1.8e19 (a sphere of radius 2e19 vanished). */
 #define COORD_RANGE -1e18, 1e18, false
 #define RADIUS_RANGE 0.0, 1e18, true
+/* Horizontal field of view in degrees: (0, 179] (180 puts the plane at zero distance). */
+#define FOV_RANGE 0.0, 179.0, true
 
-enum { CAMERA_POSITION, CAMERA_DIRECTION, CAMERA_UP, CAMERA_KEY_COUNT };
+enum {
+    CAMERA_POSITION,
+    CAMERA_DIRECTION,
+    CAMERA_UP,
+    CAMERA_LOOK_AT,
+    CAMERA_FOV,
+    CAMERA_NEAR,
+    CAMERA_KEY_COUNT
+};
 static const key_spec camera_keys[CAMERA_KEY_COUNT] = {
     {"position", "x y z", VALUE_NUMBER, COORD_RANGE},
     {"direction", "x y z", VALUE_NUMBER, NO_RANGE},
     {"up", "x y z", VALUE_NUMBER, NO_RANGE},
+    {"look_at", "x y z", VALUE_NUMBER, COORD_RANGE},
+    {"fov", NULL, VALUE_NUMBER, FOV_RANGE},
+    {"near", NULL, VALUE_NUMBER, 0.0, 1e18, false},
 };
 
 enum { PLANE_WIDTH, PLANE_HEIGHT, PLANE_PIXEL, PLANE_KEY_COUNT };
@@ -115,6 +131,7 @@ enum {
     SPHERE_KS,
     SPHERE_ALPHA,
     SPHERE_IOR,
+    SPHERE_EMISSION,
     SPHERE_KEY_COUNT
 };
 static const key_spec sphere_keys[SPHERE_KEY_COUNT] = {
@@ -124,11 +141,13 @@ static const key_spec sphere_keys[SPHERE_KEY_COUNT] = {
     {"ks", NULL, VALUE_NUMBER, UNIT_RANGE},
     {"alpha", NULL, VALUE_NUMBER, 0.0, FLT_MAX, false},
     {"ior", NULL, VALUE_NUMBER, 1.0, FLT_MAX, false},
+    {"emission", "r g b", VALUE_NUMBER, 0.0, FLT_MAX, false},
 };
 _Static_assert(SPHERE_KEY_COUNT <= MAX_KEYS, "raise MAX_KEYS");
 
 #define BIT(key) (1u << (key))
-#define SPHERE_COMMON_KEYS (BIT(SPHERE_CENTER) | BIT(SPHERE_RADIUS) | BIT(SPHERE_COLOR))
+#define SPHERE_COMMON_KEYS \
+    (BIT(SPHERE_CENTER) | BIT(SPHERE_RADIUS) | BIT(SPHERE_COLOR) | BIT(SPHERE_EMISSION))
 
 typedef struct material_spec {
     const char *word;
@@ -148,12 +167,24 @@ static const material_spec materials[] = {
     {"refractada", MATERIAL_REFRACTIVE, SPHERE_COMMON_KEYS | BIT(SPHERE_IOR), 1.0f},
 };
 
-enum { RENDER_SAMPLES, RENDER_INDIRECT, RENDER_BOUNCES, RENDER_SEED, RENDER_KEY_COUNT };
+enum {
+    RENDER_SAMPLES,
+    RENDER_INDIRECT,
+    RENDER_BOUNCES,
+    RENDER_SEED,
+    RENDER_MODE,
+    RENDER_ROULETTE,
+    RENDER_KEY_COUNT
+};
+/* The words of `render mode`, in render_mode order. */
+#define RENDER_MODE_WORDS "seed path"
 static const key_spec render_keys[RENDER_KEY_COUNT] = {
     {"samples", NULL, VALUE_INTEGER, 1.0, SCENE_MAX_SAMPLES, false},
     {"indirect", NULL, VALUE_SWITCH, 0.0, 1.0, false},
     {"bounces", NULL, VALUE_INTEGER, 0.0, SCENE_MAX_BOUNCES, false},
     {"seed", NULL, VALUE_INTEGER, 0.0, UINT32_MAX, false},
+    {"mode", RENDER_MODE_WORDS, VALUE_WORD, 0.0, 1.0, false},
+    {"roulette", NULL, VALUE_SWITCH, 0.0, 1.0, false},
 };
 
 /* background takes three numbers and no key; this spec names them in messages. */
@@ -325,10 +356,25 @@ static bool parse_switch(parser *p, const key_spec *k, const token *t, double *o
     return fail_at(p, t->col, "expected on or off for '%s', got '%s'", k->name, quote(p, t));
 }
 
+/* One of the space-separated words of k->components; the value is its index. */
+static bool parse_word(parser *p, const key_spec *k, const token *t, double *out) {
+    const char *w = k->components;
+    for (int index = 0; *w; index++) {
+        size_t n = strcspn(w, " ");
+        if ((size_t)t->length == n && memcmp(t->text, w, n) == 0) {
+            *out = index;
+            return true;
+        }
+        w += n + (w[n] == ' ');
+    }
+    return fail_at(p, t->col, "expected one of %s for '%s', got '%s'", k->components, k->name,
+                   quote(p, t));
+}
+
 /* Parses the value(s) of key k from token *next on; advances *next past them. */
 static bool parse_values(parser *p, const key_spec *k, int *next, double value[3],
                          int value_token[3]) {
-    int count = k->components ? 3 : 1;
+    int count = k->components && k->kind != VALUE_WORD ? 3 : 1;
     for (int c = 0; c < count; c++) {
         if (*next >= p->token_count) {
             if (count == 1) {
@@ -342,7 +388,8 @@ static bool parse_values(parser *p, const key_spec *k, int *next, double value[3
         const token *t = &p->tokens[(*next)++];
         bool ok = k->kind == VALUE_NUMBER    ? parse_number(p, k, t, &value[c])
                   : k->kind == VALUE_INTEGER ? parse_integer(p, k, t, &value[c])
-                                             : parse_switch(p, k, t, &value[c]);
+                  : k->kind == VALUE_SWITCH  ? parse_switch(p, k, t, &value[c])
+                                             : parse_word(p, k, t, &value[c]);
         if (!ok) return false;
     }
     return true;
@@ -438,8 +485,25 @@ static bool parse_camera(parser *p) {
         !require_keys(p, "camera", camera_keys, CAMERA_KEY_COUNT, BIT(CAMERA_POSITION), &kv)) {
         return false;
     }
+    vec3 position = value_vec3(&kv, CAMERA_POSITION, v3(0, 0, 0));
     vec3 direction = value_vec3(&kv, CAMERA_DIRECTION, v3(0, 0, 1));
     vec3 up = value_vec3(&kv, CAMERA_UP, v3(0, 1, 0));
+    if (kv.given & BIT(CAMERA_LOOK_AT)) {
+        if (kv.given & BIT(CAMERA_DIRECTION)) {
+            return fail_at(p, p->tokens[kv.key_token[CAMERA_LOOK_AT]].col,
+                           "camera takes direction or look_at, not both");
+        }
+        vec3 at = value_vec3(&kv, CAMERA_LOOK_AT, position);
+        /* In double: the difference of two valid coordinates can overflow float. */
+        double dx = (double)at.x - position.x, dy = (double)at.y - position.y,
+               dz = (double)at.z - position.z;
+        double m = fmax(fabs(dx), fmax(fabs(dy), fabs(dz)));
+        if (m == 0.0) {
+            return fail_at(p, p->tokens[kv.key_token[CAMERA_LOOK_AT]].col,
+                           "camera look_at must differ from position");
+        }
+        direction = v3((float)(dx / m), (float)(dy / m), (float)(dz / m));
+    }
     if (!check_camera_vector(p, &kv, CAMERA_DIRECTION, direction) ||
         !check_camera_vector(p, &kv, CAMERA_UP, up)) {
         return false;
@@ -449,16 +513,20 @@ static bool parse_camera(parser *p) {
     double dx = direction.x / dl, dy = direction.y / dl, dz = direction.z / dl;
     double ux = up.x / ul, uy = up.y / ul, uz = up.z / ul;
     double cx = dy * uz - dz * uy, cy = dz * ux - dx * uz, cz = dx * uy - dy * ux;
+    /* Errors of the frame are reported at up, else at what gave the direction. */
+    int up_key = (kv.given & BIT(CAMERA_UP))        ? CAMERA_UP
+                 : (kv.given & BIT(CAMERA_LOOK_AT)) ? CAMERA_LOOK_AT
+                                                    : CAMERA_DIRECTION;
     if (sqrt(cx * cx + cy * cy + cz * cz) < CAMERA_MIN_SINE) {
-        int key = (kv.given & BIT(CAMERA_UP)) ? CAMERA_UP : CAMERA_DIRECTION;
-        return fail_at(p, p->tokens[kv.key_token[key]].col,
+        return fail_at(p, p->tokens[kv.key_token[up_key]].col,
                        "camera up (%g %g %g) is parallel to direction (%g %g %g)", up.x, up.y, up.z,
                        direction.x, direction.y, direction.z);
     }
     /* The right vector, up x forward, is normalized too: a small up at a small angle. */
-    int up_key = (kv.given & BIT(CAMERA_UP)) ? CAMERA_UP : CAMERA_DIRECTION;
     if (!check_camera_square(p, &kv, up_key, v3_cross(up, v3_normalize(direction)))) return false;
-    p->s.camera_position = value_vec3(&kv, CAMERA_POSITION, v3(0, 0, 0));
+    p->s.camera_position = position;
+    p->s.camera_fov = (float)value_or(&kv, CAMERA_FOV, 0.0);
+    p->s.camera_near = (float)value_or(&kv, CAMERA_NEAR, 0.0);
     p->camera_col = p->tokens[kv.value_token[CAMERA_POSITION][0]].col;
     p->s.camera_direction = direction;
     p->s.camera_up = up;
@@ -662,8 +730,12 @@ static bool parse_sphere(parser *p) {
         .ks = phong ? (float)value_or(&kv, SPHERE_KS, 0.5) : 0.0f,
         .alpha = phong ? (float)value_or(&kv, SPHERE_ALPHA, 32.0) : 0.0f,
         .ior = (float)value_or(&kv, SPHERE_IOR, m->kind == MATERIAL_REFRACTIVE ? 1.5 : 1.0),
-        .emission = v3(0, 0, 0),
+        .emission = value_vec3(&kv, SPHERE_EMISSION, v3(0, 0, 0)),
     };
+    if ((kv.given & BIT(SPHERE_EMISSION)) && !p->emission_line) {
+        p->emission_line = p->line;
+        p->emission_col = p->tokens[kv.key_token[SPHERE_EMISSION]].col;
+    }
     const sphere *added = &p->s.spheres[p->s.sphere_count - 1];
     float offset = TZ_EPS * largest_coordinate(added->center);
     if (added->radius < SCENE_TINY_OFFSETS * offset && !p->tiny_warned) {
@@ -699,8 +771,11 @@ static bool parse_render(parser *p) {
     }
     p->s.samples = (int)value_or(&kv, RENDER_SAMPLES, 64);
     p->s.indirect = value_or(&kv, RENDER_INDIRECT, 1) != 0;
-    p->s.bounces = (int)value_or(&kv, RENDER_BOUNCES, 5);
+    p->s.mode = (render_mode)value_or(&kv, RENDER_MODE, RENDER_MODE_SEED);
+    p->s.bounces_given = kv.given & BIT(RENDER_BOUNCES);
+    p->s.bounces = (int)value_or(&kv, RENDER_BOUNCES, scene_default_bounces(p->s.mode));
     p->s.seed = (uint32_t)value_or(&kv, RENDER_SEED, 1);
+    p->s.roulette = value_or(&kv, RENDER_ROULETTE, 1) != 0;
     return true;
 }
 
@@ -839,6 +914,12 @@ static bool parse_text(parser *p) {
     /* Whole-scene errors are reported at the end of the file: the line after the last '\n'. */
     if (!p->camera_line) return fail_at(p, 1, "missing 'camera' directive");
     if (!p->plane_line) return fail_at(p, 1, "missing 'plane' directive");
+    if (p->emission_line && p->s.mode == RENDER_MODE_SEED) {
+        p->line = p->emission_line;
+        return fail_at(p, p->emission_col,
+                       "emission needs path mode: add 'render mode path' (or render with "
+                       "--mode path)");
+    }
     warn_near_surfaces(p);
     return true;
 }
@@ -864,6 +945,7 @@ bool scene_parse_string(const char *text, size_t length, const char *filename, s
         .bounces = 5,
         .seed = 1,
         .mode = RENDER_MODE_SEED,
+        .roulette = true,
     };
     bool ok;
     if (length > MAX_TEXT_BYTES) {

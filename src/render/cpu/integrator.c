@@ -1,11 +1,14 @@
-/* integrator.c: the C reference integrator (DESIGN section 3). Every function here has a twin of
- * the same name in the shaders/ GLSL files; change both and a test in one commit. */
+/* integrator.c: the one-sample C integrator (DESIGN section 3), the "reference" build that the
+ * packet builds and the shaders are checked against. Its steps are the shared ones of
+ * shaders/common/; its control flow has a GLSL counterpart of the same name in
+ * shaders/intersect.glsl and shade.glsl (change both and a test in one commit). */
 #include "render/cpu/integrator.h"
 
 #include <math.h>
 
-#include "render/cpu/integrator_steps.h"
-#include "render/rng.h"
+#include "common/ray.h"
+#include "common/rng.h"
+#include "common/shade.h"
 #include "render/cpu/simd_clones.h"
 
 /* Distances to spheres [begin, begin + SOA_LANES) into t[] (sphere_distance), INFINITY past
@@ -20,9 +23,8 @@ static inline void spheres_hit(const sphere_soa *sp, int begin, int end, vec3 o,
     }
 }
 
-/* Tests spheres [begin, end) (at most SOA_LANES) and keeps the nearest hit below *best. An exact
- * tie goes to the lower index, so the order of visits never changes which sphere is seen (both
- * back ends store spheres in the same BVH order, --no-bvh too). */
+/* Tests spheres [begin, end) (at most SOA_LANES) and keeps the nearest hit below *best
+ * (nearer_hit, the tie rule). */
 static inline void leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end, vec3 o, vec3 d,
                             float tmin, int self, float *best, int *id) {
     float t[SOA_LANES];
@@ -46,21 +48,13 @@ uint64_t integrator_rays_traced(void) { return rays_traced; }
 
 void integrator_count_rays(uint64_t n) { rays_traced += n; }
 
-/* Walks the BVH nearer child first with a stack of TZ_BVH_MAX_DEPTH child references (each
- * level pushes at most one), testing each leaf child as it comes, or, without a BVH, every
- * sphere SOA_LANES at a time. */
-SIMD_CLONES static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self, float tmax,
-                                 int any_hit, float *t) {
+/* Nearest sphere hit below tmax through the BVH (*t its distance), or with any_hit the first one
+ * found; -1 when none. Nearer child first, a stack of TZ_BVH_MAX_DEPTH child references (each
+ * level pushes at most one), each leaf's spheres tested at once. */
+static inline int trace_bvh(const packed_scene *p, vec3 o, vec3 d, int self, float tmax,
+                            int any_hit, float *t) {
     float tmin = ray_eps(o), best = tmax;
     int id = -1;
-    uint32_t count = p->frame.size.z, node_count = p->frame.settings.w;
-    if (node_count == 0) {
-        for (uint32_t begin = 0; begin < count && !(any_hit && id >= 0); begin += SOA_LANES)
-            leaf_hit(p, begin, begin + SOA_LANES < count ? begin + SOA_LANES : count, o, d, tmin,
-                     self, &best, &id);
-        *t = best;
-        return id;
-    }
     vec3 inv = inverse_direction(d);
     uint32_t stack[TZ_BVH_MAX_DEPTH];
     float stack_t[TZ_BVH_MAX_DEPTH];
@@ -73,8 +67,8 @@ SIMD_CLONES static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self
             if (any_hit && id >= 0) break;
         } else {
             const struct gpu_bvh_node *n = &p->nodes[first];
-            float tl = box_entry(&n->left_lo, &n->left_hi, o, inv, best);
-            float tr = box_entry(&n->right_lo, &n->right_hi, o, inv, best);
+            float tl = box_entry(n->left_lo, n->left_hi, o, inv, best);
+            float tr = box_entry(n->right_lo, n->right_hi, o, inv, best);
             if (tl < INFINITY || tr < INFINITY) {
                 int left_first = tl <= tr;
                 uint32_t left = uint_bits(n->left_lo.w), right = uint_bits(n->right_lo.w);
@@ -99,6 +93,23 @@ SIMD_CLONES static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self
     return id;
 }
 
+/* integrator_trace: through the BVH (trace_bvh), or over every sphere SOA_LANES at a time when
+ * there is none or the scene is as small as the packets test whole (the tie rule makes both
+ * find the same hit). */
+SIMD_CLONES static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self, float tmax,
+                                 int any_hit, float *t) {
+    if (p->frame.node_count > 0 && p->frame.sphere_count > PACKET_BRUTE_FORCE_MAX)
+        return trace_bvh(p, o, d, self, tmax, any_hit, t);
+    float tmin = ray_eps(o), best = tmax;
+    int id = -1;
+    uint32_t count = p->frame.sphere_count;
+    for (uint32_t begin = 0; begin < count && !(any_hit && id >= 0); begin += SOA_LANES)
+        leaf_hit(p, begin, begin + SOA_LANES < count ? begin + SOA_LANES : count, o, d, tmin, self,
+                 &best, &id);
+    *t = best;
+    return id;
+}
+
 int integrator_trace(const packed_scene *p, vec3 o, vec3 d, int self, float tmax, int any_hit,
                      float *t) {
     return trace_ray(p, o, d, self, tmax, any_hit, t);
@@ -115,25 +126,19 @@ int integrator_occluded(const packed_scene *p, vec3 o, vec3 d, float dist, int s
     return integrator_trace(p, o, d, self, dist, 1, &t) >= 0;
 }
 
-/* Normalized Phong BRDF of sphere s (phong_from_lobe). */
-static vec3 phong_brdf(const struct gpu_sphere *s, vec3 n, vec3 wi, vec3 wo) {
-    float ks = s->color_ks.w, alpha = s->params.x;
-    float lobe = ks > 0.0f ? phong_lobe(phong_lobe_cos(n, wi, wo), alpha) : 0.0f;
-    return phong_from_lobe(xyz(s->color_ks), ks, alpha, lobe);
+/* The Phong BRDF of sphere s (phong_brdf). */
+static vec3 sphere_brdf(const struct gpu_sphere *s, vec3 n, vec3 wi, vec3 wo) {
+    return phong_brdf(xyz(s->color_ks), s->color_ks.w, s->params.x, n, wi, wo);
 }
 
 /* Direct light from every point light at p (shading normal n, facing wo) on sphere id. */
 static vec3 direct_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3 wo) {
     vec3 o = offset_origin(pos, n);
     vec3 sum = v3(0.0f, 0.0f, 0.0f);
-    for (uint32_t k = 0; k < p->frame.size.w; k++) {
-        /* Distance and angle from the true hit point; only the shadow ray starts off the surface.
-         */
-        vec3 wi;
-        float dist, cos_i;
-        vec3 light = point_light(&p->lights[k], pos, n, &wi, &dist, &cos_i);
-        if (cos_i <= 0.0f || integrator_occluded(p, o, wi, dist, id)) continue;
-        sum = v3_add(sum, v3_mul(phong_brdf(&p->spheres[id], n, wi, wo), light));
+    for (uint32_t k = 0; k < p->frame.light_count; k++) {
+        light_sample l = point_light(p->lights[k].position_power, p->lights[k].color, pos, n);
+        if (l.cos_i <= 0.0f || integrator_occluded(p, o, l.wi, l.dist, id)) continue;
+        sum = v3_add(sum, v3_mul(sphere_brdf(&p->spheres[id], n, l.wi, wo), l.radiance));
     }
     return sum;
 }
@@ -142,7 +147,7 @@ static vec3 direct_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3 w
  * -2 when the chain exceeds the bounce limit); *o, *d become the last ray, *weight the tints. */
 static int follow_specular(const packed_scene *p, vec3 *o, vec3 *d, int self, vec3 *weight,
                            vec3 *pos, vec3 *n) {
-    uint32_t bounces = p->frame.settings.y;
+    uint32_t bounces = p->frame.bounces;
     for (uint32_t chain = 0;; chain++) {
         float t;
         int id = integrator_nearest(p, *o, *d, self, &t);
@@ -157,7 +162,10 @@ static int follow_specular(const packed_scene *p, vec3 *o, vec3 *d, int self, ve
         }
         if (chain == bounces) return -2;
         *weight = v3_mul(*weight, xyz(s->color_ks));
-        specular_next(*pos, nout, *d, material == TZ_MATERIAL_REFRACTIVE, s->params.y, o, d);
+        next_ray next =
+            specular_next(*pos, nout, *d, material == TZ_MATERIAL_REFRACTIVE, s->params.y);
+        *o = next.o;
+        *d = next.d;
         self = id;
     }
 }
@@ -182,24 +190,25 @@ static vec3 indirect_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3
     vec3 o = offset_origin(pos, n);
     vec3 incoming = radiance_direct_only(p, o, wi, id);
     float pdf = cos_t / TZ_PI;
-    vec3 f = phong_brdf(&p->spheres[id], n, wi, wo);
+    vec3 f = sphere_brdf(&p->spheres[id], n, wi, wo);
     return v3_mul(f, v3_scale(incoming, cos_t / pdf));
 }
 
 vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index) {
     const struct gpu_frame *fr = &p->frame;
-    uint32_t rng = rng_seed(fr->settings.x, j * fr->size.x + i, sample_index);
+    uint32_t rng = rng_seed(fr->seed, j * fr->width + i, sample_index);
     /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag. */
     float u = rng_next(&rng), v = rng_next(&rng);
-    if (!(fr->settings.z & TZ_FLAG_JITTER)) u = v = 0.5f;
-    vec3 o = xyz(fr->origin), d = camera_direction(fr, i, j, u, v);
+    if (!(fr->flags & TZ_FLAG_JITTER)) u = v = 0.5f;
+    vec3 d = camera_direction(fr->right, fr->up, fr->forward, fr->origin.w, i, j, u, v);
+    vec3 o = camera_origin(fr->origin, fr->near_distance, d);
     vec3 weight = v3(1.0f, 1.0f, 1.0f), pos, n;
     int id = follow_specular(p, &o, &d, -1, &weight, &pos, &n);
     if (id == -1) return v3_mul(weight, xyz(fr->background));
     if (id == -2) return v3(0.0f, 0.0f, 0.0f);
     vec3 wo = v3_scale(d, -1.0f);
     vec3 radiance = direct_light(p, id, pos, n, wo);
-    if (fr->settings.z & TZ_FLAG_INDIRECT)
+    if (fr->flags & TZ_FLAG_INDIRECT)
         radiance = v3_add(radiance, indirect_light(p, id, pos, n, wo, &rng));
     return v3_mul(weight, radiance);
 }

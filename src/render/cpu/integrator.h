@@ -1,5 +1,6 @@
-/* integrator.h: the seed integrator of DESIGN section 3 in C, one sample at a time; the twin of
- * shaders/trace.comp and the oracle the Vulkan back end is checked against. */
+/* integrator.h: the seed integrator of DESIGN section 3 in C: one sample at a time (the
+ * "reference" build, the oracle the packet builds and the Vulkan back end are checked against)
+ * and the packet builds the CPU back end renders with. */
 #ifndef TRAZADOR_INTEGRATOR_H
 #define TRAZADOR_INTEGRATOR_H
 
@@ -11,6 +12,10 @@
 /* Radiance of sample `sample_index` of pixel (i, j), i to the right and j down; never fails. */
 vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
 
+/* Radiance of path-mode sample `sample_index` of pixel (i, j) (DESIGN section 3.2); never fails.
+ */
+vec3 integrator_path_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
+
 /* The widest packet of any packet integrator. */
 #define PACKET_LANES_MAX 16
 /* The most packet integrators a build has, the one-sample reference included. */
@@ -19,7 +24,7 @@ vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t s
  * default: the oracle, timed by bench). */
 #define PACKET_REFERENCE_NAME "reference"
 
-/* A build of the packet integrator (src/integrator_packet.c) for one vector level: sample(p, i, j,
+/* A build of the packet integrator (src/render/cpu/integrator_packet.c) for one vector level: sample(p, i, j,
  * lanes, sample_index, out) sets out[k] = integrator_sample(p, i + k, j, sample_index) for
  * k < lanes (<= width), bit for bit, computing all of them at once; never fails. */
 typedef struct packet_integrator {
@@ -32,15 +37,15 @@ typedef struct packet_integrator {
 /* Scenes of at most this many spheres are intersected packet against every sphere; bigger ones
  * through the BVH. */
 #define PACKET_BRUTE_FORCE_MAX 16
-/* The widest packet that walks the BVH well: measured on the development machine (AMD EPYC,
- * AVX-512), the 8-lane AVX2 build renders 1,000 to 1,000,000 random spheres 15-25% faster than
- * the 16-lane one, which is 25-30% faster where every sphere is tested. */
+/* The widest packet that walks the BVH well: wider packets drag more lanes through nodes only
+ * some of them enter (docs/PERF.md, "Integrator and shaders"), while they win where every sphere
+ * is tested. */
 #define PACKET_WALK_LANES_MAX 8
 
 /* 1 when the packet integrators walk the BVH for this scene (it has one and more than
  * PACKET_BRUTE_FORCE_MAX spheres), 0 when they test every sphere; never fails. */
 static inline int integrator_packet_walks(const packed_scene *p) {
-    return p->frame.settings.w > 0 && p->frame.size.z > PACKET_BRUTE_FORCE_MAX;
+    return p->frame.node_count > 0 && p->frame.sphere_count > PACKET_BRUTE_FORCE_MAX;
 }
 
 /* The packet integrators this processor runs into list, fastest first (the reference last);
@@ -50,6 +55,8 @@ int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]);
  * for the scene: the first listed, or with walks_bvh the first of at most PACKET_WALK_LANES_MAX
  * lanes; never fails (warns, falls back to the fastest). */
 packet_integrator integrator_packet_choose(const char *wanted, bool walks_bvh);
+/* The build that renders path mode: integrator_path_sample one lane at a time; never fails. */
+packet_integrator integrator_packet_path(void);
 
 /* Nearest sphere hit by the ray o + t d (|d| = 1) with t > EPS, -1 on a miss; `self` is the
  * sphere the ray leaves (-1 for none): its near root is the ray's own origin and is ignored. */

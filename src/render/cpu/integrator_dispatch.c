@@ -41,6 +41,16 @@ static void sample_reference(const packed_scene *p, uint32_t i, uint32_t j, uint
     for (uint32_t k = 0; k < lanes; k++) out[k] = integrator_sample(p, i + k, j, sample_index);
 }
 
+static void sample_path(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                        uint32_t sample_index, vec3 *out) {
+    for (uint32_t k = 0; k < lanes; k++)
+        out[k] = integrator_path_sample(p, i + k, j, sample_index);
+}
+
+packet_integrator integrator_packet_path(void) {
+    return (packet_integrator){"path-reference", 8, sample_path};
+}
+
 /* Every build compiled into this binary, fastest first, with what it needs to run. */
 static const struct {
     packet_integrator build;

@@ -1,16 +1,17 @@
 /* integrator_packet.c: the C integrator over a packet of PACKET_LANES samples at once (the same
  * sample of a run of pixels in one row). Each lane does the very operations of integrator.c,
- * through the shared steps of integrator_steps.h, so the images are bit-identical to it (tested);
+ * through the shared steps of shaders/common/, so the images are bit-identical to it (tested);
  * the loops over lanes compile to SIMD, the lanes' diverging paths become selects. */
 #include <math.h>
 #include <string.h>
 
+#include "common/ray.h"
+#include "common/rng.h"
+#include "common/shade.h"
 #include "render/cpu/integrator.h"
-#include "render/cpu/integrator_steps.h"
-#include "render/rng.h"
 
 /* Built once per vector level (CMakeLists.txt): PACKET_LANES lanes, the entry point named
- * integrator_sample_packet_<PACKET_VARIANT>; src/integrator_dispatch.c picks one at run time. */
+ * integrator_sample_packet_<PACKET_VARIANT>; src/render/cpu/integrator_dispatch.c picks one at run time. */
 #ifndef PACKET_LANES
 #define PACKET_LANES 8
 #define PACKET_VARIANT baseline
@@ -20,14 +21,9 @@
 #define PACKET_ENTRY(variant) PACKET_ENTRY_NAME(variant)
 /* A packet's active lanes walk the BVH together when there are at least this many (fewer walk it
  * one by one): three eighths of the lanes for nearest hits, 2 for shadow rays, which converge on
- * their light and end at the first blocker. Measured on 8 lanes (min of 5 alternating one-thread
- * runs) on random scenes of 1,000 to 1,000,000 spheres and sphereflakes of depth 3 and 5, over
- * the BVH of 32 bins: against 6 and 3 lanes (the best over the trees of 16 bins) 3-6% less render
- * time; 2 or 1 lane do as well.
+ * their light and end at the first blocker (the thresholds were measured: docs/PERF.md).
  * Lanes of every direction walk together: split by the octant of their directions, the
- * cosine-distributed bounce rays of a 16-lane packet made groups too small to walk together,
- * and their one-by-one walks cost 20% more render time at 1,000 and 1,000,000 spheres (the same
- * on 8 lanes). */
+ * cosine-distributed bounce rays made groups too small to walk together. */
 #define WALK_GROUP_MIN (LANES * 3 / 8)
 #define SHADOW_WALK_GROUP_MIN 2
 
@@ -61,7 +57,7 @@ LANE_FN void blend_hits(float_lanes *best, int_lanes *id, const float_lanes *ts,
 /* best[k], id[k] = ts[k], s where ts[k] < best[k]: sphere s is nearer than the hit so far (spheres
  * must come in increasing order for the tie rule to hold). In vector registers: the equivalent
  * loop over lanes compiles to masked stores, whose reloads stall the next sphere's update. */
-LANE_FN void keep_nearer(float *best, int *id, const float *ts, int s) {
+LANE_FN void keep_nearer_in_order(float *best, int *id, const float *ts, int s) {
     float_lanes b, t;
     int_lanes i;
     memcpy(&b, best, sizeof b);
@@ -73,10 +69,11 @@ LANE_FN void keep_nearer(float *best, int *id, const float *ts, int s) {
     memcpy(id, &i, sizeof i);
 }
 
-/* keep_nearer with the whole tie rule (nearer_hit): sphere s also wins a tie with a higher index,
- * so the order of a walk's leaves cannot change the hit. The rule is taken lane by lane: as one
+/* keep_nearer_in_order with the whole tie rule (nearer_hit): sphere s also wins a tie with a
+ * higher index, so the order of a walk's leaves cannot change the hit (keep_nearer of
+ * shaders/intersect.glsl). The rule is taken lane by lane: as one
  * vector expression gcc 12 scalarizes the loops around it. */
-LANE_FN void keep_nearer_tie(float *best, int *id, const float *ts, int s) {
+LANE_FN void keep_nearer(float *best, int *id, const float *ts, int s) {
     int32_t takes[LANES];
     for (int k = 0; k < LANES; k++) takes[k] = -nearer_hit(ts[k], s, best[k], id[k]);
     float_lanes b, t;
@@ -114,9 +111,9 @@ LANE_FN void packet_sphere(const packed_scene *p, uint32_t s, const lanes3 *o, c
     for (int k = 0; k < LANES; k++)
         ts[k] = sphere_distance(cx, cy, cz, r, get3(o, k), get3(d, k), tmin[k], (int)s == self[k]);
     if (tie)
-        keep_nearer_tie(best, id, ts, (int)s);
-    else
         keep_nearer(best, id, ts, (int)s);
+    else
+        keep_nearer_in_order(best, id, ts, (int)s);
 }
 
 /* 1 when every active lane has a hit. */
@@ -148,8 +145,8 @@ LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d
             const struct gpu_bvh_node *n = &p->nodes[first];
             float tl[LANES], tr[LANES], near_l, near_r;
             for (int k = 0; k < LANES; k++) {
-                tl[k] = box_entry(&n->left_lo, &n->left_hi, get3(o, k), get3(&inv, k), best[k]);
-                tr[k] = box_entry(&n->right_lo, &n->right_hi, get3(o, k), get3(&inv, k), best[k]);
+                tl[k] = box_entry(n->left_lo, n->left_hi, get3(o, k), get3(&inv, k), best[k]);
+                tr[k] = box_entry(n->right_lo, n->right_hi, get3(o, k), get3(&inv, k), best[k]);
             }
             near_l = lanes_min(tl);
             near_r = lanes_min(tr);
@@ -177,9 +174,8 @@ LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d
 
 /* packet_walk for nearest hits and for shadow rays. The 8-lane builds compile each once, out of
  * line: inlined at every trace, the walk made their entry point big enough to slow down scenes
- * that never walk (-15..-25% on the default scene in the baseline build). The 16-lane build
- * inlines them: out of line it lost 12-20% on scenes that walk (random spheres, 1,000 to
- * 1,000,000). */
+ * that never walk. The 16-lane build inlines them: out of line it lost on scenes that walk
+ * (docs/PERF.md). */
 #if LANES > 8
 #define WALK_FN LANE_FN
 #else
@@ -212,7 +208,7 @@ LANE_FN void packet_trace(const packed_scene *p, const lanes3 *o, const lanes3 *
         rays += active[k];
     }
     integrator_count_rays((uint64_t)rays);
-    uint32_t count = p->frame.size.z;
+    uint32_t count = p->frame.sphere_count;
     if (!integrator_packet_walks(p)) {
         for (uint32_t s = 0; s < count; s++) packet_sphere(p, s, o, d, self, tmin, 0, t, id);
     } else if (rays >= (any_hit ? SHADOW_WALK_GROUP_MIN : WALK_GROUP_MIN)) {
@@ -234,7 +230,7 @@ LANE_FN void packet_trace(const packed_scene *p, const lanes3 *o, const lanes3 *
 LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d, int *self,
                                     const int *active_in, lanes3 *weight, lanes3 *pos, lanes3 *n,
                                     int *result) {
-    uint32_t bounces = p->frame.settings.y;
+    uint32_t bounces = p->frame.bounces;
     int active[LANES];
     float tmax[LANES];
     for (int k = 0; k < LANES; k++) {
@@ -275,13 +271,12 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
             set3(&nout, k, nk);
         }
         for (int k = 0; k < LANES; k++) { /* mirror and glass lanes go on */
-            vec3 next_o, next_d;
-            specular_next(get3(&hit_pos, k), get3(&nout, k), get3(d, k),
-                          material[k] == TZ_MATERIAL_REFRACTIVE, ior[k], &next_o, &next_d);
+            next_ray next = specular_next(get3(&hit_pos, k), get3(&nout, k), get3(d, k),
+                                          material[k] == TZ_MATERIAL_REFRACTIVE, ior[k]);
             set3(weight, k,
                  select3(onward[k], v3_mul(get3(weight, k), get3(&tint, k)), get3(weight, k)));
-            set3(o, k, select3(onward[k], next_o, get3(o, k)));
-            set3(d, k, select3(onward[k], next_d, get3(d, k)));
+            set3(o, k, select3(onward[k], next.o, get3(o, k)));
+            set3(d, k, select3(onward[k], next.d, get3(d, k)));
             self[k] = onward[k] ? id[k] : self[k];
             active[k] = onward[k];
         }
@@ -304,7 +299,7 @@ LANE_FN void packet_gather_phong(const packed_scene *p, const int *id, phong_lan
     }
 }
 
-/* Normalized Phong BRDF per lane (phong_brdf of integrator.c); powf only where a lane needs it. */
+/* Normalized Phong BRDF per lane (sphere_brdf of integrator.c); powf only where a lane needs it. */
 LANE_FN void packet_phong(const phong_lanes *m, const lanes3 *n, const lanes3 *wi, const lanes3 *wo,
                           const int *active, lanes3 *f) {
     float x[LANES], lobe[LANES];
@@ -345,17 +340,18 @@ LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lan
         set3(&o, k, offset_origin(pk, get3(n, k)));
         set3(sum, k, v3(0.0f, 0.0f, 0.0f));
     }
-    for (uint32_t l = 0; l < p->frame.size.w; l++) {
+    for (uint32_t l = 0; l < p->frame.light_count; l++) {
         lanes3 wi, light, f;
-        float dist[LANES], cos_i;
+        float dist[LANES];
         int facing[LANES], blocker[LANES];
         float blocker_t[LANES];
+        tz_vec4 position_power = p->lights[l].position_power, color = p->lights[l].color;
         for (int k = 0; k < LANES; k++) {
-            vec3 wik;
-            set3(&light, k,
-                 point_light(&p->lights[l], get3(pos, k), get3(n, k), &wik, &dist[k], &cos_i));
-            set3(&wi, k, wik);
-            facing[k] = active[k] & !(cos_i <= 0.0f);
+            light_sample ls = point_light(position_power, color, get3(pos, k), get3(n, k));
+            set3(&light, k, ls.radiance);
+            set3(&wi, k, ls.wi);
+            dist[k] = ls.dist;
+            facing[k] = active[k] & !(ls.cos_i <= 0.0f);
         }
         if (!any_lane(facing)) continue;
         packet_trace(p, &o, &wi, id, dist, facing, 1, blocker, blocker_t);
@@ -431,13 +427,15 @@ void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j,
     lanes3 o, d, weight, pos, n, wo, radiance;
     for (int k = 0; k < LANES; k++) {
         active[k] = (uint32_t)k < lanes;
-        rng[k] = rng_seed(fr->settings.x, j * fr->size.x + i + (uint32_t)k, sample_index);
+        rng[k] = rng_seed(fr->seed, j * fr->width + i + (uint32_t)k, sample_index);
         /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag.
          */
         float u = rng_next(&rng[k]), v = rng_next(&rng[k]);
-        if (!(fr->settings.z & TZ_FLAG_JITTER)) u = v = 0.5f;
-        set3(&o, k, xyz(fr->origin));
-        set3(&d, k, camera_direction(fr, i + (uint32_t)k, j, u, v));
+        if (!(fr->flags & TZ_FLAG_JITTER)) u = v = 0.5f;
+        vec3 dk =
+            camera_direction(fr->right, fr->up, fr->forward, fr->origin.w, i + (uint32_t)k, j, u, v);
+        set3(&d, k, dk);
+        set3(&o, k, camera_origin(fr->origin, fr->near_distance, dk));
         set3(&weight, k, v3(1.0f, 1.0f, 1.0f));
         self[k] = -1;
     }
@@ -445,7 +443,7 @@ void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j,
     int diffuse[LANES];
     packet_diffuse_hits(active, id, &d, diffuse, &wo);
     packet_direct_light(p, id, &pos, &n, &wo, diffuse, &radiance);
-    if (fr->settings.z & TZ_FLAG_INDIRECT)
+    if (fr->flags & TZ_FLAG_INDIRECT)
         packet_indirect_light(p, id, &pos, &n, &wo, diffuse, rng, &radiance);
     vec3 background = xyz(fr->background);
     for (int k = 0; k < LANES; k++)

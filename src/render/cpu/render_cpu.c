@@ -111,7 +111,9 @@ bool render_cpu(const scene *s, const render_opts *opts, film *f) {
         return false;
     }
     cpu_job job = {.packed = &packed, .film = f, .samples = opts->samples};
-    job.packet = integrator_packet_choose(opts->cpu_build, integrator_packet_walks(&packed));
+    job.packet = opts->mode == RENDER_MODE_PATH
+                     ? integrator_packet_path()
+                     : integrator_packet_choose(opts->cpu_build, integrator_packet_walks(&packed));
     log_debug("cpu back end: packet integrator build %s, %u lanes", job.packet.name,
               job.packet.width);
     job.tiles_x = (s->width + TILE_SIZE - 1) / TILE_SIZE;

@@ -38,6 +38,8 @@
 #define MIN_CHARGED_PIXELS 1024u
 /* Loop passes a ray's BVH walk must be allowed at least on lavapipe for a scene to be tried. */
 #define MIN_WALK_BUDGET 256u
+/* The buffers of the packed scene: frame, spheres, lights, BVH nodes and emitters. */
+#define INPUT_BUFFERS 5
 /* Bytes a pixel takes in each accumulation buffer (sums, compensation): a vec4. */
 #define ACCUM_PIXEL_BYTES (4u * sizeof(float))
 
@@ -52,7 +54,7 @@ _Static_assert(offsetof(spec_data, scene) == TZ_SPEC_SCENE * sizeof(uint32_t),
 
 typedef struct vk_render {
     vk_context ctx;
-    vk_buffer frame, spheres, lights, nodes, accum, accum_comp, counter;
+    vk_buffer frame, spheres, lights, nodes, emitters, accum, accum_comp, counter;
     vk_buffer upload;   /* staging for the inputs when device memory is not mapped */
     vk_buffer readback; /* staging: the counters at 0, the accumulation at 16 */
     vk_kernel kernel;
@@ -138,12 +140,14 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    size_t sphere_bytes = (p->frame.size.z ? p->frame.size.z : 1u) * sizeof *p->spheres;
-    size_t light_bytes = (p->frame.size.w ? p->frame.size.w : 1u) * sizeof *p->lights;
+    size_t sphere_bytes = (p->frame.sphere_count ? p->frame.sphere_count : 1u) * sizeof *p->spheres;
+    size_t light_bytes = (p->frame.light_count ? p->frame.light_count : 1u) * sizeof *p->lights;
     /* Without a BVH one zeroed node keeps the binding valid; the shader never reads it. */
     static const struct gpu_bvh_node no_nodes[1];
-    const void *nodes = p->frame.settings.w ? (const void *)p->nodes : (const void *)no_nodes;
-    size_t node_bytes = (p->frame.settings.w ? p->frame.settings.w : 1u) * sizeof *p->nodes;
+    const void *nodes = p->frame.node_count ? (const void *)p->nodes : (const void *)no_nodes;
+    size_t node_bytes = (p->frame.node_count ? p->frame.node_count : 1u) * sizeof *p->nodes;
+    size_t emitter_bytes =
+        (p->frame.emitter_count ? p->frame.emitter_count : 1u) * sizeof *p->emitters;
     /* Rows padded to whole tiles: every band binding of TILE_SIZE rows stays inside the buffer. */
     uint64_t rows = ((uint64_t)height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
     VkDeviceSize accum_bytes = rows * (uint64_t)width * ACCUM_PIXEL_BYTES;
@@ -157,6 +161,8 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
         !vk_buffer_create(ctx, node_bytes, texels, VK_MEMORY_DEVICE, &r->nodes) ||
         /* As uints: child references are not floats (a GPU may flush their denormal bits). */
         !vk_buffer_create_view(ctx, &r->nodes, VK_FORMAT_R32G32B32A32_UINT) ||
+        !vk_buffer_create(ctx, emitter_bytes, texels, VK_MEMORY_DEVICE, &r->emitters) ||
+        !vk_buffer_create_view(ctx, &r->emitters, VK_FORMAT_R32G32B32A32_SFLOAT) ||
         !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum) ||
         !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum_comp) ||
         !vk_buffer_create(ctx, TZ_COUNTER_WORDS * sizeof(uint32_t), storage, VK_MEMORY_DEVICE,
@@ -168,18 +174,23 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
                               &r->readback))
             return false;
     }
-    const void *data[] = {&p->frame, p->spheres, p->lights, nodes};
-    vk_buffer *targets[] = {&r->frame, &r->spheres, &r->lights, &r->nodes};
-    size_t sizes[] = {sizeof p->frame, sphere_bytes, light_bytes, node_bytes};
-    if (r->frame.mapped && r->spheres.mapped && r->lights.mapped && r->nodes.mapped) {
-        for (int k = 0; k < 4; k++) memcpy(targets[k]->mapped, data[k], sizes[k]);
+    const void *data[INPUT_BUFFERS] = {&p->frame, p->spheres, p->lights, nodes, p->emitters};
+    vk_buffer *targets[INPUT_BUFFERS] = {&r->frame, &r->spheres, &r->lights, &r->nodes,
+                                         &r->emitters};
+    size_t sizes[INPUT_BUFFERS] = {sizeof p->frame, sphere_bytes, light_bytes, node_bytes,
+                                   emitter_bytes};
+    bool mapped = true;
+    size_t total = 0;
+    for (int k = 0; k < INPUT_BUFFERS; k++) mapped &= targets[k]->mapped != NULL, total += sizes[k];
+    if (mapped) {
+        for (int k = 0; k < INPUT_BUFFERS; k++) memcpy(targets[k]->mapped, data[k], sizes[k]);
         return true;
     }
-    if (!vk_buffer_create(ctx, sizes[0] + sizes[1] + sizes[2] + sizes[3],
-                          VK_BUFFER_USAGE_TRANSFER_SRC_BIT, VK_MEMORY_UPLOAD, &r->upload))
+    if (!vk_buffer_create(ctx, total, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, VK_MEMORY_UPLOAD,
+                          &r->upload))
         return false;
     size_t offset = 0;
-    for (int k = 0; k < 4; k++) {
+    for (int k = 0; k < INPUT_BUFFERS; k++) {
         memcpy((char *)r->upload.mapped + offset, data[k], sizes[k]);
         offset += sizes[k];
     }
@@ -189,9 +200,10 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
 /* Copies the staged inputs into place (when staged) and zeroes the accumulation buffers. */
 static void record_setup(vk_render *r) {
     if (r->upload.buffer) {
-        vk_buffer *targets[] = {&r->frame, &r->spheres, &r->lights, &r->nodes};
+        vk_buffer *targets[INPUT_BUFFERS] = {&r->frame, &r->spheres, &r->lights, &r->nodes,
+                                             &r->emitters};
         VkDeviceSize offset = 0;
-        for (int k = 0; k < 4; k++) {
+        for (int k = 0; k < INPUT_BUFFERS; k++) {
             VkBufferCopy copy = {offset, 0, targets[k]->size};
             vkCmdCopyBuffer(r->cmd, r->upload.buffer, targets[k]->buffer, 1, &copy);
             offset += targets[k]->size;
@@ -213,7 +225,7 @@ _Static_assert((uint64_t)(TILE_SIZE / TZ_GROUP_X) * (TILE_SIZE / TZ_GROUP_Y) *
                    UINT32_MAX,
                "trace.comp's workgroup n * stride stays within 32 bits");
 
-/* The workgroup stride of a dispatch of `groups` workgroups (gpu_pass.total.y): coprime with
+/* The workgroup stride of a dispatch of `groups` workgroups (gpu_pass.group_stride): coprime with
  * it, so every block is rendered once, and near groups / golden ratio, so that any run of
  * consecutive workgroups spreads evenly over the tile (a Weyl sequence). */
 static uint32_t workgroup_stride(uint32_t groups) {
@@ -266,8 +278,12 @@ static void record_steps(vk_render *r, const pass_plan *plan, uint64_t first, ui
         uint32_t tw = plan->width - x0 < TILE_SIZE ? plan->width - x0 : TILE_SIZE;
         uint32_t gx = (tw + TZ_GROUP_X - 1u) / TZ_GROUP_X;
         uint32_t gy = (th + TZ_GROUP_Y - 1u) / TZ_GROUP_Y;
-        struct gpu_pass push = {.tile = {x0, y0, sample, count},
-                                .total = {plan->samples, workgroup_stride(gx * gy), 0u, 0u}};
+        struct gpu_pass push = {.x0 = x0,
+                                .y0 = y0,
+                                .first_sample = sample,
+                                .sample_count = count,
+                                .total_samples = plan->samples,
+                                .group_stride = workgroup_stride(gx * gy)};
         vkCmdPushConstants(cmd, r->kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push,
                            &push);
         vkCmdDispatch(cmd, gx, gy, 1);
@@ -381,12 +397,25 @@ static pass_plan plan_passes(const vk_context *ctx, const scene *s, const render
     return plan;
 }
 
+/* Worst-case loop passes of one sample of the scene's mode when a ray costs what testing
+ * `spheres` spheres does (vk_probe.h). */
+static uint64_t sample_iterations(const scene *s, const render_opts *opts, uint32_t spheres) {
+    uint32_t lights = (uint32_t)s->light_count, bounces = (uint32_t)opts->bounces;
+    if (opts->mode != RENDER_MODE_PATH)
+        return vk_probe_sample_iterations(spheres, lights, bounces, opts->indirect);
+    uint32_t emitters = 0;
+    for (int k = 0; k < s->sphere_count; k++) {
+        vec3 e = s->spheres[k].emission;
+        emitters += e.x > 0.0f || e.y > 0.0f || e.z > 0.0f;
+    }
+    return vk_probe_path_iterations(spheres, lights, bounces, emitters);
+}
+
 /* The most passes one ray's BVH walk may take on lavapipe so that a sample, every ray walking
  * that far, stays within the safe limit; 0 when even walks of no length do not fit. */
 static uint32_t walk_budget(const scene *s, const render_opts *opts) {
-    uint32_t lights = (uint32_t)s->light_count, bounces = (uint32_t)opts->bounces;
-    uint64_t fixed = vk_probe_sample_iterations(0u, lights, bounces, opts->indirect);
-    uint64_t rays = vk_probe_sample_iterations(1u, lights, bounces, opts->indirect) - fixed;
+    uint64_t fixed = sample_iterations(s, opts, 0u);
+    uint64_t rays = sample_iterations(s, opts, 1u) - fixed;
     if (fixed + 1u >= VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) return 0u;
     return (uint32_t)((VK_PROBE_LAVAPIPE_SAFE_ITERATIONS - 1u - fixed) / rays);
 }
@@ -398,8 +427,9 @@ static void render_destroy(vk_render *r) {
         if (r->fence) vkDestroyFence(ctx->device, r->fence, NULL);
         if (r->cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &r->cmd);
         vk_kernel_destroy(ctx, &r->kernel);
-        vk_buffer *buffers[] = {&r->readback, &r->upload, &r->counter, &r->accum_comp, &r->accum,
-                                &r->nodes,    &r->lights, &r->spheres, &r->frame};
+        vk_buffer *buffers[] = {&r->readback, &r->upload,   &r->counter, &r->accum_comp,
+                                &r->accum,    &r->emitters, &r->nodes,   &r->lights,
+                                &r->spheres,  &r->frame};
         for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; k++)
             vk_buffer_destroy(ctx, buffers[k]);
     }
@@ -409,24 +439,21 @@ static void render_destroy(vk_render *r) {
  * lavapipe by TZ_SPEC_WALK_BUDGET passes as if it tested that many spheres (a guess of 64 sizes
  * the dispatches elsewhere). */
 static strategy choose_strategy(const vk_context *ctx, const scene *s, const render_opts *opts) {
-    uint32_t spheres = (uint32_t)s->sphere_count, lights = (uint32_t)s->light_count;
-    uint32_t bounces = (uint32_t)opts->bounces;
+    uint32_t spheres = (uint32_t)s->sphere_count;
     strategy st = {.unrolled_spheres = spheres <= TZ_UNROLL_MAX_SPHERES ? spheres : 0u};
     st.use_bvh = !opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u;
     bool lavapipe = vk_context_is_lavapipe(ctx);
     st.walk = st.use_bvh && lavapipe ? walk_budget(s, opts) : 0u;
     /* Unrolled sphere tests are no loop: a ray then costs only its own loop passes. */
-    uint64_t every_sphere = vk_probe_sample_iterations(st.unrolled_spheres ? 0u : spheres, lights,
-                                                       bounces, opts->indirect);
+    uint64_t every_sphere = sample_iterations(s, opts, st.unrolled_spheres ? 0u : spheres);
     /* Many lights leave each walk too few passes; testing every sphere may still fit. */
     if (st.use_bvh && lavapipe && st.walk < MIN_WALK_BUDGET &&
         every_sphere < VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
         st.use_bvh = false;
         st.walk = 0u;
     }
-    st.sample_iterations = st.use_bvh ? vk_probe_sample_iterations(lavapipe ? st.walk : 64u, lights,
-                                                                   bounces, opts->indirect)
-                                      : every_sphere;
+    st.sample_iterations =
+        st.use_bvh ? sample_iterations(s, opts, lavapipe ? st.walk : 64u) : every_sphere;
     return st;
 }
 
@@ -442,19 +469,20 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
         [TZ_BINDING_COUNTERS] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
         [TZ_BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         [TZ_BINDING_ACCUM_COMP] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC,
+        [TZ_BINDING_EMITTERS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
     };
     /* Small scenes get their sphere and light loops unrolled, and their spheres and lights
      * become specialization constants: the unrolled tests read immediates, and the loop
      * bookkeeping disappears (each such scene compiles its own pipeline, which Mesa's shader
      * cache keeps). The flags compile out the indirect bounce when it is off. */
-    uint32_t lights = packed->frame.size.w;
+    uint32_t lights = packed->frame.light_count;
     bool unroll_lights =
         lights <= TZ_UNROLL_MAX_LIGHTS &&
         (st->unrolled_spheres == 0u || st->unrolled_spheres * lights <= UNROLL_MAX_SHADOW_TESTS);
     spec_data constants = {.words = {
                                [TZ_SPEC_UNROLLED_SPHERES] = st->unrolled_spheres,
                                [TZ_SPEC_UNROLLED_LIGHTS] = unroll_lights ? lights : 0u,
-                               [TZ_SPEC_FLAGS] = packed->frame.settings.z,
+                               [TZ_SPEC_FLAGS] = packed->frame.flags,
                                [TZ_SPEC_WALK_BUDGET] = st->walk,
                            }};
     /* The unrolled spheres and lights, zero past the scene's (the shader reads none of those). */
@@ -472,7 +500,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
         .code = trace_spv,
         .code_size = sizeof trace_spv,
         .types = types,
-        .binding_count = 7,
+        .binding_count = TZ_BINDING_COUNT,
         .push_size = sizeof(struct gpu_pass),
     };
     VkFenceCreateInfo fence_info = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
@@ -483,7 +511,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
         [TZ_BINDING_FRAME] = &r->frame,           [TZ_BINDING_SPHERES] = &r->spheres,
         [TZ_BINDING_LIGHTS] = &r->lights,         [TZ_BINDING_ACCUM] = &r->accum,
         [TZ_BINDING_COUNTERS] = &r->counter,      [TZ_BINDING_NODES] = &r->nodes,
-        [TZ_BINDING_ACCUM_COMP] = &r->accum_comp,
+        [TZ_BINDING_ACCUM_COMP] = &r->accum_comp, [TZ_BINDING_EMITTERS] = &r->emitters,
     };
     const VkDeviceSize band = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)width * ACCUM_PIXEL_BYTES;
     const VkDeviceSize ranges[] = {
@@ -491,6 +519,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
         [TZ_BINDING_LIGHTS] = VK_WHOLE_SIZE,   [TZ_BINDING_ACCUM] = band,
         [TZ_BINDING_COUNTERS] = VK_WHOLE_SIZE, [TZ_BINDING_NODES] = VK_WHOLE_SIZE,
         [TZ_BINDING_ACCUM_COMP] = band, /* the same band rows as the sums */
+        [TZ_BINDING_EMITTERS] = VK_WHOLE_SIZE,
     };
     vk_kernel_bind(&r->ctx, &r->kernel, buffers, ranges);
     return true;

@@ -1,0 +1,132 @@
+/* dialect.h: what differs between C11 and GLSL 4.50 for the shared steps of shaders/common/, so
+ * that one text compiles as both. The steps use vec3, v3(), the v3_* helpers and these macros;
+ * each language gets the same operations in the same order (C through util/vec3.h, GLSL through
+ * its operators), so both back ends compute the same bits. */
+#ifndef TRAZADOR_COMMON_DIALECT_H
+#define TRAZADOR_COMMON_DIALECT_H
+
+#include "../shared_layout.h"
+
+#ifdef GL_core_profile
+
+/* precise forbids glslang and the driver to fuse (a * b + c) or reorder: the C compiler does
+ * neither (-ffp-contract=off), and without it lavapipe's images change. */
+#define TZ_PRECISE precise
+#define TZ_FN
+#define TZ_BOOL bool
+#define TZ_UINT uint
+/* C's branch-free & and | on 0/1 ints are && and || on GLSL bools. */
+#define TZ_AND &&
+#define TZ_OR ||
+#define TZ_INOUT(type) inout type
+#define TZ_DEREF(x) (x)
+#define TZ_INFINITY uintBitsToFloat(0x7f800000u)
+#define TZ_FLOAT(x) float(x)
+#define TZ_SQRT(x) sqrt(x)
+#define TZ_POW(x, y) pow(x, y)
+#define TZ_ABS(x) abs(x)
+#define TZ_MAX(a, b) max(a, b)
+#define TZ_MIN(a, b) min(a, b)
+#define TZ_COS(x) cos(x)
+#define TZ_SIN(x) sin(x)
+#define TZ_INT(x) int(x)
+#define TZ_TRUE true
+#define TZ_FALSE false
+/* An argument to a TZ_INOUT parameter, from a local variable. */
+#define TZ_REF(x) (x)
+#define TZ_UNROLL [[unroll]]
+/* The scene: globals of the shader (frame, the accessors), so no parameter. */
+#define TZ_SCENE_PARAM
+#define TZ_SCENE_ARG
+#define TZ_SCENE_ONLY
+#define TZ_FRAME frame
+/* A struct type: `TZ_STRUCT(name) { ... } TZ_STRUCT_END(name)`. */
+#define TZ_STRUCT(name) struct name
+#define TZ_STRUCT_END(name) ;
+
+#define v3 vec3
+#define v3_add(a, b) ((a) + (b))
+#define v3_sub(a, b) ((a) - (b))
+#define v3_mul(a, b) ((a) * (b))
+#define v3_scale(a, s) ((a) * (s))
+#define select3(c, a, b) ((c) ? (a) : (b))
+#define xyz(v) ((v).xyz)
+#define uint_bits(f) floatBitsToUint(f)
+
+/* Written out so that every sum runs in the C order: GLSL's dot(), length() and normalize()
+ * promise neither an order nor a rounding. */
+float v3_dot(vec3 a, vec3 b) {
+    precise float r = a.x * b.x + a.y * b.y + a.z * b.z;
+    return r;
+}
+
+float v3_length(vec3 a) {
+    precise float r = sqrt(v3_dot(a, a));
+    return r;
+}
+
+vec3 v3_normalize(vec3 a) {
+    precise vec3 r = a * (1.0 / v3_length(a));
+    return r;
+}
+
+float v3_max_abs(vec3 a) { return max(abs(a.x), max(abs(a.y), abs(a.z))); }
+
+#else
+
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "util/vec3.h"
+
+#define TZ_PRECISE
+#define TZ_FN static inline
+#define TZ_BOOL int
+#define TZ_UINT uint32_t
+#define TZ_AND &
+#define TZ_OR |
+#define TZ_INOUT(type) type*
+#define TZ_DEREF(x) (*(x))
+#define TZ_INFINITY INFINITY
+#define TZ_FLOAT(x) ((float)(x))
+#define TZ_SQRT(x) sqrtf(x)
+#define TZ_POW(x, y) powf(x, y)
+/* Selects rather than fabsf and fmaxf: the code the C integrator was measured with. */
+#define TZ_ABS(x) ((x) < 0.0f ? -(x) : (x))
+#define TZ_MAX(a, b) ((a) > (b) ? (a) : (b))
+#define TZ_MIN(a, b) ((a) < (b) ? (a) : (b))
+#define TZ_COS(x) cosf(x)
+#define TZ_SIN(x) sinf(x)
+#define TZ_INT(x) ((int)(x))
+#define TZ_TRUE 1
+#define TZ_FALSE 0
+#define TZ_REF(x) (&(x))
+#define TZ_UNROLL
+/* The scene: a packed_scene parameter named scene, first (the includer declares the type and
+ * the accessors). */
+#define TZ_SCENE_PARAM const packed_scene *scene,
+#define TZ_SCENE_ARG scene,
+#define TZ_SCENE_ONLY scene
+#define TZ_FRAME (scene->frame)
+#define TZ_STRUCT(name) typedef struct name
+#define TZ_STRUCT_END(name) name;
+
+/* a where c is true, else b, component by component (selects, not branches: SIMD-friendly). */
+static inline vec3 select3(int c, vec3 a, vec3 b) {
+    return v3(c ? a.x : b.x, c ? a.y : b.y, c ? a.z : b.z);
+}
+
+/* xyz of a packed vec4. */
+static inline vec3 xyz(tz_vec4 v) { return v3(v.x, v.y, v.z); }
+
+/* The bits of a float (the BVH stores child references in floats' places). */
+static inline uint32_t uint_bits(float f) {
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+#endif
+
+#endif

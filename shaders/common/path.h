@@ -1,0 +1,245 @@
+/* path.h: path mode's sample (DESIGN section 3.2), one text for C and GLSL (dialect.h), on the
+ * steps of sampling.h, so that every back end draws the same numbers in the same order. The
+ * includer provides the scene: TZ_FRAME, the accessors sphere_center_radius(), sphere_color_ks(),
+ * sphere_params(), light_position_power(), light_color(), light_count(), emitter_emission_pick()
+ * and emitter_sphere_cdf(), and integrator_nearest() and integrator_occluded(), each taking
+ * TZ_SCENE_ARG first (dialect.h). */
+#ifndef TRAZADOR_COMMON_PATH_H
+#define TRAZADOR_COMMON_PATH_H
+
+#include "dialect.h"
+#include "ray.h"
+#include "rng.h"
+#include "sampling.h"
+#include "shade.h"
+
+/* How light sampling serves a vertex at pos (facing normal n, on sphere id) for the emitter on
+ * sphere e of centre c and radius r: by its cone from outside, by its area from inside (or on it
+ * with n pointing in), not at all on it with n pointing out (it cannot light its own outside). */
+#define LIGHT_NONE 0
+#define LIGHT_CONE 1
+#define LIGHT_AREA 2
+TZ_FN int light_strategy(vec3 pos, vec3 n, int id, int e, vec3 c, float r) {
+    TZ_PRECISE vec3 to_c = v3_sub(c, pos);
+    TZ_PRECISE float d2 = v3_dot(to_c, to_c);
+    int own = v3_dot(n, to_c) > 0.0f ? LIGHT_AREA : LIGHT_NONE;
+    int other = d2 > r * r ? LIGHT_CONE : LIGHT_AREA;
+    return id == e ? own : other;
+}
+
+/* The first emitter whose cdf exceeds u: a binary search, the last cdf being 1. */
+TZ_FN int pick_emitter(TZ_SCENE_PARAM float u) {
+    int lo = 0, hi = TZ_INT(TZ_FRAME.emitter_count) - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (u < emitter_sphere_cdf(TZ_SCENE_ARG mid).y)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    return lo;
+}
+
+/* The emitter slot of sphere id, -1 when it emits nothing. */
+TZ_FN int emitter_of(TZ_SCENE_PARAM int id) {
+    return TZ_INT(sphere_params(TZ_SCENE_ARG id).w) - 1;
+}
+
+/* The Phong BRDF of sphere id at the lobe cosine x (phong_from_lobe). */
+TZ_FN vec3 sphere_brdf_at(TZ_SCENE_PARAM int id, float x) {
+    TZ_VEC4 color_ks = sphere_color_ks(TZ_SCENE_ARG id);
+    float alpha = sphere_params(TZ_SCENE_ARG id).x;
+    float lobe = color_ks.w > 0.0f ? phong_lobe(x, alpha) : 0.0f;
+    return phong_from_lobe(xyz(color_ks), color_ks.w, alpha, lobe);
+}
+
+/* What the last non-specular vertex leaves for the MIS weight of emission its BSDF ray finds. */
+TZ_STRUCT(path_vertex) {
+    vec3 pos;
+    vec3 n;
+    int id;
+    float bsdf_pdf;
+}
+TZ_STRUCT_END(path_vertex)
+
+/* The solid-angle pdf (the pick included) with which light sampling at vertex v would have
+ * chosen the point pos on emitter sphere id, reached along d. */
+TZ_FN float light_pdf_at(TZ_SCENE_PARAM path_vertex v, int id, vec3 pos, vec3 d) {
+    TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG id);
+    vec3 c = xyz(cr);
+    float pick = emitter_emission_pick(TZ_SCENE_ARG emitter_of(TZ_SCENE_ARG id)).w;
+    int strategy = light_strategy(v.pos, v.n, v.id, id, c, cr.w);
+    TZ_PRECISE vec3 to_c = v3_sub(c, v.pos), to_hit = v3_sub(pos, v.pos);
+    TZ_PRECISE vec3 nl = v3_scale(v3_sub(pos, c), 1.0f / cr.w);
+    TZ_PRECISE float cone = pick / (2.0f * TZ_PI * cone_one_minus_cos(cr.w * cr.w, v3_dot(to_c, to_c)));
+    TZ_PRECISE float area = pick * area_pdf(cr.w, v3_dot(to_hit, to_hit), v3_dot(nl, d));
+    return strategy == LIGHT_CONE ? cone : strategy == LIGHT_AREA ? area : 0.0f;
+}
+
+/* Light from the emitter picked by ul and sampled by ua, ub at a diffuse vertex (sphere id at pos,
+ * facing normal n, wo the way back, share the BSDF's diffuse share), weighted by MIS, or alone;
+ * beta not applied. */
+TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, vec3 pos, vec3 n, vec3 wo, float share, float ul,
+                         float ua, float ub) {
+    int slot = pick_emitter(TZ_SCENE_ARG ul);
+    TZ_VEC4 emission_pick = emitter_emission_pick(TZ_SCENE_ARG slot);
+    int e = TZ_INT(uint_bits(emitter_sphere_cdf(TZ_SCENE_ARG slot).x));
+    TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG e);
+    vec3 c = xyz(cr);
+    float r = cr.w;
+    int strategy = light_strategy(pos, n, id, e, c, r);
+    if (strategy == LIGHT_NONE) return v3(0.0f, 0.0f, 0.0f);
+    vec3 wi;
+    TZ_PRECISE float pdf;
+    if (strategy == LIGHT_CONE) {
+        TZ_PRECISE vec3 to_c = v3_sub(c, pos);
+        TZ_PRECISE float d2 = v3_dot(to_c, to_c);
+        TZ_PRECISE vec3 w = v3_scale(to_c, 1.0f / TZ_SQRT(d2));
+        direction_sample s = cone_direction(w, cone_one_minus_cos(r * r, d2), ua, ub);
+        wi = s.wi;
+        pdf = emission_pick.w * s.pdf;
+    } else {
+        TZ_PRECISE vec3 q = v3_add(c, v3_scale(sphere_area_direction(ua, ub), r));
+        TZ_PRECISE vec3 to_q = v3_sub(q, pos);
+        TZ_PRECISE float dist2 = v3_dot(to_q, to_q);
+        TZ_PRECISE vec3 w = v3_scale(to_q, 1.0f / TZ_SQRT(dist2));
+        TZ_PRECISE vec3 nq = v3_scale(v3_sub(q, c), 1.0f / r);
+        wi = w;
+        pdf = emission_pick.w * area_pdf(r, dist2, v3_dot(nq, w));
+    }
+    float cos_i = v3_dot(n, wi);
+    if (!(cos_i > 0.0f) || !(pdf > 0.0f) || !(pdf < TZ_INFINITY)) return v3(0.0f, 0.0f, 0.0f);
+    vec3 o = offset_origin(pos, n);
+    float t_light = sphere_distance(c.x, c.y, c.z, r, o, wi, ray_eps(o), e == id);
+    if (!(t_light < TZ_INFINITY) || integrator_occluded(TZ_SCENE_ARG o, wi, t_light, id))
+        return v3(0.0f, 0.0f, 0.0f);
+    float x = phong_lobe_cos(n, wi, wo);
+    float b = bsdf_pdf(share, sphere_params(TZ_SCENE_ARG id).x, cos_i, x);
+    /* the MIS weight over the pdf, or 1 / pdf with light sampling alone */
+    TZ_PRECISE float mis = pdf / (pdf * pdf + b * b);
+    TZ_PRECISE float weight = (TZ_FRAME.flags & TZ_FLAG_LIGHTS_ONLY) != 0u ? 1.0f / pdf : mis;
+    TZ_PRECISE vec3 l = v3_scale(v3_mul(sphere_brdf_at(TZ_SCENE_ARG id, x), xyz(emission_pick)),
+                                 cos_i * weight);
+    return l;
+}
+
+/* Point lights at a diffuse vertex, as in seed mode's direct light; beta not applied. */
+TZ_FN vec3 point_lights(TZ_SCENE_PARAM int id, vec3 pos, vec3 n, vec3 wo) {
+    vec3 o = offset_origin(pos, n);
+    TZ_PRECISE vec3 sum = v3(0.0f, 0.0f, 0.0f);
+    TZ_UNROLL for (TZ_UINT k = 0u; k < light_count(TZ_SCENE_ONLY); k++) {
+        light_sample l = point_light(light_position_power(TZ_SCENE_ARG TZ_INT(k)),
+                                     light_color(TZ_SCENE_ARG TZ_INT(k)), pos, n);
+        if (l.cos_i <= 0.0f || integrator_occluded(TZ_SCENE_ARG o, l.wi, l.dist, id)) continue;
+        sum = v3_add(sum, v3_mul(sphere_brdf_at(TZ_SCENE_ARG id, phong_lobe_cos(n, l.wi, wo)),
+                                 l.radiance));
+    }
+    return sum;
+}
+
+/* Radiance of path-mode sample `sample_index` of pixel (i, j), i to the right, j down. */
+TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index) {
+    TZ_UINT flags = TZ_FRAME.flags;
+    TZ_UINT rng = rng_seed(TZ_FRAME.seed, j * TZ_FRAME.width + i, sample_index);
+    float u = rng_next(TZ_REF(rng)), v = rng_next(TZ_REF(rng));
+    if ((flags & TZ_FLAG_JITTER) == 0u) u = v = 0.5f;
+    vec3 d = camera_direction(TZ_FRAME.right, TZ_FRAME.up, TZ_FRAME.forward, TZ_FRAME.origin.w, i,
+                              j, u, v);
+    vec3 o = camera_origin(TZ_FRAME.origin, TZ_FRAME.near_distance, d);
+    TZ_PRECISE vec3 beta = v3(1.0f, 1.0f, 1.0f), radiance = v3(0.0f, 0.0f, 0.0f);
+    int self = -1;
+    TZ_BOOL specular = TZ_TRUE;
+    path_vertex last;
+    last.pos = o;
+    last.n = d;
+    last.id = -1;
+    last.bsdf_pdf = 0.0f;
+    for (TZ_UINT k = 1u;; k++) {
+        float t;
+        int id = integrator_nearest(TZ_SCENE_ARG o, d, self, TZ_REF(t));
+        if (id < 0) {
+            radiance = v3_add(radiance, v3_mul(beta, xyz(TZ_FRAME.background)));
+            break;
+        }
+        TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG id);
+        TZ_VEC4 params = sphere_params(TZ_SCENE_ARG id);
+        TZ_VEC4 color_ks = sphere_color_ks(TZ_SCENE_ARG id);
+        TZ_PRECISE vec3 pos = v3_add(o, v3_scale(d, t));
+        TZ_PRECISE vec3 nout = v3_scale(v3_sub(pos, xyz(cr)), 1.0f / cr.w);
+        int slot = emitter_of(TZ_SCENE_ARG id);
+        if (slot >= 0) {
+            TZ_BOOL full = specular || (flags & TZ_FLAG_BSDF_ONLY) != 0u;
+            float w = full ? 1.0f
+                      : (flags & TZ_FLAG_LIGHTS_ONLY) != 0u
+                          ? 0.0f
+                          : power_heuristic(last.bsdf_pdf, light_pdf_at(TZ_SCENE_ARG last, id, pos, d));
+            TZ_PRECISE vec3 emitted = v3_scale(v3_mul(beta, xyz(emitter_emission_pick(TZ_SCENE_ARG slot))), w);
+            radiance = v3_add(radiance, emitted);
+        }
+        if (k > TZ_FRAME.bounces) break;
+        int material = TZ_INT(params.z);
+        if (material == TZ_MATERIAL_LAMBERTIAN || material == TZ_MATERIAL_PHONG) {
+            vec3 n = facing_normal(nout, d);
+            TZ_PRECISE vec3 wo = v3_scale(d, -1.0f);
+            float share = diffuse_share(xyz(color_ks), color_ks.w);
+            TZ_PRECISE vec3 direct = point_lights(TZ_SCENE_ARG id, pos, n, wo);
+            if (TZ_FRAME.emitter_count > 0u) {
+                float ul = rng_next(TZ_REF(rng));
+                float ua = rng_next(TZ_REF(rng));
+                float ub = rng_next(TZ_REF(rng));
+                if ((flags & TZ_FLAG_BSDF_ONLY) == 0u)
+                    direct = v3_add(direct, emitter_light(TZ_SCENE_ARG id, pos, n, wo, share, ul, ua, ub));
+            }
+            radiance = v3_add(radiance, v3_mul(beta, direct));
+            float us = rng_next(TZ_REF(rng));
+            float u1 = rng_next(TZ_REF(rng));
+            float u2 = rng_next(TZ_REF(rng));
+            if (share < 0.0f) break;
+            vec3 wi;
+            if (us < share) {
+                TZ_PRECISE float phi = 2.0f * TZ_PI * u2;
+                wi = cosine_direction(n, u1, TZ_COS(phi), TZ_SIN(phi));
+            } else {
+                TZ_PRECISE vec3 wr = v3_sub(v3_scale(n, 2.0f * v3_dot(n, wo)), wo);
+                wi = phong_lobe_direction(wr, params.x, u1, u2);
+            }
+            float cos_i = v3_dot(n, wi), x = phong_lobe_cos(n, wi, wo);
+            float pdf = bsdf_pdf(share, params.x, cos_i, x);
+            if (!(cos_i > 0.0f) || !(pdf > 0.0f)) break;
+            TZ_PRECISE vec3 f = v3_scale(sphere_brdf_at(TZ_SCENE_ARG id, x), cos_i / pdf);
+            beta = v3_mul(beta, f);
+            last.pos = pos;
+            last.n = n;
+            last.id = id;
+            last.bsdf_pdf = pdf;
+            specular = TZ_FALSE;
+            o = offset_origin(pos, n);
+            d = wi;
+        } else {
+            TZ_BOOL refractive = material == TZ_MATERIAL_REFRACTIVE;
+            TZ_BOOL transmits = refractive;
+            if (refractive) {
+                float uf = rng_next(TZ_REF(rng));
+                TZ_BOOL entering = v3_dot(d, nout) < 0.0f;
+                TZ_PRECISE float eta = entering ? 1.0f / params.y : params.y;
+                TZ_PRECISE float c1 = entering ? -v3_dot(d, nout) : v3_dot(d, nout);
+                TZ_PRECISE float kk = 1.0f - eta * eta * (1.0f - c1 * c1);
+                transmits = !(uf < fresnel_dielectric(eta, c1, kk));
+            }
+            beta = v3_mul(beta, xyz(color_ks));
+            next_ray next = specular_next(pos, nout, d, transmits, params.y);
+            o = next.o;
+            d = next.d;
+            specular = TZ_TRUE;
+        }
+        self = id;
+        if (k >= 4u && (flags & TZ_FLAG_ROULETTE) != 0u) {
+            TZ_PRECISE float q = TZ_MIN(TZ_MAX(TZ_MAX(beta.x, beta.y), beta.z), 1.0f);
+            if (rng_next(TZ_REF(rng)) >= q) break;
+            beta = v3_scale(beta, 1.0f / q);
+        }
+    }
+    return radiance;
+}
+
+#endif

@@ -1,0 +1,107 @@
+/* ray.h: where rays start and what they hit, one text for C and GLSL (dialect.h): the camera
+ * ray, the ray offset, the sphere test, the tie rule and the BVH's slab test. The walks that call
+ * them differ by back end (src/render/bvh.h says why they agree). */
+#ifndef TRAZADOR_COMMON_RAY_H
+#define TRAZADOR_COMMON_RAY_H
+
+#include "dialect.h"
+
+/* Primary ray direction through the plane point of pixel (i, j) offset by (u, v) pixels
+ * (gpu_frame's right, up and forward, pixel its origin.w). */
+TZ_FN vec3 camera_direction(TZ_VEC4 right, TZ_VEC4 up, TZ_VEC4 forward, float pixel, TZ_UINT i,
+                            TZ_UINT j, float u, float v) {
+    TZ_PRECISE float x = right.w + (TZ_FLOAT(i) + u) * pixel;
+    TZ_PRECISE float y = up.w - (TZ_FLOAT(j) + v) * pixel;
+    TZ_PRECISE vec3 d = v3_add(v3_add(v3_scale(xyz(right), x), v3_scale(xyz(up), y)),
+                               v3_scale(xyz(forward), forward.w));
+    return v3_normalize(d);
+}
+
+/* Where camera rays start: `near` along their direction d from the camera (exactly the camera
+ * position when near is 0). */
+TZ_FN vec3 camera_origin(TZ_VEC4 origin, float near_distance, vec3 d) {
+    TZ_PRECISE vec3 o = v3_add(xyz(origin), v3_scale(d, near_distance));
+    return near_distance > 0.0f ? o : xyz(origin);
+}
+
+/* Ray offset distance at a point: TZ_EPS scaled with the point's magnitude, so that it grows
+ * with the float spacing away from the origin. */
+TZ_FN float ray_eps(vec3 p) {
+    float m = v3_max_abs(p);
+    TZ_PRECISE float r = TZ_EPS * TZ_MAX(m, 1.0f);
+    return r;
+}
+
+/* The origin of a ray leaving surface point p on the side its normal n points to. */
+TZ_FN vec3 offset_origin(vec3 p, vec3 n) {
+    TZ_PRECISE vec3 o = v3_add(p, v3_scale(n, ray_eps(p)));
+    return o;
+}
+
+/* Distance to the sphere (centre c, radius r) along o + t d: the nearest root greater than tmin,
+ * infinity for a miss; after Haines et al., Ray Tracing Gems ch. 7: disc = r^2 - |oc - b d|^2 and
+ * q = -b - sign(b) sqrt(disc), roots c/q and q. c = |oc|^2 - r^2 is taken on the largest
+ * component of oc, (|m| - r)(|m| + r) + the other two squared: exact when a huge wall sphere's
+ * centre lies along an axis from the ray origin. When the ray leaves this very sphere (is_self),
+ * moving inward (b < 0) only its far root counts; moving outward it cannot hit it again.
+ * Branch-free, so that loops over spheres or rays compile to SIMD. */
+TZ_FN float sphere_distance(float cx, float cy, float cz, float r, vec3 o, vec3 d, float tmin,
+                            TZ_BOOL is_self) {
+    TZ_PRECISE float ocx = o.x - cx, ocy = o.y - cy, ocz = o.z - cz;
+    TZ_PRECISE float b = ocx * d.x + ocy * d.y + ocz * d.z;
+    float ax = TZ_ABS(ocx), ay = TZ_ABS(ocy), az = TZ_ABS(ocz);
+    TZ_PRECISE float xx = ocx * ocx, yy = ocy * ocy, zz = ocz * ocz;
+    TZ_BOOL x_big = (ax >= ay) TZ_AND(ax >= az), y_big = !x_big TZ_AND(ay >= az);
+    float big = x_big ? ax : y_big ? ay : az;
+    float other1 = x_big ? yy : xx, other2 = (x_big TZ_OR y_big) ? zz : yy;
+    TZ_PRECISE float c = (big - r) * (big + r) + other1 + other2;
+    TZ_PRECISE float fx = ocx - b * d.x, fy = ocy - b * d.y, fz = ocz - b * d.z;
+    TZ_PRECISE float l = TZ_SQRT(fx * fx + fy * fy + fz * fz);
+    TZ_PRECISE float disc = (r - l) * (r + l);
+    TZ_PRECISE float root = TZ_SQRT(disc < 0.0f ? 0.0f : disc);
+    TZ_PRECISE float q = b > 0.0f ? -b - root : -b + root;
+    TZ_PRECISE float cq = c / q;
+    float t0 = cq < q ? cq : q, t1 = cq < q ? q : cq;
+    TZ_BOOL near_ok = (t0 > tmin) TZ_AND !is_self;
+    TZ_BOOL far_ok = (t1 > tmin) TZ_AND(!is_self TZ_OR(b < 0.0f));
+    float near = near_ok ? t0 : far_ok ? t1 : TZ_INFINITY;
+    TZ_BOOL miss = ((c > 0.0f) TZ_AND(b > 0.0f)) TZ_OR(disc < 0.0f) TZ_OR(q == 0.0f);
+    return miss ? TZ_INFINITY : near;
+}
+
+/* The tie rule: true when sphere k at distance t replaces the nearest hit so far (sphere id at
+ * distance best, id -1 for none): nearer, or as near with a lower index. */
+TZ_FN TZ_BOOL nearer_hit(float t, int k, float best, int id) {
+    return (t < best) TZ_OR((t == best) TZ_AND(id >= 0) TZ_AND(k < id));
+}
+
+/* 1/d with zero components of d replaced by 1e30 first, so that the slab test has no NaN. */
+TZ_FN vec3 inverse_direction(vec3 d) {
+    return v3(d.x != 0.0f ? 1.0f / d.x : 1e30f, d.y != 0.0f ? 1.0f / d.y : 1e30f,
+              d.z != 0.0f ? 1.0f / d.z : 1e30f);
+}
+
+/* Distance at which the ray enters the box lo..hi (xyz), infinity when it misses it or enters
+ * at or beyond tmax (slab test; inv from inverse_direction). Selects, not min and max: GLSL's
+ * leave NaN operands undefined; precise keeps a compiler from turning them into min and max. */
+TZ_FN float box_entry(TZ_VEC4 lo, TZ_VEC4 hi, vec3 o, vec3 inv, float tmax) {
+    TZ_PRECISE float x1 = (lo.x - o.x) * inv.x, x2 = (hi.x - o.x) * inv.x;
+    TZ_PRECISE float y1 = (lo.y - o.y) * inv.y, y2 = (hi.y - o.y) * inv.y;
+    TZ_PRECISE float z1 = (lo.z - o.z) * inv.z, z2 = (hi.z - o.z) * inv.z;
+    TZ_PRECISE float near = x1 < x2 ? x1 : x2, far = x1 < x2 ? x2 : x1;
+    TZ_PRECISE float ny = y1 < y2 ? y1 : y2, fy = y1 < y2 ? y2 : y1;
+    TZ_PRECISE float nz = z1 < z2 ? z1 : z2, fz = z1 < z2 ? z2 : z1;
+    near = near > ny ? near : ny;
+    near = near > nz ? near : nz;
+    near = near > 0.0f ? near : 0.0f;
+    far = far < fy ? far : fy;
+    far = far < fz ? far : fz;
+    return near <= far && near < tmax ? near : TZ_INFINITY;
+}
+
+/* The sphere count of a BVH child reference (0: an inner node) and its index (of the node, or
+ * of the leaf's first sphere). */
+TZ_FN TZ_UINT child_count(TZ_UINT ref) { return ref >> TZ_BVH_COUNT_SHIFT; }
+TZ_FN TZ_UINT child_index(TZ_UINT ref) { return ref & TZ_BVH_INDEX_MASK; }
+
+#endif

@@ -1,0 +1,107 @@
+/* sampling.h: path mode's sampling steps (DESIGN section 3.2), one text for C and GLSL
+ * (dialect.h): the Phong lobe, a sphere's cone and area, the BSDF's mixture pdf, exact Fresnel
+ * and the power heuristic. Pure functions, tested against their pdfs (tests/test_sampling.c). */
+#ifndef TRAZADOR_COMMON_SAMPLING_H
+#define TRAZADOR_COMMON_SAMPLING_H
+
+#include "dialect.h"
+#include "shade.h"
+
+/* A direction and its solid-angle pdf. */
+TZ_STRUCT(direction_sample) {
+    vec3 wi;
+    float pdf;
+}
+TZ_STRUCT_END(direction_sample)
+
+/* The unit vector at polar angle theta (cosine cos_t, sine sin_t) and azimuth phi about unit
+ * axis w, in the basis of the bounce direction. */
+TZ_FN vec3 direction_about(vec3 w, float cos_t, float sin_t, float phi) {
+    tangent_frame f = basis(w);
+    TZ_PRECISE float c = sin_t * TZ_COS(phi), s = sin_t * TZ_SIN(phi);
+    TZ_PRECISE vec3 d = v3_add(v3_add(v3_scale(f.t, c), v3_scale(f.b, s)), v3_scale(w, cos_t));
+    return d;
+}
+
+/* The Phong lobe's direction about unit wr for uniform u1, u2: cos theta = u1^(1/(alpha+1)). */
+TZ_FN vec3 phong_lobe_direction(vec3 wr, float alpha, float u1, float u2) {
+    TZ_PRECISE float cos_t = TZ_POW(u1, 1.0f / (alpha + 1.0f));
+    TZ_PRECISE float sin2 = 1.0f - cos_t * cos_t;
+    TZ_PRECISE float phi = 2.0f * TZ_PI * u2;
+    return direction_about(wr, cos_t, TZ_SQRT(TZ_MAX(sin2, 0.0f)), phi);
+}
+
+/* The share of diffuse samples of a Phong or Lambertian surface: w_d / (w_d + w_s), w_d the mean
+ * of kd and w_s = ks; -1 when both are 0 (the surface reflects nothing). */
+TZ_FN float diffuse_share(vec3 kd, float ks) {
+    TZ_PRECISE float wd = (kd.x + kd.y + kd.z) * (1.0f / 3.0f);
+    TZ_PRECISE float total = wd + ks;
+    TZ_PRECISE float share = wd / total;
+    return total > 0.0f ? share : -1.0f;
+}
+
+/* The solid-angle pdf with which the BSDF samples wi: share cos/pi + (1 - share) times the lobe's
+ * pdf, the lobe at the cosine the BRDF takes (phong_lobe_cos). */
+TZ_FN float bsdf_pdf(float share, float alpha, float cos_i, float lobe_cos) {
+    TZ_PRECISE float diffuse = cos_i * (1.0f / TZ_PI);
+    TZ_PRECISE float lobe = (alpha + 1.0f) * (1.0f / (2.0f * TZ_PI)) * phong_lobe(lobe_cos, alpha);
+    TZ_PRECISE float pdf = share * (cos_i > 0.0f ? diffuse : 0.0f) + (1.0f - share) * lobe;
+    return pdf;
+}
+
+/* 1 - cos(theta_max) of the cone that a sphere of squared radius r2 subtends at squared distance
+ * d2 > r2, exact for tiny cones: sin^2 / (1 + cos). */
+TZ_FN float cone_one_minus_cos(float r2, float d2) {
+    TZ_PRECISE float sin2 = r2 / d2;
+    TZ_PRECISE float cos_max = TZ_SQRT(TZ_MAX(1.0f - sin2, 0.0f));
+    TZ_PRECISE float omc = sin2 / (1.0f + cos_max);
+    return omc;
+}
+
+/* A direction uniform in the cone about unit w whose 1 - cos(theta_max) is omc, for uniform u1,
+ * u2; pdf 1 / (2 pi omc). */
+TZ_FN direction_sample cone_direction(vec3 w, float omc, float u1, float u2) {
+    TZ_PRECISE float x = u1 * omc; /* 1 - cos theta */
+    TZ_PRECISE float sin2 = x * (2.0f - x);
+    TZ_PRECISE float phi = 2.0f * TZ_PI * u2;
+    TZ_PRECISE float pdf = 1.0f / (2.0f * TZ_PI * omc);
+    direction_sample s;
+    s.wi = direction_about(w, 1.0f - x, TZ_SQRT(TZ_MAX(sin2, 0.0f)), phi);
+    s.pdf = pdf;
+    return s;
+}
+
+/* The unit vector uniform on the sphere for uniform u1, u2: z = 1 - 2 u1, phi = 2 pi u2. */
+TZ_FN vec3 sphere_area_direction(float u1, float u2) {
+    TZ_PRECISE float z = 1.0f - 2.0f * u1;
+    TZ_PRECISE float rho = TZ_SQRT(TZ_MAX(1.0f - z * z, 0.0f));
+    TZ_PRECISE float phi = 2.0f * TZ_PI * u2;
+    TZ_PRECISE vec3 d = v3(rho * TZ_COS(phi), rho * TZ_SIN(phi), z);
+    return d;
+}
+
+/* The solid-angle pdf of area sampling a sphere of radius r at a point dist2 away whose normal
+ * makes cosine cos_l with the direction: dist2 / (4 pi r^2 |cos_l|). */
+TZ_FN float area_pdf(float r, float dist2, float cos_l) {
+    TZ_PRECISE float pdf = dist2 / (4.0f * TZ_PI * r * r * TZ_ABS(cos_l));
+    return pdf;
+}
+
+/* Unpolarized Fresnel reflectance of a dielectric: eta = n_incident / n_other, c1 the cosine of
+ * incidence, k = 1 - eta^2 (1 - c1^2) (below 0: total internal reflection, 1). */
+TZ_FN float fresnel_dielectric(float eta, float c1, float k) {
+    TZ_PRECISE float ct = TZ_SQRT(TZ_MAX(k, 0.0f));
+    TZ_PRECISE float rs = (eta * c1 - ct) / (eta * c1 + ct);
+    TZ_PRECISE float rp = (c1 - eta * ct) / (c1 + eta * ct);
+    TZ_PRECISE float f = 0.5f * (rs * rs + rp * rp);
+    return k < 0.0f ? 1.0f : f;
+}
+
+/* Veach's power heuristic: the weight of a strategy of pdf a against one of pdf b. */
+TZ_FN float power_heuristic(float a, float b) {
+    TZ_PRECISE float a2 = a * a;
+    TZ_PRECISE float w = a2 / (a2 + b * b);
+    return a2 > 0.0f ? w : 0.0f;
+}
+
+#endif

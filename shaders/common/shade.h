@@ -1,0 +1,130 @@
+/* shade.h: what happens at a hit, one text for C and GLSL (dialect.h): the normal, the mirror
+ * and glass step, the Phong BRDF, the point-light term and the cosine-weighted bounce. */
+#ifndef TRAZADOR_COMMON_SHADE_H
+#define TRAZADOR_COMMON_SHADE_H
+
+#include "dialect.h"
+#include "ray.h"
+
+/* Normal of an opaque (two-sided) surface facing the ray d, from the outward normal. */
+TZ_FN vec3 facing_normal(vec3 nout, vec3 d) {
+    return select3(v3_dot(nout, d) < 0.0f, nout, v3_scale(nout, -1.0f));
+}
+
+/* A ray: origin and unit direction. */
+TZ_STRUCT(next_ray) {
+    vec3 o;
+    vec3 d;
+}
+TZ_STRUCT_END(next_ray)
+
+/* The ray leaving a mirror or glass hit at pos (outward normal nout, incoming d): the mirror ray,
+ * or with refractive the refracted one (Snell's law; total internal reflection keeps the mirror
+ * ray); its origin is offset to the side it leaves on. */
+TZ_FN next_ray specular_next(vec3 pos, vec3 nout, vec3 d, TZ_BOOL refractive, float ior) {
+    float eps = ray_eps(pos);
+    TZ_BOOL entering = v3_dot(d, nout) < 0.0f;
+    TZ_PRECISE vec3 side = select3(entering, nout, v3_scale(nout, -1.0f)); /* faces the ray */
+    /* Normalized: nout is unit only to rounding, and the error of an unnormalized mirror ray
+     * grows with each reflection until a ray escapes a closed mirror (the sphere test assumes
+     * |d| = 1). */
+    TZ_PRECISE vec3 mirror_d = v3_normalize(v3_sub(d, v3_scale(side, 2.0f * v3_dot(side, d))));
+    TZ_PRECISE float eta = entering ? 1.0f / ior : ior;
+    TZ_PRECISE float c1 = -v3_dot(d, side);
+    TZ_PRECISE float k = 1.0f - eta * eta * (1.0f - c1 * c1);
+    /* k < 0: total internal reflection, the mirror ray (the refracted one is NaN, unused). */
+    TZ_BOOL refracts = refractive TZ_AND(k >= 0.0f);
+    TZ_PRECISE vec3 refracted_d =
+        v3_normalize(v3_add(v3_scale(d, eta), v3_scale(side, eta * c1 - TZ_SQRT(k))));
+    TZ_PRECISE vec3 o = v3_add(pos, v3_scale(side, refracts ? -eps : eps));
+    next_ray r;
+    r.o = o;
+    r.d = select3(refracts, refracted_d, mirror_d);
+    return r;
+}
+
+/* Cosine of the Phong lobe angle: wo . wr with wr = 2(n.wi)n - wi. */
+TZ_FN float phong_lobe_cos(vec3 n, vec3 wi, vec3 wo) {
+    TZ_PRECISE vec3 wr = v3_sub(v3_scale(n, 2.0f * v3_dot(n, wi)), wi);
+    return v3_dot(wo, wr);
+}
+
+/* The lobe of phong_from_lobe: x^alpha for x > 0, else 0 (0^alpha taken as 0, even for alpha 0,
+ * so that every back end agrees on it). */
+TZ_FN float phong_lobe(float x, float alpha) { return x > 0.0f ? TZ_POW(x, alpha) : 0.0f; }
+
+/* Normalized Phong BRDF kd/pi + ks (alpha+2)/(2 pi) lobe; ks 0 is Lambertian. */
+TZ_FN vec3 phong_from_lobe(vec3 kd, float ks, float alpha, float lobe) {
+    TZ_PRECISE vec3 f = v3_scale(kd, 1.0f / TZ_PI);
+    TZ_PRECISE float spec = ks * (alpha + 2.0f) / (2.0f * TZ_PI) * lobe;
+    TZ_PRECISE vec3 glossy = v3_add(f, v3(spec, spec, spec));
+    return ks > 0.0f ? glossy : f;
+}
+
+/* The Phong BRDF of a sphere (kd, ks, alpha) for light from wi seen from wo at normal n; pow only
+ * where ks > 0. */
+TZ_FN vec3 phong_brdf(vec3 kd, float ks, float alpha, vec3 n, vec3 wi, vec3 wo) {
+    float lobe = ks > 0.0f ? phong_lobe(phong_lobe_cos(n, wi, wo), alpha) : 0.0f;
+    return phong_from_lobe(kd, ks, alpha, lobe);
+}
+
+/* What a point light sends to a surface point, before the BRDF and the shadow ray. */
+TZ_STRUCT(light_sample) {
+    vec3 wi;       /* unit direction to the light */
+    float dist;    /* distance to it */
+    float cos_i;   /* n . wi */
+    vec3 radiance; /* power / dist^2 times its colour, times cos_i */
+}
+TZ_STRUCT_END(light_sample)
+
+/* The light of gpu_light (position_power, color) arriving at pos with shading normal n, from the
+ * true hit point (only the shadow ray starts off the surface). */
+TZ_FN light_sample point_light(TZ_VEC4 position_power, TZ_VEC4 color, vec3 pos, vec3 n) {
+    TZ_PRECISE vec3 to_light = v3_sub(xyz(position_power), pos);
+    TZ_PRECISE float dist2 = v3_dot(to_light, to_light);
+    TZ_PRECISE float dist = TZ_SQRT(dist2);
+    TZ_PRECISE vec3 wi = v3_scale(to_light, 1.0f / dist);
+    float cos_i = v3_dot(n, wi);
+    TZ_PRECISE float scale = cos_i * position_power.w / dist2;
+    TZ_PRECISE vec3 radiance = v3_scale(xyz(color), scale);
+    light_sample s;
+    s.wi = wi;
+    s.dist = dist;
+    s.cos_i = cos_i;
+    s.radiance = radiance;
+    return s;
+}
+
+/* Two unit tangents that make an orthonormal basis with the unit normal. */
+TZ_STRUCT(tangent_frame) {
+    vec3 t;
+    vec3 b;
+}
+TZ_STRUCT_END(tangent_frame)
+
+/* The orthonormal basis around unit n of Duff et al. 2017 (no branch, no normalization). */
+TZ_FN tangent_frame basis(vec3 n) {
+    float sign = n.z >= 0.0f ? 1.0f : -1.0f;
+    TZ_PRECISE float a = -1.0f / (sign + n.z);
+    TZ_PRECISE float c = n.x * n.y * a;
+    TZ_PRECISE vec3 t = v3(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
+    TZ_PRECISE vec3 b = v3(c, sign + n.y * n.y * a, -n.y);
+    tangent_frame f;
+    f.t = t;
+    f.b = b;
+    return f;
+}
+
+/* The bounce direction: cosine-weighted around unit n for a uniform number y1 (cos theta =
+ * sqrt(1 - y1)) and the cosine and sine of phi = 2 pi y2 (the caller takes them: the C packet
+ * takes them only for active lanes). */
+TZ_FN vec3 cosine_direction(vec3 n, float y1, float cos_phi, float sin_phi) {
+    TZ_PRECISE float cos_t = TZ_SQRT(1.0f - y1);
+    TZ_PRECISE float sin_t = TZ_SQRT(y1);
+    tangent_frame f = basis(n);
+    TZ_PRECISE vec3 wi = v3_add(
+        v3_add(v3_scale(f.t, sin_t * cos_phi), v3_scale(f.b, sin_t * sin_phi)), v3_scale(n, cos_t));
+    return wi;
+}
+
+#endif

@@ -1,0 +1,258 @@
+/* test_path.c: closed-form and statistical checks of path mode (DESIGN section 3.2), run on the
+ * back end named by argv[1] ("cpu" or "vulkan"; Vulkan exits 77 when no device exists). Means are
+ * compared with 4.5 standard errors of their pixels (independent samples), so a test fails by
+ * chance about once in 150,000 runs and always when a term is missing or counted twice. */
+#include <math.h>
+#include <string.h>
+
+#include "check.h"
+#include "render/render.h"
+#include "render/vk/vk_context.h"
+
+#define PI 3.14159265358979323846
+#define SIGMAS 4.5
+
+static bool use_vulkan;
+
+/* Renders scene text (its own settings, strategy as given) into f; false on any error. */
+static bool render_text(const char *text, path_strategy strategy, film *f) {
+    scene s;
+    scene_error err;
+    if (!scene_parse_string(text, strlen(text), "test", &s, &err)) {
+        scene_error_print(&err);
+        return false;
+    }
+    render_opts o;
+    render_opts_from_scene(&s, &o);
+    o.validate = true;
+    o.strategy = strategy;
+    bool ok = use_vulkan ? render_vk(&s, &o, f) : render_cpu(&s, &o, f);
+    scene_free(&s);
+    return ok;
+}
+
+/* The mean and standard error of channel c's pixel means over the rectangle x0..x1, y0..y1. */
+typedef struct estimate {
+    double mean, se;
+} estimate;
+
+static estimate region(const film *f, int c, int x0, int x1, int y0, int y1) {
+    double sum = 0.0, sum2 = 0.0;
+    int n = 0;
+    for (int j = y0; j < y1; j++) {
+        for (int i = x0; i < x1; i++) {
+            const float *p = &f->accum[((size_t)j * f->width + i) * 4];
+            double v = p[c] / p[3];
+            sum += v, sum2 += v * v, n++;
+        }
+    }
+    double mean = sum / n, var = (sum2 / n - mean * mean) * n / (n - 1);
+    return (estimate){mean, sqrt(var > 0 ? var / n : 0)};
+}
+
+static estimate whole(const film *f, int c) { return region(f, c, 0, f->width, 0, f->height); }
+
+/* Checks an estimate against an exact value, within SIGMAS standard errors and 1e-5 relative
+ * (float sums). */
+static void expect_mean(const char *name, estimate e, double want) {
+    CHECK(fabs(e.mean - want) <= SIGMAS * e.se + 1e-5 * fabs(want), "%s: %.6f +- %.6f, want %.6f",
+          name, e.mean, e.se, want);
+}
+
+/* The camera at the centre of a closed emitting sphere of albedo a (Le = 1): every pixel sees
+ * 1 + a + ... + a^B = (1 - a^(B+1)) / (1 - a). */
+static void test_furnace(void) {
+    int bounces[] = {0, 1, 3, 16};
+    for (int k = 0; k < 4; k++) {
+        char text[512];
+        snprintf(text, sizeof text,
+                 "camera position 0 0 0\nplane width 2 height 2 pixel 0.125\n"
+                 "sphere lambertian center 0 0 0 radius 10 color 0.5 0.5 0.5 emission 1 1 1\n"
+                 "render mode path bounces %d roulette off samples 64\n",
+                 bounces[k]);
+        film f = {0};
+        CHECK(render_text(text, PATH_MIS, &f), "furnace: render failed");
+        if (!f.accum) continue;
+        char name[64];
+        snprintf(name, sizeof name, "furnace B=%d", bounces[k]);
+        expect_mean(name, whole(&f, 1), (1.0 - pow(0.5, bounces[k] + 1)) / 0.5);
+        film_free(&f);
+    }
+    /* Roulette keeps the expectation: Le / (1 - a) with B far past where a^B matters. */
+    film f = {0};
+    CHECK(render_text("camera position 0 0 0\nplane width 2 height 2 pixel 0.0625\n"
+                      "sphere lambertian center 0 0 0 radius 10 color 0.5 0.5 0.5 emission 1 1 1\n"
+                      "render mode path bounces 64 samples 64\n",
+                      PATH_MIS, &f),
+          "furnace with roulette: render failed");
+    if (f.accum) expect_mean("furnace with roulette", whole(&f, 0), (1.0 - pow(0.5, 65)) / 0.5);
+    film_free(&f);
+}
+
+/* The same with a Phong sphere, one bounce: camera rays meet the wall head-on, where the
+ * normalized lobe's albedo is exactly ks, so the pixels see 1 + kd + ks. */
+static void test_phong_furnace(void) {
+    film f = {0};
+    CHECK(render_text("camera position 0 0 0\nplane width 2 height 2 pixel 0.125\n"
+                      "sphere phong center 0 0 0 radius 10 color 0.2 0.3 0.4 ks 0.4 alpha 20 "
+                      "emission 1 1 1\nrender mode path bounces 1 roulette off samples 256\n",
+                      PATH_MIS, &f),
+          "phong furnace: render failed");
+    if (!f.accum) return;
+    double kd[3] = {0.2, 0.3, 0.4};
+    for (int c = 0; c < 3; c++) {
+        char name[64];
+        snprintf(name, sizeof name, "phong furnace channel %d", c);
+        expect_mean(name, whole(&f, c), 1.0 + kd[c] + 0.4);
+    }
+    film_free(&f);
+}
+
+/* Clear glass in a closed, uniformly emitting, black sphere is invisible: no branch may lose or
+ * add light, so every sample that escapes the glass is the field, exactly. Rays meet one sphere
+ * and reflect (Fresnel) or refract, and all escape: every pixel is the field. In the overlap of
+ * two spheres the angles at the walls change, so rays also reflect totally (past 41.8 degrees);
+ * some are then trapped, circling inside one sphere at a fixed angle until the bounce limit
+ * (only total reflection can trap them), and bring back nothing: one sample a pixel, each pixel
+ * is the field or black, and some are black. */
+static void test_glass_in_field(void) {
+    const char *glass[] = {
+        "sphere refractive center 0 0 0 radius 1 ior 1.5\n",
+        "sphere refractive center -0.5 0 0 radius 1 ior 1.5\n"
+        "sphere refractive center 0.5 0.2 0.3 radius 0.9 ior 1.5\n",
+    };
+    for (int k = 0; k < 2; k++) {
+        char text[512];
+        snprintf(text, sizeof text,
+                 "camera position 0 0 -5\nplane width 2 height 2 pixel 0.025\n"
+                 "sphere lambertian center 0 0 0 radius 20 color 0 0 0 emission 0.7 0.7 0.7\n"
+                 "%srender mode path bounces 64 samples 1\n",
+                 glass[k]);
+        film f = {0};
+        CHECK(render_text(text, PATH_MIS, &f), "glass in field: render failed");
+        if (!f.accum) continue;
+        int field = 0, black = 0, n = f.width * f.height;
+        for (int p = 0; p < n; p++) {
+            float v = f.accum[4 * p + 1];
+            field += v == 0.7f;
+            black += v == 0.0f;
+        }
+        CHECK(field + black == n, "glass in field (%d spheres): %d pixels neither field nor black",
+              k + 1, n - field - black);
+        CHECK(k == 0 ? black == 0 : black > 0 && black < n / 20,
+              "glass in field (%d spheres): %d of %d pixels trapped", k + 1, black, n);
+        film_free(&f);
+    }
+}
+
+/* A floor lit by an emitting sphere behind a blocker (penumbrae): light sampling alone, BSDF
+ * sampling alone and MIS estimate the same image. */
+static void test_strategies_agree(void) {
+    const char *text =
+        "camera position 0 3 -6 look_at 0 0 0\nplane width 2 height 1.5 pixel 0.05\n"
+        "sphere lambertian center 0 -1000 0 radius 1000 color 0.6 0.6 0.6\n"
+        "sphere lambertian center 0 4 0 radius 1 color 0 0 0 emission 4 4 4\n"
+        "sphere phong center 0.5 0.6 0 radius 0.6 color 0.3 0.3 0.3 ks 0.5 alpha 30\n"
+        "render mode path bounces 3 samples 128\n";
+    film mis = {0}, lights = {0}, bsdf = {0};
+    bool ok = render_text(text, PATH_MIS, &mis) && render_text(text, PATH_LIGHTS_ONLY, &lights) &&
+              render_text(text, PATH_BSDF_ONLY, &bsdf);
+    CHECK(ok, "strategies: render failed");
+    if (ok) {
+        estimate m = whole(&mis, 0), l = whole(&lights, 0), b = whole(&bsdf, 0);
+        CHECK(fabs(m.mean - l.mean) <= SIGMAS * hypot(m.se, l.se), "MIS %.5f+-%.5f vs lights %.5f+-%.5f",
+              m.mean, m.se, l.mean, l.se);
+        CHECK(fabs(m.mean - b.mean) <= SIGMAS * hypot(m.se, b.se), "MIS %.5f+-%.5f vs BSDF %.5f+-%.5f",
+              m.mean, m.se, b.mean, b.se);
+        CHECK(m.se < b.se, "MIS (se %.5f) is no less noisy than BSDF sampling (%.5f)", m.se, b.se);
+    }
+    film_free(&mis);
+    film_free(&lights);
+    film_free(&bsdf);
+}
+
+/* A tiny emitting sphere of radius r and radiance Le lights a floor as a point light of
+ * intensity Le pi r^2 (trazador's point-light power) does: the same to (r / d)^2 and noise. */
+static void test_tiny_emitter(void) {
+    const char *floor_and_camera =
+        "camera position 0 2 -4 look_at 0 0 0\nplane width 1 height 1 pixel 0.05\n"
+        "sphere lambertian center 0 -1000 0 radius 1000 color 0.5 0.5 0.5\n"
+        "render mode path bounces 1 samples 64\n";
+    double r = 0.01, le = 1000.0;
+    char sphere_text[1024], point_text[1024];
+    snprintf(sphere_text, sizeof sphere_text,
+             "%ssphere lambertian center 0.3 1.5 0.2 radius %g color 0 0 0 emission %g %g %g\n",
+             floor_and_camera, r, le, le, le);
+    snprintf(point_text, sizeof point_text, "%slight position 0.3 1.5 0.2 power %.9g\n",
+             floor_and_camera, le * PI * r * r);
+    film sph = {0}, pt = {0};
+    bool ok = render_text(sphere_text, PATH_MIS, &sph) && render_text(point_text, PATH_MIS, &pt);
+    CHECK(ok, "tiny emitter: render failed");
+    if (ok) {
+        estimate a = whole(&sph, 0), b = whole(&pt, 0);
+        CHECK(fabs(a.mean - b.mean) <= SIGMAS * hypot(a.se, b.se) + 1e-3 * b.mean,
+              "tiny emitter %.6f+-%.6f vs point light %.6f+-%.6f", a.mean, a.se, b.mean, b.se);
+    }
+    film_free(&sph);
+    film_free(&pt);
+}
+
+/* On Vulkan: the same samples as the C back end. Both run the same operations in the same order
+ * (shaders/common/path.h), so pixels differ by rounding where pow, cos or sin differ by an ulp;
+ * a path whose roulette or Fresnel draw such a difference flips may differ more: at most 1% of
+ * the pixels may differ by more than 1e-3 relative. */
+static void test_agrees_with_cpu(void) {
+    const char *scenes[] = {
+        "camera position 0 0 -9.5\nplane width 4 height 4 pixel 0.05\n"
+        "sphere lambertian center -100002 0 0 radius 100000 color 0.75 0.12 0.10\n"
+        "sphere lambertian center 100002 0 0 radius 100000 color 0.12 0.70 0.15\n"
+        "sphere lambertian center 0 -100002 0 radius 100000 color 0.75 0.75 0.75\n"
+        "sphere lambertian center 0 100002 0 radius 100000 color 0.75 0.75 0.75\n"
+        "sphere lambertian center 0 0 100003 radius 100000 color 0.75 0.75 0.75\n"
+        "sphere lambertian center 0 2.9 0.8 radius 1 color 0 0 0 emission 6 6 6\n"
+        "sphere mirror center -0.85 -1.3 1.4 radius 0.7 color 0.95 0.95 0.95\n"
+        "sphere refractive center 0.85 -1.4 0.3 radius 0.6 ior 1.5\n"
+        "sphere phong center 0 -1.6 -1 radius 0.4 color 0.3 0.3 0.6 ks 0.5 alpha 30\n"
+        "light position 1 1.5 -1 power 2\n"
+        "render mode path samples 4 bounces 8\n",
+    };
+    for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; k++) {
+        film gpu = {0}, cpu = {0};
+        bool ok = render_text(scenes[k], PATH_MIS, &gpu);
+        use_vulkan = false;
+        ok = ok && render_text(scenes[k], PATH_MIS, &cpu);
+        use_vulkan = true;
+        CHECK(ok, "agreement: render failed");
+        if (!ok) continue;
+        int n = gpu.width * gpu.height, apart = 0, exact = 0;
+        for (int p = 0; p < n; p++) {
+            bool same = true, near = true;
+            for (int c = 0; c < 4; c++) {
+                float a = gpu.accum[4 * p + c], b = cpu.accum[4 * p + c];
+                same &= a == b;
+                near &= fabsf(a - b) <= 1e-3f * fmaxf(fabsf(b), 1.0f);
+            }
+            exact += same;
+            apart += !near;
+        }
+        CHECK(apart <= n / 100, "agreement: %d of %d pixels differ past 1e-3 (%d exact)", apart, n,
+              exact);
+        film_free(&gpu);
+        film_free(&cpu);
+    }
+}
+
+int main(int argc, char **argv) {
+    use_vulkan = argc > 1 && !strcmp(argv[1], "vulkan");
+    if (use_vulkan && vk_context_device_count() == 0) {
+        printf("test_path: no Vulkan device, skipped\n");
+        return 77;
+    }
+    CHECK_CASE(test_furnace);
+    CHECK_CASE(test_phong_furnace);
+    CHECK_CASE(test_glass_in_field);
+    CHECK_CASE(test_strategies_agree);
+    CHECK_CASE(test_tiny_emitter);
+    if (use_vulkan) CHECK_CASE(test_agrees_with_cpu);
+    return check_summary(use_vulkan ? "test_path vulkan" : "test_path cpu");
+}
