@@ -57,8 +57,8 @@ typedef struct tz_uvec4 {
 #define TZ_BINDING_FRAME 0
 #define TZ_BINDING_SPHERES 1
 #define TZ_BINDING_LIGHTS 2
-/* Dynamic: bound at the first row of each band of tiles. A vec4 a pixel: the RGB sums and the
- * count of finite samples. */
+/* Dynamic: bound at the first row of each band of tiles. A vec4 a pixel: the RGB sums of the
+ * open chunk and the count of finite samples of the whole part. */
 #define TZ_BINDING_ACCUM 3
 /* TZ_COUNTER_WORDS uints since the last reset: samples dropped as non-finite, samples dropped
  * for running out of TZ_SPEC_WALK_BUDGET, and rays traced as low and high 32 bits (a pass over a
@@ -67,15 +67,16 @@ typedef struct tz_uvec4 {
 #define TZ_COUNTER_WORDS 4
 /* Texels 4k..4k+3: gpu_bvh_node k, read as uints (one zeroed node without a BVH). */
 #define TZ_BINDING_NODES 5
-/* Dynamic, bound as TZ_BINDING_ACCUM: a vec4 a pixel, the compensation of its RGB sums (Kahan
- * summation, src/render/film_sum.h), w unused; the pass that completes a pixel's samples stores the
- * compensated sums' values into TZ_BINDING_ACCUM instead, so only that buffer is read back. A
- * buffer of its own, so that each stays within the 32-bit dynamic offsets as the sums alone did.
- */
+/* Dynamic, bound as TZ_BINDING_ACCUM: a vec4 a pixel, the compensation of the open chunk's RGB
+ * sums (Kahan summation, src/render/film_sum.h), w unused. A buffer of its own, so that each
+ * stays within the 32-bit dynamic offsets as the sums alone did. */
 #define TZ_BINDING_ACCUM_COMP 6
 /* Texels 2e, 2e + 1: gpu_emitter e (one zeroed emitter without any). */
 #define TZ_BINDING_EMITTERS 7
-#define TZ_BINDING_COUNT 8
+/* Dynamic, bound as TZ_BINDING_ACCUM: pass.stack_depth blocks of 3 floats a pixel, the values of
+ * the pixel's chunk-tree blocks (src/render/chunk_tree.h), bottom first. */
+#define TZ_BINDING_STACK 8
+#define TZ_BINDING_COUNT 9
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
  * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.sphere_count / light_count
@@ -134,14 +135,22 @@ struct gpu_emitter {
     TZ_VEC4 sphere_cdf;    /* x its sphere's index (uint bits), y the running sum of picks */
 };
 
-/* Push constants of one dispatch: which tile and which samples (count >= 1, taken in order). */
+/* Push constants of one dispatch: which tile of the region and which samples (count >= 1, taken
+ * in order, all within one chunk of CHUNK_SAMPLES), and where the chunk goes on the pixel's stack
+ * of chunk-tree blocks (src/render/chunk_tree.h) when the dispatch closes it. */
 struct gpu_pass {
-    TZ_UINT x0, y0; /* the tile's corner in pixels */
+    TZ_UINT x0, y0; /* the tile's corner in pixels of the region */
     TZ_UINT first_sample, sample_count;
-    TZ_UINT total_samples; /* samples per pixel in all */
-    TZ_UINT group_stride;  /* workgroup stride (see trace.comp) */
-    TZ_UINT pad0, pad1;    /* 0: 32 bytes, as the C asserts check */
+    TZ_UINT group_stride;            /* workgroup stride (see trace.comp) */
+    TZ_UINT region_x0, region_y0;    /* the region's corner in the image */
+    TZ_UINT region_width, region_height;
+    TZ_UINT chunk_flags;             /* TZ_CHUNK_OPEN: restart the sums; TZ_CHUNK_CLOSE: push */
+    TZ_UINT stack_top, stack_merges; /* chunk_stack_push: where the value goes, merges after */
+    TZ_UINT stack_depth;             /* blocks a pixel has room for in TZ_BINDING_STACK */
+    TZ_UINT pad0, pad1, pad2;        /* 0: 64 bytes, as the C asserts check */
 };
+#define TZ_CHUNK_OPEN 1u
+#define TZ_CHUNK_CLOSE 2u
 
 /* The spheres and lights of an unrolled scene in the texel layout of TZ_BINDING_SPHERES and
  * TZ_BINDING_LIGHTS (sphere k: vec4s 3k..3k+2, light k: 2k, 2k+1), zero past the scene's. */

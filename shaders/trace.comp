@@ -1,7 +1,8 @@
 /* trace.comp: the per-sample compute entry point. One invocation renders `pass.sample_count`
- * samples (in sample order) of one pixel of the tile at (pass.x0, pass.y0) and adds each finite
- * one to the pixel's accumulator exactly as the C back end does; non-finite samples are counted
- * instead. integrator_sample() is the one of src/render/cpu/integrator.c, on the same shared
+ * samples (in sample order, within one chunk) of one pixel of the tile at (pass.x0, pass.y0) of
+ * the region and adds each finite one to the chunk's compensated sums exactly as the C back end
+ * does, then, closing the chunk, pushes its value on the pixel's stack of chunk-tree blocks;
+ * non-finite samples are counted instead. integrator_sample() is the one of src/render/cpu/integrator.c, on the same shared
  * steps (shaders/common/). Declares the bindings and the scene accessors the included files
  * use. */
 #version 450
@@ -29,6 +30,8 @@ layout(std430, set = 0, binding = TZ_BINDING_COUNTERS) buffer counter_block {
 };
 layout(set = 0, binding = TZ_BINDING_NODES) uniform usamplerBuffer node_texels;
 layout(set = 0, binding = TZ_BINDING_EMITTERS) uniform samplerBuffer emitter_texels;
+/* Bound at the tile's first row, as the sums are. */
+layout(std430, set = 0, binding = TZ_BINDING_STACK) buffer stack_block { float stack[]; };
 layout(push_constant) uniform pass_block { gpu_pass pass; };
 layout(constant_id = TZ_SPEC_UNROLLED_SPHERES) const uint UNROLLED_SPHERES = 0u;
 layout(constant_id = TZ_SPEC_UNROLLED_LIGHTS) const uint UNROLLED_LIGHTS = 0u;
@@ -125,14 +128,29 @@ uvec2 tile_pixel() {
     return corner * gl_WorkGroupSize.xy + gl_LocalInvocationID.xy;
 }
 
+/* Block k of the stack of the pixel at slot, as RGB. */
+vec3 stack_load(uint slot, uint k) {
+    uint at = (slot * pass.stack_depth + k) * 3u;
+    return vec3(stack[at], stack[at + 1u], stack[at + 2u]);
+}
+void stack_store(uint slot, uint k, vec3 v) {
+    uint at = (slot * pass.stack_depth + k) * 3u;
+    stack[at] = v.x;
+    stack[at + 1u] = v.y;
+    stack[at + 2u] = v.z;
+}
+
 void main() {
     uvec2 at = tile_pixel();
-    uint i = pass.x0 + at.x;
-    uint j = pass.y0 + at.y;
-    if (i >= frame.width || j >= frame.height) return;
-    uint slot = at.y * frame.width + i;
-    precise vec4 sum = accum[slot];
-    vec3 comp = accum_comp[slot].xyz;
+    uint ri = pass.x0 + at.x, rj = pass.y0 + at.y; /* in the region */
+    if (ri >= pass.region_width || rj >= pass.region_height) return;
+    uint i = pass.region_x0 + ri;
+    uint j = pass.region_y0 + rj;
+    uint slot = at.y * pass.region_width + ri;
+    /* A chunk's sums start from zero (chunk_tree.h); the count goes on over the whole part. */
+    bool open = (pass.chunk_flags & TZ_CHUNK_OPEN) != 0u;
+    precise vec4 sum = open ? vec4(0.0, 0.0, 0.0, accum[slot].w) : accum[slot];
+    vec3 comp = open ? vec3(0.0) : accum_comp[slot].xyz;
     uint dropped = 0u, overflowed = 0u;
     loop_overflow = false;
     rays_traced = 0u;
@@ -152,12 +170,18 @@ void main() {
             dropped++;
         }
     }
-    /* the last samples: film_sum_value() */
-    if (pass.first_sample + pass.sample_count == pass.total_samples) {
+    accum[slot] = sum;
+    if ((pass.chunk_flags & TZ_CHUNK_CLOSE) != 0u) {
+        /* film_sum_value(), then chunk_values_push(): each merge is left + right */
         precise vec3 value = sum.xyz - comp;
-        accum[slot] = vec4(value, sum.w);
+        uint top = pass.stack_top;
+        for (uint m = 0u; m < pass.stack_merges; m++) {
+            top--;
+            precise vec3 left = stack_load(slot, top);
+            value = left + value;
+        }
+        stack_store(slot, top, value);
     } else {
-        accum[slot] = sum;
         accum_comp[slot] = vec4(comp, 0.0);
     }
     if (dropped > 0u) atomicAdd(nonfinite, dropped);

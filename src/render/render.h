@@ -22,6 +22,21 @@ typedef struct render_stats {
 /* How path mode samples emitters: both strategies weighted by MIS, or one alone. */
 typedef enum path_strategy { PATH_MIS = 0, PATH_LIGHTS_ONLY, PATH_BSDF_ONLY } path_strategy;
 
+struct part; /* render/part.h */
+
+/* What a render asks between its passes (a pass: whole chunks of samples of every pixel, see
+ * render/chunk_tree.h): checkpoints, time limits, signals. */
+typedef struct render_control {
+    /* Called before the first pass and after each, the part then holding samples up to `done`
+     * (or, when the back end keeps its sums elsewhere, as of the last sync); returns the chunks
+     * of the next pass, 0 to stop, and sets *sync to have the part brought up to date and handed
+     * to `synced` (then called at once). */
+    uint32_t (*next_pass)(void *user, uint32_t done, bool *sync);
+    /* The part, up to date; false fails the render (logged by it). */
+    bool (*synced)(void *user, const struct part *p);
+    void *user;
+} render_control;
+
 /* The most threads the CPU back end runs. */
 #define RENDER_MAX_THREADS 256
 
@@ -41,6 +56,8 @@ typedef struct render_opts {
     bool progress;         /* progress line on stderr */
     const char *cpu_build; /* CPU back end: the packet build by name; NULL: the fastest */
     render_stats *stats;   /* filled by the back end when not NULL */
+    const render_control *control; /* NULL: every pass at once */
+    double deadline; /* clock_seconds() when a time limit ends, for the progress line; 0: none */
 } render_opts;
 
 /* Per-pixel accumulation: 4 floats a pixel, RGB sums and the count of finite samples. */
@@ -58,14 +75,19 @@ bool film_init(film *f, int width, int height);
 void film_free(film *f);
 
 /* Prints the progress line on stderr: share done, time so far, samples per second and the time
- * left (samples: of the whole render); never fails. */
-void render_progress_print(double share, double seconds, double samples);
+ * left (samples: of the whole render), at most what is left until `deadline` (clock_seconds(),
+ * 0 for none); never fails. */
+void render_progress_print(double share, double seconds, double samples, double deadline);
 /* Clears the progress line, so that messages start a clean line; never fails. */
 void render_progress_clear(void);
 
 /* Renders with the CPU back end (the packet integrator) into f (allocated by the call); false
  * on failure (logged). */
 bool render_cpu(const scene *s, const render_opts *opts, film *f);
+/* Adds to part p (its region, from its sample_end on) the samples up to sample_end (chunk-aligned
+ * or the render's total) in passes that opts->control sets; the part is up to date on return;
+ * false on failure (logged). */
+bool render_cpu_part(const scene *s, const render_opts *opts, struct part *p, uint32_t sample_end);
 
 /* How a Vulkan render ended: done; refused, because this device cannot render this scene right
  * (the reason is given, nothing is logged: the caller may render it elsewhere); or failed
@@ -78,6 +100,10 @@ typedef enum render_status { RENDER_DONE, RENDER_REFUSED, RENDER_FAILED } render
 render_status render_vk_try(const scene *s, const render_opts *opts, film *f, char *reason);
 /* render_vk_try with a refusal logged as an error; true only when done. */
 bool render_vk(const scene *s, const render_opts *opts, film *f);
+/* render_cpu_part on the Vulkan back end, with render_vk_try's results; after a failure or a
+ * refusal the part holds what was last synced, from which another back end can go on. */
+render_status render_vk_part_try(const scene *s, const render_opts *opts, struct part *p,
+                                 uint32_t sample_end, char *reason);
 
 /* The back end a render asks for: auto (Vulkan when it can render the scene, else the CPU). */
 typedef enum backend_choice { BACKEND_AUTO = 0, BACKEND_VULKAN, BACKEND_CPU } backend_choice;
@@ -87,5 +113,18 @@ typedef enum backend_choice { BACKEND_AUTO = 0, BACKEND_VULKAN, BACKEND_CPU } ba
  * on failure (logged). */
 bool render_choose(const scene *s, const render_opts *opts, backend_choice backend, film *f,
                    const char **used);
+/* render_choose for a part (render_cpu_part); false on failure (logged). */
+bool render_choose_part(const scene *s, const render_opts *opts, backend_choice backend,
+                        struct part *p, uint32_t sample_end, const char **used);
+
+/* Fills the metadata of a part of scene s rendered with opts: digest (render_digest), mode,
+ * version, seed, samples, chunk and size; the whole image and samples 0:0. Never fails. */
+struct part_meta;
+void render_part_meta(const scene *s, const render_opts *opts, struct part_meta *m);
+/* The render of film f through a whole part (render_part_meta) rendered by `part_render`; false
+ * on failure (logged). */
+bool render_film_by_part(const scene *s, const render_opts *opts, film *f,
+                         bool (*part_render)(const scene *, const render_opts *, struct part *,
+                                             uint32_t));
 
 #endif

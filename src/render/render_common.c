@@ -1,9 +1,12 @@
-/* render_common.c: what both back ends share: options from the scene, the film and the progress
- * line. */
+/* render_common.c: what both back ends share: options from the scene, the film, the progress
+ * line, and the metadata (scene digest included) of the parts they render. */
+#include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "render/part.h"
 #include "render/render.h"
+#include "util/clock.h"
 
 void render_opts_from_scene(const scene *s, render_opts *opts) {
     *opts = (render_opts){0};
@@ -30,14 +33,97 @@ void film_free(film *f) {
     *f = (film){0};
 }
 
-void render_progress_print(double share, double seconds, double samples) {
-    char rate[48] = "", left[48] = "";
+void render_progress_print(double share, double seconds, double samples, double deadline) {
+    char rate[48] = "", left[64] = "";
+    double until = deadline > 0.0 ? deadline - clock_seconds() : -1.0;
     if (seconds > 0.0 && share > 0.0) {
+        double rest = seconds * (1.0 - share) / share;
         snprintf(rate, sizeof rate, ", %.2f Msamples/s", share * samples / seconds * 1e-6);
-        snprintf(left, sizeof left, ", %.1f s left", seconds * (1.0 - share) / share);
+        if (until >= 0.0 && until < rest)
+            snprintf(left, sizeof left, ", %.1f s left (time limit)", until);
+        else
+            snprintf(left, sizeof left, ", %.1f s left", rest);
     }
     fprintf(stderr, "\r\033[Ktrazador: rendering %5.1f%%, %.1f s%s%s", 100.0 * share, seconds, rate,
             left);
 }
 
 void render_progress_clear(void) { fprintf(stderr, "\r\033[K"); }
+
+/* FNV-1a over bytes, continued from h. */
+static uint64_t digest_bytes(uint64_t h, const void *data, size_t len) {
+    const unsigned char *b = data;
+    for (size_t k = 0; k < len; k++) h = (h ^ b[k]) * 0x100000001b3u;
+    return h;
+}
+static uint64_t digest_float(uint64_t h, float v) { return digest_bytes(h, &v, sizeof v); }
+static uint64_t digest_vec3(uint64_t h, vec3 v) {
+    return digest_float(digest_float(digest_float(h, v.x), v.y), v.z);
+}
+static uint64_t digest_int(uint64_t h, int64_t v) { return digest_bytes(h, &v, sizeof v); }
+
+/* The scene's digest: every field of the scene and every setting that changes a sample, in a
+ * fixed order, field by field (no padding bytes). */
+static uint64_t render_digest(const scene *s, const render_opts *o) {
+    uint64_t h = 0xcbf29ce484222325u;
+    h = digest_vec3(h, s->camera_position);
+    h = digest_vec3(h, s->camera_direction);
+    h = digest_vec3(h, s->camera_up);
+    h = digest_float(h, s->camera_fov);
+    h = digest_float(h, s->camera_near);
+    h = digest_float(h, s->plane_width);
+    h = digest_float(h, s->plane_height);
+    h = digest_float(h, s->pixel_size);
+    h = digest_int(h, s->width);
+    h = digest_int(h, s->height);
+    h = digest_vec3(h, s->background);
+    h = digest_int(h, s->sphere_count);
+    for (int k = 0; k < s->sphere_count; k++) {
+        const sphere *p = &s->spheres[k];
+        h = digest_vec3(h, p->center);
+        h = digest_float(h, p->radius);
+        h = digest_int(h, p->material);
+        h = digest_vec3(h, p->color);
+        h = digest_float(h, p->ks);
+        h = digest_float(h, p->alpha);
+        h = digest_float(h, p->ior);
+        h = digest_vec3(h, p->emission);
+    }
+    h = digest_int(h, s->light_count);
+    for (int k = 0; k < s->light_count; k++) {
+        h = digest_vec3(h, s->lights[k].position);
+        h = digest_float(h, s->lights[k].power);
+        h = digest_vec3(h, s->lights[k].color);
+    }
+    int64_t settings[] = {o->samples, o->seed,     o->mode,     o->bounces,
+                          o->indirect, o->no_jitter, o->roulette, o->strategy};
+    for (size_t k = 0; k < sizeof settings / sizeof settings[0]; k++)
+        h = digest_int(h, settings[k]);
+    return h;
+}
+
+void render_part_meta(const scene *s, const render_opts *opts, part_meta *m) {
+    *m = (part_meta){.seed = opts->seed,
+                     .spp = (uint32_t)opts->samples,
+                     .chunk = CHUNK_SAMPLES,
+                     .width = s->width,
+                     .height = s->height,
+                     .x1 = s->width,
+                     .y1 = s->height};
+    snprintf(m->digest, sizeof m->digest, "%016" PRIx64, render_digest(s, opts));
+    snprintf(m->mode, sizeof m->mode, "%s", opts->mode == RENDER_MODE_PATH ? "path" : "seed");
+    snprintf(m->version, sizeof m->version, "%s", TRAZADOR_VERSION);
+}
+
+bool render_film_by_part(const scene *s, const render_opts *opts, film *f,
+                         bool (*part_render)(const scene *, const render_opts *, part *,
+                                             uint32_t)) {
+    *f = (film){0};
+    part_meta meta;
+    render_part_meta(s, opts, &meta);
+    part p;
+    if (!part_init(&p, &meta)) return false;
+    bool ok = part_render(s, opts, &p, meta.spp) && part_film(&p, f);
+    part_free(&p);
+    return ok;
+}

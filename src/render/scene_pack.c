@@ -42,13 +42,13 @@ _Static_assert(offsetof(struct gpu_frame, flags) == 104, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, node_count) == 108, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, near_distance) == 112, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, emitter_count) == 116, "gpu_frame layout");
-_Static_assert(sizeof(struct gpu_pass) == 32, "gpu_pass is 32 bytes");
+_Static_assert(sizeof(struct gpu_pass) == 64, "gpu_pass is 64 bytes");
 _Static_assert(offsetof(struct gpu_pass, x0) == 0, "gpu_pass layout");
 _Static_assert(offsetof(struct gpu_pass, y0) == 4, "gpu_pass layout");
 _Static_assert(offsetof(struct gpu_pass, first_sample) == 8, "gpu_pass layout");
 _Static_assert(offsetof(struct gpu_pass, sample_count) == 12, "gpu_pass layout");
-_Static_assert(offsetof(struct gpu_pass, total_samples) == 16, "gpu_pass layout");
-_Static_assert(offsetof(struct gpu_pass, group_stride) == 20, "gpu_pass layout");
+_Static_assert(offsetof(struct gpu_pass, group_stride) == 16, "gpu_pass layout");
+_Static_assert(offsetof(struct gpu_pass, stack_depth) == 48, "gpu_pass layout");
 
 _Static_assert(sizeof(struct gpu_unrolled) == TZ_UNROLL_MAX_SPHERES * sizeof(struct gpu_sphere) +
                                                   TZ_UNROLL_MAX_LIGHTS * sizeof(struct gpu_light),

@@ -1,26 +1,35 @@
-/* render_cpu.c: the C reference back end: pthreads over tiles of the image, each pixel's samples
- * summed in sample order (compensated, film_sum.h), so the film is bit-identical for every thread
- * count. */
+/* render_cpu.c: the C reference back end: pthreads over tiles of a part's region, pass after pass
+ * of whole chunks of samples; each chunk of a pixel summed in sample order (compensated,
+ * film_sum.h) and pushed on the pixel's stack of chunk-tree blocks (chunk_tree.h), as
+ * shaders/trace.comp does, so the sums are bit-identical for every thread count and split. */
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <time.h>
 #include <unistd.h>
 
-#include "util/clock.h"
-#include "render/film_sum.h"
+#include "render/chunk_tree.h"
 #include "render/cpu/integrator.h"
-#include "util/log.h"
+#include "render/film_sum.h"
+#include "render/part.h"
 #include "render/render.h"
+#include "util/clock.h"
+#include "util/log.h"
 
 #define TILE_SIZE 16
 
 typedef struct cpu_job {
     const packed_scene *packed;
     packet_integrator packet; /* the fastest this processor runs */
-    film *film;
-    int samples;
+    part *part;
+    int width, height; /* the region */
+    /* The pass: chunks first_chunk to first_chunk + chunks - 1, chunk k placed at top[k] with
+     * merges[k] merges after it; the stack holds old_count blocks before and new_count after. */
+    uint32_t first_chunk, chunks;
+    const int *top, *merges;
+    int old_count, new_count;
     int tiles_x, tile_count;
     atomic_int next_tile;
     atomic_int tiles_done;
@@ -28,38 +37,60 @@ typedef struct cpu_job {
     atomic_ullong rays;
 } cpu_job;
 
-static void render_tile(cpu_job *job, int tile) {
-    int x0 = (tile % job->tiles_x) * TILE_SIZE, y0 = (tile / job->tiles_x) * TILE_SIZE;
-    int x1 = x0 + TILE_SIZE < job->film->width ? x0 + TILE_SIZE : job->film->width;
-    int y1 = y0 + TILE_SIZE < job->film->height ? y0 + TILE_SIZE : job->film->height;
-    unsigned long long dropped = 0;
+/* Renders the pass's chunks of `lanes` pixels of region row j from column i: loads their stacks,
+ * pushes each chunk's compensated sum, stores the stacks back. Returns the non-finite samples. */
+static unsigned long long render_lanes(cpu_job *job, int i, int j, uint32_t lanes) {
     const packet_integrator *pk = &job->packet;
-    int width = (int)pk->width;
-    for (int j = y0; j < y1; j++) {
-        for (int i = x0; i < x1; i += width) {
-            uint32_t lanes = (uint32_t)(x1 - i < width ? x1 - i : width);
-            float *row = &job->film->accum[((size_t)j * (size_t)job->film->width + (size_t)i) * 4];
-            float comp[PACKET_LANES_MAX][3] = {{0.0f}}; /* every sample of these pixels is here */
-            for (int s = 0; s < job->samples; s++) {
-                vec3 l[PACKET_LANES_MAX];
-                pk->sample(job->packed, (uint32_t)i, (uint32_t)j, lanes, (uint32_t)s, l);
-                for (uint32_t k = 0; k < lanes; k++) {
-                    if (!isfinite(l[k].x) || !isfinite(l[k].y) || !isfinite(l[k].z)) {
-                        dropped++;
-                        continue;
-                    }
-                    float *px = row + 4 * k;
-                    film_sum_add(&px[0], &comp[k][0], l[k].x);
-                    film_sum_add(&px[1], &comp[k][1], l[k].y);
-                    film_sum_add(&px[2], &comp[k][2], l[k].z);
-                    px[3] += 1.0f;
+    part *p = job->part;
+    size_t at = (size_t)j * (size_t)job->width + (size_t)i;
+    float value[PACKET_LANES_MAX][CHUNK_STACK_MAX][3];
+    for (uint32_t k = 0; k < lanes; k++)
+        for (int b = 0; b < job->old_count; b++)
+            for (int c = 0; c < 3; c++) value[k][b][c] = p->block[b][3 * (at + k) + c];
+    uint32_t x = (uint32_t)(p->meta.x0 + i), y = (uint32_t)(p->meta.y0 + j);
+    unsigned long long dropped = 0;
+    uint32_t counted[PACKET_LANES_MAX] = {0};
+    for (uint32_t n = 0; n < job->chunks; n++) {
+        uint32_t first = (job->first_chunk + n) * CHUNK_SAMPLES;
+        uint32_t end = p->meta.spp - first < CHUNK_SAMPLES ? p->meta.spp : first + CHUNK_SAMPLES;
+        float sum[PACKET_LANES_MAX][3] = {{0.0f}}, comp[PACKET_LANES_MAX][3] = {{0.0f}};
+        for (uint32_t s = first; s < end; s++) {
+            vec3 l[PACKET_LANES_MAX];
+            pk->sample(job->packed, x, y, lanes, s, l);
+            for (uint32_t k = 0; k < lanes; k++) {
+                if (!isfinite(l[k].x) || !isfinite(l[k].y) || !isfinite(l[k].z)) {
+                    dropped++;
+                    continue;
                 }
+                film_sum_add(&sum[k][0], &comp[k][0], l[k].x);
+                film_sum_add(&sum[k][1], &comp[k][1], l[k].y);
+                film_sum_add(&sum[k][2], &comp[k][2], l[k].z);
+                counted[k]++;
             }
-            for (uint32_t k = 0; k < lanes; k++)
-                for (int c = 0; c < 3; c++)
-                    row[4 * k + c] = film_sum_value(row[4 * k + c], comp[k][c]);
+        }
+        for (uint32_t k = 0; k < lanes; k++) {
+            float v[3];
+            for (int c = 0; c < 3; c++) v[c] = film_sum_value(sum[k][c], comp[k][c]);
+            chunk_values_push(value[k], job->top[n], job->merges[n], v);
         }
     }
+    for (uint32_t k = 0; k < lanes; k++) {
+        for (int b = 0; b < job->new_count; b++)
+            for (int c = 0; c < 3; c++) p->block[b][3 * (at + k) + c] = value[k][b][c];
+        p->count[at + k] += counted[k];
+    }
+    return dropped;
+}
+
+static void render_tile(cpu_job *job, int tile) {
+    int x0 = (tile % job->tiles_x) * TILE_SIZE, y0 = (tile / job->tiles_x) * TILE_SIZE;
+    int x1 = x0 + TILE_SIZE < job->width ? x0 + TILE_SIZE : job->width;
+    int y1 = y0 + TILE_SIZE < job->height ? y0 + TILE_SIZE : job->height;
+    unsigned long long dropped = 0;
+    int width = (int)job->packet.width;
+    for (int j = y0; j < y1; j++)
+        for (int i = x0; i < x1; i += width)
+            dropped += render_lanes(job, i, j, (uint32_t)(x1 - i < width ? x1 - i : width));
     if (dropped) atomic_fetch_add(&job->nonfinite, dropped);
 }
 
@@ -83,61 +114,145 @@ static int thread_count(int requested) {
     return n < 1 ? 1 : n > RENDER_MAX_THREADS ? RENDER_MAX_THREADS : (int)n;
 }
 
+/* The progress line's scale: samples a pixel rendered before this pass, in it and in all. */
+typedef struct cpu_progress {
+    double start, done, pass, total, pixels, deadline;
+} cpu_progress;
+
 /* Prints the share of finished tiles on stderr every 0.2 s until every tile is done, which it
  * notices within 5 ms (a render does not wait for the next print). */
-static void report_progress(cpu_job *job) {
+static void report_progress(cpu_job *job, const cpu_progress *pr) {
     struct timespec pause = {0, 5 * 1000 * 1000};
     double next_print = 0.0;
     while (atomic_load(&job->tiles_done) < job->tile_count) {
         double now = clock_seconds();
         if (now >= next_print) {
-            fprintf(stderr, "\rtrazador: rendering %5.1f%%",
-                    100.0 * atomic_load(&job->tiles_done) / job->tile_count);
+            double done =
+                pr->done + pr->pass * atomic_load(&job->tiles_done) / (double)job->tile_count;
+            render_progress_print(done / pr->total, now - pr->start, pr->pixels * pr->total,
+                                  pr->deadline);
             next_print = now + 0.2;
         }
         nanosleep(&pause, NULL);
     }
-    fprintf(stderr, "\r\033[K");
 }
 
-bool render_cpu(const scene *s, const render_opts *opts, film *f) {
+/* Runs one pass over every tile on n threads; the threads that ran (0: this one alone). */
+static int run_pass(cpu_job *job, int n, bool progress, const cpu_progress *pr) {
+    atomic_store(&job->next_tile, 0);
+    atomic_store(&job->tiles_done, 0);
+    pthread_t threads[RENDER_MAX_THREADS];
+    int started = 0;
+    while (started < n && pthread_create(&threads[started], NULL, worker, job) == 0) started++;
+    if (started == 0) worker(job); /* no thread could start: render on this one */
+    if (progress) report_progress(job, pr);
+    for (int k = 0; k < started; k++) pthread_join(threads[k], NULL);
+    return started;
+}
+
+/* The first sample of chunk k of part p, or its spp past the last chunk. */
+static uint32_t sample_of(const part *p, uint32_t k) {
+    uint64_t s = (uint64_t)k * CHUNK_SAMPLES;
+    return s < p->meta.spp ? (uint32_t)s : p->meta.spp;
+}
+
+/* Lays out the pass of `chunks` chunks from the part's stack: where each goes, the blocks the
+ * stack then has (allocated, unset); false (logged) on out of memory. */
+static bool plan_pass(cpu_job *job, chunk_stack *shape, uint32_t chunks, int *top, int *merges) {
+    part *p = job->part;
+    size_t n = (size_t)job->width * (size_t)job->height;
+    job->first_chunk = shape->end;
+    job->chunks = chunks;
+    job->old_count = shape->count;
+    int most = shape->count;
+    for (uint32_t k = 0; k < chunks; k++) {
+        top[k] = shape->count;
+        merges[k] = chunk_stack_push(shape, (chunk_block){0, job->first_chunk + k});
+        if (shape->count > most) most = shape->count;
+        if (top[k] + 1 > most) most = top[k] + 1;
+    }
+    job->new_count = shape->count;
+    for (int b = 0; b < most; b++)
+        if (!p->block[b] && !(p->block[b] = calloc(n * 3, sizeof(float)))) {
+            log_error("out of memory for a part of %zu pixels", n);
+            return false;
+        }
+    return true;
+}
+
+bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t sample_end) {
     packed_scene packed;
     double start = clock_seconds();
     if (!scene_pack(s, opts, &packed)) return false;
     scene_pack_report(&packed, opts, start);
-    if (!film_init(f, s->width, s->height)) {
-        log_error("out of memory for a %d x %d film", s->width, s->height);
-        scene_pack_free(&packed);
-        return false;
-    }
-    cpu_job job = {.packed = &packed, .film = f, .samples = opts->samples};
+    cpu_job job = {.packed = &packed,
+                   .part = p,
+                   .width = p->meta.x1 - p->meta.x0,
+                   .height = p->meta.y1 - p->meta.y0};
     job.packet = opts->mode == RENDER_MODE_PATH
                      ? integrator_packet_path()
                      : integrator_packet_choose(opts->cpu_build, integrator_packet_walks(&packed));
     log_debug("cpu back end: packet integrator build %s, %u lanes", job.packet.name,
               job.packet.width);
-    job.tiles_x = (s->width + TILE_SIZE - 1) / TILE_SIZE;
-    job.tile_count = job.tiles_x * ((s->height + TILE_SIZE - 1) / TILE_SIZE);
+    job.tiles_x = (job.width + TILE_SIZE - 1) / TILE_SIZE;
+    job.tile_count = job.tiles_x * ((job.height + TILE_SIZE - 1) / TILE_SIZE);
     atomic_init(&job.next_tile, 0);
     atomic_init(&job.tiles_done, 0);
     atomic_init(&job.nonfinite, 0);
     atomic_init(&job.rays, 0);
-    int n = thread_count(opts->threads);
-    double render_start = clock_seconds();
-    pthread_t threads[RENDER_MAX_THREADS];
-    int started = 0;
-    while (started < n && pthread_create(&threads[started], NULL, worker, &job) == 0) started++;
-    if (started == 0) worker(&job); /* no thread could start: render on this one */
-    if (opts->progress) report_progress(&job);
-    for (int k = 0; k < started; k++) pthread_join(threads[k], NULL);
-    f->nonfinite = atomic_load(&job.nonfinite);
-    double render_seconds = clock_seconds() - render_start;
-    log_debug("cpu: rendering in %.1f ms on %d threads", render_seconds * 1e3,
-              started ? started : 1);
+    uint32_t end_chunk = sample_end == p->meta.spp
+                             ? (p->meta.spp + CHUNK_SAMPLES - 1u) / CHUNK_SAMPLES
+                             : sample_end / CHUNK_SAMPLES;
+    uint32_t begin = p->stack.end;
+    int *top = malloc((end_chunk - begin + 1u) * sizeof *top);
+    int *merges = malloc((end_chunk - begin + 1u) * sizeof *merges);
+    bool ok = top && merges;
+    if (!ok) log_error("out of memory for a plan of %u chunks", end_chunk - begin);
+    int n = thread_count(opts->threads), ran = 0;
+    cpu_progress pr = {.start = clock_seconds(),
+                       .total = (double)(sample_of(p, end_chunk) - sample_of(p, begin)),
+                       .pixels = (double)job.width * job.height,
+                       .deadline = opts->deadline};
+    const render_control *control = opts->control;
+    bool sync = false;
+    uint32_t next = control ? control->next_pass(control->user, p->meta.sample_end, &sync)
+                            : end_chunk - begin;
+    if (ok && sync) ok = control->synced(control->user, p);
+    while (ok && p->stack.end < end_chunk && next > 0) {
+        uint32_t chunks = next < end_chunk - p->stack.end ? next : end_chunk - p->stack.end;
+        chunk_stack shape = p->stack;
+        if (!(ok = plan_pass(&job, &shape, chunks, top, merges))) break;
+        job.top = top;
+        job.merges = merges;
+        pr.done = (double)(sample_of(p, job.first_chunk) - sample_of(p, begin));
+        pr.pass = (double)(sample_of(p, job.first_chunk + chunks) - sample_of(p, job.first_chunk));
+        ran = run_pass(&job, n, opts->progress, &pr);
+        for (int b = shape.count; b < CHUNK_STACK_MAX; b++) {
+            free(p->block[b]);
+            p->block[b] = NULL;
+        }
+        p->stack = shape;
+        p->meta.sample_end = sample_of(p, shape.end);
+        p->meta.nonfinite += atomic_exchange(&job.nonfinite, 0);
+        sync = false;
+        next = p->stack.end < end_chunk && control
+                   ? control->next_pass(control->user, p->meta.sample_end, &sync)
+                   : 0u;
+        if (sync) ok = control->synced(control->user, p);
+    }
+    if (opts->progress) render_progress_clear();
+    double render_seconds = clock_seconds() - pr.start;
+    log_debug("cpu: rendering in %.1f ms on %d threads", render_seconds * 1e3, ran ? ran : 1);
     if (opts->stats) {
         opts->stats->render_seconds = render_seconds;
         opts->stats->rays = atomic_load(&job.rays);
     }
+    free(top);
+    free(merges);
     scene_pack_free(&packed);
-    return true;
+    return ok;
+}
+
+bool render_cpu(const scene *s, const render_opts *opts, film *f) {
+    return render_film_by_part(s, opts, f, render_cpu_part);
 }

@@ -1,15 +1,19 @@
 /* render_vk.c: the Vulkan back end: packs and uploads the scene once, then runs shaders/trace.comp
- * over tiles of the image, sample pass after sample pass, each pass adding into one float
- * accumulation buffer of compensated sums in sample order (a barrier between passes), and reads
- * the sums back into the film once at the end. The film matches render_cpu's, sample for
- * sample. */
+ * over tiles of a part's region, sample pass after sample pass within each chunk of samples, each
+ * pass adding into the chunk's compensated sums in sample order (a barrier between passes) and
+ * the chunk's last pushing its value on each pixel's stack of chunk-tree blocks; the stacks are
+ * read back into the part when the render ends or its control asks. The sums match render_cpu's,
+ * sample for sample. */
 #include <inttypes.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "util/clock.h"
 #include "util/log.h"
+#include "render/chunk_tree.h"
+#include "render/part.h"
 #include "render/render.h"
 #include "render/scene_pack.h"
 #include "trace_spv.h"
@@ -42,6 +46,8 @@
 #define INPUT_BUFFERS 5
 /* Bytes a pixel takes in each accumulation buffer (sums, compensation): a vec4. */
 #define ACCUM_PIXEL_BYTES (4u * sizeof(float))
+/* Bytes a block of a pixel's stack takes: RGB. */
+#define STACK_BLOCK_BYTES (3u * sizeof(float))
 
 /* The specialization constants of trace.comp in constant_id order, one 32-bit word each. */
 typedef struct spec_data {
@@ -54,9 +60,10 @@ _Static_assert(offsetof(spec_data, scene) == TZ_SPEC_SCENE * sizeof(uint32_t),
 
 typedef struct vk_render {
     vk_context ctx;
-    vk_buffer frame, spheres, lights, nodes, emitters, accum, accum_comp, counter;
+    vk_buffer frame, spheres, lights, nodes, emitters, accum, accum_comp, stack, counter;
     vk_buffer upload;   /* staging for the inputs when device memory is not mapped */
-    vk_buffer readback; /* staging: the counters at 0, the accumulation at 16 */
+    vk_buffer state;    /* staging for a resumed part's counts and stacks, likewise */
+    vk_buffer readback; /* staging: the counters at 0, the sums at 16, then the stacks */
     vk_kernel kernel;
     VkFence fence;
     VkCommandBuffer cmd;
@@ -77,7 +84,8 @@ typedef struct strategy {
  * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit; false
  * with the reason in `reason` (RENDER_REASON_SIZE bytes), nothing logged. */
 static bool check_limits(const vk_context *ctx, const scene *s, const render_opts *opts,
-                         const strategy *st, char *reason) {
+                         const strategy *st, int width, int height, uint32_t depth,
+                         char *reason) {
     bool use_bvh = st->use_bvh;
     uint64_t sample_iterations = st->sample_iterations;
     if (vk_context_is_lavapipe(ctx) && use_bvh && st->walk < MIN_WALK_BUDGET) {
@@ -101,21 +109,24 @@ static bool check_limits(const vk_context *ctx, const scene *s, const render_opt
     }
     /* The accumulation buffer is addressed with 32-bit dynamic offsets, and drivers cap buffers
      * below 4 GiB (lavapipe's maxBufferSize is 2^32 - 1): 16384 x 16384 pixels need 2^32 bytes. */
-    uint64_t rows = ((uint64_t)s->height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
-    uint64_t row_bytes = (uint64_t)s->width * ACCUM_PIXEL_BYTES;
+    uint64_t rows = ((uint64_t)height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
+    uint64_t row_bytes = (uint64_t)width * (ACCUM_PIXEL_BYTES > depth * STACK_BLOCK_BYTES
+                                                ? ACCUM_PIXEL_BYTES
+                                                : depth * STACK_BLOCK_BYTES);
     uint64_t accum_bytes = rows * row_bytes;
     if (accum_bytes > UINT32_MAX) {
         snprintf(reason, RENDER_REASON_SIZE,
-                 "a %d x %d image needs %" PRIu64
+                 "a %d x %d region with %u chunk-tree blocks a pixel needs %" PRIu64
                  " bytes of accumulation buffer (rows rounded up to whole %u-row tiles), past the "
-                 "4 GiB - 1 the Vulkan back end addresses (at this width %" PRIu64 " rows fit)",
-                 s->width, s->height, accum_bytes, TILE_SIZE,
+                 "4 GiB - 1 the Vulkan back end addresses (at this width %" PRIu64
+                 " rows fit; --region splits the image)",
+                 width, height, depth, accum_bytes, TILE_SIZE,
                  UINT32_MAX / row_bytes / TILE_SIZE * TILE_SIZE);
         return false;
     }
     const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
     uint64_t sizes[] = {(uint64_t)s->sphere_count * 3u, (uint64_t)s->light_count * 2u,
-                        (uint64_t)TILE_SIZE * (uint64_t)s->width * ACCUM_PIXEL_BYTES,
+                        (uint64_t)TILE_SIZE * row_bytes,
                         use_bvh ? (uint64_t)s->sphere_count * 4u : 0u}; /* < 1 node a sphere */
     uint64_t limit[] = {limits->maxTexelBufferElements, limits->maxTexelBufferElements,
                         limits->maxStorageBufferRange, limits->maxTexelBufferElements};
@@ -134,7 +145,8 @@ static bool check_limits(const vk_context *ctx, const scene *s, const render_opt
 }
 
 /* Creates the buffers and writes the packed scene into them (mapped, or through `upload`). */
-static bool create_buffers(vk_render *r, const packed_scene *p, int width, int height) {
+static bool create_buffers(vk_render *r, const packed_scene *p, int width, int height,
+                           uint32_t depth) {
     vk_context *ctx = &r->ctx;
     const VkBufferUsageFlags input = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
@@ -151,6 +163,7 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
     /* Rows padded to whole tiles: every band binding of TILE_SIZE rows stays inside the buffer. */
     uint64_t rows = ((uint64_t)height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
     VkDeviceSize accum_bytes = rows * (uint64_t)width * ACCUM_PIXEL_BYTES;
+    VkDeviceSize stack_bytes = rows * (uint64_t)width * depth * STACK_BLOCK_BYTES;
     const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | input;
     if (!vk_buffer_create(ctx, sizeof p->frame, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | input,
                           VK_MEMORY_DEVICE, &r->frame) ||
@@ -165,11 +178,13 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
         !vk_buffer_create_view(ctx, &r->emitters, VK_FORMAT_R32G32B32A32_SFLOAT) ||
         !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum) ||
         !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum_comp) ||
+        !vk_buffer_create(ctx, stack_bytes, storage, VK_MEMORY_DEVICE, &r->stack) ||
         !vk_buffer_create(ctx, TZ_COUNTER_WORDS * sizeof(uint32_t), storage, VK_MEMORY_DEVICE,
                           &r->counter))
         return false;
-    if (!r->accum.mapped || !r->counter.mapped) {
-        VkDeviceSize bytes = 16u + (VkDeviceSize)width * (VkDeviceSize)height * ACCUM_PIXEL_BYTES;
+    if (!r->accum.mapped || !r->stack.mapped || !r->counter.mapped) {
+        VkDeviceSize pixels = (VkDeviceSize)width * (VkDeviceSize)height;
+        VkDeviceSize bytes = 16u + pixels * (ACCUM_PIXEL_BYTES + depth * STACK_BLOCK_BYTES);
         if (!vk_buffer_create(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, VK_MEMORY_READBACK,
                               &r->readback))
             return false;
@@ -197,8 +212,32 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
     return true;
 }
 
-/* Copies the staged inputs into place (when staged) and zeroes the accumulation buffers. */
-static void record_setup(vk_render *r) {
+/* Writes the part's counts and stacks (a resumed part) where the shader reads them: into the
+ * mapped buffers, or into `state` for record_setup to copy; false (logged) on out of memory. */
+static bool load_state(vk_render *r, const part *p, uint32_t depth) {
+    size_t n = (size_t)(p->meta.x1 - p->meta.x0) * (size_t)(p->meta.y1 - p->meta.y0);
+    size_t accum_bytes = n * ACCUM_PIXEL_BYTES;
+    char *accum = r->accum.mapped, *stack = r->stack.mapped;
+    if (!accum || !stack) {
+        if (!vk_buffer_create(&r->ctx, accum_bytes + n * depth * STACK_BLOCK_BYTES,
+                              VK_BUFFER_USAGE_TRANSFER_SRC_BIT, VK_MEMORY_UPLOAD, &r->state))
+            return false;
+        accum = r->state.mapped;
+        stack = accum + accum_bytes;
+    }
+    for (size_t i = 0; i < n; i++) {
+        float px[4] = {0.0f, 0.0f, 0.0f, (float)p->count[i]};
+        memcpy(accum + i * ACCUM_PIXEL_BYTES, px, sizeof px);
+        for (int k = 0; k < p->stack.count; k++)
+            memcpy(stack + (i * depth + (size_t)k) * STACK_BLOCK_BYTES, &p->block[k][3 * i],
+                   STACK_BLOCK_BYTES);
+    }
+    return true;
+}
+
+/* Copies the staged inputs into place (when staged), and the resumed part's state likewise, or
+ * zeroes the accumulation buffers of a new part. */
+static void record_setup(vk_render *r, bool resumed, size_t pixels) {
     if (r->upload.buffer) {
         vk_buffer *targets[INPUT_BUFFERS] = {&r->frame, &r->spheres, &r->lights, &r->nodes,
                                              &r->emitters};
@@ -209,14 +248,35 @@ static void record_setup(vk_render *r) {
             offset += targets[k]->size;
         }
     }
-    vkCmdFillBuffer(r->cmd, r->accum.buffer, 0, VK_WHOLE_SIZE, 0u);
+    if (!resumed) {
+        vkCmdFillBuffer(r->cmd, r->accum.buffer, 0, VK_WHOLE_SIZE, 0u);
+        vkCmdFillBuffer(r->cmd, r->stack.buffer, 0, VK_WHOLE_SIZE, 0u);
+    } else if (r->state.buffer) {
+        VkDeviceSize accum_bytes = (VkDeviceSize)pixels * ACCUM_PIXEL_BYTES;
+        VkBufferCopy sums = {0, 0, accum_bytes};
+        VkBufferCopy stacks = {accum_bytes, 0, r->state.size - accum_bytes};
+        vkCmdCopyBuffer(r->cmd, r->state.buffer, r->accum.buffer, 1, &sums);
+        vkCmdCopyBuffer(r->cmd, r->state.buffer, r->stack.buffer, 1, &stacks);
+    }
     vkCmdFillBuffer(r->cmd, r->accum_comp.buffer, 0, VK_WHOLE_SIZE, 0u);
 }
 
+/* Where chunk k of a pass goes on the stack (chunk_stack_push). */
+typedef struct chunk_slot {
+    uint32_t top, merges;
+} chunk_slot;
+
 typedef struct pass_plan {
-    uint32_t width, height, samples;
-    uint32_t per_dispatch; /* samples one invocation renders, in order */
-    uint32_t passes_per_submit;
+    uint32_t width, height;     /* the region */
+    uint32_t region_x0, region_y0;
+    uint32_t spp;               /* samples per pixel of the whole render */
+    uint32_t per_dispatch;      /* samples one invocation renders, in order, within a chunk */
+    uint32_t passes_per_submit; /* dispatch passes */
+    uint32_t depth;             /* stack blocks a pixel has room for */
+    /* The host pass being run: chunks first_chunk to first_chunk + chunks - 1, ending at sample
+     * sample_end, each placed by slot[k]. */
+    uint32_t first_chunk, chunks, sample_end;
+    const chunk_slot *slot;
 } pass_plan;
 
 /* A dispatch has at most (TILE_SIZE / 8) x (TILE_SIZE / 4) workgroups. */
@@ -247,15 +307,30 @@ static uint32_t plan_tiles(const pass_plan *plan) {
            ((plan->height + TILE_SIZE - 1u) / TILE_SIZE);
 }
 
-/* Records steps [first, last) of the plan: one dispatch per tile, a barrier before each pass
- * (and at the first step), each tile's row band bound at its first row through the dynamic
- * offset. */
+/* Dispatch passes a chunk takes. */
+static uint32_t plan_subpasses(const pass_plan *plan) {
+    return (CHUNK_SAMPLES + plan->per_dispatch - 1u) / plan->per_dispatch;
+}
+
+/* Records steps [first, last) of the host pass: one dispatch per tile, a barrier before each
+ * dispatch pass (and at the first step), each tile's row band bound at its first row through
+ * the dynamic offsets. Dispatch pass d is pass d % subpasses of chunk first_chunk + d /
+ * subpasses; the last chunk of a render may need fewer. */
 static void record_steps(vk_render *r, const pass_plan *plan, uint64_t first, uint64_t last) {
     VkCommandBuffer cmd = r->cmd;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.pipeline);
     uint32_t tiles = plan_tiles(plan), tiles_x = (plan->width + TILE_SIZE - 1u) / TILE_SIZE;
+    uint32_t subs = plan_subpasses(plan);
     for (uint64_t step = first; step < last; step++) {
         uint32_t pass = (uint32_t)(step / tiles), tile = (uint32_t)(step % tiles);
+        uint32_t k = pass / subs, sub = pass % subs, chunk = plan->first_chunk + k;
+        uint32_t chunk_begin = chunk * CHUNK_SAMPLES;
+        uint32_t chunk_end = plan->spp - chunk_begin < CHUNK_SAMPLES ? plan->spp
+                                                                     : chunk_begin + CHUNK_SAMPLES;
+        uint32_t sample = chunk_begin + sub * plan->per_dispatch;
+        if (sample >= chunk_end) continue; /* the render's last chunk is short */
+        uint32_t count =
+            chunk_end - sample < plan->per_dispatch ? chunk_end - sample : plan->per_dispatch;
         /* Each pass reads and writes what the one before wrote: samples add in order. */
         if (tile == 0u || step == first)
             vk_commands_barrier(
@@ -264,33 +339,41 @@ static void record_steps(vk_render *r, const pass_plan *plan, uint64_t first, ui
                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
                     VK_ACCESS_UNIFORM_READ_BIT);
-        uint32_t sample = pass * plan->per_dispatch;
-        uint32_t count = plan->samples - sample < plan->per_dispatch ? plan->samples - sample
-                                                                     : plan->per_dispatch;
         uint32_t x0 = tile % tiles_x * TILE_SIZE, y0 = tile / tiles_x * TILE_SIZE;
-        /* Dynamic offsets are 32-bit: at most (16384 - 256) rows of 16384 pixels of 16 bytes,
-         * 4.23e9, which fits. */
+        /* Dynamic offsets are 32-bit: check_limits keeps the buffers under 4 GiB. */
         uint32_t band_offset = y0 * plan->width * (uint32_t)ACCUM_PIXEL_BYTES;
-        const uint32_t offsets[] = {band_offset, band_offset}; /* sums, compensation */
+        uint32_t stack_offset = y0 * plan->width * plan->depth * (uint32_t)STACK_BLOCK_BYTES;
+        /* In binding order: sums, compensation, stacks. */
+        const uint32_t offsets[] = {band_offset, band_offset, stack_offset};
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.layout, 0, 1,
-                                &r->kernel.set, 2, offsets);
+                                &r->kernel.set, 3, offsets);
         uint32_t th = plan->height - y0 < TILE_SIZE ? plan->height - y0 : TILE_SIZE;
         uint32_t tw = plan->width - x0 < TILE_SIZE ? plan->width - x0 : TILE_SIZE;
         uint32_t gx = (tw + TZ_GROUP_X - 1u) / TZ_GROUP_X;
         uint32_t gy = (th + TZ_GROUP_Y - 1u) / TZ_GROUP_Y;
+        uint32_t flags = (sub == 0u ? TZ_CHUNK_OPEN : 0u) |
+                         (sample + count == chunk_end ? TZ_CHUNK_CLOSE : 0u);
         struct gpu_pass push = {.x0 = x0,
                                 .y0 = y0,
                                 .first_sample = sample,
                                 .sample_count = count,
-                                .total_samples = plan->samples,
-                                .group_stride = workgroup_stride(gx * gy)};
+                                .group_stride = workgroup_stride(gx * gy),
+                                .region_x0 = plan->region_x0,
+                                .region_y0 = plan->region_y0,
+                                .region_width = plan->width,
+                                .region_height = plan->height,
+                                .chunk_flags = flags,
+                                .stack_top = plan->slot[k].top,
+                                .stack_merges = plan->slot[k].merges,
+                                .stack_depth = plan->depth};
         vkCmdPushConstants(cmd, r->kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push,
                            &push);
         vkCmdDispatch(cmd, gx, gy, 1);
     }
 }
 
-/* Makes the counter (and with `final` the accumulation) readable by the host after the fence. */
+/* Makes the counter (and with `final` the sums and stacks) readable by the host after the
+ * fence. */
 static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
     VkCommandBuffer cmd = r->cmd;
     vk_commands_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
@@ -300,9 +383,15 @@ static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
         VkBufferCopy copy = {0, 0, TZ_COUNTER_WORDS * sizeof(uint32_t)};
         vkCmdCopyBuffer(cmd, r->counter.buffer, r->readback.buffer, 1, &copy);
     }
+    VkDeviceSize pixels = (VkDeviceSize)plan->width * plan->height;
     if (final && !r->accum.mapped) {
-        VkBufferCopy copy = {0, 16, (VkDeviceSize)plan->width * plan->height * ACCUM_PIXEL_BYTES};
+        VkBufferCopy copy = {0, 16, pixels * ACCUM_PIXEL_BYTES};
         vkCmdCopyBuffer(cmd, r->accum.buffer, r->readback.buffer, 1, &copy);
+    }
+    if (final && !r->stack.mapped) {
+        VkBufferCopy copy = {0, 16 + pixels * ACCUM_PIXEL_BYTES,
+                             pixels * plan->depth * STACK_BLOCK_BYTES};
+        vkCmdCopyBuffer(cmd, r->stack.buffer, r->readback.buffer, 1, &copy);
     }
     if (r->readback.buffer)
         vk_commands_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
@@ -313,13 +402,23 @@ static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
  * a submission costs lavapipe a fence wait and a fork and join of its threads. */
 #define PROGRESS_UPDATES 200u
 
-/* Records and runs every pass, submission by submission; sums the non-finite counts. With
+/* What run_passes needs beyond the plan: the progress line's scale and whether to read back. */
+typedef struct pass_run {
+    bool setup;            /* the first submission of the render: uploads and zeroing */
+    bool resumed;          /* the part had samples: its state was loaded, not zeroed */
+    bool read_back;        /* the sums and stacks are wanted on the host after this pass */
+    double start;          /* clock_seconds() when rendering began */
+    double done, total;    /* samples a pixel: rendered before this pass, and in all */
+    double deadline;       /* render_opts.deadline */
+} pass_run;
+
+/* Records and runs one host pass, submission by submission; sums the non-finite counts. With
  * progress, submissions are cut finer (down to one tile) so that the line moves. False when a
  * sample ran out of loop budget (the reason in `refusal`, else "") or on a Vulkan failure. */
 static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *opts,
-                       uint64_t *nonfinite, uint64_t *rays, char *refusal) {
+                       const pass_run *run, uint64_t *nonfinite, uint64_t *rays, char *refusal) {
     vk_context *ctx = &r->ctx;
-    uint32_t passes = (plan->samples + plan->per_dispatch - 1u) / plan->per_dispatch;
+    uint32_t passes = plan->chunks * plan_subpasses(plan);
     uint64_t tiles = plan_tiles(plan), steps = (uint64_t)passes * tiles;
     uint64_t per_submit = (uint64_t)plan->passes_per_submit * tiles;
     if (opts->progress) {
@@ -327,10 +426,9 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
         if (fine < per_submit) per_submit = fine;
     }
     const uint32_t *counter = r->counter.mapped ? r->counter.mapped : r->readback.mapped;
-    *nonfinite = 0;
     bool ok = true;
     uint32_t overflowed = 0; /* samples whose walk ran out of loop passes */
-    double start = clock_seconds();
+    double samples_in_pass = (double)plan->sample_end - run->done;
     for (uint64_t first = 0; ok && first < steps; first += per_submit) {
         uint64_t last = steps - first < per_submit ? steps : first + per_submit;
         if (!vk_commands_begin(ctx, &r->cmd)) {
@@ -343,10 +441,11 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                             VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                             VK_ACCESS_TRANSFER_WRITE_BIT);
-        if (first == 0) record_setup(r);
+        if (first == 0 && run->setup)
+            record_setup(r, run->resumed, (size_t)plan->width * plan->height);
         vkCmdFillBuffer(r->cmd, r->counter.buffer, 0, VK_WHOLE_SIZE, 0u);
         record_steps(r, plan, first, last);
-        record_readback(r, plan, last == steps);
+        record_readback(r, plan, last == steps && run->read_back);
         if (!vk_commands_submit_wait(ctx, r->cmd, r->fence)) {
             ok = false;
             break;
@@ -355,11 +454,13 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
         *rays += counter[2] | (uint64_t)counter[3] << 32;
         overflowed = counter[1];
         ok = overflowed == 0;
-        if (ok && opts->progress)
-            render_progress_print((double)last / (double)steps, clock_seconds() - start,
-                                  (double)plan->width * plan->height * plan->samples);
+        if (ok && opts->progress) {
+            double done = run->done + samples_in_pass * (double)last / (double)steps;
+            render_progress_print(done / run->total, clock_seconds() - run->start,
+                                  (double)plan->width * plan->height * run->total,
+                                  run->deadline);
+        }
     }
-    if (opts->progress) render_progress_clear(); /* on failure too: messages follow */
     if (overflowed > 0)
         snprintf(refusal, RENDER_REASON_SIZE,
                  "%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
@@ -368,12 +469,14 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
     return ok;
 }
 
-/* Samples per dispatch and passes per submission, from the per-sample worst case. */
-static pass_plan plan_passes(const vk_context *ctx, const scene *s, const render_opts *opts,
-                             uint64_t sample_iterations) {
-    pass_plan plan = {.width = (uint32_t)s->width,
-                      .height = (uint32_t)s->height,
-                      .samples = (uint32_t)opts->samples};
+/* Samples per dispatch (at most a chunk) and passes per submission, from the per-sample worst
+ * case. */
+static pass_plan plan_passes(const vk_context *ctx, const part *p, uint64_t sample_iterations) {
+    pass_plan plan = {.width = (uint32_t)(p->meta.x1 - p->meta.x0),
+                      .height = (uint32_t)(p->meta.y1 - p->meta.y0),
+                      .region_x0 = (uint32_t)p->meta.x0,
+                      .region_y0 = (uint32_t)p->meta.y0,
+                      .spp = p->meta.spp};
     uint64_t tile_pixels = (uint64_t)TILE_SIZE * TILE_SIZE;
     uint64_t per_dispatch = DISPATCH_BUDGET / (tile_pixels * sample_iterations);
     if (vk_context_is_lavapipe(ctx)) {
@@ -386,7 +489,8 @@ static pass_plan plan_passes(const vk_context *ctx, const scene *s, const render
     if (pixels < MIN_CHARGED_PIXELS) pixels = MIN_CHARGED_PIXELS;
     uint64_t whole = SUBMIT_BUDGET / pixels / sample_iterations;
     if (whole < per_dispatch) per_dispatch = whole;
-    if (per_dispatch > plan.samples) per_dispatch = plan.samples;
+    if (per_dispatch > CHUNK_SAMPLES) per_dispatch = CHUNK_SAMPLES;
+    if (per_dispatch > plan.spp) per_dispatch = plan.spp;
     plan.per_dispatch = per_dispatch ? (uint32_t)per_dispatch : 1u;
     uint64_t pass_cost; /* saturated: 16384^2 pixels of 4096 lights, 2^24 spheres, --no-bvh */
     if (__builtin_mul_overflow(pixels * plan.per_dispatch, sample_iterations, &pass_cost))
@@ -427,9 +531,9 @@ static void render_destroy(vk_render *r) {
         if (r->fence) vkDestroyFence(ctx->device, r->fence, NULL);
         if (r->cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &r->cmd);
         vk_kernel_destroy(ctx, &r->kernel);
-        vk_buffer *buffers[] = {&r->readback, &r->upload,   &r->counter, &r->accum_comp,
-                                &r->accum,    &r->emitters, &r->nodes,   &r->lights,
-                                &r->spheres,  &r->frame};
+        vk_buffer *buffers[] = {&r->readback, &r->state,    &r->upload, &r->counter,
+                                &r->stack,    &r->accum_comp, &r->accum, &r->emitters,
+                                &r->nodes,    &r->lights,   &r->spheres, &r->frame};
         for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; k++)
             vk_buffer_destroy(ctx, buffers[k]);
     }
@@ -460,7 +564,8 @@ static strategy choose_strategy(const vk_context *ctx, const scene *s, const ren
 /* Compiles trace.comp for the scene (specialization constants: the strategy, the flags, and the
  * spheres and lights of an unrolled scene), creates the fence and binds the buffers; false
  * (logged) on a Vulkan failure. */
-static bool create_kernel(vk_render *r, const packed_scene *packed, const strategy *st, int width) {
+static bool create_kernel(vk_render *r, const packed_scene *packed, const strategy *st, int width,
+                          uint32_t depth) {
     const VkDescriptorType types[] = {
         [TZ_BINDING_FRAME] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
         [TZ_BINDING_SPHERES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
@@ -470,6 +575,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
         [TZ_BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         [TZ_BINDING_ACCUM_COMP] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC,
         [TZ_BINDING_EMITTERS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+        [TZ_BINDING_STACK] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC,
     };
     /* Small scenes get their sphere and light loops unrolled, and their spheres and lights
      * become specialization constants: the unrolled tests read immediates, and the loop
@@ -512,6 +618,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
         [TZ_BINDING_LIGHTS] = &r->lights,         [TZ_BINDING_ACCUM] = &r->accum,
         [TZ_BINDING_COUNTERS] = &r->counter,      [TZ_BINDING_NODES] = &r->nodes,
         [TZ_BINDING_ACCUM_COMP] = &r->accum_comp, [TZ_BINDING_EMITTERS] = &r->emitters,
+        [TZ_BINDING_STACK] = &r->stack,
     };
     const VkDeviceSize band = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)width * ACCUM_PIXEL_BYTES;
     const VkDeviceSize ranges[] = {
@@ -520,13 +627,126 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
         [TZ_BINDING_COUNTERS] = VK_WHOLE_SIZE, [TZ_BINDING_NODES] = VK_WHOLE_SIZE,
         [TZ_BINDING_ACCUM_COMP] = band, /* the same band rows as the sums */
         [TZ_BINDING_EMITTERS] = VK_WHOLE_SIZE,
+        [TZ_BINDING_STACK] = band * depth * STACK_BLOCK_BYTES / ACCUM_PIXEL_BYTES,
     };
     vk_kernel_bind(&r->ctx, &r->kernel, buffers, ranges);
     return true;
 }
 
-render_status render_vk_try(const scene *s, const render_opts *opts, film *f, char *reason) {
-    *f = (film){0};
+/* The chunk that sample s of part p ends at: s / CHUNK_SAMPLES, or the chunk count at the end. */
+static uint32_t chunk_of(const part *p, uint32_t s) {
+    return s == p->meta.spp ? (p->meta.spp + CHUNK_SAMPLES - 1u) / CHUNK_SAMPLES
+                            : s / CHUNK_SAMPLES;
+}
+
+/* The first sample of chunk k of part p, or its spp past the last chunk. */
+static uint32_t sample_of(const part *p, uint32_t k) {
+    uint64_t s = (uint64_t)k * CHUNK_SAMPLES;
+    return s < p->meta.spp ? (uint32_t)s : p->meta.spp;
+}
+
+/* The most blocks the stack holds on its way from `from` to chunk end, at least 1. */
+static uint32_t stack_depth(const chunk_stack *from, uint32_t end) {
+    chunk_stack st = *from;
+    uint32_t depth = st.count > 0 ? (uint32_t)st.count : 1u;
+    for (uint32_t k = st.end; k < end; k++) {
+        chunk_stack_push(&st, (chunk_block){0, k});
+        if ((uint32_t)st.count > depth) depth = (uint32_t)st.count;
+    }
+    return depth;
+}
+
+/* Reads the sums back into p: its counts, the stack `shape` and its blocks, the samples up to
+ * chunk `done` and the non-finite samples since the last sync; false (logged) on failure. */
+static bool sync_part(vk_render *r, const pass_plan *plan, const chunk_stack *shape,
+                      uint32_t done, uint64_t *nonfinite, part *p) {
+    size_t n = (size_t)plan->width * plan->height;
+    if (!r->accum.mapped || !r->stack.mapped) {
+        if (!vk_commands_begin(&r->ctx, &r->cmd)) return false;
+        record_readback(r, plan, true);
+        if (!vk_commands_submit_wait(&r->ctx, r->cmd, r->fence)) return false;
+    }
+    const char *sums = r->accum.mapped ? r->accum.mapped : (const char *)r->readback.mapped + 16;
+    const char *stacks = r->stack.mapped ? (const char *)r->stack.mapped
+                                         : (const char *)r->readback.mapped + 16 +
+                                               n * ACCUM_PIXEL_BYTES;
+    for (int k = 0; k < CHUNK_STACK_MAX; k++) {
+        if (k >= shape->count) {
+            free(p->block[k]);
+            p->block[k] = NULL;
+        } else if (!p->block[k] && !(p->block[k] = malloc(n * STACK_BLOCK_BYTES))) {
+            log_error("out of memory for a part of %zu pixels", n);
+            return false;
+        }
+    }
+    for (size_t i = 0; i < n; i++) {
+        float px[4];
+        memcpy(px, sums + i * ACCUM_PIXEL_BYTES, sizeof px);
+        p->count[i] = (uint32_t)px[3];
+        for (int k = 0; k < shape->count; k++)
+            memcpy(&p->block[k][3 * i], stacks + (i * plan->depth + (size_t)k) * STACK_BLOCK_BYTES,
+                   STACK_BLOCK_BYTES);
+    }
+    p->stack = *shape;
+    p->meta.sample_end = sample_of(p, done);
+    p->meta.nonfinite += *nonfinite;
+    *nonfinite = 0;
+    return true;
+}
+
+/* Renders chunks up to end_chunk in the passes opts->control sets, syncing the part when it
+ * asks and at the end; false on failure or a refusal (in `reason`). */
+static bool render_chunks(vk_render *r, pass_plan *plan, const render_opts *opts, part *p,
+                          uint32_t end_chunk, bool resumed, char *reason) {
+    const render_control *control = opts->control;
+    chunk_stack shape = p->stack;
+    uint32_t done = shape.end, begin = shape.end;
+    chunk_slot *slots = malloc((end_chunk - begin + 1u) * sizeof *slots);
+    if (!slots) {
+        log_error("out of memory for a plan of %u chunks", end_chunk - begin);
+        return false;
+    }
+    uint64_t nonfinite = 0, rays = 0;
+    pass_run run = {.setup = true,
+                    .resumed = resumed,
+                    .start = clock_seconds(),
+                    .total = (double)(sample_of(p, end_chunk) - sample_of(p, begin)),
+                    .deadline = opts->deadline};
+    bool sync = false, ok = true;
+    uint32_t next = control ? control->next_pass(control->user, p->meta.sample_end, &sync)
+                            : end_chunk - done;
+    while (ok && done < end_chunk && next > 0) {
+        uint32_t chunks = next < end_chunk - done ? next : end_chunk - done;
+        for (uint32_t k = 0; k < chunks; k++) {
+            slots[k].top = (uint32_t)shape.count;
+            slots[k].merges = (uint32_t)chunk_stack_push(&shape, (chunk_block){0, done + k});
+        }
+        plan->first_chunk = done;
+        plan->chunks = chunks;
+        plan->sample_end = sample_of(p, done + chunks);
+        plan->slot = slots;
+        run.done = (double)(sample_of(p, done) - sample_of(p, begin));
+        ok = run_passes(r, plan, opts, &run, &nonfinite, &rays, reason);
+        run.setup = false;
+        if (!ok) break;
+        done += chunks;
+        sync = false;
+        next = done < end_chunk && control
+                   ? control->next_pass(control->user, sample_of(p, done), &sync)
+                   : 0u;
+        if (sync || next == 0 || done == end_chunk) {
+            ok = sync_part(r, plan, &shape, done, &nonfinite, p);
+            if (ok && sync) ok = control->synced(control->user, p);
+        }
+    }
+    if (opts->progress) render_progress_clear(); /* on failure too: messages follow */
+    if (opts->stats) opts->stats->rays = rays;
+    free(slots);
+    return ok;
+}
+
+render_status render_vk_part_try(const scene *s, const render_opts *opts, part *p,
+                                 uint32_t sample_end, char *reason) {
     reason[0] = '\0';
     vk_render r = {0};
     packed_scene packed = {0};
@@ -541,41 +761,36 @@ render_status render_vk_try(const scene *s, const render_opts *opts, film *f, ch
     strategy st = choose_strategy(&r.ctx, s, opts);
     render_opts packing = *opts;
     packing.no_bvh = !st.use_bvh;
+    int width = p->meta.x1 - p->meta.x0, height = p->meta.y1 - p->meta.y0;
+    uint32_t end_chunk = chunk_of(p, sample_end);
+    uint32_t depth = stack_depth(&p->stack, end_chunk);
+    bool resumed = p->stack.count > 0;
     double t_pack = clock_seconds();
-    if (!check_limits(&r.ctx, s, opts, &st, reason) || !scene_pack(s, &packing, &packed)) goto done;
-    scene_pack_report(&packed, opts, t_pack);
-    if (!film_init(f, s->width, s->height)) {
-        log_error("out of memory for a %d x %d film", s->width, s->height);
+    if (!check_limits(&r.ctx, s, opts, &st, width, height, depth, reason) ||
+        !scene_pack(s, &packing, &packed))
         goto done;
-    }
+    scene_pack_report(&packed, opts, t_pack);
     double t_buffers = clock_seconds(); /* after the pack, which reports its own time */
-    if (!create_buffers(&r, &packed, s->width, s->height)) goto done;
+    if (!create_buffers(&r, &packed, width, height, depth)) goto done;
+    if (resumed && !load_state(&r, p, depth)) goto done;
     double t_upload = clock_seconds();
     log_debug("vulkan: buffers and upload in %.1f ms (%s)", (t_upload - t_buffers) * 1e3,
               r.accum.mapped ? "mapped device memory" : "staging copies");
-    if (!create_kernel(&r, &packed, &st, s->width)) goto done;
+    if (!create_kernel(&r, &packed, &st, width, depth)) goto done;
     double t_pipeline = clock_seconds();
     log_debug("vulkan: pipeline in %.1f ms", (t_pipeline - t_upload) * 1e3);
 
-    pass_plan plan = plan_passes(&r.ctx, s, opts, st.sample_iterations);
+    pass_plan plan = plan_passes(&r.ctx, p, st.sample_iterations);
+    plan.depth = depth;
     log_debug("vulkan: %" PRIu64
               " loop passes per sample at most, %u sample%s per dispatch, "
-              "%u pass%s per submission",
+              "%u pass%s per submission, %u chunk-tree blocks a pixel",
               st.sample_iterations, plan.per_dispatch, plan.per_dispatch == 1 ? "" : "s",
-              plan.passes_per_submit, plan.passes_per_submit == 1 ? "" : "es");
-    uint64_t rays = 0;
-    if (!run_passes(&r, &plan, opts, &f->nonfinite, &rays, reason)) goto done;
+              plan.passes_per_submit, plan.passes_per_submit == 1 ? "" : "es", depth);
+    if (!render_chunks(&r, &plan, opts, p, end_chunk, resumed, reason)) goto done;
     double t_render = clock_seconds();
-    if (opts->stats) {
-        opts->stats->render_seconds = t_render - t_pipeline;
-        opts->stats->rays = rays;
-    }
-    /* The last pass stored each compensated sum's value (film_sum_value) in place of the sum. */
-    const char *sums = r.accum.mapped ? r.accum.mapped : (const char *)r.readback.mapped + 16;
-    memcpy(f->accum, sums, (size_t)s->width * (size_t)s->height * ACCUM_PIXEL_BYTES);
-    double t_read = clock_seconds();
-    log_debug("vulkan: rendering in %.1f ms, read-back in %.1f ms", (t_render - t_pipeline) * 1e3,
-              (t_read - t_render) * 1e3);
+    if (opts->stats) opts->stats->render_seconds = t_render - t_pipeline;
+    log_debug("vulkan: rendering and read-back in %.1f ms", (t_render - t_pipeline) * 1e3);
     ok = true;
 done:
     render_destroy(&r);
@@ -583,12 +798,24 @@ done:
     bool valid = vk_context_destroy(&r.ctx);
     if (!valid) log_error("the Vulkan validation layer reported errors: the render failed");
     if (opts->stats) opts->stats->validation_errors = vk_context_validation_errors(&r.ctx);
-    if (!ok || !valid) film_free(f);
     /* A refusal stands only when nothing else went wrong: validation errors fail the run. */
     if (ok && valid) return RENDER_DONE;
     if (reason[0] && valid) return RENDER_REFUSED;
     if (reason[0]) log_error("%s" VK_CONTEXT_USE_CPU, reason);
     return RENDER_FAILED;
+}
+
+render_status render_vk_try(const scene *s, const render_opts *opts, film *f, char *reason) {
+    *f = (film){0};
+    reason[0] = '\0';
+    part_meta meta;
+    render_part_meta(s, opts, &meta);
+    part p;
+    if (!part_init(&p, &meta)) return RENDER_FAILED;
+    render_status status = render_vk_part_try(s, opts, &p, meta.spp, reason);
+    if (status == RENDER_DONE && !part_film(&p, f)) status = RENDER_FAILED;
+    part_free(&p);
+    return status;
 }
 
 bool render_vk(const scene *s, const render_opts *opts, film *f) {
