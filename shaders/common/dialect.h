@@ -18,6 +18,10 @@
 /* C's branch-free & and | on 0/1 ints are && and || on GLSL bools. */
 #define TZ_AND &&
 #define TZ_OR ||
+/* TZ_BRANCH_IF(c) { block }: a branch in GLSL, which lavapipe skips where a whole subgroup has c
+ * false; in C the block always runs (its results must be selected by c inside), so that loops
+ * over SIMD lanes stay branch-free. */
+#define TZ_BRANCH_IF(c) if (c)
 #define TZ_INOUT(type) inout type
 #define TZ_DEREF(x) (x)
 #define TZ_INFINITY uintBitsToFloat(0x7f800000u)
@@ -70,6 +74,7 @@ float v3_max_abs(vec3 a) { return max(abs(a.x), max(abs(a.y), abs(a.z))); }
 #define TZ_BOOL int
 #define TZ_AND &
 #define TZ_OR |
+#define TZ_BRANCH_IF(c)
 #define TZ_INOUT(type) type*
 #define TZ_DEREF(x) (*(x))
 #define TZ_INFINITY INFINITY
