@@ -1,8 +1,8 @@
 /* intersect.glsl: the GLSL back end's nearest-hit and shadow queries over the spheres, by brute
- * force or through the BVH, on the shared steps of common/ray.h; the C back end's are in
- * src/render/cpu/integrator.c (trace_bvh and integrator_nearest, integrator_occluded too). The including shader declares
- * `frame`, sphere_center_radius(), sphere_params(), sphere_count(), node_field(), use_bvh() and
- * WALK_BUDGET. */
+ * force or through the BVH, on the shared steps of common/ray.h; the C back end's functions of
+ * the same names are in src/render/cpu/integrator.c (trace_bvh, integrator_nearest,
+ * integrator_occluded). The including shader declares `frame`, sphere_center_radius(),
+ * sphere_params(), sphere_count(), node_field(), use_bvh() and WALK_BUDGET. */
 #ifndef TRAZADOR_INTERSECT_GLSL
 #define TRAZADOR_INTERSECT_GLSL
 
