@@ -1,8 +1,8 @@
 /* intersect.glsl: the GLSL back end's nearest-hit and shadow queries over the spheres, by brute
- * force or through the BVH, on the shared steps of common/ray.h; the C back end's are in
- * src/render/cpu/integrator.c (trace_ray, the same names). The including shader declares
- * `frame`, sphere_center_radius(), sphere_params(), sphere_count(), node_field(), use_bvh() and
- * WALK_BUDGET. */
+ * force or through the BVH, on the shared steps of common/ray.h; the C back end's functions of
+ * the same names are in src/render/cpu/integrator.c (trace_bvh, integrator_nearest,
+ * integrator_occluded). The including shader declares `frame`, sphere_center_radius(),
+ * sphere_params(), sphere_count(), node_field(), use_bvh() and WALK_BUDGET. */
 #ifndef TRAZADOR_INTERSECT_GLSL
 #define TRAZADOR_INTERSECT_GLSL
 
@@ -91,32 +91,30 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
     return id;
 }
 
-/* Nearest sphere hit below tmax (t_out its distance), or with any_hit the first one found; -1
- * when none. Through the BVH when the scene has one, else over every sphere, with the loop
- * unrolled (sphere_count() a specialization constant). */
-int trace_ray(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out) {
-    if (use_bvh()) return trace_bvh(o, d, self, tmax, any_hit, t_out);
-    float tmin = ray_eps(o), best = tmax;
+/* Nearest sphere hit by o + t d with t > EPS, -1 on a miss; t_out is its distance. Through the
+ * BVH when the scene has one, else over every sphere with the loop unrolled (sphere_count() a
+ * specialization constant): trace_ray of the C back end. */
+int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
+    rays_traced++;
+    if (use_bvh()) return trace_bvh(o, d, self, TZ_INFINITY, false, t_out);
+    float tmin = ray_eps(o), best = TZ_INFINITY;
     int id = -1;
-    [[unroll]] for (uint k = 0u; k < sphere_count(); k++) {
+    [[unroll]] for (uint k = 0u; k < sphere_count(); k++)
         keep_nearer(int(k), sphere_distance_at(int(k), o, d, tmin, self), best, id);
-        if (any_hit && id >= 0) break;
-    }
     t_out = best;
     return id;
 }
 
-/* Nearest sphere hit by o + t d with t > EPS, -1 on a miss; t_out is its distance. */
-int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
-    rays_traced++;
-    return trace_ray(o, d, self, TZ_INFINITY, false, t_out);
-}
-
-/* True when a sphere blocks o + t d for EPS < t < dist; glass blocks too, as in the seed. */
+/* True when a sphere blocks o + t d for EPS < t < dist; glass blocks too, as in the seed. The
+ * unrolled loop returns at the first blocker, with no tie rule to keep. */
 bool integrator_occluded(vec3 o, vec3 d, float dist, int self) {
     rays_traced++;
     float t;
-    return trace_ray(o, d, self, dist, true, t) >= 0;
+    if (use_bvh()) return trace_bvh(o, d, self, dist, true, t) >= 0;
+    float tmin = ray_eps(o);
+    [[unroll]] for (uint k = 0u; k < sphere_count(); k++)
+        if (sphere_distance_at(int(k), o, d, tmin, self) < dist) return true;
+    return false;
 }
 
 #endif

@@ -79,9 +79,9 @@ typedef struct tz_uvec4 {
 #define TZ_BINDING_COUNT 9
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
- * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.sphere_count / light_count
- * (src/render/vk/render_vk.c decides); and frame.flags (TZ_FLAG_*), so that code a render never runs
- * is compiled out (lavapipe pays for masked-off SIMD code). */
+ * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.sphere_count
+ * and light_count (src/render/vk/render_vk.c decides); and frame.flags (TZ_FLAG_*), so that code
+ * a render never runs is compiled out (lavapipe pays for masked-off SIMD code). */
 #define TZ_SPEC_UNROLLED_SPHERES 0
 #define TZ_SPEC_UNROLLED_LIGHTS 1
 #define TZ_SPEC_FLAGS 2

@@ -1,6 +1,7 @@
 /* spec_scene.glsl: the spheres and lights of an unrolled scene as specialization constants: float
- * i of struct gpu_unrolled is constant_id TZ_SPEC_SCENE + i (src/render/vk/render_vk.c fills them), so that
- * lavapipe compiles the unrolled loops with immediate operands. Included by trace.comp. */
+ * i of struct gpu_unrolled is constant_id TZ_SPEC_SCENE + i (src/render/vk/render_vk.c fills
+ * them), so that lavapipe compiles the unrolled loops with immediate operands. Included by
+ * trace.comp. */
 #ifndef TRAZADOR_SPEC_SCENE_GLSL
 #define TRAZADOR_SPEC_SCENE_GLSL
 

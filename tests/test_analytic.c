@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "test_scenes.h"
 #include "image/diff.h"
 #include "image/image.h"
 #include "render/render.h"
@@ -18,19 +19,13 @@ static render_stats last_stats; /* of the last render_text() */
 /* Renders scene text with its own settings (no jitter) into f; false on a parse or render error. */
 static bool render_text(const char *text, film *f, int bounces) {
     scene s;
-    scene_error err;
-    if (!scene_parse_string(text, strlen(text), "test", &s, &err)) {
-        scene_error_print(&err);
-        return false;
-    }
     render_opts o;
-    render_opts_from_scene(&s, &o);
+    if (!parse_scene_text(text, &s, &o)) return false;
     o.no_jitter = true;
-    o.validate = true;
     last_stats = (render_stats){0};
     o.stats = &last_stats;
     if (bounces >= 0) o.bounces = bounces;
-    bool ok = use_vulkan ? render_vk(&s, &o, f) : render_cpu(&s, &o, f);
+    bool ok = render_on(use_vulkan, &s, &o, f);
     scene_free(&s);
     return ok;
 }

@@ -10,7 +10,7 @@
 #include "render/bvh.h"
 #include "check.h"
 #include "render/cpu/integrator.h"
-#include "render/rng.h"
+#include "common/rng.h"
 
 static uint32_t rng_state = 12345u;
 static float uniform(float lo, float hi) { return lo + (hi - lo) * rng_next(&rng_state); }

@@ -3,9 +3,12 @@
  * compared with 4.5 standard errors of their pixels (independent samples), so a test fails by
  * chance about once in 150,000 runs and always when a term is missing or counted twice. */
 #include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "check.h"
+#include "test_scenes.h"
 #include "render/render.h"
 #include "render/vk/vk_context.h"
 
@@ -17,18 +20,23 @@ static bool use_vulkan;
 /* Renders scene text (its own settings, strategy as given) into f; false on any error. */
 static bool render_text(const char *text, path_strategy strategy, film *f) {
     scene s;
-    scene_error err;
-    if (!scene_parse_string(text, strlen(text), "test", &s, &err)) {
-        scene_error_print(&err);
-        return false;
-    }
     render_opts o;
-    render_opts_from_scene(&s, &o);
-    o.validate = true;
+    if (!parse_scene_text(text, &s, &o)) return false;
     o.strategy = strategy;
-    bool ok = use_vulkan ? render_vk(&s, &o, f) : render_cpu(&s, &o, f);
+    bool ok = render_on(use_vulkan, &s, &o, f);
     scene_free(&s);
     return ok;
+}
+
+/* render_text with MIS of the scene text printf makes of fmt. */
+static bool render_format(film *f, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static bool render_format(film *f, const char *fmt, ...) {
+    char text[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    return render_text(text, PATH_MIS, f);
 }
 
 /* The mean and standard error of channel c's pixel means over the rectangle x0..x1, y0..y1. */
@@ -64,14 +72,13 @@ static void expect_mean(const char *name, estimate e, double want) {
 static void test_furnace(void) {
     int bounces[] = {0, 1, 3, 16};
     for (int k = 0; k < 4; k++) {
-        char text[512];
-        snprintf(text, sizeof text,
-                 "camera position 0 0 0\nplane width 2 height 2 pixel 0.125\n"
-                 "sphere lambertian center 0 0 0 radius 10 color 0.5 0.5 0.5 emission 1 1 1\n"
-                 "render mode path bounces %d roulette off samples 64\n",
-                 bounces[k]);
         film f = {0};
-        CHECK(render_text(text, PATH_MIS, &f), "furnace: render failed");
+        CHECK(render_format(&f,
+                            "camera position 0 0 0\nplane width 2 height 2 pixel 0.125\n"
+                            "sphere lambertian center 0 0 0 radius 10 color 0.5 0.5 0.5 "
+                            "emission 1 1 1\nrender mode path bounces %d roulette off samples 64\n",
+                            bounces[k]),
+              "furnace: render failed");
         if (!f.accum) continue;
         char name[64];
         snprintf(name, sizeof name, "furnace B=%d", bounces[k]);
@@ -122,14 +129,13 @@ static void test_glass_in_field(void) {
         "sphere refractive center 0.5 0.2 0.3 radius 0.9 ior 1.5\n",
     };
     for (int k = 0; k < 2; k++) {
-        char text[512];
-        snprintf(text, sizeof text,
-                 "camera position 0 0 -5\nplane width 2 height 2 pixel 0.025\n"
-                 "sphere lambertian center 0 0 0 radius 20 color 0 0 0 emission 0.7 0.7 0.7\n"
-                 "%srender mode path bounces 64 samples 1\n",
-                 glass[k]);
         film f = {0};
-        CHECK(render_text(text, PATH_MIS, &f), "glass in field: render failed");
+        CHECK(render_format(&f,
+                            "camera position 0 0 -5\nplane width 2 height 2 pixel 0.025\n"
+                            "sphere lambertian center 0 0 0 radius 20 color 0 0 0 emission 0.7 "
+                            "0.7 0.7\n%srender mode path bounces 64 samples 1\n",
+                            glass[k]),
+              "glass in field: render failed");
         if (!f.accum) continue;
         int field = 0, black = 0, n = f.width * f.height;
         for (int p = 0; p < n; p++) {

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "render/rng.h"
+#include "common/rng.h"
 
 int main(void) {
     CHECK(rng_hash(0u) == 0x07bb2fe2u, "rng_hash(0) = 0x%08x", rng_hash(0u));

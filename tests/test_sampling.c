@@ -8,7 +8,7 @@
 
 #include "check.h"
 #include "common/sampling.h"
-#include "render/rng.h"
+#include "common/rng.h"
 
 #define PI 3.14159265358979323846
 

@@ -3,8 +3,29 @@
 #define TRAZADOR_TEST_SCENES_H
 
 #include <math.h>
+#include <stdbool.h>
+#include <string.h>
 
+#include "render/render.h"
 #include "scene/scene.h"
+
+/* Parses scene text into s and opts from its settings, validation on; false (the error
+ * printed) when it does not parse. */
+static inline bool parse_scene_text(const char *text, scene *s, render_opts *opts) {
+    scene_error err;
+    if (!scene_parse_string(text, strlen(text), "test", s, &err)) {
+        scene_error_print(&err);
+        return false;
+    }
+    render_opts_from_scene(s, opts);
+    opts->validate = true;
+    return true;
+}
+
+/* Renders on the Vulkan or the CPU back end into f; false on failure. */
+static inline bool render_on(bool vulkan, const scene *s, const render_opts *opts, film *f) {
+    return vulkan ? render_vk(s, opts, f) : render_cpu(s, opts, f);
+}
 
 /* A sphere: Phong parameters 0 and ior 1, 1.5 for glass (callers set others). */
 static inline sphere ball(float x, float y, float z, float radius, material_kind material, float r,

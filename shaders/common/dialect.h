@@ -1,7 +1,8 @@
 /* dialect.h: what differs between C11 and GLSL 4.50 for the shared steps of shaders/common/, so
- * that one text compiles as both. The steps use vec3, v3(), the v3_* helpers and these macros;
- * each language gets the same operations in the same order (C through util/vec3.h, GLSL through
- * its operators), so both back ends compute the same bits. */
+ * that one text compiles as both. The steps use vec3, v3(), the v3_* helpers, select3(), xyz(),
+ * these TZ_ macros and TZ_UINT and TZ_VEC4 of shared_layout.h; each language gets the same
+ * operations in the same order (C through util/vec3.h, GLSL through its operators), so both
+ * back ends compute the same bits. */
 #ifndef TRAZADOR_COMMON_DIALECT_H
 #define TRAZADOR_COMMON_DIALECT_H
 
@@ -14,10 +15,13 @@
 #define TZ_PRECISE precise
 #define TZ_FN
 #define TZ_BOOL bool
-#define TZ_UINT uint
 /* C's branch-free & and | on 0/1 ints are && and || on GLSL bools. */
 #define TZ_AND &&
 #define TZ_OR ||
+/* TZ_BRANCH_IF(c) { block }: a branch in GLSL, which lavapipe skips where a whole subgroup has c
+ * false; in C the block always runs (its results must be selected by c inside), so that loops
+ * over SIMD lanes stay branch-free. */
+#define TZ_BRANCH_IF(c) if (c)
 #define TZ_INOUT(type) inout type
 #define TZ_DEREF(x) (x)
 #define TZ_INFINITY uintBitsToFloat(0x7f800000u)
@@ -83,9 +87,9 @@ float v3_max_abs(vec3 a) { return max(abs(a.x), max(abs(a.y), abs(a.z))); }
 #define TZ_PRECISE
 #define TZ_FN static inline
 #define TZ_BOOL int
-#define TZ_UINT uint32_t
 #define TZ_AND &
 #define TZ_OR |
+#define TZ_BRANCH_IF(c)
 #define TZ_INOUT(type) type*
 #define TZ_DEREF(x) (*(x))
 #define TZ_INFINITY INFINITY
@@ -120,7 +124,8 @@ static inline vec3 select3(int c, vec3 a, vec3 b) {
 /* xyz of a packed vec4. */
 static inline vec3 xyz(tz_vec4 v) { return v3(v.x, v.y, v.z); }
 
-/* The bits of a float (the BVH stores child references in floats' places). */
+/* The bits of a float (the BVH stores child references in floats' places; GLSL reads them as
+ * uints). */
 static inline uint32_t uint_bits(float f) {
     uint32_t u;
     memcpy(&u, &f, sizeof u);

@@ -29,17 +29,22 @@ TZ_FN next_ray specular_next(vec3 pos, vec3 nout, vec3 d, TZ_BOOL refractive, fl
      * grows with each reflection until a ray escapes a closed mirror (the sphere test assumes
      * |d| = 1). */
     TZ_PRECISE vec3 mirror_d = v3_normalize(v3_sub(d, v3_scale(side, 2.0f * v3_dot(side, d))));
-    TZ_PRECISE float eta = entering ? 1.0f / ior : ior;
-    TZ_PRECISE float c1 = -v3_dot(d, side);
-    TZ_PRECISE float k = 1.0f - eta * eta * (1.0f - c1 * c1);
-    /* k < 0: total internal reflection, the mirror ray (the refracted one is NaN, unused). */
-    TZ_BOOL refracts = refractive TZ_AND(k >= 0.0f);
-    TZ_PRECISE vec3 refracted_d =
-        v3_normalize(v3_add(v3_scale(d, eta), v3_scale(side, eta * c1 - TZ_SQRT(k))));
-    TZ_PRECISE vec3 o = v3_add(pos, v3_scale(side, refracts ? -eps : eps));
+    TZ_PRECISE vec3 mirror_o = v3_add(pos, v3_scale(side, eps));
     next_ray r;
-    r.o = o;
-    r.d = select3(refracts, refracted_d, mirror_d);
+    r.o = mirror_o;
+    r.d = mirror_d;
+    TZ_BRANCH_IF(refractive) {
+        TZ_PRECISE float eta = entering ? 1.0f / ior : ior;
+        TZ_PRECISE float c1 = -v3_dot(d, side);
+        TZ_PRECISE float k = 1.0f - eta * eta * (1.0f - c1 * c1);
+        /* k < 0: total internal reflection, the mirror ray (the refracted one is NaN, unused). */
+        TZ_BOOL refracts = refractive TZ_AND(k >= 0.0f);
+        TZ_PRECISE vec3 refracted_d =
+            v3_normalize(v3_add(v3_scale(d, eta), v3_scale(side, eta * c1 - TZ_SQRT(k))));
+        TZ_PRECISE vec3 refracted_o = v3_sub(pos, v3_scale(side, eps));
+        r.o = select3(refracts, refracted_o, r.o);
+        r.d = select3(refracts, refracted_d, r.d);
+    }
     return r;
 }
 

@@ -20,7 +20,7 @@
 
 #include "util/atomic_file.h"
 #include "util/log.h"
-#include "render/rng.h"
+#include "common/rng.h"
 #include "scene/scene.h"
 
 _Static_assert(GEN_MAX_COUNT + 4 <= SCENE_MAX_SPHERES, "random scenes must stay parseable");

@@ -1,5 +1,5 @@
-/* integrator.c: the one-sample C integrator (DESIGN section 3), the "reference" build that the
- * packet builds and the shaders are checked against. Its steps are the shared ones of
+/* integrator.c: the one-sample C integrator (DESIGN section 3), the "reference" build that
+ * test_packet checks the packet builds against. Its steps are the shared ones of
  * shaders/common/; its control flow has a GLSL counterpart of the same name in
  * shaders/intersect.glsl and shade.glsl (change both and a test in one commit). */
 #include "render/cpu/integrator.h"
@@ -50,9 +50,11 @@ void integrator_count_rays(uint64_t n) { rays_traced += n; }
 
 /* Nearest sphere hit below tmax through the BVH (*t its distance), or with any_hit the first one
  * found; -1 when none. Nearer child first, a stack of TZ_BVH_MAX_DEPTH child references (each
- * level pushes at most one), each leaf's spheres tested at once. */
-static inline int trace_bvh(const packed_scene *p, vec3 o, vec3 d, int self, float tmax,
-                            int any_hit, float *t) {
+ * level pushes at most one), each leaf's spheres tested at once. Always inlined, so that it is
+ * compiled into each of trace_ray's SIMD clones. */
+static inline __attribute__((always_inline)) int trace_bvh(const packed_scene *p, vec3 o, vec3 d,
+                                                           int self, float tmax, int any_hit,
+                                                           float *t) {
     float tmin = ray_eps(o), best = tmax;
     int id = -1;
     vec3 inv = inverse_direction(d);

@@ -11,7 +11,8 @@
 #include "render/cpu/integrator.h"
 
 /* Built once per vector level (CMakeLists.txt): PACKET_LANES lanes, the entry point named
- * integrator_sample_packet_<PACKET_VARIANT>; src/render/cpu/integrator_dispatch.c picks one at run time. */
+ * integrator_sample_packet_<PACKET_VARIANT>; src/render/cpu/integrator_dispatch.c picks one at run
+ * time. */
 #ifndef PACKET_LANES
 #define PACKET_LANES 8
 #define PACKET_VARIANT baseline
@@ -425,6 +426,11 @@ void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j,
     uint32_t rng[LANES];
     int active[LANES], self[LANES], id[LANES];
     lanes3 o, d, weight, pos, n, wo, radiance;
+    /* Copied once, here: read through fr in the loop, gcc copied them for every lane
+     * (docs/PERF.md). */
+    tz_vec4 right = fr->right, up = fr->up, forward = fr->forward;
+    tz_vec4 origin = fr->origin;
+    float pixel = fr->origin.w, near_distance = fr->near_distance;
     for (int k = 0; k < LANES; k++) {
         active[k] = (uint32_t)k < lanes;
         rng[k] = rng_seed(fr->seed, j * fr->width + i + (uint32_t)k, sample_index);
@@ -432,10 +438,9 @@ void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j,
          */
         float u = rng_next(&rng[k]), v = rng_next(&rng[k]);
         if (!(fr->flags & TZ_FLAG_JITTER)) u = v = 0.5f;
-        vec3 dk =
-            camera_direction(fr->right, fr->up, fr->forward, fr->origin.w, i + (uint32_t)k, j, u, v);
+        vec3 dk = camera_direction(right, up, forward, pixel, i + (uint32_t)k, j, u, v);
         set3(&d, k, dk);
-        set3(&o, k, camera_origin(fr->origin, fr->near_distance, dk));
+        set3(&o, k, camera_origin(origin, near_distance, dk));
         set3(&weight, k, v3(1.0f, 1.0f, 1.0f));
         self[k] = -1;
     }
