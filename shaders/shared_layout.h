@@ -113,16 +113,16 @@ struct gpu_light {
 
 /* Everything per render that is not per sphere or light: camera, plane, counts, settings. */
 struct gpu_frame {
-    TZ_VEC4 origin;     /* camera position, w pixel size */
-    TZ_VEC4 right;      /* R, w -width/2 */
-    TZ_VEC4 up;         /* U, w height/2 */
-    TZ_VEC4 forward;    /* F, w distance to the plane (2 width) */
-    TZ_VEC4 background; /* rgb, w unused (0) */
+    TZ_VEC4 origin;        /* camera position, w pixel size */
+    TZ_VEC4 right;         /* R, w -width/2 */
+    TZ_VEC4 up;            /* U, w height/2 */
+    TZ_VEC4 forward;       /* F, w distance to the plane (2 width) */
+    TZ_VEC4 background;    /* rgb, w unused (0) */
     TZ_UINT width, height; /* of the image, in pixels */
     TZ_UINT sphere_count, light_count;
     TZ_UINT seed, bounces;
-    TZ_UINT flags;      /* TZ_FLAG_* */
-    TZ_UINT node_count; /* of the BVH, 0 without one */
+    TZ_UINT flags;         /* TZ_FLAG_* */
+    TZ_UINT node_count;    /* of the BVH, 0 without one */
     float near_distance;   /* camera rays start this far along their direction (`near`) */
     TZ_UINT emitter_count; /* path mode's emissive spheres */
     TZ_UINT pad0, pad1;    /* 0 */
@@ -141,8 +141,8 @@ struct gpu_emitter {
 struct gpu_pass {
     TZ_UINT x0, y0; /* the tile's corner in pixels of the region */
     TZ_UINT first_sample, sample_count;
-    TZ_UINT group_stride;            /* workgroup stride (see trace.comp) */
-    TZ_UINT region_x0, region_y0;    /* the region's corner in the image */
+    TZ_UINT group_stride;         /* workgroup stride (see trace.comp) */
+    TZ_UINT region_x0, region_y0; /* the region's corner in the image */
     TZ_UINT region_width, region_height;
     TZ_UINT chunk_flags;             /* TZ_CHUNK_OPEN: restart the sums; TZ_CHUNK_CLOSE: push */
     TZ_UINT stack_top, stack_merges; /* chunk_stack_push: where the value goes, merges after */

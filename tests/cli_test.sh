@@ -53,7 +53,7 @@ has unknown-flag err "usage:"
 run bad-spp 2 "$tz" render --spp 0
 run bad-backend 2 "$tz" render --backend metal
 run bad-extension 2 "$tz" render -o out.txt
-has bad-extension err ".png, .ppm or .pfm"
+has bad-extension err ".png, .ppm, .pfm or .exr"
 run width-not-whole 2 "$tz" render --backend cpu --width 7 "$src/scenes/shadows.scene"
 has width-not-whole err "--width 7"
 has width-not-whole err "pick a width that makes it whole"
@@ -102,9 +102,9 @@ has format-clash err "output 'clash.pfm' names another format than --format"
 run dash-no-format 2 "$tz" render --backend cpu --width 8 --spp 1 -o -
 has dash-no-format err "-o - (standard output) needs --format png|ppm|pfm"
 run no-format 2 "$tz" render --backend cpu --width 8 --spp 1 -o /dev/stdout
-has no-format err "must end in .png, .ppm or .pfm, or take --format"
+has no-format err "must end in .png, .ppm, .pfm or .exr, or take --format"
 run bad-format 2 "$tz" render --backend cpu --width 8 --spp 1 -o x.img --format jpg
-has bad-format err "--format takes png, ppm or pfm, got 'jpg'"
+has bad-format err "--format takes png, ppm, pfm or exr, got 'jpg'"
 # Contradictions and numbers that are not plain decimal integers are usage errors.
 run device-with-cpu 2 "$tz" render --backend cpu --device 0 --width 8 --spp 1 -o devcpu.png
 has device-with-cpu err "cannot go with --backend cpu"

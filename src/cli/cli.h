@@ -10,6 +10,8 @@
 
 /* `trazador render`: renders a scene into an image. */
 int cmd_render(int argc, char **argv);
+/* `trazador merge PARTS... -o OUT`: merges render parts into the whole render. */
+int cmd_merge(int argc, char **argv);
 /* `trazador diff A B`: image metrics against thresholds. */
 int cmd_diff(int argc, char **argv);
 /* `trazador gen sphereflake|random`: writes a generated scene. */

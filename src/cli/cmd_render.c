@@ -1,5 +1,6 @@
 /* cmd_render.c: `trazador render`: its options, the checks made before rendering (the output can
- * be written and is not the scene), the render and its summary line. */
+ * be written and is not the scene), the render (a whole image or a part: a region, a range of
+ * samples, resumed from a checkpoint) and its summary line. */
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -9,8 +10,11 @@
 
 #include "cli/cli.h"
 #include "cli/options.h"
+#include "cli/render_pacer.h"
 #include "default_scene.h"
+#include "image/exr.h"
 #include "image/image.h"
+#include "render/part.h"
 #include "render/vk/vk_context.h"
 #include "scene/scene.h"
 #include "util/atomic_file.h"
@@ -27,11 +31,18 @@ typedef struct render_args {
     int indirect;                                         /* -1 not given, 0 off, 1 on */
     int mode;                                             /* -1 not given, else render_mode */
     int no_jitter, validate, verbose, quiet, no_bvh, force;
+    const char *region, *samples;    /* "x0,x1,y0,y1", "A:B"; NULL: all */
+    const char *checkpoint, *resume; /* part files; NULL: none */
+    double checkpoint_every;         /* seconds */
+    double time_limit;               /* seconds; -1: none */
+    int exr_type;                    /* 0 half, 1 float */
+    int part;                        /* an EXR output is a part file */
 } render_args;
 
-#define FORMATS "png|ppm|pfm"
-static const char *const format_names[] = {"png", "ppm", "pfm"};
-static const char *const default_outputs[] = {"render.png", "render.ppm", "render.pfm"};
+#define FORMATS "png|ppm|pfm|exr"
+static const char *const format_names[] = {"png", "ppm", "pfm", "exr"};
+static const char *const default_outputs[] = {"render.png", "render.ppm", "render.pfm",
+                                              "render.exr"};
 
 #define ARG(field) offsetof(render_args, field)
 static const opt_spec render_specs[] = {
@@ -79,6 +90,28 @@ static const opt_spec render_specs[] = {
             "Vulkan's validation layer on; any error fails the run (default off)"),
     OPT_SET("--no-bvh", NULL, ARG(no_bvh), 1,
             "test every sphere for every ray (default: walk the BVH)"),
+    OPT_TEXT("--region", NULL, ARG(region), "X0,X1,Y0,Y1", "four whole numbers",
+             "render pixels X0 <= x < X1, Y0 <= y < Y1 of the image only, as an EXR part "
+             "(default: every pixel)"),
+    OPT_TEXT("--samples", NULL, ARG(samples), "A:B", "a sample range",
+             "render sample indices A to B - 1 of every pixel only, as an EXR part; A and B "
+             "multiples of 16, or B the samples per pixel (default: all)"),
+    OPT_TEXT("--checkpoint", NULL, ARG(checkpoint), "FILE", "a file name",
+             "write the part so far to FILE (an EXR part, atomically) every --checkpoint-every "
+             "seconds and on SIGUSR1, SIGINT or SIGTERM (the last two then stop the render) "
+             "(default: none)"),
+    OPT_DECIMAL("--checkpoint-every", ARG(checkpoint_every), 0.001, 1e9, "SECONDS",
+                "seconds between checkpoints (default 60)"),
+    OPT_TEXT("--resume", NULL, ARG(resume), "FILE", "a file name",
+             "go on from the checkpoint FILE of this very render (default: from the start)"),
+    OPT_DECIMAL("--time-limit", ARG(time_limit), 0.001, 1e9, "SECONDS",
+                "render whole chunks of 16 samples until SECONDS have passed, then write the "
+                "image of the samples so far (default: no limit)"),
+    OPT_ONE_OF("--exr-type", ARG(exr_type), "half|float",
+               "an EXR image's channels (default half; parts are always float)"),
+    OPT_SET("--part", NULL, ARG(part), 1,
+            "write an EXR output as a part file, for `trazador merge` or --resume (default: "
+            "with --region or --samples)"),
     OPT_ONE_OF("--tonemap", ARG(tm), "srgb|linear",
                "8-bit encoding: sRGB or a plain clamp (default srgb; .pfm is linear)"),
     OPT_SET("--force", NULL, ARG(force), 1,
@@ -114,7 +147,9 @@ static opt_result parse_render_args(int argc, char **argv, render_args *a,
                        .device = -1,
                        .width = -1,
                        .indirect = -1,
-                       .mode = -1};
+                       .mode = -1,
+                       .checkpoint_every = 60.0,
+                       .time_limit = -1.0};
     int count;
     *scene_path = NULL;
     opt_result rc = opt_parse(&render_command, argc, argv, a, scene_path, &count);
@@ -133,8 +168,13 @@ static opt_result parse_render_args(int argc, char **argv, render_args *a,
                                a->output);
     if (!format && !named)
         return opt_usage_error(&render_command,
-                               "output '%s' must end in .png, .ppm or .pfm, or take --format",
+                               "output '%s' must end in .png, .ppm, .pfm or .exr, or take --format",
                                a->output);
+    bool exr = !strcmp(format ? format : named, "exr");
+    if ((a->region || a->samples || a->part) && !exr)
+        return opt_usage_error(&render_command,
+                               "--region, --samples and --part write an EXR part: give -o "
+                               "NAME.exr (and `trazador merge` the parts)");
     if (a->device >= 0 && a->backend == BACKEND_CPU)
         return opt_usage_error(&render_command,
                                "--device names a Vulkan device: it cannot go with --backend cpu");
@@ -267,39 +307,154 @@ static int check_device(long long device) {
     return 0;
 }
 
-/* Renders and writes the image; the exit code. */
+/* Parses --region X0,X1,Y0,Y1 into m's region; false (said) if it is not one inside the image. */
+static bool parse_region(const char *text, part_meta *m) {
+    long long v[4];
+    char rest[2];
+    if (text) {
+        if (sscanf(text, "%lld,%lld,%lld,%lld%1s", &v[0], &v[1], &v[2], &v[3], rest) != 4 ||
+            v[0] < 0 || v[0] >= v[1] || v[1] > m->width || v[2] < 0 || v[2] >= v[3] ||
+            v[3] > m->height) {
+            fprintf(stderr,
+                    "trazador: render: --region '%s' must be X0,X1,Y0,Y1 with 0 <= X0 < X1 <= %d "
+                    "and 0 <= Y0 < Y1 <= %d (the image is %dx%d)\n",
+                    text, m->width, m->height, m->width, m->height);
+            return false;
+        }
+        m->x0 = (int)v[0], m->x1 = (int)v[1], m->y0 = (int)v[2], m->y1 = (int)v[3];
+    }
+    return true;
+}
+
+/* Parses --samples A:B into m's sample_begin and *end; false (said) if it is not a range of
+ * whole chunks within the samples per pixel. */
+static bool parse_samples(const char *text, part_meta *m, uint32_t *end) {
+    *end = m->spp;
+    if (!text) return true;
+    long long v[2];
+    char rest[2];
+    if (sscanf(text, "%lld:%lld%1s", &v[0], &v[1], rest) != 2 || v[0] < 0 || v[0] >= v[1] ||
+        v[1] > m->spp || v[0] % CHUNK_SAMPLES != 0 ||
+        (v[1] % CHUNK_SAMPLES != 0 && v[1] != m->spp)) {
+        fprintf(stderr,
+                "trazador: render: --samples '%s' must be A:B with 0 <= A < B <= %u (the samples "
+                "per pixel), A a multiple of %u and B one too or %u: parts merge exactly in "
+                "whole chunks of %u samples\n",
+                text, m->spp, CHUNK_SAMPLES, m->spp, CHUNK_SAMPLES);
+        return false;
+    }
+    m->sample_begin = (uint32_t)v[0];
+    *end = (uint32_t)v[1];
+    return true;
+}
+
+/* Reads the checkpoint to resume into p; false (said) unless it is a part of this very render
+ * (scene, settings, region and first sample) that ends at or before `end`. */
+static bool load_resume(const char *path, const part_meta *want, uint32_t end, part *p) {
+    if (!part_read(path, p)) return false;
+    const part_meta *m = &p->meta;
+    const char *why =
+        strcmp(m->digest, want->digest)     ? "another scene or other settings"
+        : strcmp(m->version, want->version) ? "another trazador version"
+        : m->x0 != want->x0 || m->x1 != want->x1 || m->y0 != want->y0 || m->y1 != want->y1
+            ? "another region"
+        : m->sample_begin != want->sample_begin ? "another first sample"
+        : m->sample_end > end                   ? "samples past this render's end"
+        : p->open                               ? "a chunk left open"
+                                                : NULL;
+    if (why) {
+        log_error(
+            "%s: cannot resume this render from it: it holds %s (region %d,%d,%d,%d, "
+            "samples %u:%u, digest %s)",
+            path, why, m->x0, m->x1, m->y0, m->y1, m->sample_begin, m->sample_end, m->digest);
+        part_free(p);
+        return false;
+    }
+    log_info("%s: resuming at sample %u of %u", path, m->sample_end, end);
+    return true;
+}
+
+/* Writes a whole-image film as the output image; false (logged) on failure. */
+static bool write_image(const render_args *a, const film *f) {
+    image img = {0};
+    const char *format = a->format >= 0 ? format_names[a->format] : image_path_format(a->output);
+    bool ok = image_from_film(f, &img) &&
+              (!strcmp(format, "exr") ? exr_write_image(a->output, &img, a->exr_type == 0)
+                                      : image_write_as(a->output, format, &img, a->tm));
+    image_free(&img);
+    return ok;
+}
+
+/* Renders and writes the image or the part; the exit code. */
 static int render_and_write(const render_args *a, const scene *s) {
     render_opts opts;
     render_opts_from_scene(s, &opts);
     apply_overrides(a, s, &opts);
     render_stats stats = {0};
     opts.stats = &stats;
-    film f = {0};
-    image img = {0};
+    part_meta meta;
+    render_part_meta(s, &opts, &meta);
+    uint32_t end;
+    if (!parse_region(a->region, &meta) || !parse_samples(a->samples, &meta, &end)) return 2;
+    part p = {0};
+    if (a->resume ? !load_resume(a->resume, &meta, end, &p) : !part_init(&p, &meta)) return 1;
+    uint32_t begin = p.meta.sample_end;
+    render_pacer pacer = {
+        .checkpoint = a->checkpoint, .every = a->checkpoint_every, .time_limit = a->time_limit};
+    render_control control;
+    bool paced = a->checkpoint || a->time_limit > 0.0;
+    if (paced) {
+        render_pacer_start(&pacer, &control);
+        opts.control = &control;
+        opts.deadline = render_pacer_deadline(&pacer);
+    }
     const char *used = "";
     double start = clock_seconds();
     interrupts_saved saved;
-    if (opts.progress) interrupts_catch(clear_progress, &saved);
-    bool ok = render_choose(s, &opts, (backend_choice)a->backend, &f, &used);
-    if (opts.progress) interrupts_restore(&saved);
+    bool clear_on_signal = opts.progress && !a->checkpoint;
+    if (clear_on_signal) interrupts_catch(clear_progress, &saved);
+    bool ok = render_choose_part(s, &opts, (backend_choice)a->backend, &p, end, &used);
+    if (clear_on_signal) interrupts_restore(&saved);
+    render_pacer_stop(&pacer);
     double elapsed = clock_seconds() - start;
-    if (ok) warn_film_problems(&f);
+    if (ok && pacer.checkpoints)
+        log_debug("checkpoints: %d written in %.3f s in all", pacer.checkpoints,
+                  pacer.checkpoint_seconds);
+    if (ok && pacer.stopped_by) {
+        log_info("stopped by %s at sample %u of %u: checkpointed to %s; go on with --resume %s",
+                 pacer.stopped_by == SIGINT ? "SIGINT" : "SIGTERM", p.meta.sample_end, end,
+                 a->checkpoint, a->checkpoint);
+        part_free(&p);
+        return 128 + pacer.stopped_by;
+    }
+    bool as_part = a->region || a->samples || a->part;
+    film f = {0};
     double write_start = clock_seconds();
-    const char *format = a->format >= 0 ? format_names[a->format] : NULL;
-    ok = ok && image_from_film(&f, &img) && image_write_as(a->output, format, &img, a->tm);
-    if (ok) log_debug("image: written in %.1f ms", (clock_seconds() - write_start) * 1e3);
+    if (ok && as_part) {
+        ok = part_write(a->output, &p);
+    } else if (ok) {
+        ok = part_film_so_far(&p, &f);
+        if (ok) warn_film_problems(&f);
+        ok = ok && write_image(a, &f);
+    }
+    if (ok) log_debug("output: written in %.1f ms", (clock_seconds() - write_start) * 1e3);
+    if (ok && pacer.time_up)
+        log_info("time limit: every pixel got samples %u:%u (%u of %u)", p.meta.sample_begin,
+                 p.meta.sample_end, p.meta.sample_end - p.meta.sample_begin, end);
     if (ok && !a->quiet) {
         /* The rates are the sample passes' own: set-up (device, pipeline, BVH) is apart. */
         double render = stats.render_seconds > 0.0 ? stats.render_seconds : elapsed;
-        double samples = (double)s->width * s->height * opts.samples;
+        double samples =
+            (double)(p.meta.x1 - p.meta.x0) * (p.meta.y1 - p.meta.y0) * (p.meta.sample_end - begin);
         log_info(
-            "%s: %dx%d, %d spp, %s back end, %.3f s rendering + %.3f s set-up, %.2f "
+            "%s: %dx%d, %u spp, %s back end, %.3f s rendering + %.3f s set-up, %.2f "
             "Msamples/s, %.1f Mrays/s",
-            a->output, s->width, s->height, opts.samples, used, render, elapsed - render,
+            a->output, p.meta.x1 - p.meta.x0, p.meta.y1 - p.meta.y0,
+            p.meta.sample_end - p.meta.sample_begin, used, render, elapsed - render,
             samples / render * 1e-6, (double)stats.rays / render * 1e-6);
     }
-    image_free(&img);
     film_free(&f);
+    part_free(&p);
     return ok ? 0 : 1;
 }
 

@@ -11,7 +11,10 @@ static const char usage_text[] =
     "                       [--no-jitter] [--no-indirect] [--indirect] [--bounces N]\n"
     "                       [--threads N] [--device N] [--validate] [--quiet] [--verbose]\n"
     "                       [--tonemap srgb|linear] [--width N] [--no-bvh] [--format F]\n"
-    "                       [--force]\n"
+    "                       [--force] [--region X0,X1,Y0,Y1] [--samples A:B] [--part]\n"
+    "                       [--checkpoint FILE] [--checkpoint-every S] [--resume FILE]\n"
+    "                       [--time-limit S] [--exr-type half|float]\n"
+    "       trazador merge PARTS... -o OUT [--part] [--exr-type half|float] [--format F]\n"
     "       trazador diff A B [--max-rmse X] [--min-psnr DB] [--max-diff-share FRACTION]\n"
     "       trazador devices\n"
     "       trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
@@ -20,8 +23,9 @@ static const char usage_text[] =
     "       trazador --help | --version\n"
     "SCENE defaults to the embedded scenes/cornell.scene ('-' reads standard input),\n"
     "OUT to render.png;\n"
-    "the output format follows the extension: .png, .ppm or .pfm (linear float), or\n"
-    "--format png|ppm|pfm for any name (-o - --format ppm writes to standard output).\n"
+    "the output format follows the extension: .png, .ppm, .pfm (linear float) or .exr\n"
+    "(OpenEXR, linear half or float), or --format png|ppm|pfm|exr for any name\n"
+    "(-o - --format ppm writes to standard output).\n"
     "trazador COMMAND --help describes every option of a command and its default;\n"
     "options take their value as --flag value or --flag=value, and -- ends them.\n";
 
@@ -31,7 +35,7 @@ typedef struct command {
 } command;
 
 static const command commands[] = {
-    {"render", cmd_render},   {"diff", cmd_diff},   {"gen", cmd_gen},
+    {"render", cmd_render},   {"merge", cmd_merge}, {"diff", cmd_diff}, {"gen", cmd_gen},
     {"devices", cmd_devices}, {"bench", cmd_bench},
 };
 

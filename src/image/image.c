@@ -11,17 +11,25 @@
 #include <strings.h>
 #include <sys/stat.h>
 
+#include "image/exr.h"
 #include "image/image_png.h"
 #include "util/atomic_file.h"
 #include "util/log.h"
 
-typedef enum image_format { FORMAT_NONE, FORMAT_PPM, FORMAT_PNG, FORMAT_PFM } image_format;
+typedef enum image_format {
+    FORMAT_NONE,
+    FORMAT_PPM,
+    FORMAT_PNG,
+    FORMAT_PFM,
+    FORMAT_EXR
+} image_format;
 
-/* The format called `name` ("ppm", "png" or "pfm", any case). */
+/* The format called `name` ("ppm", "png", "pfm" or "exr", any case). */
 static image_format format_named(const char *name) {
     if (strcasecmp(name, "ppm") == 0) return FORMAT_PPM;
     if (strcasecmp(name, "png") == 0) return FORMAT_PNG;
     if (strcasecmp(name, "pfm") == 0) return FORMAT_PFM;
+    if (strcasecmp(name, "exr") == 0) return FORMAT_EXR;
     return FORMAT_NONE;
 }
 
@@ -34,7 +42,7 @@ static image_format format_of(const char *path) {
 
 const char *image_path_format(const char *path) {
     static const char *const names[] = {
-        [FORMAT_PPM] = "ppm", [FORMAT_PNG] = "png", [FORMAT_PFM] = "pfm"};
+        [FORMAT_PPM] = "ppm", [FORMAT_PNG] = "png", [FORMAT_PFM] = "pfm", [FORMAT_EXR] = "exr"};
     image_format fmt = format_of(path);
     return fmt == FORMAT_NONE ? NULL : names[fmt];
 }
@@ -190,9 +198,10 @@ bool image_write(const char *path, const image *img, tonemap tm) {
 bool image_write_as(const char *path, const char *format, const image *img, tonemap tm) {
     image_format fmt = format ? format_named(format) : format_of(path);
     if (fmt == FORMAT_NONE) {
-        log_error("%s: unknown image format (supported: .ppm, .png, .pfm)", path);
+        log_error("%s: unknown image format (supported: .ppm, .png, .pfm, .exr)", path);
         return false;
     }
+    if (fmt == FORMAT_EXR) return exr_write_image(path, img, true); /* half: exr.h for float */
     if (!img->rgb || !size_ok(img->width, img->height)) {
         log_error("%s: cannot write an invalid %dx%d image", path, img->width, img->height);
         return false;
@@ -380,9 +389,10 @@ bool image_read(const char *path, image *out, tonemap tm) {
     *out = (image){0};
     image_format fmt = format_of(path);
     if (fmt == FORMAT_NONE) {
-        log_error("%s: unknown image format (supported: .ppm, .png, .pfm)", path);
+        log_error("%s: unknown image format (supported: .ppm, .png, .pfm, .exr)", path);
         return false;
     }
+    if (fmt == FORMAT_EXR) return exr_read_image(path, out);
     FILE *fp = fopen(path, "rb");
     if (!fp) {
         log_error("%s: %s", path, strerror(errno));

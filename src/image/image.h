@@ -53,14 +53,15 @@ static inline uint8_t tonemap_table_channel(const tonemap_table *t, float linear
 }
 /* Inverse of tonemap_channel: a linear value that encodes back to exactly `value` (never fails). */
 float tonemap_decode(uint8_t value, tonemap tm);
-/* Writes .ppm, .png or .pfm by extension via a temporary file and rename; false on error. */
+/* Writes .ppm, .png, .pfm or .exr (half; exr_write_image for float) by extension via a temporary
+ * file and rename; false on error. */
 bool image_write(const char *path, const image *img, tonemap tm);
-/* The format ("ppm", "png" or "pfm") the path's extension names, any case; NULL for none. */
+/* The format ("ppm", "png", "pfm" or "exr") the path's extension names, any case; NULL for none. */
 const char *image_path_format(const char *path);
-/* image_write in `format` ("ppm", "png" or "pfm"; NULL: by extension) whatever the path's name,
- * for outputs such as /dev/stdout; false on error. */
+/* image_write in `format` ("ppm", "png", "pfm" or "exr"; NULL: by extension) whatever the path's
+ * name, for outputs such as /dev/stdout; false on error. */
 bool image_write_as(const char *path, const char *format, const image *img, tonemap tm);
-/* Reads .ppm, .png or .pfm (8-bit formats decoded with tm back to linear); false on error. */
+/* Reads .ppm, .png, .pfm or .exr (8-bit formats decoded with tm back to linear); false on error. */
 bool image_read(const char *path, image *out, tonemap tm);
 
 #endif

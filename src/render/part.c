@@ -125,10 +125,14 @@ static bool part_whole(const part_meta *m) {
            m->sample_begin == 0 && m->sample_end == m->spp;
 }
 
-bool part_film(const part *p, film *out) {
+/* The film of samples 0 to sample_end - 1 of every pixel; false (logged) on another part. */
+static bool film_of(const part *p, film *out, bool whole) {
     *out = (film){0};
-    if (!part_whole(&p->meta)) {
-        log_error("part: not a whole render (every pixel, samples 0:%" PRIu32 ")", p->meta.spp);
+    const part_meta *m = &p->meta;
+    bool all_pixels = m->x0 == 0 && m->y0 == 0 && m->x1 == m->width && m->y1 == m->height;
+    if (!all_pixels || m->sample_begin != 0 || (whole && !part_whole(m))) {
+        log_error("part: not a whole render (every pixel, samples 0:%" PRIu32 ")",
+                  whole ? m->spp : m->sample_end);
         return false;
     }
     if (!film_init(out, p->meta.width, p->meta.height)) {
@@ -143,6 +147,10 @@ bool part_film(const part *p, film *out) {
     out->nonfinite = p->meta.nonfinite;
     return true;
 }
+
+bool part_film(const part *p, film *out) { return film_of(p, out, true); }
+
+bool part_film_so_far(const part *p, film *out) { return film_of(p, out, false); }
 
 /* The file's channels: R G B mean, count, each block's RGB, the open chunk's sums. */
 typedef struct part_channels {

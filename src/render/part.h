@@ -52,6 +52,9 @@ bool part_push_chunk(part *p, const float *rgb, const uint32_t *count);
 /* The final sums of a whole part (all pixels, samples 0 to spp - 1) as the film a single render
  * makes; false (logged) on another part or out of memory. */
 bool part_film(const part *p, film *out);
+/* part_film of a part that may end early (a time limit): every pixel, samples 0 to sample_end -
+ * 1; false (logged) on another part or out of memory. */
+bool part_film_so_far(const part *p, film *out);
 
 /* Writes p as an EXR part file, atomically; false (logged) on failure. */
 bool part_write(const char *path, const part *p);

@@ -43,19 +43,19 @@ typedef struct render_control {
 typedef struct render_opts {
     int samples; /* samples per pixel */
     uint32_t seed;
-    bool no_jitter; /* zero is default: jitter on */
-    bool indirect;         /* seed mode: the one bounce of indirect light */
-    render_mode mode;      /* seed (the course report's model) or path (DESIGN section 3.2) */
-    bool roulette;         /* path mode: Russian roulette from the fourth vertex */
+    bool no_jitter;         /* zero is default: jitter on */
+    bool indirect;          /* seed mode: the one bounce of indirect light */
+    render_mode mode;       /* seed (the course report's model) or path (DESIGN section 3.2) */
+    bool roulette;          /* path mode: Russian roulette from the fourth vertex */
     path_strategy strategy; /* path mode: MIS (the default), or one strategy alone (tests) */
-    int bounces;           /* seed: longest chain of specular events; path: scattering events */
-    int threads;           /* CPU back end; 0 = all cores */
-    int device;            /* Vulkan back end; -1 = first */
-    bool validate;         /* Vulkan validation layer, errors fail the run */
-    bool no_bvh;           /* test every sphere for every ray (debugging, comparisons) */
-    bool progress;         /* progress line on stderr */
-    const char *cpu_build; /* CPU back end: the packet build by name; NULL: the fastest */
-    render_stats *stats;   /* filled by the back end when not NULL */
+    int bounces;            /* seed: longest chain of specular events; path: scattering events */
+    int threads;            /* CPU back end; 0 = all cores */
+    int device;             /* Vulkan back end; -1 = first */
+    bool validate;          /* Vulkan validation layer, errors fail the run */
+    bool no_bvh;            /* test every sphere for every ray (debugging, comparisons) */
+    bool progress;          /* progress line on stderr */
+    const char *cpu_build;  /* CPU back end: the packet build by name; NULL: the fastest */
+    render_stats *stats;    /* filled by the back end when not NULL */
     const render_control *control; /* NULL: every pass at once */
     double deadline; /* clock_seconds() when a time limit ends, for the progress line; 0: none */
 } render_opts;

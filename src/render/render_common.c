@@ -95,7 +95,7 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
         h = digest_float(h, s->lights[k].power);
         h = digest_vec3(h, s->lights[k].color);
     }
-    int64_t settings[] = {o->samples, o->seed,     o->mode,     o->bounces,
+    int64_t settings[] = {o->samples,  o->seed,      o->mode,     o->bounces,
                           o->indirect, o->no_jitter, o->roulette, o->strategy};
     for (size_t k = 0; k < sizeof settings / sizeof settings[0]; k++)
         h = digest_int(h, settings[k]);

@@ -215,8 +215,8 @@ bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t 
                        .deadline = opts->deadline};
     const render_control *control = opts->control;
     bool sync = false;
-    uint32_t next = control ? control->next_pass(control->user, p->meta.sample_end, &sync)
-                            : end_chunk - begin;
+    uint32_t next =
+        control ? control->next_pass(control->user, p->meta.sample_end, &sync) : end_chunk - begin;
     if (ok && sync) ok = control->synced(control->user, p);
     while (ok && p->stack.end < end_chunk && next > 0) {
         uint32_t chunks = next < end_chunk - p->stack.end ? next : end_chunk - p->stack.end;

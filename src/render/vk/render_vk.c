@@ -10,15 +10,15 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/clock.h"
-#include "util/log.h"
 #include "render/chunk_tree.h"
 #include "render/part.h"
 #include "render/render.h"
 #include "render/scene_pack.h"
-#include "trace_spv.h"
 #include "render/vk/vk_context.h"
 #include "render/vk/vk_probe.h"
+#include "trace_spv.h"
+#include "util/clock.h"
+#include "util/log.h"
 
 /* Tile side in pixels: one dispatch covers at most one tile, which bounds its duration on real
  * GPUs (watchdogs) and the accumulation band it binds (TILE_SIZE rows of the image). */
@@ -84,8 +84,7 @@ typedef struct strategy {
  * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit; false
  * with the reason in `reason` (RENDER_REASON_SIZE bytes), nothing logged. */
 static bool check_limits(const vk_context *ctx, const scene *s, const render_opts *opts,
-                         const strategy *st, int width, int height, uint32_t depth,
-                         char *reason) {
+                         const strategy *st, int width, int height, uint32_t depth, char *reason) {
     bool use_bvh = st->use_bvh;
     uint64_t sample_iterations = st->sample_iterations;
     if (vk_context_is_lavapipe(ctx) && use_bvh && st->walk < MIN_WALK_BUDGET) {
@@ -267,7 +266,7 @@ typedef struct chunk_slot {
 } chunk_slot;
 
 typedef struct pass_plan {
-    uint32_t width, height;     /* the region */
+    uint32_t width, height; /* the region */
     uint32_t region_x0, region_y0;
     uint32_t spp;               /* samples per pixel of the whole render */
     uint32_t per_dispatch;      /* samples one invocation renders, in order, within a chunk */
@@ -325,8 +324,8 @@ static void record_steps(vk_render *r, const pass_plan *plan, uint64_t first, ui
         uint32_t pass = (uint32_t)(step / tiles), tile = (uint32_t)(step % tiles);
         uint32_t k = pass / subs, sub = pass % subs, chunk = plan->first_chunk + k;
         uint32_t chunk_begin = chunk * CHUNK_SAMPLES;
-        uint32_t chunk_end = plan->spp - chunk_begin < CHUNK_SAMPLES ? plan->spp
-                                                                     : chunk_begin + CHUNK_SAMPLES;
+        uint32_t chunk_end =
+            plan->spp - chunk_begin < CHUNK_SAMPLES ? plan->spp : chunk_begin + CHUNK_SAMPLES;
         uint32_t sample = chunk_begin + sub * plan->per_dispatch;
         if (sample >= chunk_end) continue; /* the render's last chunk is short */
         uint32_t count =
@@ -351,8 +350,8 @@ static void record_steps(vk_render *r, const pass_plan *plan, uint64_t first, ui
         uint32_t tw = plan->width - x0 < TILE_SIZE ? plan->width - x0 : TILE_SIZE;
         uint32_t gx = (tw + TZ_GROUP_X - 1u) / TZ_GROUP_X;
         uint32_t gy = (th + TZ_GROUP_Y - 1u) / TZ_GROUP_Y;
-        uint32_t flags = (sub == 0u ? TZ_CHUNK_OPEN : 0u) |
-                         (sample + count == chunk_end ? TZ_CHUNK_CLOSE : 0u);
+        uint32_t flags =
+            (sub == 0u ? TZ_CHUNK_OPEN : 0u) | (sample + count == chunk_end ? TZ_CHUNK_CLOSE : 0u);
         struct gpu_pass push = {.x0 = x0,
                                 .y0 = y0,
                                 .first_sample = sample,
@@ -404,12 +403,12 @@ static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
 
 /* What run_passes needs beyond the plan: the progress line's scale and whether to read back. */
 typedef struct pass_run {
-    bool setup;            /* the first submission of the render: uploads and zeroing */
-    bool resumed;          /* the part had samples: its state was loaded, not zeroed */
-    bool read_back;        /* the sums and stacks are wanted on the host after this pass */
-    double start;          /* clock_seconds() when rendering began */
-    double done, total;    /* samples a pixel: rendered before this pass, and in all */
-    double deadline;       /* render_opts.deadline */
+    bool setup;         /* the first submission of the render: uploads and zeroing */
+    bool resumed;       /* the part had samples: its state was loaded, not zeroed */
+    bool read_back;     /* the sums and stacks are wanted on the host after this pass */
+    double start;       /* clock_seconds() when rendering began */
+    double done, total; /* samples a pixel: rendered before this pass, and in all */
+    double deadline;    /* render_opts.deadline */
 } pass_run;
 
 /* Records and runs one host pass, submission by submission; sums the non-finite counts. With
@@ -457,8 +456,7 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
         if (ok && opts->progress) {
             double done = run->done + samples_in_pass * (double)last / (double)steps;
             render_progress_print(done / run->total, clock_seconds() - run->start,
-                                  (double)plan->width * plan->height * run->total,
-                                  run->deadline);
+                                  (double)plan->width * plan->height * run->total, run->deadline);
         }
     }
     if (overflowed > 0)
@@ -531,9 +529,9 @@ static void render_destroy(vk_render *r) {
         if (r->fence) vkDestroyFence(ctx->device, r->fence, NULL);
         if (r->cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &r->cmd);
         vk_kernel_destroy(ctx, &r->kernel);
-        vk_buffer *buffers[] = {&r->readback, &r->state,    &r->upload, &r->counter,
-                                &r->stack,    &r->accum_comp, &r->accum, &r->emitters,
-                                &r->nodes,    &r->lights,   &r->spheres, &r->frame};
+        vk_buffer *buffers[] = {&r->readback, &r->state,      &r->upload,  &r->counter,
+                                &r->stack,    &r->accum_comp, &r->accum,   &r->emitters,
+                                &r->nodes,    &r->lights,     &r->spheres, &r->frame};
         for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; k++)
             vk_buffer_destroy(ctx, buffers[k]);
     }
@@ -622,9 +620,12 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
     };
     const VkDeviceSize band = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)width * ACCUM_PIXEL_BYTES;
     const VkDeviceSize ranges[] = {
-        [TZ_BINDING_FRAME] = VK_WHOLE_SIZE,    [TZ_BINDING_SPHERES] = VK_WHOLE_SIZE,
-        [TZ_BINDING_LIGHTS] = VK_WHOLE_SIZE,   [TZ_BINDING_ACCUM] = band,
-        [TZ_BINDING_COUNTERS] = VK_WHOLE_SIZE, [TZ_BINDING_NODES] = VK_WHOLE_SIZE,
+        [TZ_BINDING_FRAME] = VK_WHOLE_SIZE,
+        [TZ_BINDING_SPHERES] = VK_WHOLE_SIZE,
+        [TZ_BINDING_LIGHTS] = VK_WHOLE_SIZE,
+        [TZ_BINDING_ACCUM] = band,
+        [TZ_BINDING_COUNTERS] = VK_WHOLE_SIZE,
+        [TZ_BINDING_NODES] = VK_WHOLE_SIZE,
         [TZ_BINDING_ACCUM_COMP] = band, /* the same band rows as the sums */
         [TZ_BINDING_EMITTERS] = VK_WHOLE_SIZE,
         [TZ_BINDING_STACK] = band * depth * STACK_BLOCK_BYTES / ACCUM_PIXEL_BYTES,
@@ -658,8 +659,8 @@ static uint32_t stack_depth(const chunk_stack *from, uint32_t end) {
 
 /* Reads the sums back into p: its counts, the stack `shape` and its blocks, the samples up to
  * chunk `done` and the non-finite samples since the last sync; false (logged) on failure. */
-static bool sync_part(vk_render *r, const pass_plan *plan, const chunk_stack *shape,
-                      uint32_t done, uint64_t *nonfinite, part *p) {
+static bool sync_part(vk_render *r, const pass_plan *plan, const chunk_stack *shape, uint32_t done,
+                      uint64_t *nonfinite, part *p) {
     size_t n = (size_t)plan->width * plan->height;
     if (!r->accum.mapped || !r->stack.mapped) {
         if (!vk_commands_begin(&r->ctx, &r->cmd)) return false;
@@ -667,9 +668,9 @@ static bool sync_part(vk_render *r, const pass_plan *plan, const chunk_stack *sh
         if (!vk_commands_submit_wait(&r->ctx, r->cmd, r->fence)) return false;
     }
     const char *sums = r->accum.mapped ? r->accum.mapped : (const char *)r->readback.mapped + 16;
-    const char *stacks = r->stack.mapped ? (const char *)r->stack.mapped
-                                         : (const char *)r->readback.mapped + 16 +
-                                               n * ACCUM_PIXEL_BYTES;
+    const char *stacks = r->stack.mapped
+                             ? (const char *)r->stack.mapped
+                             : (const char *)r->readback.mapped + 16 + n * ACCUM_PIXEL_BYTES;
     for (int k = 0; k < CHUNK_STACK_MAX; k++) {
         if (k >= shape->count) {
             free(p->block[k]);
@@ -713,8 +714,8 @@ static bool render_chunks(vk_render *r, pass_plan *plan, const render_opts *opts
                     .total = (double)(sample_of(p, end_chunk) - sample_of(p, begin)),
                     .deadline = opts->deadline};
     bool sync = false, ok = true;
-    uint32_t next = control ? control->next_pass(control->user, p->meta.sample_end, &sync)
-                            : end_chunk - done;
+    uint32_t next =
+        control ? control->next_pass(control->user, p->meta.sample_end, &sync) : end_chunk - done;
     while (ok && done < end_chunk && next > 0) {
         uint32_t chunks = next < end_chunk - done ? next : end_chunk - done;
         for (uint32_t k = 0; k < chunks; k++) {

@@ -1,0 +1,117 @@
+/* cmd_merge.c: `trazador merge PARTS... -o OUT`: reads render parts (EXR part files), checks that
+ * they are of one render and cover it exactly once (render/part.h), and writes the whole
+ * render's image, byte-identical to a single render's, or the merged part. */
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+#include "cli/options.h"
+#include "image/exr.h"
+#include "image/image.h"
+#include "render/part.h"
+#include "util/atomic_file.h"
+#include "util/clock.h"
+#include "util/log.h"
+
+typedef struct merge_args {
+    const char *output;
+    int format;   /* index in format_names, -1: from the extension */
+    int tm;       /* tonemap */
+    int exr_type; /* 0 half, 1 float */
+    int part, force, quiet, verbose;
+} merge_args;
+
+static const char *const format_names[] = {"png", "ppm", "pfm", "exr"};
+
+#define ARG(field) offsetof(merge_args, field)
+static const opt_spec merge_specs[] = {
+    OPT_TEXT("--output", "-o", ARG(output), "FILE", "a file name",
+             "the image to write, its format from the extension (required)"),
+    OPT_ONE_OF("--format", ARG(format), "png|ppm|pfm|exr",
+               "the output's format, for any name (default: from the extension)"),
+    OPT_ONE_OF("--exr-type", ARG(exr_type), "half|float",
+               "an EXR image's channels (default half; a part is always float)"),
+    OPT_SET("--part", NULL, ARG(part), 1,
+            "write the merged render as an EXR part file, which merges and resumes again "
+            "(default: an image)"),
+    OPT_ONE_OF("--tonemap", ARG(tm), "srgb|linear",
+               "8-bit encoding: sRGB or a plain clamp (default srgb; .pfm and .exr are linear)"),
+    OPT_SET("--force", NULL, ARG(force), 1,
+            "replace a write-protected output (default: refuse it, as the shell's > does)"),
+    OPT_SET("--quiet", "-q", ARG(quiet), 1, "warnings and errors only (default: a summary line)"),
+    OPT_SET("--verbose", "-v", ARG(verbose), 1, "the timings of each stage (default off)"),
+};
+#undef ARG
+
+static const opt_command merge_command = {
+    .name = "merge",
+    .synopsis =
+        "usage: trazador merge PARTS... -o OUT [options]\n"
+        "Merges the EXR parts of one render (`trazador render --region / --samples`) "
+        "into its image,\nbyte-identical to the single render's.\n",
+    .about =
+        "The parts must be of one scene, seed, mode, settings and trazador version, and "
+        "hold every\nsample of every pixel exactly once; the merge refuses, naming the "
+        "files, otherwise.\n",
+    .specs = merge_specs,
+    .spec_count = OPT_COUNT(merge_specs),
+    .max_positional = 1 << 20,
+};
+
+int cmd_merge(int argc, char **argv) {
+    merge_args a = {.format = -1};
+    const char **paths = calloc((size_t)argc + 1, sizeof *paths);
+    if (!paths) {
+        log_error("merge: out of memory");
+        return 1;
+    }
+    int n = 0;
+    opt_result rc = opt_parse(&merge_command, argc, argv, &a, paths, &n);
+    int status = rc == OPT_HELP ? 0 : rc;
+    if (rc == OPT_OK) {
+        const char *format = a.format >= 0 ? format_names[a.format]
+                             : a.output    ? image_path_format(a.output)
+                                           : NULL;
+        status = 0;
+        if (n == 0)
+            status = opt_usage_error(&merge_command, "no parts given");
+        else if (!a.output)
+            status = opt_usage_error(&merge_command, "-o OUT is required");
+        else if (!format)
+            status = opt_usage_error(&merge_command,
+                                     "output '%s' must end in .png, .ppm, .pfm or .exr, or take "
+                                     "--format",
+                                     a.output);
+        else if (a.part && strcmp(format, "exr"))
+            status = opt_usage_error(&merge_command, "--part writes an EXR: give -o NAME.exr");
+        if (a.verbose) log_set_level(LOG_DEBUG);
+        if (a.quiet) log_set_level(LOG_WARN);
+        if (status == 0 && !atomic_file_check_force(a.output, a.force)) status = 1;
+        if (status == 0) {
+            double t0 = clock_seconds();
+            part merged;
+            film f = {0};
+            image img = {0};
+            bool ok = part_merge_files(paths, n, &merged);
+            double t1 = clock_seconds();
+            if (ok && a.part) {
+                ok = part_write(a.output, &merged);
+            } else if (ok) {
+                ok = part_film(&merged, &f) && image_from_film(&f, &img) &&
+                     (!strcmp(format, "exr") ? exr_write_image(a.output, &img, a.exr_type == 0)
+                                             : image_write_as(a.output, format, &img, a.tm));
+            }
+            if (ok && !a.quiet)
+                log_info("%s: %d parts of %dx%d, %u spp merged in %.3f s, written in %.3f s",
+                         a.output, n, merged.meta.width, merged.meta.height, merged.meta.spp,
+                         t1 - t0, clock_seconds() - t1);
+            if (ok) part_free(&merged);
+            image_free(&img);
+            film_free(&f);
+            status = ok ? 0 : 1;
+        }
+    }
+    free(paths);
+    return status;
+}
