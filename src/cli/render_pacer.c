@@ -87,6 +87,8 @@ void render_pacer_start(render_pacer *pc, render_control *control) {
         sigemptyset(&act.sa_mask);
         for (int k = 0; k < 3; k++) sigaction(caught[k], &act, &pc->old[k]);
         pc->catching = true;
+        log_debug("checkpoints: to %s every %g s and on SIGUSR1, SIGINT and SIGTERM",
+                  pc->checkpoint, pc->every);
     }
     *control = (render_control){.next_pass = next_pass, .synced = synced, .user = pc};
 }

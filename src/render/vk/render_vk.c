@@ -716,6 +716,7 @@ static bool render_chunks(vk_render *r, pass_plan *plan, const render_opts *opts
     bool sync = false, ok = true;
     uint32_t next =
         control ? control->next_pass(control->user, p->meta.sample_end, &sync) : end_chunk - done;
+    if (sync) ok = control->synced(control->user, p); /* nothing rendered yet: p is current */
     while (ok && done < end_chunk && next > 0) {
         uint32_t chunks = next < end_chunk - done ? next : end_chunk - done;
         for (uint32_t k = 0; k < chunks; k++) {

@@ -1,0 +1,136 @@
+#!/usr/bin/env bash
+# split_test.sh TRAZADOR: split renders end to end on both back ends: a render cut into 4
+# regions and into 3 sample ranges, merged, is byte for byte the single render (PFM and float
+# EXR); merges of parts that do not fit are refused, naming what is wrong; a render checkpointed
+# on SIGUSR1 and stopped by SIGTERM resumes to the uninterrupted image; a time limit says the
+# samples each pixel got. No step depends on timing: the checkpoint file is polled for.
+set -u
+tz=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+cd "$tmp" || exit 1
+passed=0
+failed=0
+ok() { passed=$((passed + 1)); }
+bad() { failed=$((failed + 1)); echo "FAIL: $*" >&2; }
+run() { # run NAME EXPECTED_RC CMD...
+    local name=$1 want=$2
+    shift 2
+    "$@" >"$tmp/out" 2>"$tmp/err"
+    local rc=$?
+    if [ "$rc" = "$want" ]; then ok; else bad "$name: exit $rc, want $want; stderr: $(head -c 600 "$tmp/err")"; fi
+}
+has() { # has NAME TEXT: TEXT in the last stderr
+    if grep -qF -- "$2" "$tmp/err"; then ok; else bad "$1: '$2' not in stderr: $(head -c 600 "$tmp/err")"; fi
+}
+same() { # same NAME A B
+    if cmp -s "$2" "$3"; then ok; else bad "$1: $2 and $3 differ"; fi
+}
+
+# 40 x 40 pixels, 40 spp: three chunks, the last one short (16 + 16 + 8).
+scene="--width 40 --spp 40 --quiet"
+for backend in cpu vulkan; do
+    r="render $scene --backend $backend"
+    run "$backend whole" 0 $tz $r -o whole.pfm
+    run "$backend whole exr" 0 $tz $r -o whole.exr --exr-type float
+    for k in 0 1 2 3; do
+        x0=$(((k % 2) * 17)) x1=$(((k % 2) * 23 + 17)) y0=$((k / 2 * 11)) y1=$((k / 2 * 29 + 11))
+        run "$backend region $k" 0 $tz $r --region "$x0,$x1,$y0,$y1" -o "region_$k.exr"
+    done
+    run "$backend merge regions" 0 $tz merge region_3.exr region_1.exr region_0.exr region_2.exr \
+        -o merged.pfm
+    same "$backend regions" merged.pfm whole.pfm
+    run "$backend merge regions exr" 0 $tz merge region_*.exr -o merged.exr --exr-type float
+    same "$backend regions exr" merged.exr whole.exr
+    ranges=(0:16 16:32 32:40)
+    for k in 0 1 2; do
+        run "$backend samples ${ranges[k]}" 0 $tz $r --samples "${ranges[k]}" -o "samples_$k.exr"
+    done
+    run "$backend merge samples" 0 $tz merge samples_2.exr samples_0.exr samples_1.exr -o merged.pfm
+    same "$backend samples" merged.pfm whole.pfm
+    # A merged part merges again: two sample ranges of a region, merged with the other parts.
+    run "$backend merge as part" 0 $tz merge samples_*.exr --part -o merged_part.exr
+    run "$backend merge of a merge" 0 $tz merge merged_part.exr -o merged.pfm
+    same "$backend merge of a merge" merged.pfm whole.pfm
+    mkdir -p "$backend"
+    cp whole.pfm region_*.exr samples_*.exr "$backend/"
+done
+# The Vulkan back end renders only the region's tiles and the range's samples: its parts merge
+# to its own single render (checked above); the two back ends agree to rounding only.
+
+# Refusals.
+cd cpu || exit 1
+run "overlap" 1 $tz merge region_0.exr region_0.exr region_1.exr region_2.exr region_3.exr -o x.pfm
+has "overlap" "region_0.exr and region_0.exr both hold samples 0:40 of region 0,17,0,11"
+run "gap" 1 $tz merge region_0.exr region_1.exr region_3.exr -o x.pfm
+has "gap" "missing (region x0,x1,y0,y1 and samples A:B)"
+has "gap" "region 0,17,11,40 samples 0:40"
+run "gap in samples" 1 $tz merge samples_0.exr samples_2.exr -o x.pfm
+has "gap in samples" "samples 16:32"
+$tz render $scene --backend cpu --seed 7 --region 0,17,0,11 -o seed7.exr
+run "other seed" 1 $tz merge seed7.exr region_1.exr region_2.exr region_3.exr -o x.pfm
+has "other seed" "seed7.exr and region_1.exr are parts of different renders"
+$tz render $scene --backend cpu --bounces 2 --region 0,17,0,11 -o bounces.exr
+run "other settings" 1 $tz merge region_1.exr bounces.exr region_2.exr region_3.exr -o x.pfm
+has "other settings" "are parts of different renders: scene digest"
+run "not a part" 1 $tz merge whole.pfm region_1.exr -o x.pfm
+[ ! -e x.pfm ] && ok || bad "a refused merge wrote its output"
+run "samples not whole chunks" 2 $tz render $scene --samples 0:20 -o x.exr
+has "samples not whole chunks" "A a multiple of 16 and B one too or 40"
+run "samples past spp" 2 $tz render $scene --samples 32:48 -o x.exr
+run "region outside" 2 $tz render $scene --region 0,41,0,40 -o x.exr
+has "region outside" "0 <= X0 < X1 <= 40"
+run "region as png" 2 $tz render $scene --region 0,20,0,40 -o x.png
+has "region as png" "write an EXR part"
+run "merge nothing" 2 $tz merge -o x.pfm
+cd .. || exit 1
+
+# Checkpoints. The render is stopped (SIGSTOP) once its handlers are in place (its -v line
+# says so), sent the signal and continued, so that the signal comes mid-render whatever the
+# speed: SIGUSR1 writes a checkpoint and the render goes on to the uninterrupted image; SIGTERM
+# writes one and stops (143); the resumed render is the uninterrupted one.
+long="--width 64 --spp 4096"
+# signal_render BACKEND SIGNAL OUT: starts the render, signals it mid-render; its exit code.
+signal_render() {
+    rm -f ck.exr ck.err
+    $tz render $long --backend "$1" --checkpoint ck.exr --checkpoint-every 1000 -v -o "$3" 2>ck.err &
+    local pid=$!
+    for _ in $(seq 1000); do grep -q "checkpoints: to ck.exr" ck.err 2>/dev/null && break; sleep 0.01; done
+    kill -STOP $pid
+    kill "-$2" $pid
+    kill -CONT $pid
+    wait $pid
+}
+for backend in cpu vulkan; do
+    $tz render $long --quiet --backend $backend -o long_whole.pfm
+    signal_render $backend USR1 long.pfm
+    rc=$?
+    [ $rc = 0 ] && ok || bad "$backend: exit $rc after SIGUSR1, want 0: $(tail -n 3 ck.err)"
+    [ -s ck.exr ] && ok || bad "$backend: no checkpoint after SIGUSR1"
+    same "$backend after SIGUSR1" long.pfm long_whole.pfm
+    signal_render $backend TERM long.pfm
+    rc=$?
+    [ $rc = 143 ] && ok || bad "$backend: exit $rc after SIGTERM, want 143: $(tail -n 3 ck.err)"
+    grep -q "stopped by SIGTERM at sample" ck.err && ok || bad "$backend: SIGTERM: $(tail -n 3 ck.err)"
+    run "$backend resume" 0 $tz render $long --backend $backend --resume ck.exr -o long.pfm
+    has "$backend resume" "ck.exr: resuming at sample"
+    same "$backend resume" long.pfm long_whole.pfm
+    # A checkpoint of other settings is refused.
+    run "$backend resume other" 1 $tz render --width 64 --spp 1024 --backend $backend \
+        --resume ck.exr -o other.pfm
+    has "$backend resume other" "cannot resume this render from it: it holds another scene or other settings"
+done
+
+# A time limit: whole chunks, a line saying how many samples every pixel got; written as a part,
+# it is the very part of that many samples.
+tl="--width 32 --spp 1048576 --backend cpu"
+run "time limit" 0 $tz render $tl --time-limit 0.5 -o tl.pfm
+has "time limit" "time limit: every pixel got samples 0:"
+run "time limit part" 0 $tz render $tl --time-limit 0.3 --part -o tl.exr
+n=$(sed -n 's/.*every pixel got samples 0:\([0-9]*\) .*/\1/p' "$tmp/err")
+[ -n "$n" ] && [ $((n % 16)) = 0 ] && [ "$n" -gt 0 ] && ok || bad "time limit: '$n' samples, not whole chunks"
+run "time limit samples" 0 $tz render $tl --samples "0:$n" -o tl_n.exr
+same "time limit as samples 0:$n" tl.exr tl_n.exr
+
+echo "split_test: $passed passed, $failed failed"
+[ "$failed" = 0 ]
