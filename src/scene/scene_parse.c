@@ -2,12 +2,19 @@
  *
  * One pass over the text, one line at a time: each line is split into tokens (pointers into the
  * text, no copies), its directive is parsed into a local struct scene, and the first error stops
- * everything with file:line:col. The caller's scene is written only on success. */
+ * everything with file:line:col. The caller's scene is written only on success.
+ *
+ * Big texts are cut into chunks at line ends. The first chunk is parsed in order on the calling
+ * thread while the others are parsed at the same time, each on its own thread and on the guess
+ * that it holds only spheres, comments and blank lines. A chunk that does parse so is appended as
+ * if read in order; any other (another directive, an error, too many spheres) is parsed again in
+ * order, so messages, warnings and which error comes first are those of one pass. */
 #include <errno.h>
 #include <fcntl.h>
 #include <float.h>
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,6 +40,10 @@
 #define CAMERA_MIN_SINE 1e-4
 /* The seed's rule: plane size / pixel size within this relative distance of an integer. */
 #define PIXEL_TOLERANCE 1e-6
+/* Texts shorter than this per thread are parsed on one: a thread costs more than it saves. */
+#define MIN_CHUNK_BYTES (256 * 1024)
+/* Threads a parse uses at most. */
+#define MAX_PARSE_THREADS 16
 
 typedef struct token {
     const char *text;
@@ -72,7 +83,8 @@ typedef struct parser {
     int camera_line, plane_line, background_line, render_line;
     int camera_col; /* of the camera position, for the near-clip warning */
     bool tiny_warned;
-    char number[SCENE_MAX_LINE + 1];      /* a token NUL-terminated for strtod */
+    bool spheres_only;               /* a chunk parsed ahead: any directive but sphere stops it */
+    char number[SCENE_MAX_LINE + 1]; /* a token NUL-terminated for strtod */
     char quoted[2][MAX_QUOTED_CHARS + 4]; /* two, so one message can quote two tokens */
     int quoted_next;
 } parser;
@@ -349,9 +361,10 @@ static bool parse_values(parser *p, const key_spec *k, int *next, double value[3
 }
 
 /* Parses `key value...` pairs from token `first` to the end of the line into *kv.
- * `accepted` masks which keys of `keys` this directive (or material) takes. */
-static bool parse_keys(parser *p, const char *owner, const key_spec *keys, int key_count,
-                       unsigned accepted, int first, key_values *kv) {
+ * `accepted` masks which keys of `keys` this directive (or material) takes; messages name the
+ * owner, followed by word unless it is NULL (formatted only for a message: spheres are many). */
+static bool parse_keys_of(parser *p, const char *owner, const char *word, const key_spec *keys,
+                          int key_count, unsigned accepted, int first, key_values *kv) {
     memset(kv, 0, sizeof *kv);
     int next = first;
     while (next < p->token_count) {
@@ -365,8 +378,8 @@ static bool parse_keys(parser *p, const char *owner, const key_spec *keys, int k
                 if (list[0]) strcat(list, " ");
                 strcat(list, keys[k].name);
             }
-            return fail_at(p, t->col, "unknown key '%s' for %s (expected one of: %s)", quote(p, t),
-                           owner, list);
+            return fail_at(p, t->col, "unknown key '%s' for %s%s%s (expected one of: %s)",
+                           quote(p, t), owner, word ? " " : "", word ? word : "", list);
         }
         if (kv->given & BIT(key)) return fail_at(p, t->col, "'%s' given twice", keys[key].name);
         kv->given |= BIT(key);
@@ -376,6 +389,11 @@ static bool parse_keys(parser *p, const char *owner, const key_spec *keys, int k
         }
     }
     return true;
+}
+
+static bool parse_keys(parser *p, const char *owner, const key_spec *keys, int key_count,
+                       unsigned accepted, int first, key_values *kv) {
+    return parse_keys_of(p, owner, NULL, keys, key_count, accepted, first, kv);
 }
 
 /* Checks that every key in `required` was given; the error points at the directive word. */
@@ -629,10 +647,8 @@ static bool parse_sphere(parser *p) {
                        "mirror refractive, or lambertiana espejo refractada)",
                        quote(p, word));
     }
-    char owner[32];
-    snprintf(owner, sizeof owner, "sphere %s", m->word);
     key_values kv;
-    if (!parse_keys(p, owner, sphere_keys, SPHERE_KEY_COUNT, m->keys, 2, &kv) ||
+    if (!parse_keys_of(p, "sphere", m->word, sphere_keys, SPHERE_KEY_COUNT, m->keys, 2, &kv) ||
         !require_keys(p, "sphere", sphere_keys, SPHERE_KEY_COUNT,
                       BIT(SPHERE_CENTER) | BIT(SPHERE_RADIUS), &kv)) {
         return false;
@@ -753,7 +769,9 @@ static bool parse_line(parser *p, const char *line, size_t length) {
     if (p->token_count == 0) return true;
     const token *word = &p->tokens[0];
     for (size_t i = 0; i < sizeof directives / sizeof directives[0]; i++) {
-        if (token_is(word, directives[i].word)) return directives[i].parse(p);
+        if (!token_is(word, directives[i].word)) continue;
+        if (p->spheres_only && directives[i].parse != parse_sphere) return false;
+        return directives[i].parse(p);
     }
     return fail_at(p, word->col,
                    "unknown directive '%s' (expected one of: camera plane light sphere "
@@ -812,8 +830,8 @@ static void warn_near_surfaces(parser *p) {
             (double)s->radius, nearest, big > 1.0f ? "; move the scene nearer the origin" : "");
 }
 
-static bool parse_text(parser *p) {
-    const char *text = p->text, *end = p->text + p->length;
+/* Parses the lines of [text, end), counting them in p->line. */
+static bool parse_lines(parser *p, const char *text, const char *end) {
     while (text < end) {
         const char *newline = memchr(text, '\n', (size_t)(end - text));
         const char *line_end = newline ? newline : end;
@@ -822,6 +840,96 @@ static bool parse_text(parser *p) {
         text = newline + 1;
         p->line++;
     }
+    return true;
+}
+
+/* A chunk of the text parsed ahead on its own thread, its lines counted from 1. */
+typedef struct chunk {
+    const char *begin, *end;
+    parser *p; /* NULL: no memory for it, parse it in order */
+    bool ok;   /* every line was a sphere, a comment or blank, and parsed */
+    pthread_t thread;
+    bool started;
+} chunk;
+
+static void *chunk_run(void *arg) {
+    chunk *c = arg;
+    c->ok = parse_lines(c->p, c->begin, c->end);
+    return NULL;
+}
+
+/* Appends chunk c's spheres and warning to p as if p had parsed its lines; false when c must be
+ * parsed in order instead. */
+static bool chunk_adopt(parser *p, const chunk *c) {
+    const scene *cs = &c->p->s;
+    if (!c->ok || cs->sphere_count > SCENE_MAX_SPHERES - p->s.sphere_count) return false;
+    size_t total = (size_t)p->s.sphere_count + (size_t)cs->sphere_count;
+    if (total > p->sphere_capacity) {
+        sphere *grown = realloc(p->s.spheres, total * sizeof *grown);
+        if (!grown) return false;
+        p->s.spheres = grown;
+        p->sphere_capacity = total;
+    }
+    if (cs->sphere_count > 0) {
+        memcpy(p->s.spheres + p->s.sphere_count, cs->spheres,
+               (size_t)cs->sphere_count * sizeof *cs->spheres);
+    }
+    p->s.sphere_count += cs->sphere_count;
+    /* Its only possible warning is its first tiny sphere, which counts if p had none yet. */
+    if (cs->warning_count > 0 && !p->tiny_warned) {
+        p->tiny_warned = true;
+        if (p->s.warning_count < SCENE_MAX_WARNINGS) {
+            scene_error *w = &p->s.warnings[p->s.warning_count++];
+            *w = cs->warnings[0];
+            w->line += p->line - 1;
+        }
+    }
+    p->line += c->p->line - 1;
+    return true;
+}
+
+/* Parses p's text on up to threads threads (see the top of the file). */
+static bool parse_chunks(parser *p, int threads) {
+    const char *text = p->text, *end = p->text + p->length;
+    int count = threads;
+    if (p->length / MIN_CHUNK_BYTES < (size_t)count) count = (int)(p->length / MIN_CHUNK_BYTES);
+    if (count > MAX_PARSE_THREADS) count = MAX_PARSE_THREADS;
+    if (count < 2) return parse_lines(p, text, end);
+    chunk chunks[MAX_PARSE_THREADS];
+    const char *at = text;
+    for (int k = 0; k < count; k++) { /* each chunk ends just past a '\n' (the last at end) */
+        const char *cut = k == count - 1 ? end : text + p->length / (size_t)count * (size_t)(k + 1);
+        if (cut < at) cut = at;
+        const char *newline = cut < end ? memchr(cut, '\n', (size_t)(end - cut)) : NULL;
+        chunks[k] = (chunk){.begin = at, .end = newline ? newline + 1 : end};
+        at = chunks[k].end;
+    }
+    for (int k = 1; k < count; k++) {
+        chunk *c = &chunks[k];
+        c->p = calloc(1, sizeof *c->p);
+        if (!c->p) continue;
+        *c->p = (parser){.text = p->text,
+                         .length = p->length,
+                         .filename = p->filename,
+                         .line = 1,
+                         .spheres_only = true};
+        c->started = pthread_create(&c->thread, NULL, chunk_run, c) == 0;
+    }
+    bool ok = parse_lines(p, chunks[0].begin, chunks[0].end);
+    for (int k = 1; k < count; k++) {
+        chunk *c = &chunks[k];
+        if (c->started) pthread_join(c->thread, NULL);
+        if (ok && !(c->started && chunk_adopt(p, c))) ok = parse_lines(p, c->begin, c->end);
+        if (c->p) {
+            scene_free(&c->p->s);
+            free(c->p);
+        }
+    }
+    return ok;
+}
+
+static bool parse_text(parser *p, int threads) {
+    if (!parse_chunks(p, threads)) return false;
     /* Whole-scene errors are reported at the end of the file: the line after the last '\n'. */
     if (!p->camera_line) return fail_at(p, 1, "missing 'camera' directive");
     if (!p->plane_line) return fail_at(p, 1, "missing 'plane' directive");
@@ -829,8 +937,8 @@ static bool parse_text(parser *p) {
     return true;
 }
 
-bool scene_parse_string(const char *text, size_t length, const char *filename, scene *out,
-                        scene_error *err) {
+bool scene_parse_string_threads(const char *text, size_t length, const char *filename, int threads,
+                                scene *out, scene_error *err) {
     if (err) err->out_of_memory = false;
     parser *p = calloc(1, sizeof *p);
     if (!p) {
@@ -857,7 +965,8 @@ bool scene_parse_string(const char *text, size_t length, const char *filename, s
         ok = fail_at(p, 0, "scene is too large (%zu bytes; the limit is %zu)", length,
                      MAX_TEXT_BYTES);
     } else {
-        ok = parse_text(p);
+        long online = sysconf(_SC_NPROCESSORS_ONLN);
+        ok = parse_text(p, threads > 0 ? threads : online > 1 ? (int)online : 1);
     }
     if (ok) {
         *out = p->s;
@@ -866,6 +975,11 @@ bool scene_parse_string(const char *text, size_t length, const char *filename, s
     }
     free(p);
     return ok;
+}
+
+bool scene_parse_string(const char *text, size_t length, const char *filename, scene *out,
+                        scene_error *err) {
+    return scene_parse_string_threads(text, length, filename, 0, out, err);
 }
 
 /* A file-level error has no position: line and col are 0. */
