@@ -37,12 +37,12 @@ typedef struct box {
     float lo[4], hi[4];
 } box;
 
-/* Position k of the permutation being built: the sphere's box (padded for rounding) and
- * centroid, moved together so that the binning reads one stream (its input index moves beside
- * it in builder.order, which only the partition touches). */
+/* Position k of the permutation being built: the sphere's centre (its centroid) and padded
+ * radius, 16 bytes that every pass reads (its input index moves beside it in builder.order, which
+ * only the partition touches); its box is the centre minus and plus the radius, computed where
+ * needed by the very operations that would have stored it. */
 typedef struct item {
-    box bounds;
-    float centroid[4]; /* the fourth lane is 0 */
+    float centroid[4]; /* the fourth lane is the radius */
 } item;
 
 /* A node of the binary tree. A subtree over n spheres takes at most 2n - 1 slots: a node's
@@ -82,7 +82,7 @@ typedef struct bins {
 } bins;
 _Static_assert(BIN_COUNT <= 32, "bins.used has a bit per bin");
 
-/* How one node's centroids map to bins (the fourth lanes are 0). */
+/* How one node's centroids map to bins (the fourth lanes are 0: their bin is 0, never used). */
 typedef struct binning {
     float lo[4], scale[4];
     bool binned[3]; /* the axis has centroid extent */
@@ -154,11 +154,28 @@ static void swap_items(const builder *b, uint32_t i, uint32_t j) {
     b->order[j] = o;
 }
 
+/* The box of an item (its fourth lanes 0 and twice the radius). */
+static box item_box(const item *it) {
+    box b;
+#ifdef __SSE2__
+    __m128 c = _mm_loadu_ps(it->centroid), r = _mm_set1_ps(it->centroid[3]);
+    _mm_storeu_ps(b.lo, _mm_sub_ps(c, r));
+    _mm_storeu_ps(b.hi, _mm_add_ps(c, r));
+#else
+    for (int a = 0; a < 4; a++) {
+        b.lo[a] = it->centroid[a] - it->centroid[3];
+        b.hi[a] = it->centroid[a] + it->centroid[3];
+    }
+#endif
+    return b;
+}
+
 /* The box and centroid box of items [begin, end). */
 static void range_boxes(const item *items, uint32_t begin, uint32_t end, box *bounds, box *cbox) {
     *bounds = box_empty(), *cbox = box_empty();
     for (uint32_t k = begin; k < end; k++) {
-        box_grow(bounds, &items[k].bounds);
+        box ib = item_box(&items[k]);
+        box_grow(bounds, &ib);
         box_grow_point(cbox, items[k].centroid);
     }
 }
@@ -226,17 +243,18 @@ static void bin_items(const item *items, uint32_t begin, uint32_t end, const bin
         const item *it = &items[k];
         int bins[4];
         bins_of(it->centroid, g, bins);
+        box ib = item_box(it);
         for (int a = 0; a < 3; a++) {
             if (!g->binned[a]) continue;
             int bin = bins[a];
             uint32_t bit = 1u << bin;
             if (out->used[a] & bit) {
                 out->counts[a][bin]++;
-                box_grow(&out->bounds[a][bin], &it->bounds);
+                box_grow(&out->bounds[a][bin], &ib);
             } else {
                 out->used[a] |= bit;
                 out->counts[a][bin] = 1;
-                out->bounds[a][bin] = it->bounds;
+                out->bounds[a][bin] = ib;
             }
         }
     }
@@ -535,10 +553,10 @@ bool bvh_build_threads(const struct gpu_sphere *spheres, uint32_t count, uint32_
         m = m > fabsf(c->z) ? m : fabsf(c->z);
         float r = c->w + (m + c->w) * 4e-6f;
         item *it = &b.items[k];
-        *it = (item){{{c->x - r, c->y - r, c->z - r, 0.0f}, {c->x + r, c->y + r, c->z + r, 0.0f}},
-                     {c->x, c->y, c->z, 0.0f}};
+        *it = (item){{c->x, c->y, c->z, r}};
         b.order[k] = k;
-        box_grow(&root.bounds, &it->bounds);
+        box ib = item_box(it);
+        box_grow(&root.bounds, &ib);
         box_grow_point(&root.cbox, it->centroid);
     }
     uint32_t flat_count = 0, depth = 0;
