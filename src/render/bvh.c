@@ -54,10 +54,12 @@ typedef struct binary_node {
     uint32_t count; /* spheres of a leaf, 0 for an inner node */
 } binary_node;
 
-/* A subtree to build: its slot, sphere range, depth, box and centroid box. */
+/* A subtree to build: its slot, sphere range, depth, box and centroid box; once built, how many
+ * inner nodes it has and where the first of them goes in the flat array. */
 typedef struct task {
     uint32_t slot, begin, end, depth;
     box bounds, cbox;
+    uint32_t inner, flat_at;
 } task;
 
 typedef struct builder {
@@ -382,12 +384,13 @@ static bool push_task(builder *b, const task *t) {
     return true;
 }
 
-/* Builds the subtree of t into its slots and raises *depth to its deepest leaf. top: the
- * subtrees over at most b->task_items spheres are left in b's task list instead. */
-static void build_node(builder *b, const task *t, bool top, uint32_t *depth) {
+/* Builds the subtree of t into its slots and raises *depth to its deepest leaf; returns its
+ * count of inner nodes. top: the subtrees over at most b->task_items spheres are left in b's task
+ * list instead (and not counted). */
+static uint32_t build_node(builder *b, const task *t, bool top, uint32_t *depth) {
     if (top && t->end - t->begin <= b->task_items) {
         if (!push_task(b, t)) b->failed = true;
-        return;
+        return 0;
     }
     item *items = b->items;
     uint32_t id = t->slot, begin = t->begin, end = t->end, n = end - begin;
@@ -413,7 +416,7 @@ static void build_node(builder *b, const task *t, bool top, uint32_t *depth) {
          TRAVERSAL_COST + s.cost / (parent_area > 0.0f ? parent_area : 1.0f) >= (float)n)) {
         b->nodes[id].index = begin;
         b->nodes[id].count = n;
-        return;
+        return 0;
     }
     task left = {.slot = id + 1, .begin = begin, .depth = t->depth + 1};
     task right = {.end = end, .depth = t->depth + 1};
@@ -449,9 +452,10 @@ static void build_node(builder *b, const task *t, bool top, uint32_t *depth) {
     }
     left.end = mid;
     right.slot = id + 2 * (mid - begin), right.begin = mid;
-    build_node(b, &left, top, depth);
-    build_node(b, &right, top, depth);
+    uint32_t inner = 1 + build_node(b, &left, top, depth);
+    inner += build_node(b, &right, top, depth);
     b->nodes[id].index = right.slot;
+    return inner;
 }
 
 typedef struct worker {
@@ -466,7 +470,7 @@ static void *worker_run(void *arg) {
     for (;;) {
         uint32_t k = atomic_fetch_add(&b->next_task, 1);
         if (k >= b->task_count) return NULL;
-        build_node(b, &b->tasks[k], false, &w->depth);
+        b->tasks[k].inner = build_node(b, &b->tasks[k], false, &w->depth);
     }
 }
 
@@ -479,7 +483,7 @@ static int task_larger(const void *x, const void *y) {
 /* Builds every task of b on b->threads threads, the largest first so that the last ones to
  * finish are small; returns the deepest leaf's depth. */
 static uint32_t build_tasks(builder *b) {
-    qsort(b->tasks, b->task_count, sizeof *b->tasks, task_larger);
+    if (b->task_count > 1) qsort(b->tasks, b->task_count, sizeof *b->tasks, task_larger);
     atomic_init(&b->next_task, 0);
     worker workers[MAX_THREADS];
     pthread_t threads[MAX_THREADS];
@@ -497,10 +501,23 @@ static uint32_t build_tasks(builder *b) {
     return depth;
 }
 
+static int task_slot_order(const void *x, const void *y) {
+    const task *a = x, *b = y;
+    return (a->slot > b->slot) - (a->slot < b->slot);
+}
+
+/* The task whose subtree starts at slot; NULL if none (b's tasks sorted by slot). */
+static task *task_at(const builder *b, uint32_t slot) {
+    task key = {.slot = slot};
+    if (b->task_count == 0) return NULL; /* and b->tasks may be NULL, which bsearch refuses */
+    return bsearch(&key, b->tasks, b->task_count, sizeof *b->tasks, task_slot_order);
+}
+
 /* Writes binary node k and the inner nodes below it, depth first, into out from *count on (a
- * leaf root becomes a node whose second child is empty); returns its index in out. */
-static uint32_t flatten(const binary_node *tree, uint32_t k, struct gpu_bvh_node *out,
-                        uint32_t *count) {
+ * leaf root becomes a node whose second child is empty); returns its index in out. With tasks
+ * (b non-NULL), a task's subtree is not written: its place is kept (task.flat_at) and counted. */
+static uint32_t flatten(const builder *tasks, const binary_node *tree, uint32_t k,
+                        struct gpu_bvh_node *out, uint32_t *count) {
     uint32_t id = (*count)++;
     /* A box at +infinity, which no ray enters. */
     static const binary_node empty = {
@@ -515,14 +532,61 @@ static uint32_t flatten(const binary_node *tree, uint32_t k, struct gpu_bvh_node
     tz_vec4 *hi[2] = {&out[id].left_hi, &out[id].right_hi};
     for (int c = 0; c < 2; c++) {
         const binary_node *kid = kids[c];
+        task *t = kid != &empty && kid->count == 0 && tasks ? task_at(tasks, at[c]) : NULL;
+        if (t) {
+            t->flat_at = *count;
+            *count += t->inner;
+        }
         uint32_t ref = kid == &empty    ? 0u
                        : kid->count > 0 ? kid->count << TZ_BVH_COUNT_SHIFT | kid->index
-                                        : flatten(tree, at[c], out, count);
+                       : t              ? t->flat_at
+                                        : flatten(tasks, tree, at[c], out, count);
         const box *bx = &kid->bounds;
         *lo[c] = (tz_vec4){bx->lo[0], bx->lo[1], bx->lo[2], float_of(ref)};
         *hi[c] = (tz_vec4){bx->hi[0], bx->hi[1], bx->hi[2], 0.0f};
     }
     return id;
+}
+
+typedef struct flattener {
+    const builder *b;
+    struct gpu_bvh_node *out;
+    atomic_uint *next;
+} flattener;
+
+/* Writes the subtrees of tasks from the shared list until none is left. */
+static void *flattener_run(void *arg) {
+    const flattener *f = arg;
+    const builder *b = f->b;
+    for (;;) {
+        uint32_t k = atomic_fetch_add(f->next, 1);
+        if (k >= b->task_count) return NULL;
+        uint32_t at = b->tasks[k].flat_at;
+        if (b->tasks[k].inner > 0) flatten(NULL, b->nodes, b->tasks[k].slot, f->out, &at);
+    }
+}
+
+/* Writes the tree of b into out, depth first, its tasks' subtrees on b->threads threads; returns
+ * the node count. */
+static uint32_t flatten_all(builder *b, struct gpu_bvh_node *out) {
+    uint32_t count = 0;
+    if (b->task_count == 1 && b->tasks[0].slot == 0) { /* one task: the whole tree */
+        flatten(NULL, b->nodes, 0, out, &count);
+        return count;
+    }
+    if (b->task_count > 1) qsort(b->tasks, b->task_count, sizeof *b->tasks, task_slot_order);
+    flatten(b, b->nodes, 0, out, &count);
+    atomic_uint next;
+    atomic_init(&next, 0);
+    flattener f = {.b = b, .out = out, .next = &next};
+    pthread_t threads[MAX_THREADS];
+    int started = 0;
+    while (started < b->threads - 1 &&
+           pthread_create(&threads[started], NULL, flattener_run, &f) == 0)
+        started++;
+    flattener_run(&f);
+    for (int t = 0; t < started; t++) pthread_join(threads[t], NULL);
+    return count;
 }
 
 static int thread_count(int requested) {
@@ -570,7 +634,7 @@ bool bvh_build_threads(const struct gpu_sphere *spheres, uint32_t count, uint32_
         }
         uint32_t task_depth = build_tasks(&b);
         if (task_depth > depth) depth = task_depth;
-        flatten(b.nodes, 0, flat, &flat_count);
+        flat_count = flatten_all(&b, flat);
     }
     free(b.items);
     free(b.nodes);
