@@ -399,9 +399,13 @@ static uint32_t build_node(builder *b, const task *t, bool top, uint32_t *depth)
 
     /* Near the depth limit only median splits, which halve the count, are sure to fit. */
     bool must_median = t->depth + 1 + median_levels(n) >= b->max_depth;
+    bool leaf_ok = n <= TZ_BVH_LEAF_MAX;
+    /* A split's cost is the traversal and more: as few spheres as that are a leaf whatever the
+     * split would cost, so they are not binned. */
+    bool leaf_sure = leaf_ok && (float)n <= TRAVERSAL_COST;
     split s = {.cost = INFINITY};
     binning g = binning_of(&t->cbox);
-    if (n > 1 && !must_median) {
+    if (n > 1 && !must_median && !leaf_sure) {
         bins bn;
         if (top)
             bin_shared(b, begin, end, &g, &bn);
@@ -410,7 +414,6 @@ static uint32_t build_node(builder *b, const task *t, bool top, uint32_t *depth)
         s = sah_sweep(&bn, &g);
     }
     float parent_area = box_area(&t->bounds);
-    bool leaf_ok = n <= TZ_BVH_LEAF_MAX;
     if (leaf_ok &&
         (n <= 1 || !(s.cost < INFINITY) ||
          TRAVERSAL_COST + s.cost / (parent_area > 0.0f ? parent_area : 1.0f) >= (float)n)) {
