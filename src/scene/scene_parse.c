@@ -5,10 +5,11 @@
  * everything with file:line:col. The caller's scene is written only on success.
  *
  * Big texts are cut into chunks at line ends. The first chunk is parsed in order on the calling
- * thread while the others are parsed at the same time, each on its own thread and on the guess
- * that it holds only spheres, comments and blank lines. A chunk that does parse so is appended as
- * if read in order; any other (another directive, an error, too many spheres) is parsed again in
- * order, so messages, warnings and which error comes first are those of one pass. */
+ * thread while the others are parsed at the same time, a chunk at a time by whichever thread is
+ * free, on the guess that they hold only spheres, comments and blank lines. A chunk that does parse
+ * so is appended as if read in order; any other (another directive, an error, too many spheres) is
+ * parsed again in order, so messages, warnings and which error comes first are those of one pass.
+ */
 #include <errno.h>
 #include <fcntl.h>
 #include <float.h>
@@ -16,6 +17,7 @@
 #include <math.h>
 #include <pthread.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -40,10 +42,14 @@
 #define CAMERA_MIN_SINE 1e-4
 /* The seed's rule: plane size / pixel size within this relative distance of an integer. */
 #define PIXEL_TOLERANCE 1e-6
-/* Texts shorter than this per thread are parsed on one: a thread costs more than it saves. */
+/* Chunks are no shorter than this: a chunk costs a parser and a copy of its spheres. */
 #define MIN_CHUNK_BYTES (256 * 1024)
 /* Threads a parse uses at most. */
 #define MAX_PARSE_THREADS 16
+/* Chunks per thread: several, so that a thread that gets a core late (the host is shared) holds
+ * up the others by one small chunk at most. */
+#define CHUNKS_PER_THREAD 4
+#define MAX_CHUNKS (CHUNKS_PER_THREAD * MAX_PARSE_THREADS)
 
 typedef struct token {
     const char *text;
@@ -848,19 +854,29 @@ typedef struct chunk {
     const char *begin, *end;
     parser *p; /* NULL: no memory for it, parse it in order */
     bool ok;   /* every line was a sphere, a comment or blank, and parsed */
-    pthread_t thread;
-    bool started;
 } chunk;
 
-static void *chunk_run(void *arg) {
-    chunk *c = arg;
-    c->ok = parse_lines(c->p, c->begin, c->end);
-    return NULL;
+typedef struct chunk_list {
+    chunk *chunks;
+    int count;
+    atomic_int next; /* the next chunk to parse ahead */
+} chunk_list;
+
+/* Parses chunks ahead, taken from the shared list, until none is left. */
+static void *chunks_run(void *arg) {
+    chunk_list *l = arg;
+    for (;;) {
+        int k = atomic_fetch_add(&l->next, 1);
+        if (k >= l->count) return NULL;
+        chunk *c = &l->chunks[k];
+        if (c->p) c->ok = parse_lines(c->p, c->begin, c->end);
+    }
 }
 
 /* Appends chunk c's spheres and warning to p as if p had parsed its lines; false when c must be
  * parsed in order instead. */
 static bool chunk_adopt(parser *p, const chunk *c) {
+    if (!c->p) return false;
     const scene *cs = &c->p->s;
     if (!c->ok || cs->sphere_count > SCENE_MAX_SPHERES - p->s.sphere_count) return false;
     size_t total = (size_t)p->s.sphere_count + (size_t)cs->sphere_count;
@@ -891,11 +907,11 @@ static bool chunk_adopt(parser *p, const chunk *c) {
 /* Parses p's text on up to threads threads (see the top of the file). */
 static bool parse_chunks(parser *p, int threads) {
     const char *text = p->text, *end = p->text + p->length;
-    int count = threads;
+    if (threads > MAX_PARSE_THREADS) threads = MAX_PARSE_THREADS;
+    int count = threads * CHUNKS_PER_THREAD;
     if (p->length / MIN_CHUNK_BYTES < (size_t)count) count = (int)(p->length / MIN_CHUNK_BYTES);
-    if (count > MAX_PARSE_THREADS) count = MAX_PARSE_THREADS;
-    if (count < 2) return parse_lines(p, text, end);
-    chunk chunks[MAX_PARSE_THREADS];
+    if (threads < 2 || count < 2) return parse_lines(p, text, end);
+    chunk chunks[MAX_CHUNKS];
     const char *at = text;
     for (int k = 0; k < count; k++) { /* each chunk ends just past a '\n' (the last at end) */
         const char *cut = k == count - 1 ? end : text + p->length / (size_t)count * (size_t)(k + 1);
@@ -913,13 +929,25 @@ static bool parse_chunks(parser *p, int threads) {
                          .filename = p->filename,
                          .line = 1,
                          .spheres_only = true};
-        c->started = pthread_create(&c->thread, NULL, chunk_run, c) == 0;
     }
+    chunk_list list = {.chunks = chunks, .count = count};
+    atomic_init(&list.next, 1);
+    pthread_t workers[MAX_PARSE_THREADS];
+    int started = 0;
+    while (started < threads - 1 && started < count - 1 &&
+           pthread_create(&workers[started], NULL, chunks_run, &list) == 0)
+        started++;
+    /* The first chunk in order, then whatever chunks the other threads have not taken (none after
+     * an error: they would not count). */
     bool ok = parse_lines(p, chunks[0].begin, chunks[0].end);
+    if (ok)
+        chunks_run(&list);
+    else
+        atomic_store(&list.next, count);
+    for (int t = 0; t < started; t++) pthread_join(workers[t], NULL);
     for (int k = 1; k < count; k++) {
         chunk *c = &chunks[k];
-        if (c->started) pthread_join(c->thread, NULL);
-        if (ok && !(c->started && chunk_adopt(p, c))) ok = parse_lines(p, c->begin, c->end);
+        if (ok && !chunk_adopt(p, c)) ok = parse_lines(p, c->begin, c->end);
         if (c->p) {
             scene_free(&c->p->s);
             free(c->p);
