@@ -5,16 +5,20 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
+#include <string.h>
 #include <time.h>
 #include <unistd.h>
 
-#include "util/clock.h"
-#include "render/film_sum.h"
 #include "render/cpu/integrator.h"
-#include "util/log.h"
+#include "render/film_sum.h"
 #include "render/render.h"
+#include "util/clock.h"
+#include "util/log.h"
 
 #define TILE_SIZE 16
+
+/* Cache lines are 64 bytes on the processors the packet builds target. */
+#define CACHE_LINE 64
 
 typedef struct cpu_job {
     const packed_scene *packed;
@@ -22,7 +26,9 @@ typedef struct cpu_job {
     film *film;
     int samples;
     int tiles_x, tile_count;
-    atomic_int next_tile;
+    /* Written by every thread after every tile: on lines of their own, so that the fields above,
+     * which every thread reads all the time, are not taken from it by each write. */
+    _Alignas(CACHE_LINE) atomic_int next_tile;
     atomic_int tiles_done;
     atomic_ullong nonfinite;
     atomic_ullong rays;
@@ -40,6 +46,11 @@ static void render_tile(cpu_job *job, int tile) {
             uint32_t lanes = (uint32_t)(x1 - i < width ? x1 - i : width);
             float *row = &job->film->accum[((size_t)j * (size_t)job->film->width + (size_t)i) * 4];
             float comp[PACKET_LANES_MAX][3] = {{0.0f}}; /* every sample of these pixels is here */
+            /* The sums build up here from the zeros film_init left and reach the film once: a
+             * film line can hold pixels of two tiles that two threads render at the same time,
+             * and a store per sample there would move the line between their caches at every
+             * sample. */
+            float sum[PACKET_LANES_MAX][4] = {{0.0f}};
             for (int s = 0; s < job->samples; s++) {
                 vec3 l[PACKET_LANES_MAX];
                 pk->sample(job->packed, (uint32_t)i, (uint32_t)j, lanes, (uint32_t)s, l);
@@ -48,16 +59,17 @@ static void render_tile(cpu_job *job, int tile) {
                         dropped++;
                         continue;
                     }
-                    float *px = row + 4 * k;
+                    float *px = sum[k];
                     film_sum_add(&px[0], &comp[k][0], l[k].x);
                     film_sum_add(&px[1], &comp[k][1], l[k].y);
                     film_sum_add(&px[2], &comp[k][2], l[k].z);
                     px[3] += 1.0f;
                 }
             }
-            for (uint32_t k = 0; k < lanes; k++)
-                for (int c = 0; c < 3; c++)
-                    row[4 * k + c] = film_sum_value(row[4 * k + c], comp[k][c]);
+            for (uint32_t k = 0; k < lanes; k++) {
+                for (int c = 0; c < 3; c++) sum[k][c] = film_sum_value(sum[k][c], comp[k][c]);
+            }
+            memcpy(row, sum, (size_t)lanes * sizeof sum[0]);
         }
     }
     if (dropped) atomic_fetch_add(&job->nonfinite, dropped);
