@@ -99,17 +99,18 @@ static int thread_count(int requested) {
  * notices within 5 ms (a render does not wait for the next print). */
 static void report_progress(cpu_job *job) {
     struct timespec pause = {0, 5 * 1000 * 1000};
-    double next_print = 0.0;
+    double start = clock_seconds(), next_print = 0.0;
+    double samples = (double)job->film->width * job->film->height * job->samples;
     while (atomic_load(&job->tiles_done) < job->tile_count) {
         double now = clock_seconds();
         if (now >= next_print) {
-            fprintf(stderr, "\rtrazador: rendering %5.1f%%",
-                    100.0 * atomic_load(&job->tiles_done) / job->tile_count);
+            double share = (double)atomic_load(&job->tiles_done) / job->tile_count;
+            render_progress_print(share, now - start, samples);
             next_print = now + 0.2;
         }
         nanosleep(&pause, NULL);
     }
-    fprintf(stderr, "\r\033[K");
+    render_progress_clear();
 }
 
 bool render_cpu(const scene *s, const render_opts *opts, film *f) {
