@@ -359,6 +359,12 @@ if "$tz" devices 2>/dev/null | grep -q llvmpipe && script -qec true /dev/null >/
     [ "$(cat steps.txt)" -ge 2 ] && grep -q "rendering  50.0%" tty.txt && ok \
         || bad "vulkan progress did not move: $(tr '\r' '\n' <tty.txt | head -c 600)"
 fi
+# The CPU back end's line has the same parts (a render long enough for two prints).
+if script -qec true /dev/null >/dev/null 2>&1; then
+    script -qec "'$tz' render --backend cpu --threads 1 --spp 256 -o tty.png" /dev/null >tty.txt
+    tr '\r' '\n' <tty.txt | grep -c "rendering  *[0-9.]*%, [0-9.]* s, [0-9.]* Msamples/s, [0-9.]* s left" >steps.txt
+    [ "$(cat steps.txt)" -ge 2 ] && ok || bad "cpu progress: $(tr '\r' '\n' <tty.txt | head -c 600)"
+fi
 
 # Every example scene parses and renders.
 for scene in "$src"/scenes/*.scene; do

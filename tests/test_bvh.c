@@ -1,14 +1,15 @@
 /* test_bvh.c: the BVH against brute force: nearest hits and shadow tests of 100,000+ random rays
  * on random scenes (overlapping and nested spheres, rays starting inside spheres and on their
  * surfaces), the tree's invariants (depth bound, leaf sizes, every sphere in one leaf, boxes that
- * hold their contents) on ordinary and pathological inputs, and build time for big scenes. */
+ * hold their contents) on ordinary and pathological inputs, the same tree for every thread count,
+ * and build time for big scenes. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-#include "render/bvh.h"
 #include "check.h"
+#include "render/bvh.h"
 #include "render/cpu/integrator.h"
 #include "common/rng.h"
 
@@ -192,6 +193,25 @@ static void check_tree(const char *name, const struct gpu_sphere *spheres, uint3
     CHECK(t.depth < max_depth, "%s: depth %u reaches the bound %u", name, t.depth, max_depth);
     printf("%s: %u spheres, %u nodes, depth %u, %.3f s\n", name, count, t.node_count, t.depth,
            seconds);
+    /* The parallel build splits big nodes' binning among threads and builds subtrees as tasks;
+     * every thread count must give the very tree (nodes, sphere order, depth) of one thread. */
+    bvh one;
+    CHECK(bvh_build_threads(spheres, count, max_depth, 1, &one), "%s: 1-thread build failed", name);
+    const int counts[] = {2, 3, 4, 7, 16};
+    for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
+        bvh p;
+        CHECK(bvh_build_threads(spheres, count, max_depth, counts[k], &p), "%s: build failed",
+              name);
+        CHECK(p.node_count == one.node_count && p.depth == one.depth &&
+                  !memcmp(p.nodes, one.nodes, (size_t)p.node_count * sizeof *p.nodes) &&
+                  !memcmp(p.order, one.order, (size_t)count * sizeof *p.order),
+              "%s: the tree on %d threads differs from one thread's", name, counts[k]);
+        bvh_free(&p);
+    }
+    CHECK(one.node_count == t.node_count &&
+              !memcmp(one.nodes, t.nodes, (size_t)t.node_count * sizeof *t.nodes),
+          "%s: the tree on all processors differs from one thread's", name);
+    bvh_free(&one);
     free(seen);
     bvh_free(&t);
 }
@@ -225,6 +245,14 @@ int main(void) {
     for (uint32_t k = 0; k < 100000; k++) sp[k].center_radius = (tz_vec4){2.0f * (float)k, 0, 0, 1};
     check_tree("line", sp, 100000, TZ_BVH_MAX_DEPTH);
     check_tree("single", sp, 1, TZ_BVH_MAX_DEPTH);
+    /* Ties everywhere: centres on a coarse lattice (many share one, and zeros of both signs), so
+     * bins are uneven and equal centroids meet the median selection. */
+    for (uint32_t k = 0; k < 150000; k++) {
+        float x = floorf(uniform(-4, 4)), y = k % 3 ? 0.0f : -0.0f, z = floorf(uniform(-50, 50));
+        sp[k].center_radius = (tz_vec4){x, y, z, uniform(0.1f, 2)};
+    }
+    check_tree("lattice", sp, 150000, TZ_BVH_MAX_DEPTH);
+    check_tree("lattice, depth bound 17", sp, 150000, 17);
     /* The depth guard: binned SAH wants ~20 levels for 200,000 random spheres; under a bound of
      * 16 the build must turn to median splits in time (2^15 leaves of 8 hold them all). */
     for (uint32_t k = 0; k < n; k++)

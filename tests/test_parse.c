@@ -1,5 +1,6 @@
 /* test_parse.c: the scene parser on valid input (exact struct values, defaults, layout freedom),
- * on every kind of invalid input (line, column and message), and on files. */
+ * on every kind of invalid input (line, column and message), on files, and the same scene, warnings
+ * and first error for every thread count on texts big enough to be parsed in chunks. */
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
@@ -587,6 +588,155 @@ static void test_generated(void) {
     }
 }
 
+/* A text of BASE and `lines` lines, mostly spheres (some with CR LF, comments and blank lines
+ * between), where line number `tiny` (0: none) and every 997th line after it hold tiny spheres;
+ * *line_at[k] is where line k + 1 starts. */
+static char *chunked_text(int lines, int tiny, size_t *length, size_t *line_at) {
+    char *text = malloc((size_t)lines * 64 + 128);
+    size_t used = 0;
+    for (int k = 1; k <= lines; k++) {
+        line_at[k - 1] = used;
+        if (k <= 2) {
+            used += (size_t)sprintf(
+                text + used, "%s\n",
+                k == 1 ? "camera position 0 0 0" : "plane width 4 height 3 pixel 0.01");
+        } else if (k % 101 == 0) {
+            used += (size_t)sprintf(text + used, "# comment %d\n", k);
+        } else if (k % 103 == 0) {
+            used += (size_t)sprintf(text + used, "\n");
+        } else {
+            bool small = tiny && k >= tiny && (k - tiny) % 997 == 0;
+            used += (size_t)sprintf(text + used, "sphere phong center %d.5 %d -%d radius %s%s\n",
+                                    k % 1000, k % 17, k % 13, small ? "1e-9" : "0.25",
+                                    k % 5 == 0 ? "\r" : "");
+        }
+    }
+    line_at[lines] = used;
+    *length = used;
+    return text;
+}
+
+/* Text with line k (1-based) replaced by `line`, which must be no longer than the original. */
+static void replace_line(char *text, const size_t *line_at, int k, const char *line) {
+    size_t room = line_at[k] - line_at[k - 1] - 1, n = strlen(line);
+    if (n > room) abort(); /* the test's own mistake: pick a longer line */
+    memcpy(text + line_at[k - 1], line, n);
+    memset(text + line_at[k - 1] + n, ' ', room - n); /* trailing blanks are whitespace */
+}
+
+/* Parses text on 1 and on several threads: both fail or succeed alike, with the same error or
+ * the same spheres, lights and warnings; returns the one-thread result (*err set on failure). */
+static bool parse_all_threads(const char *name, const char *text, size_t length, scene_error *err,
+                              scene *s) {
+    bool ok = scene_parse_string_threads(text, length, "big.scene", 1, s, err);
+    const int counts[] = {2, 3, 7};
+    for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
+        scene t;
+        scene_error e;
+        memset(&e, 0, sizeof e);
+        bool ok_t = scene_parse_string_threads(text, length, "big.scene", counts[k], &t, &e);
+        if (!check(ok_t == ok, name, "%d threads: %s", counts[k], ok_t ? "parsed" : e.message))
+            continue;
+        if (!ok) {
+            check(e.line == err->line && e.col == err->col && !strcmp(e.message, err->message) &&
+                      !strcmp(e.file, err->file),
+                  name, "%d threads: %d:%d %s, one thread: %d:%d %s", counts[k], e.line, e.col,
+                  e.message, err->line, err->col, err->message);
+            continue;
+        }
+        check(t.sphere_count == s->sphere_count && t.light_count == s->light_count &&
+                  !memcmp(t.spheres, s->spheres, (size_t)s->sphere_count * sizeof *s->spheres) &&
+                  t.warning_count == s->warning_count &&
+                  !memcmp(t.warnings, s->warnings, (size_t)s->warning_count * sizeof *t.warnings),
+              name, "%d threads: %d spheres, %d warnings; one thread: %d, %d", counts[k],
+              t.sphere_count, t.warning_count, s->sphere_count, s->warning_count);
+        scene_free(&t);
+    }
+    return ok;
+}
+
+/* Texts of several MB, which the parser cuts into chunks: the scene, its tiny-sphere warning
+ * and the first error (wherever it is, whatever comes after it) match one pass in order. */
+static void test_chunks(void) {
+    int lines = 40000;
+    size_t length, *line_at = malloc(((size_t)lines + 1) * sizeof *line_at);
+    scene s;
+    scene_error err;
+    const int tiny[] = {0, 10, 25000, 39990};
+    for (size_t k = 0; k < sizeof tiny / sizeof tiny[0]; k++) {
+        char *text = chunked_text(lines, tiny[k], &length, line_at);
+        char name[64];
+        snprintf(name, sizeof name, "chunks, tiny spheres from line %d", tiny[k]);
+        if (check(parse_all_threads(name, text, length, &err, &s), name, "%s", err.message)) {
+            check(s.warning_count == (tiny[k] > 0) && (!tiny[k] || s.warnings[0].line == tiny[k]),
+                  name, "%d warnings, the first at line %d: %s", s.warning_count,
+                  s.warning_count ? s.warnings[0].line : 0,
+                  s.warning_count ? s.warnings[0].message : "");
+            scene_free(&s);
+        }
+        free(text);
+    }
+    /* Errors anywhere, alone and before a second one; other directives late in the text. */
+    typedef struct bad_line {
+        const char *line, *message;
+        int col;
+    } bad_line;
+    const bad_line bad[] = {
+        {"sphere lambertian center 0 0 0 radiu 1", "unknown key 'radiu' for sphere lambertian", 32},
+        {"bogus 1 2 3", "unknown directive 'bogus'", 1},
+        {"sphere mirror center 0 0 0 radius -2", "radius must be in (0, 1e+18], got -2", 35},
+        {"camera position 1 2 3", "'camera' given twice (first on line 1)", 1},
+        {"# a NUL \001 here", "", 0},
+        {"light position 0 0 0 power 1", NULL, 0},
+    };
+    const int at[] = {3, 777, 13334, 20000, 20001, 29999, 40000};
+    for (size_t b = 0; b < sizeof bad / sizeof bad[0]; b++) {
+        for (size_t a = 0; a < sizeof at / sizeof at[0]; a++) {
+            char *text = chunked_text(lines, 0, &length, line_at);
+            replace_line(text, line_at, at[a], bad[b].line);
+            if (bad[b].message && !bad[b].message[0]) /* the NUL byte itself */
+                text[line_at[at[a] - 1] + strlen("# a NUL ")] = '\0';
+            int second = at[a] + 1234 <= lines ? at[a] + 1234 : 0;
+            for (int twice = 0; twice < 2; twice++) {
+                if (twice && !second) break;
+                if (twice) replace_line(text, line_at, second, "bogus");
+                char name[96];
+                snprintf(name, sizeof name, "chunks, '%s' at line %d%s", bad[b].line, at[a],
+                         twice ? " and another error after it" : "");
+                bool ok = parse_all_threads(name, text, length, &err, &s);
+                if (!bad[b].message && !twice) {
+                    if (check(ok, name, "%s", err.message)) {
+                        check(s.light_count == 1, name, "%d lights", s.light_count);
+                        scene_free(&s);
+                    }
+                } else if (!bad[b].message) {
+                    check(!ok && err.line == second, name, "error at line %d", err.line);
+                } else {
+                    check(!ok && err.line == at[a] &&
+                              (!bad[b].message[0] || err.col == bad[b].col) &&
+                              strstr(err.message, bad[b].message),
+                          name, "%d:%d %s", err.line, err.col, err.message);
+                }
+                if (ok) scene_free(&s);
+            }
+            free(text);
+        }
+    }
+    free(line_at);
+    /* Emission in seed mode, found by a chunk parsed ahead, is reported at its own line. */
+    size_t size = 64u * 30000u, used = 0;
+    char *text = malloc(size);
+    used += (size_t)sprintf(text, "camera position 0 0 0\nplane width 4 height 3 pixel 0.01\n");
+    for (int k = 3; k <= 30000; k++)
+        used += (size_t)sprintf(text + used, "sphere lambertian center %d 0 9 radius 0.5%s\n", k,
+                                k == 22222 ? " emission 1 1 1" : "");
+    bool ok = parse_all_threads("chunks, emission in seed mode", text, used, &err, &s);
+    check(!ok && err.line == 22222 && strstr(err.message, "emission needs path mode"),
+          "chunks, emission in seed mode", "%d:%d %s", err.line, err.col, err.message);
+    if (ok) scene_free(&s);
+    free(text);
+}
+
 static bool write_file(const char *path, const char *text, size_t length) {
     FILE *f = fopen(path, "wb");
     if (!f) return false;
@@ -695,6 +845,7 @@ int main(void) {
         expect_error(c->name, c->text, c->length, c->line, c->col, c->message);
     }
     test_generated();
+    test_chunks();
     test_files();
     printf("test_parse: %d passed, %d failed (%zu invalid-input cases)\n", passed, failed,
            sizeof invalid_cases / sizeof invalid_cases[0]);

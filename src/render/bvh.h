@@ -26,6 +26,10 @@ typedef struct bvh {
  * (TZ_BVH_MAX_DEPTH for rendering; at least 22 so that 2^24 spheres fit); false (logged) on
  * out-of-memory. */
 bool bvh_build(const struct gpu_sphere *spheres, uint32_t count, uint32_t max_depth, bvh *out);
+/* bvh_build on at most threads threads (0: one per online processor); the tree is the same for
+ * every thread count. */
+bool bvh_build_threads(const struct gpu_sphere *spheres, uint32_t count, uint32_t max_depth,
+                       int threads, bvh *out);
 /* Frees the tree; safe on a zeroed bvh. */
 void bvh_free(bvh *b);
 

@@ -94,6 +94,10 @@ typedef struct scene {
 /* Parses scene text; false with *err filled (when non-NULL) and *out untouched on any error. */
 bool scene_parse_string(const char *text, size_t length, const char *filename, scene *out,
                         scene_error *err);
+/* scene_parse_string on up to threads threads (0: one per online processor); the scene, the
+ * warnings and the error are the same for every thread count. */
+bool scene_parse_string_threads(const char *text, size_t length, const char *filename, int threads,
+                                scene *out, scene_error *err);
 /* Reads and parses a file ("-": standard input, named <stdin>); false with *err filled on a
  * read or parse error. */
 bool scene_parse_file(const char *path, scene *out, scene_error *err);

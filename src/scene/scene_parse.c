@@ -2,13 +2,22 @@
  *
  * One pass over the text, one line at a time: each line is split into tokens (pointers into the
  * text, no copies), its directive is parsed into a local struct scene, and the first error stops
- * everything with file:line:col. The caller's scene is written only on success. */
+ * everything with file:line:col. The caller's scene is written only on success.
+ *
+ * Big texts are cut into chunks at line ends. The first chunk is parsed in order on the calling
+ * thread while the others are parsed at the same time, a chunk at a time by whichever thread is
+ * free, on the guess that they hold only spheres, comments and blank lines. A chunk that does parse
+ * so is appended as if read in order; any other (another directive, an error, too many spheres) is
+ * parsed again in order, so messages, warnings and which error comes first are those of one pass.
+ */
 #include <errno.h>
 #include <fcntl.h>
 #include <float.h>
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,6 +42,14 @@
 #define CAMERA_MIN_SINE 1e-4
 /* The seed's rule: plane size / pixel size within this relative distance of an integer. */
 #define PIXEL_TOLERANCE 1e-6
+/* Chunks are no shorter than this: a chunk costs a parser and a copy of its spheres. */
+#define MIN_CHUNK_BYTES (256 * 1024)
+/* Threads a parse uses at most. */
+#define MAX_PARSE_THREADS 16
+/* Chunks per thread: several, so that a thread that gets a core late (the host is shared) holds
+ * up the others by one small chunk at most. */
+#define CHUNKS_PER_THREAD 4
+#define MAX_CHUNKS (CHUNKS_PER_THREAD * MAX_PARSE_THREADS)
 
 typedef struct token {
     const char *text;
@@ -75,7 +92,8 @@ typedef struct parser {
     int camera_col; /* of the camera position, for the near-clip warning */
     bool tiny_warned;
     int emission_line, emission_col; /* the first sphere's emission, an error in seed mode */
-    char number[SCENE_MAX_LINE + 1];      /* a token NUL-terminated for strtod */
+    bool spheres_only;               /* a chunk parsed ahead: any directive but sphere stops it */
+    char number[SCENE_MAX_LINE + 1]; /* a token NUL-terminated for strtod */
     char quoted[2][MAX_QUOTED_CHARS + 4]; /* two, so one message can quote two tokens */
     int quoted_next;
 } parser;
@@ -396,9 +414,10 @@ static bool parse_values(parser *p, const key_spec *k, int *next, double value[3
 }
 
 /* Parses `key value...` pairs from token `first` to the end of the line into *kv.
- * `accepted` masks which keys of `keys` this directive (or material) takes. */
-static bool parse_keys(parser *p, const char *owner, const key_spec *keys, int key_count,
-                       unsigned accepted, int first, key_values *kv) {
+ * `accepted` masks which keys of `keys` this directive (or material) takes; messages name the
+ * owner, followed by word unless it is NULL (formatted only for a message: spheres are many). */
+static bool parse_keys_of(parser *p, const char *owner, const char *word, const key_spec *keys,
+                          int key_count, unsigned accepted, int first, key_values *kv) {
     memset(kv, 0, sizeof *kv);
     int next = first;
     while (next < p->token_count) {
@@ -412,8 +431,8 @@ static bool parse_keys(parser *p, const char *owner, const key_spec *keys, int k
                 if (list[0]) strcat(list, " ");
                 strcat(list, keys[k].name);
             }
-            return fail_at(p, t->col, "unknown key '%s' for %s (expected one of: %s)", quote(p, t),
-                           owner, list);
+            return fail_at(p, t->col, "unknown key '%s' for %s%s%s (expected one of: %s)",
+                           quote(p, t), owner, word ? " " : "", word ? word : "", list);
         }
         if (kv->given & BIT(key)) return fail_at(p, t->col, "'%s' given twice", keys[key].name);
         kv->given |= BIT(key);
@@ -423,6 +442,11 @@ static bool parse_keys(parser *p, const char *owner, const key_spec *keys, int k
         }
     }
     return true;
+}
+
+static bool parse_keys(parser *p, const char *owner, const key_spec *keys, int key_count,
+                       unsigned accepted, int first, key_values *kv) {
+    return parse_keys_of(p, owner, NULL, keys, key_count, accepted, first, kv);
 }
 
 /* Checks that every key in `required` was given; the error points at the directive word. */
@@ -707,10 +731,8 @@ static bool parse_sphere(parser *p) {
                        "mirror refractive, or lambertiana espejo refractada)",
                        quote(p, word));
     }
-    char owner[32];
-    snprintf(owner, sizeof owner, "sphere %s", m->word);
     key_values kv;
-    if (!parse_keys(p, owner, sphere_keys, SPHERE_KEY_COUNT, m->keys, 2, &kv) ||
+    if (!parse_keys_of(p, "sphere", m->word, sphere_keys, SPHERE_KEY_COUNT, m->keys, 2, &kv) ||
         !require_keys(p, "sphere", sphere_keys, SPHERE_KEY_COUNT,
                       BIT(SPHERE_CENTER) | BIT(SPHERE_RADIUS), &kv)) {
         return false;
@@ -842,7 +864,9 @@ static bool parse_line(parser *p, const char *line, size_t length) {
     if (p->token_count == 0) return true;
     const token *word = &p->tokens[0];
     for (size_t i = 0; i < sizeof directives / sizeof directives[0]; i++) {
-        if (token_is(word, directives[i].word)) return directives[i].parse(p);
+        if (!token_is(word, directives[i].word)) continue;
+        if (p->spheres_only && directives[i].parse != parse_sphere) return false;
+        return directives[i].parse(p);
     }
     return fail_at(p, word->col,
                    "unknown directive '%s' (expected one of: camera plane light sphere "
@@ -901,8 +925,8 @@ static void warn_near_surfaces(parser *p) {
             (double)s->radius, nearest, big > 1.0f ? "; move the scene nearer the origin" : "");
 }
 
-static bool parse_text(parser *p) {
-    const char *text = p->text, *end = p->text + p->length;
+/* Parses the lines of [text, end), counting them in p->line. */
+static bool parse_lines(parser *p, const char *text, const char *end) {
     while (text < end) {
         const char *newline = memchr(text, '\n', (size_t)(end - text));
         const char *line_end = newline ? newline : end;
@@ -911,6 +935,122 @@ static bool parse_text(parser *p) {
         text = newline + 1;
         p->line++;
     }
+    return true;
+}
+
+/* A chunk of the text parsed ahead on its own thread, its lines counted from 1. */
+typedef struct chunk {
+    const char *begin, *end;
+    parser *p; /* NULL: no memory for it, parse it in order */
+    bool ok;   /* every line was a sphere, a comment or blank, and parsed */
+} chunk;
+
+typedef struct chunk_list {
+    chunk *chunks;
+    int count;
+    atomic_int next; /* the next chunk to parse ahead */
+} chunk_list;
+
+/* Parses chunks ahead, taken from the shared list, until none is left. */
+static void *chunks_run(void *arg) {
+    chunk_list *l = arg;
+    for (;;) {
+        int k = atomic_fetch_add(&l->next, 1);
+        if (k >= l->count) return NULL;
+        chunk *c = &l->chunks[k];
+        if (c->p) c->ok = parse_lines(c->p, c->begin, c->end);
+    }
+}
+
+/* Appends chunk c's spheres and warning to p as if p had parsed its lines; false when c must be
+ * parsed in order instead. */
+static bool chunk_adopt(parser *p, const chunk *c) {
+    if (!c->p) return false;
+    const scene *cs = &c->p->s;
+    if (!c->ok || cs->sphere_count > SCENE_MAX_SPHERES - p->s.sphere_count) return false;
+    size_t total = (size_t)p->s.sphere_count + (size_t)cs->sphere_count;
+    if (total > p->sphere_capacity) {
+        sphere *grown = realloc(p->s.spheres, total * sizeof *grown);
+        if (!grown) return false;
+        p->s.spheres = grown;
+        p->sphere_capacity = total;
+    }
+    if (cs->sphere_count > 0) {
+        memcpy(p->s.spheres + p->s.sphere_count, cs->spheres,
+               (size_t)cs->sphere_count * sizeof *cs->spheres);
+    }
+    p->s.sphere_count += cs->sphere_count;
+    /* Its only possible warning is its first tiny sphere, which counts if p had none yet. */
+    if (cs->warning_count > 0 && !p->tiny_warned) {
+        p->tiny_warned = true;
+        if (p->s.warning_count < SCENE_MAX_WARNINGS) {
+            scene_error *w = &p->s.warnings[p->s.warning_count++];
+            *w = cs->warnings[0];
+            w->line += p->line - 1;
+        }
+    }
+    if (c->p->emission_line && !p->emission_line) {
+        p->emission_line = c->p->emission_line + p->line - 1;
+        p->emission_col = c->p->emission_col;
+    }
+    p->line += c->p->line - 1;
+    return true;
+}
+
+/* Parses p's text on up to threads threads (see the top of the file). */
+static bool parse_chunks(parser *p, int threads) {
+    const char *text = p->text, *end = p->text + p->length;
+    if (threads > MAX_PARSE_THREADS) threads = MAX_PARSE_THREADS;
+    int count = threads * CHUNKS_PER_THREAD;
+    if (p->length / MIN_CHUNK_BYTES < (size_t)count) count = (int)(p->length / MIN_CHUNK_BYTES);
+    if (threads < 2 || count < 2) return parse_lines(p, text, end);
+    chunk chunks[MAX_CHUNKS];
+    const char *at = text;
+    for (int k = 0; k < count; k++) { /* each chunk ends just past a '\n' (the last at end) */
+        const char *cut = k == count - 1 ? end : text + p->length / (size_t)count * (size_t)(k + 1);
+        if (cut < at) cut = at;
+        const char *newline = cut < end ? memchr(cut, '\n', (size_t)(end - cut)) : NULL;
+        chunks[k] = (chunk){.begin = at, .end = newline ? newline + 1 : end};
+        at = chunks[k].end;
+    }
+    for (int k = 1; k < count; k++) {
+        chunk *c = &chunks[k];
+        c->p = calloc(1, sizeof *c->p);
+        if (!c->p) continue;
+        *c->p = (parser){.text = p->text,
+                         .length = p->length,
+                         .filename = p->filename,
+                         .line = 1,
+                         .spheres_only = true};
+    }
+    chunk_list list = {.chunks = chunks, .count = count};
+    atomic_init(&list.next, 1);
+    pthread_t workers[MAX_PARSE_THREADS];
+    int started = 0;
+    while (started < threads - 1 && started < count - 1 &&
+           pthread_create(&workers[started], NULL, chunks_run, &list) == 0)
+        started++;
+    /* The first chunk in order, then whatever chunks the other threads have not taken (none after
+     * an error: they would not count). */
+    bool ok = parse_lines(p, chunks[0].begin, chunks[0].end);
+    if (ok)
+        chunks_run(&list);
+    else
+        atomic_store(&list.next, count);
+    for (int t = 0; t < started; t++) pthread_join(workers[t], NULL);
+    for (int k = 1; k < count; k++) {
+        chunk *c = &chunks[k];
+        if (ok && !chunk_adopt(p, c)) ok = parse_lines(p, c->begin, c->end);
+        if (c->p) {
+            scene_free(&c->p->s);
+            free(c->p);
+        }
+    }
+    return ok;
+}
+
+static bool parse_text(parser *p, int threads) {
+    if (!parse_chunks(p, threads)) return false;
     /* Whole-scene errors are reported at the end of the file: the line after the last '\n'. */
     if (!p->camera_line) return fail_at(p, 1, "missing 'camera' directive");
     if (!p->plane_line) return fail_at(p, 1, "missing 'plane' directive");
@@ -924,8 +1064,8 @@ static bool parse_text(parser *p) {
     return true;
 }
 
-bool scene_parse_string(const char *text, size_t length, const char *filename, scene *out,
-                        scene_error *err) {
+bool scene_parse_string_threads(const char *text, size_t length, const char *filename, int threads,
+                                scene *out, scene_error *err) {
     if (err) err->out_of_memory = false;
     parser *p = calloc(1, sizeof *p);
     if (!p) {
@@ -953,7 +1093,8 @@ bool scene_parse_string(const char *text, size_t length, const char *filename, s
         ok = fail_at(p, 0, "scene is too large (%zu bytes; the limit is %zu)", length,
                      MAX_TEXT_BYTES);
     } else {
-        ok = parse_text(p);
+        long online = sysconf(_SC_NPROCESSORS_ONLN);
+        ok = parse_text(p, threads > 0 ? threads : online > 1 ? (int)online : 1);
     }
     if (ok) {
         *out = p->s;
@@ -962,6 +1103,11 @@ bool scene_parse_string(const char *text, size_t length, const char *filename, s
     }
     free(p);
     return ok;
+}
+
+bool scene_parse_string(const char *text, size_t length, const char *filename, scene *out,
+                        scene_error *err) {
+    return scene_parse_string_threads(text, length, filename, 0, out, err);
 }
 
 /* A file-level error has no position: line and col are 0. */

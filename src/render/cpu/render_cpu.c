@@ -20,6 +20,9 @@
 
 #define TILE_SIZE 16
 
+/* Cache lines are 64 bytes on the processors the packet builds target. */
+#define CACHE_LINE 64
+
 typedef struct cpu_job {
     const packed_scene *packed;
     packet_integrator packet; /* the fastest this processor runs */
@@ -31,14 +34,19 @@ typedef struct cpu_job {
     const int *top, *merges;
     int old_count, new_count;
     int tiles_x, tile_count;
-    atomic_int next_tile;
+    /* Written by every thread after every tile: on lines of their own, so that the fields above,
+     * which every thread reads all the time, are not taken from it by each write. */
+    _Alignas(CACHE_LINE) atomic_int next_tile;
     atomic_int tiles_done;
     atomic_ullong nonfinite;
     atomic_ullong rays;
 } cpu_job;
 
 /* Renders the pass's chunks of `lanes` pixels of region row j from column i: loads their stacks,
- * pushes each chunk's compensated sum, stores the stacks back. Returns the non-finite samples. */
+ * pushes each chunk's compensated sum, stores the stacks back. The sums build up in locals and
+ * reach the part once: a line of the part can hold pixels of two tiles that two threads render
+ * at the same time, and a store per sample there would move it between their caches. Returns the
+ * non-finite samples. */
 static unsigned long long render_lanes(cpu_job *job, int i, int j, uint32_t lanes) {
     const packet_integrator *pk = &job->packet;
     part *p = job->part;
