@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # slurm_test.sh: starts a real single-node Slurm cluster in a temporary folder (munged as its own
 # user, slurmctld and slurmd as root, no systemd: proctrack/linuxproc, task/none, free ports),
-# then submits a 4-task job array and a job that depends on it (afterok) and checks their files;
-# and an array with a failing task, whose dependent job must never run. Everything it started is
+# then renders a scene through tools/slurm/submit.sh as a 4-task job array and a merge job that
+# depends on it (afterok), which must give the single render's image byte for byte; and the same
+# with a failing task, whose merge must never run and whose parts merged by hand are refused. Everything it started is
 # stopped on exit. Exit 77 (skip) where Slurm or munge is not installed, or not as root. First, and
-# everywhere, tools/slurm/task.sh is checked on its own.
+# everywhere, tools/slurm/task.sh is checked on its own. slurm_test.sh TRAZADOR: the binary the
+# cluster runs.
 set -euo pipefail
+trazador=$(realpath "${1:?slurm_test.sh TRAZADOR}")
 
 # tools/slurm/task.sh on its own, with stand-ins for trazador and scontrol (no Slurm needed): the
 # sample ranges it cuts, resuming from a checkpoint, and requeueing itself on SIGUSR1.
@@ -191,47 +194,48 @@ ready=$(date +%s.%N)
 printf 'slurm_test: cluster up in %.1f s (node %s, %s CPUs)\n' "$(echo "$ready - $start" | bc)" \
     "$host" "$cpus"
 
-# tools/slurm/submit.sh with a stand-in for trazador that writes its arguments as the part, and
-# concatenates the parts as the merge: a 4-task array and the merge job after it, waited for with
-# sbatch --wait. (Round two of issue 16 runs the real binary and compares the image.)
+# tools/slurm/submit.sh with the real trazador: a 4-task array (bands of rows) and the merge job
+# after it, waited for with sbatch --wait; the merged image is byte for byte the single render.
 jobs="$dir/jobs"
-cat >"$dir/trazador" <<'EOF'
-#!/bin/sh
-cmd=$1 out=""
-shift
-args="$*"
-while [ $# -gt 0 ]; do [ "$1" = -o ] && out=$2; shift; done
-case $cmd in
-render) echo "$args" >"$out" ;;
-merge) cat ${args% -o *} >"$out" ;;
-*) exit 2 ;;
-esac
-EOF
-chmod 755 "$dir/trazador"
-here=$(dirname "$(realpath "$0")")
-(cd "$dir" && touch scene.scene && "$here/../tools/slurm/submit.sh" --wait --parts 4 --size 40x30 \
-    --trazador "$dir/trazador" --dir "$jobs" scene.scene "$dir/merged.txt" -- --backend cpu \
-    --spp 8 >"$dir/submit.out") ||
+flags=(--backend cpu --width 40 --spp 40)
+cp "$here/../scenes/cornell.scene" "$dir/scene.scene"
+"$trazador" render "$dir/scene.scene" "${flags[@]}" --quiet -o "$dir/single.pfm" ||
+    fail "the single render failed"
+(cd "$dir" && "$here/../tools/slurm/submit.sh" --wait --parts 4 --size 40x40 \
+    --trazador "$trazador" --dir "$jobs" scene.scene "$dir/merged.pfm" -- "${flags[@]}" \
+    >"$dir/submit.out") ||
     fail "the merge job failed: $(cat "$dir/submit.out" "$jobs/logs/"*.log 2>/dev/null)"
-for i in 0 1 2 3; do
-    echo "$dir/scene.scene --backend cpu --spp 8 --region 0,40,$((i * 30 / 4)),$(((i + 1) * 30 / 4))" \
-        "--checkpoint $jobs/checkpoint_$i.exr -o $jobs/part_$i.exr"
-done >"$dir/expected.txt"
-cmp -s "$dir/expected.txt" "$dir/merged.txt" ||
-    fail "merged parts: $(diff "$dir/expected.txt" "$dir/merged.txt")"
-grep -q "^merge: job [0-9]* -> $dir/merged.txt$" "$dir/submit.out" ||
+cmp -s "$dir/single.pfm" "$dir/merged.pfm" ||
+    fail "the merged image is not the single render: $(cat "$jobs/logs/"*.log)"
+grep -q "^merge: job [0-9]* -> $dir/merged.pfm$" "$dir/submit.out" ||
     fail "submit.sh printed: $(cat "$dir/submit.out")"
+for i in 0 1 2 3; do
+    [ -s "$jobs/part_$i.exr" ] && [ ! -e "$jobs/checkpoint_$i.exr" ] ||
+        fail "part $i: no part file, or its checkpoint left behind"
+done
 
-# An array whose task 2 fails: the dependent job is cancelled, never run. Its end is polled here:
+# A failing part (task 2 resumes from a damaged checkpoint): the merge job is cancelled, never
+# run, and the parts merged by hand are refused, the missing band listed. The end is polled:
 # sbatch --wait exits 0 for a job cancelled before it started, and polls only every 10 s.
 job_state() { scontrol -o show job "$1" | grep -o 'JobState=[A-Z_]*' | cut -d= -f2; }
 job_ended() { case $(job_state "$1") in PENDING | RUNNING | CONFIGURING | COMPLETING) return 1 ;; esac; }
-array=$(sbatch --parsable --array=0-3 --chdir="$dir" -o /dev/null \
-    --wrap '[ "$SLURM_ARRAY_TASK_ID" != 2 ]')
-after=$(sbatch --parsable --dependency="afterok:$array" --kill-on-invalid-dep=yes \
-    --chdir="$dir" -o /dev/null --wrap 'touch ran.txt')
-wait_for 30 job_ended "$after" || fail "the job after a failed task is still $(job_state "$after")"
+bad_jobs="$dir/bad_jobs"
+mkdir -p "$bad_jobs"
+echo "not an EXR file" >"$bad_jobs/checkpoint_2.exr"
+(cd "$dir" && "$here/../tools/slurm/submit.sh" --parts 4 --size 40x40 --trazador "$trazador" \
+    --dir "$bad_jobs" scene.scene "$dir/bad.pfm" -- "${flags[@]}" >"$dir/bad_submit.out") ||
+    fail "submit.sh failed: $(cat "$dir/bad_submit.out")"
+after=$(sed -n 's/^merge: job \([0-9]*\) .*/\1/p' "$dir/bad_submit.out")
+[ -n "$after" ] || fail "submit.sh printed: $(cat "$dir/bad_submit.out")"
+wait_for 60 job_ended "$after" || fail "the merge after a failed part is still $(job_state "$after")"
 state=$(job_state "$after")
-[ "$state" = CANCELLED ] || fail "a job that depends on a failed task ended $state"
-[ ! -e "$dir/ran.txt" ] || fail "a job that depends on a failed task ran"
+[ "$state" = CANCELLED ] || fail "a merge that depends on a failed part ended $state"
+[ ! -e "$dir/bad.pfm" ] || fail "a merge that depends on a failed part ran"
+grep -q "not an EXR file" "$bad_jobs/logs/part_2.log" ||
+    fail "part 2's log: $(cat "$bad_jobs/logs/part_2.log")"
+if "$trazador" merge "$bad_jobs"/part_*.exr -o "$dir/bad.pfm" 2>"$dir/bad_merge.err"; then
+    fail "the merge of 3 parts of 4 succeeded"
+fi
+grep -q "region 0,40,20,30 samples 0:40" "$dir/bad_merge.err" ||
+    fail "the refused merge said: $(cat "$dir/bad_merge.err")"
 printf 'slurm_test: passed in %.1f s\n' "$(echo "$(date +%s.%N) - $start" | bc)"
