@@ -166,8 +166,9 @@ static bool write_header(exr_context_t ctx, const char *path, const exr_io *io, 
     exr_attr_box2i_t data = {{{{f->x0, f->y0}}}, {{{f->x0 + f->width - 1, f->y0 + f->height - 1}}}};
     exr_attr_v2f_t center = {{{0.0f, 0.0f}}};
     if (rc == EXR_ERR_SUCCESS)
-        rc = exr_initialize_required_attr(ctx, part, &display, &data, 1.0f, &center, 1.0f,
-                                          EXR_LINEORDER_INCREASING_Y, EXR_COMPRESSION_ZIP);
+        rc = exr_initialize_required_attr(
+            ctx, part, &display, &data, 1.0f, &center, 1.0f, EXR_LINEORDER_INCREASING_Y,
+            f->uncompressed ? EXR_COMPRESSION_NONE : EXR_COMPRESSION_ZIP);
     if (rc != EXR_ERR_SUCCESS) return fail(path, io, rc, "cannot start the header");
     bool long_names = false;
     for (int c = 0; c < f->channel_count; c++) long_names |= strlen(f->channels[c].name) > 31;

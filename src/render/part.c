@@ -291,7 +291,11 @@ bool part_write(const char *path, const part *p) {
                   .channel_count = pc.count,
                   .channels = pc.ch,
                   .attr_count = 9,
-                  .attrs = pa.a};
+                  .attrs = pa.a,
+                  /* ZIP shrinks the float sums of a render by a third only, for 3.6 to 6 times the
+                   * write (1024 x 1024 pixels, two blocks: 0.9 s at zlib's default level, 0.54 s
+                   * at its fastest, 0.15 s as is). */
+                  .uncompressed = true};
     const char *values[8];
     for (int k = 0; k < 8; k++) values[k] = pa.a[k].value;
     if (ok) part_checksum(&f, values, &pc, pa.a[8].value);
