@@ -115,6 +115,14 @@ for backend in cpu vulkan; do
     run "$backend resume" 0 $tz render $long --backend $backend --resume ck.exr -o long.pfm
     has "$backend resume" "ck.exr: resuming at sample"
     same "$backend resume" long.pfm long_whole.pfm
+    if [ $backend = vulkan ]; then # through staging copies, as on a discrete GPU
+        TRAZADOR_VK_STAGING=1 run "staged resume" 0 $tz render $long --backend vulkan \
+            --resume ck.exr -o staged.pfm
+        same "staged resume" staged.pfm long_whole.pfm
+        TRAZADOR_VK_STAGING=1 run "staged region" 0 $tz render $scene --backend vulkan \
+            --region 17,40,11,40 -o staged.exr
+        same "staged region" staged.exr vulkan/region_3.exr
+    fi
     # A checkpoint of other settings is refused.
     run "$backend resume other" 1 $tz render --width 64 --spp 1024 --backend $backend \
         --resume ck.exr -o other.pfm
