@@ -58,21 +58,57 @@ static uint32_t next_pass(void *user, uint32_t done, bool *sync) {
     return chunks;
 }
 
-/* Writes the checkpoint; false when it could not be written (logged). */
-static bool synced(void *user, const part *p) {
-    render_pacer *pc = user;
+/* The writer thread: writes pending and frees it. */
+static void *write_pending(void *arg) {
+    render_pacer *pc = arg;
     double t0 = clock_seconds();
-    if (!part_write(pc->checkpoint, p)) {
+    pc->write_ok = part_write(pc->checkpoint, &pc->pending);
+    pc->write_seconds = clock_seconds() - t0;
+    part_free(&pc->pending);
+    return NULL;
+}
+
+/* Waits for the checkpoint being written, if any; false when it failed (logged by it). */
+static bool join_writer(render_pacer *pc) {
+    if (!pc->writing) return !pc->failed;
+    pthread_join(pc->writer, NULL);
+    pc->writing = false;
+    if (!pc->write_ok) {
         pc->failed = true;
         return false;
     }
-    double t1 = clock_seconds();
     pc->checkpoints++;
-    pc->checkpoint_seconds += t1 - t0;
+    pc->checkpoint_seconds += pc->write_seconds;
+    log_debug("checkpoint: %s written in %.1f ms", pc->checkpoint, pc->write_seconds * 1e3);
+    return true;
+}
+
+/* Starts writing the checkpoint from a copy of p (the write before it done first); false when
+ * a checkpoint could not be written or copied (logged). */
+static bool synced(void *user, const part *p) {
+    render_pacer *pc = user;
+    if (!join_writer(pc)) return false;
+    double t0 = clock_seconds();
+    if (!part_copy(p, &pc->pending)) {
+        pc->failed = true;
+        return false;
+    }
+    log_debug("checkpoint: %s, samples %u:%u", pc->checkpoint, p->meta.sample_begin,
+              p->meta.sample_end);
+    if (pthread_create(&pc->writer, NULL, write_pending, pc) == 0) {
+        pc->writing = true;
+    } else { /* no thread: write it here */
+        write_pending(pc);
+        if (!pc->write_ok) {
+            pc->failed = true;
+            return false;
+        }
+        pc->checkpoints++;
+        pc->checkpoint_seconds += pc->write_seconds;
+    }
+    double t1 = clock_seconds();
     pc->last_checkpoint = t1;
-    log_debug("checkpoint: %s, samples %u:%u, written in %.1f ms", pc->checkpoint,
-              p->meta.sample_begin, p->meta.sample_end, (t1 - t0) * 1e3);
-    pc->pass_start += t1 - t0; /* the write is no part of the pass's time */
+    pc->pass_start += t1 - t0; /* the copy is no part of the pass's time */
     return true;
 }
 
@@ -93,10 +129,13 @@ void render_pacer_start(render_pacer *pc, render_control *control) {
     *control = (render_control){.next_pass = next_pass, .synced = synced, .user = pc};
 }
 
-void render_pacer_stop(render_pacer *pc) {
-    if (!pc->catching) return;
-    for (int k = 0; k < 3; k++) sigaction(caught[k], &pc->old[k], NULL);
-    pc->catching = false;
+bool render_pacer_stop(render_pacer *pc) {
+    bool ok = join_writer(pc);
+    if (pc->catching) {
+        for (int k = 0; k < 3; k++) sigaction(caught[k], &pc->old[k], NULL);
+        pc->catching = false;
+    }
+    return ok;
 }
 
 double render_pacer_deadline(const render_pacer *pc) {

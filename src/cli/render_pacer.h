@@ -1,13 +1,16 @@
 /* render_pacer.h: the render_control of `trazador render`: passes sized to about half a second,
  * checkpoints every so many seconds and on SIGUSR1, SIGINT or SIGTERM (the last two then stop
- * the render), and a time limit that no pass is started past. */
+ * the render), written from a copy of the part while the next pass renders, and a time limit
+ * that no pass is started past. */
 #ifndef TRAZADOR_RENDER_PACER_H
 #define TRAZADOR_RENDER_PACER_H
 
+#include <pthread.h>
 #include <signal.h>
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "render/part.h"
 #include "render/render.h"
 
 typedef struct render_pacer {
@@ -26,13 +29,20 @@ typedef struct render_pacer {
     bool started;
     struct sigaction old[3];
     bool catching;
+    /* The checkpoint being written, from a copy, on a thread of its own while the render goes
+     * on (its result read when it is joined). */
+    pthread_t writer;
+    bool writing, write_ok;
+    part pending;
+    double write_seconds;
 } render_pacer;
 
 /* Starts the pacer (clock and, with a checkpoint, the signal handlers) and points control at it;
  * never fails. */
 void render_pacer_start(render_pacer *pc, render_control *control);
-/* Puts back the signal handlers; never fails. */
-void render_pacer_stop(render_pacer *pc);
+/* Waits for the checkpoint being written and puts back the signal handlers; false (logged) when
+ * a checkpoint could not be written. */
+bool render_pacer_stop(render_pacer *pc);
 /* clock_seconds() when the time limit ends, 0 without one. */
 double render_pacer_deadline(const render_pacer *pc);
 

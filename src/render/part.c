@@ -72,6 +72,23 @@ bool part_init(part *p, const part_meta *meta) {
     return true;
 }
 
+bool part_copy(const part *src, part *dst) {
+    *dst = (part){.meta = src->meta, .stack = src->stack};
+    size_t n = region_pixels(&src->meta);
+    bool ok = (dst->count = malloc(n * sizeof *dst->count)) != NULL;
+    if (ok) memcpy(dst->count, src->count, n * sizeof *dst->count);
+    for (int k = 0; ok && k < src->stack.count; k++)
+        if ((ok = (dst->block[k] = malloc(n * 3 * sizeof(float))) != NULL))
+            memcpy(dst->block[k], src->block[k], n * 3 * sizeof(float));
+    if (ok && src->open && (ok = (dst->open = malloc(n * 6 * sizeof(float))) != NULL))
+        memcpy(dst->open, src->open, n * 6 * sizeof(float));
+    if (!ok) {
+        log_error("out of memory for a copy of a part of %zu pixels", n);
+        part_free(dst);
+    }
+    return ok;
+}
+
 void part_free(part *p) {
     for (int k = 0; k < CHUNK_STACK_MAX; k++) free(p->block[k]);
     free(p->count);

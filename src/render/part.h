@@ -43,6 +43,8 @@ typedef struct part {
 /* Starts an empty part (meta's sample_end is set to its sample_begin) of zero sums; false
  * (logged) on invalid metadata or out of memory. */
 bool part_init(part *p, const part_meta *meta);
+/* A deep copy of src into dst; false (logged) on out of memory, with dst zeroed. */
+bool part_copy(const part *src, part *dst);
 /* Frees the sums (open too); safe on a zeroed part. */
 void part_free(part *p);
 /* Appends the next chunk: rgb has its compensated sum (film_sum_value) and count its finite
