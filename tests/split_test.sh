@@ -129,6 +129,16 @@ for backend in cpu vulkan; do
     has "$backend resume other" "cannot resume this render from it: it holds another scene or other settings"
 done
 
+# A checkpoint that cannot be written (a file size limit standing for a full disk: SIGXFSZ
+# ignored, so writes fail with EFBIG) fails the run and leaves the previous checkpoint intact.
+cp ck.exr ck_before.exr
+(trap '' XFSZ; ulimit -f 16; exec $tz render $long --backend vulkan --resume ck.exr \
+    --checkpoint ck.exr --checkpoint-every 0.001 -o full.pfm) 2>full.err
+rc=$?
+[ $rc = 1 ] && ok || bad "full disk: exit $rc, want 1: $(tail -n 2 full.err)"
+same "full disk leaves the checkpoint" ck.exr ck_before.exr
+ls .trazador-* >/dev/null 2>&1 && bad "full disk: a temporary file was left" || ok
+
 # A time limit: whole chunks, a line saying how many samples every pixel got; written as a part,
 # it is the very part of that many samples.
 tl="--width 32 --spp 1048576 --backend cpu"
