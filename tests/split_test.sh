@@ -55,6 +55,17 @@ for backend in cpu vulkan; do
     mkdir -p "$backend"
     cp whole.pfm region_*.exr samples_*.exr "$backend/"
 done
+# Deeper stacks: 1,000 spp (63 chunks, the last of 8 samples) cut at chunks that are no powers
+# of two, the parts given out of order.
+for backend in cpu vulkan; do
+    deep="render --width 16 --spp 1000 --quiet --backend $backend"
+    $tz $deep -o deep_whole.pfm
+    $tz $deep --samples 400:1000 -o deep_2.exr
+    $tz $deep --samples 0:48 -o deep_0.exr
+    $tz $deep --samples 48:400 -o deep_1.exr
+    run "$backend deep merge" 0 $tz merge deep_2.exr deep_0.exr deep_1.exr -o deep.pfm
+    same "$backend deep samples" deep.pfm deep_whole.pfm
+done
 # The Vulkan back end renders only the region's tiles and the range's samples: its parts merge
 # to its own single render (checked above); the two back ends agree to rounding only.
 
