@@ -164,24 +164,21 @@ static uint32_t sample_of(const part *p, uint32_t k) {
     return s < p->meta.spp ? (uint32_t)s : p->meta.spp;
 }
 
-/* Lays out the pass of `chunks` chunks from the part's stack: where each goes, the blocks the
- * stack then has (allocated, unset); false (logged) on out of memory. */
+/* Lays out the pass of `chunks` chunks from the part's stack: where each goes, and room for the
+ * blocks the stack then has; false (logged) on out of memory. */
 static bool plan_pass(cpu_job *job, chunk_stack *shape, uint32_t chunks, int *top, int *merges) {
     part *p = job->part;
     size_t n = (size_t)job->width * (size_t)job->height;
     job->first_chunk = shape->end;
     job->chunks = chunks;
     job->old_count = shape->count;
-    int most = shape->count;
     for (uint32_t k = 0; k < chunks; k++) {
         top[k] = shape->count;
         merges[k] = chunk_stack_push(shape, (chunk_block){0, job->first_chunk + k});
-        if (shape->count > most) most = shape->count;
-        if (top[k] + 1 > most) most = top[k] + 1;
     }
     job->new_count = shape->count;
-    for (int b = 0; b < most; b++)
-        if (!p->block[b] && !(p->block[b] = calloc(n * 3, sizeof(float)))) {
+    for (int b = 0; b < shape->count; b++)
+        if (!p->block[b] && !(p->block[b] = malloc(n * 3 * sizeof(float)))) {
             log_error("out of memory for a part of %zu pixels", n);
             return false;
         }
