@@ -24,8 +24,10 @@
 /* What the lanes' rays hit: id[k] the sphere (-1 none), through the packet trace; a shadow ray
  * (any_hit) is blocked when id[k] >= 0. Lanes not in active get -1; nothing is traced when no
  * lane is active. */
-LANE_FN void trace_lanes(const packed_scene *p, const lanes3 *o, const lanes3 *d, const int *self,
-                         const float *tmax, const int *active, int any_hit, int *id, float *t) {
+static __attribute__((noinline)) void trace_lanes(const packed_scene *p, const lanes3 *o,
+                                                  const lanes3 *d, const int *self,
+                                                  const float *tmax, const int *active, int any_hit,
+                                                  int *id, float *t) {
     if (any_lane(active)) {
         packet_trace(p, o, d, self, tmax, active, any_hit, id, t);
         return;
@@ -44,13 +46,51 @@ typedef struct path_lanes {
     lanes3 o, d, beta, radiance, last_pos, last_n;
 } path_lanes;
 
-/* A vertex of the lanes' paths: the hit sphere's data and the hit. */
+/* A vertex of the lanes' paths: the hit and the hit sphere's data (sphere 0's where none). */
 typedef struct vertex_lanes {
-    int id[LANES], diffuse[LANES], specular[LANES];
-    float t[LANES];
-    lanes3 pos, nout, n, wo;
-    float share[LANES];
+    int id[LANES], diffuse[LANES], specular[LANES], material[LANES], slot[LANES];
+    float t[LANES], r[LANES], ks[LANES], alpha[LANES], ior[LANES], share[LANES];
+    lanes3 pos, nout, n, wo, c, kd;
 } vertex_lanes;
+
+/* The next number of each lane's stream where take[k], else 0 with the stream left as it is: the
+ * loops over lanes stay branch-free, so they compile to SIMD. */
+LANE_FN void draw_lanes(uint32_t *rng, const int *take, float *u) {
+    for (int k = 0; k < LANES; k++) {
+        uint32_t state = rng[k];
+        float x = rng_next(&state);
+        rng[k] = take[k] ? state : rng[k];
+        u[k] = take[k] ? x : 0.0f;
+    }
+}
+
+/* phong_lobe(x, alpha) where want[k], else 0: powf lane by lane (powf(x, 0) is 1 for every x). */
+LANE_FN void lobe_lanes(const float *x, const float *alpha, const int *want, float *lobe) {
+    for (int k = 0; k < LANES; k++) {
+        float l = 0.0f;
+        if (want[k] && x[k] > 0.0f) l = alpha[k] == 0.0f ? 1.0f : powf(x[k], alpha[k]);
+        lobe[k] = l;
+    }
+}
+
+/* bsdf_pdf of sampling.h with its phong_lobe(lobe_cos, alpha) given as lobe. */
+LANE_FN float bsdf_pdf_of_lobe(float share, float alpha, float cos_i, float lobe) {
+    float diffuse = cos_i * (1.0f / TZ_PI);
+    float l = (alpha + 1.0f) * (1.0f / (2.0f * TZ_PI)) * lobe;
+    return share * (cos_i > 0.0f ? diffuse : 0.0f) + (1.0f - share) * l;
+}
+
+/* sphere_brdf_at of path.h for lane k of the vertex, phong_lobe(x, alpha) given as lobe. */
+LANE_FN vec3 brdf_of_lobe(const vertex_lanes *v, int k, float lobe) {
+    return phong_from_lobe(get3(&v->kd, k), v->ks[k], v->alpha[k], v->ks[k] > 0.0f ? lobe : 0.0f);
+}
+
+/* direction_about of sampling.h with cos(phi) and sin(phi) given. */
+LANE_FN vec3 direction_about_cs(vec3 w, float cos_t, float sin_t, float cos_phi, float sin_phi) {
+    tangent_frame f = basis(w);
+    float c = sin_t * cos_phi, s = sin_t * sin_phi;
+    return v3_add(v3_add(v3_scale(f.t, c), v3_scale(f.b, s)), v3_scale(w, cos_t));
+}
 
 /* The light of the point lights at the diffuse lanes' vertices into direct (point_lights). */
 LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v, lanes3 *direct) {
@@ -82,73 +122,89 @@ LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v
     }
 }
 
-/* emitter_light of path.h for the diffuse lanes, its shadow rays traced together, added to
- * direct; ul, ua, ub the lanes' numbers. */
+/* emitter_light of path.h for the diffuse lanes, both strategies computed and one selected, the
+ * shadow rays traced together, added to direct; ul, ua, ub the lanes' numbers. */
 LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *v, const float *ul,
                                  const float *ua, const float *ub, lanes3 *direct) {
-    lanes3 so, wi, emission;
-    float pdf[LANES], cos_i[LANES], t_light[LANES], t[LANES];
-    int want[LANES], blocked[LANES];
+    int e[LANES], strategy[LANES], want[LANES], blocked[LANES];
+    float r[LANES], pick[LANES], phi[LANES], cos_phi[LANES], sin_phi[LANES];
+    float pdf[LANES], cos_i[LANES], t_light[LANES], t[LANES], x[LANES], lobe[LANES];
+    lanes3 c, emission, so, wi;
     for (int k = 0; k < LANES; k++) {
-        want[k] = 0;
-        if (!v->diffuse[k]) continue;
-        int id = v->id[k];
-        vec3 pos = get3(&v->pos, k), n = get3(&v->n, k);
-        int slot = pick_emitter(scene, ul[k]);
+        int slot = v->diffuse[k] ? pick_emitter(scene, ul[k]) : 0;
         tz_vec4 emission_pick = emitter_emission_pick(scene, slot);
-        int e = (int)uint_bits(emitter_sphere_cdf(scene, slot).x);
-        tz_vec4 cr = sphere_center_radius(scene, e);
-        vec3 c = xyz(cr);
-        float r = cr.w;
-        int strategy = light_strategy(pos, n, id, e, c, r);
-        if (strategy == LIGHT_NONE) continue;
-        vec3 w;
-        float p;
-        if (strategy == LIGHT_CONE) {
-            vec3 to_c = v3_sub(c, pos);
-            float d2 = v3_dot(to_c, to_c);
-            vec3 axis = v3_scale(to_c, 1.0f / sqrtf(d2));
-            direction_sample s = cone_direction(axis, cone_one_minus_cos(r * r, d2), ua[k], ub[k]);
-            w = s.wi;
-            p = emission_pick.w * s.pdf;
-        } else {
-            vec3 q = v3_add(c, v3_scale(sphere_area_direction(ua[k], ub[k]), r));
-            vec3 to_q = v3_sub(q, pos);
-            float dist2 = v3_dot(to_q, to_q);
-            vec3 axis = v3_scale(to_q, 1.0f / sqrtf(dist2));
-            vec3 nq = v3_scale(v3_sub(q, c), 1.0f / r);
-            w = axis;
-            p = emission_pick.w * area_pdf(r, dist2, v3_dot(nq, axis));
-        }
+        e[k] = (int)uint_bits(emitter_sphere_cdf(scene, slot).x);
+        tz_vec4 cr = sphere_center_radius(scene, e[k]);
+        set3(&c, k, xyz(cr));
+        r[k] = cr.w;
+        set3(&emission, k, xyz(emission_pick));
+        pick[k] = emission_pick.w;
+    }
+    for (int k = 0; k < LANES; k++) {
+        strategy[k] =
+            light_strategy(get3(&v->pos, k), get3(&v->n, k), v->id[k], e[k], get3(&c, k), r[k]);
+        phi[k] = 2.0f * TZ_PI * ub[k];
+    }
+    for (int k = 0; k < LANES; k++) {
+        int need = v->diffuse[k] && strategy[k] != LIGHT_NONE;
+        cos_phi[k] = need ? cosf(phi[k]) : 0.0f;
+        sin_phi[k] = need ? sinf(phi[k]) : 0.0f;
+    }
+    for (int k = 0; k < LANES; k++) {
+        vec3 pos = get3(&v->pos, k), n = get3(&v->n, k), ck = get3(&c, k);
+        float rk = r[k];
+        /* the cone (cone_direction) */
+        vec3 to_c = v3_sub(ck, pos);
+        float d2 = v3_dot(to_c, to_c);
+        vec3 axis = v3_scale(to_c, 1.0f / TZ_SQRT(d2));
+        float omc = cone_one_minus_cos(rk * rk, d2);
+        float xc = ua[k] * omc;
+        float sin2 = xc * (2.0f - xc);
+        float cone_pdf = 1.0f / (2.0f * TZ_PI * omc);
+        vec3 cone_wi = direction_about_cs(axis, 1.0f - xc, TZ_SQRT(TZ_MAX(sin2, 0.0f)), cos_phi[k],
+                                          sin_phi[k]);
+        float cone_p = pick[k] * cone_pdf;
+        /* the area (sphere_area_direction) */
+        float z = 1.0f - 2.0f * ua[k];
+        float rho = TZ_SQRT(TZ_MAX(1.0f - z * z, 0.0f));
+        vec3 dir = v3(rho * cos_phi[k], rho * sin_phi[k], z);
+        vec3 q = v3_add(ck, v3_scale(dir, rk));
+        vec3 to_q = v3_sub(q, pos);
+        float dist2 = v3_dot(to_q, to_q);
+        vec3 area_wi = v3_scale(to_q, 1.0f / TZ_SQRT(dist2));
+        vec3 nq = v3_scale(v3_sub(q, ck), 1.0f / rk);
+        float area_p = pick[k] * area_pdf(rk, dist2, v3_dot(nq, area_wi));
+        int cone = strategy[k] == LIGHT_CONE;
+        vec3 w = select3(cone, cone_wi, area_wi);
+        float p = cone ? cone_p : area_p;
         float ci = v3_dot(n, w);
-        if (!(ci > 0.0f) || !(p > 0.0f) || !(p < INFINITY)) continue;
+        int ok =
+            v->diffuse[k] & (strategy[k] != LIGHT_NONE) & (ci > 0.0f) & (p > 0.0f) & (p < INFINITY);
         vec3 o = offset_origin(pos, n);
-        float tl = sphere_distance(c.x, c.y, c.z, r, o, w, ray_eps(o), e == id);
-        if (!(tl < INFINITY)) continue;
+        float tl = sphere_distance(ck.x, ck.y, ck.z, rk, o, w, ray_eps(o), e[k] == v->id[k]);
         set3(&so, k, o);
         set3(&wi, k, w);
-        set3(&emission, k, xyz(emission_pick));
         pdf[k] = p;
         cos_i[k] = ci;
         t_light[k] = tl;
-        want[k] = 1;
+        want[k] = ok & (tl < INFINITY);
     }
     trace_lanes(scene, &so, &wi, v->id, t_light, want, 1, blocked, t);
-    uint32_t lights_only = scene->frame.flags & TZ_FLAG_LIGHTS_ONLY;
     for (int k = 0; k < LANES; k++) {
-        if (!v->diffuse[k]) continue;
-        vec3 l = v3(0.0f, 0.0f, 0.0f);
-        if (want[k] && blocked[k] < 0) {
-            int id = v->id[k];
-            vec3 n = get3(&v->n, k), w = get3(&wi, k);
-            float x = phong_lobe_cos(n, w, get3(&v->wo, k));
-            float b = bsdf_pdf(v->share[k], sphere_params(scene, id).x, cos_i[k], x);
-            float mis = pdf[k] / (pdf[k] * pdf[k] + b * b);
-            float weight = lights_only != 0u ? 1.0f / pdf[k] : mis;
-            l = v3_scale(v3_mul(sphere_brdf_at(scene, id, x), get3(&emission, k)),
-                         cos_i[k] * weight);
-        }
-        set3(direct, k, v3_add(get3(direct, k), l));
+        want[k] = want[k] & (blocked[k] < 0);
+        x[k] = phong_lobe_cos(get3(&v->n, k), get3(&wi, k), get3(&v->wo, k));
+    }
+    lobe_lanes(x, v->alpha, want, lobe);
+    int lights_only = (scene->frame.flags & TZ_FLAG_LIGHTS_ONLY) != 0u;
+    for (int k = 0; k < LANES; k++) {
+        float b = bsdf_pdf_of_lobe(v->share[k], v->alpha[k], cos_i[k], lobe[k]);
+        float mis = pdf[k] / (pdf[k] * pdf[k] + b * b);
+        float weight = lights_only ? 1.0f / pdf[k] : mis;
+        vec3 l =
+            v3_scale(v3_mul(brdf_of_lobe(v, k, lobe[k]), get3(&emission, k)), cos_i[k] * weight);
+        l = select3(want[k], l, v3(0.0f, 0.0f, 0.0f));
+        vec3 dk = get3(direct, k);
+        set3(direct, k, select3(v->diffuse[k], v3_add(dk, l), dk));
     }
 }
 
@@ -156,64 +212,100 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
  * lanes whose path ends here are made inactive. */
 LANE_FN void lanes_bsdf_bounce(const packed_scene *scene, const vertex_lanes *v, path_lanes *s,
                                const float *us, const float *u1, const float *u2) {
+    (void)scene;
+    float phi[LANES], cos_phi[LANES], sin_phi[LANES], cos_i[LANES], x[LANES], lobe[LANES];
+    int cosine[LANES], go[LANES];
+    lanes3 lobe_wi, wi;
     for (int k = 0; k < LANES; k++) {
-        if (!v->diffuse[k]) continue;
-        int id = v->id[k];
-        float share = v->share[k];
-        if (share < 0.0f) {
-            s->active[k] = 0;
-            continue;
-        }
-        vec3 n = get3(&v->n, k), wo = get3(&v->wo, k);
-        float alpha = sphere_params(scene, id).x;
-        vec3 wi;
-        if (us[k] < share) {
-            float phi = 2.0f * TZ_PI * u2[k];
-            wi = cosine_direction(n, u1[k], cosf(phi), sinf(phi));
+        phi[k] = 2.0f * TZ_PI * u2[k];
+        go[k] = v->diffuse[k] & !(v->share[k] < 0.0f);
+        cosine[k] = us[k] < v->share[k];
+    }
+    for (int k = 0; k < LANES; k++) {
+        cos_phi[k] = sin_phi[k] = 0.0f;
+        set3(&lobe_wi, k, v3(0.0f, 0.0f, 0.0f));
+        if (!go[k]) continue;
+        if (cosine[k]) {
+            cos_phi[k] = cosf(phi[k]);
+            sin_phi[k] = sinf(phi[k]);
         } else {
+            vec3 n = get3(&v->n, k), wo = get3(&v->wo, k);
             vec3 wr = v3_sub(v3_scale(n, 2.0f * v3_dot(n, wo)), wo);
-            wi = phong_lobe_direction(wr, alpha, u1[k], u2[k]);
+            set3(&lobe_wi, k, phong_lobe_direction(wr, v->alpha[k], u1[k], u2[k]));
         }
-        float cos_i = v3_dot(n, wi), x = phong_lobe_cos(n, wi, wo);
-        float pdf = bsdf_pdf(share, alpha, cos_i, x);
-        if (!(cos_i > 0.0f) || !(pdf > 0.0f)) {
-            s->active[k] = 0;
-            continue;
-        }
-        vec3 f = v3_scale(sphere_brdf_at(scene, id, x), cos_i / pdf);
-        set3(&s->beta, k, v3_mul(get3(&s->beta, k), f));
-        set3(&s->last_pos, k, get3(&v->pos, k));
-        set3(&s->last_n, k, n);
-        s->last_id[k] = id;
-        s->last_pdf[k] = pdf;
-        s->specular[k] = 0;
-        set3(&s->o, k, offset_origin(get3(&v->pos, k), n));
-        set3(&s->d, k, wi);
+    }
+    for (int k = 0; k < LANES; k++) {
+        vec3 n = get3(&v->n, k), wo = get3(&v->wo, k);
+        vec3 w = select3(cosine[k], cosine_direction(n, u1[k], cos_phi[k], sin_phi[k]),
+                         get3(&lobe_wi, k));
+        set3(&wi, k, w);
+        cos_i[k] = v3_dot(n, w);
+        x[k] = phong_lobe_cos(n, w, wo);
+    }
+    lobe_lanes(x, v->alpha, go, lobe);
+    for (int k = 0; k < LANES; k++) {
+        float pdf = bsdf_pdf_of_lobe(v->share[k], v->alpha[k], cos_i[k], lobe[k]);
+        int ok = go[k] & (cos_i[k] > 0.0f) & (pdf > 0.0f);
+        vec3 f = v3_scale(brdf_of_lobe(v, k, lobe[k]), cos_i[k] / pdf);
+        vec3 n = get3(&v->n, k), pos = get3(&v->pos, k);
+        set3(&s->beta, k, select3(ok, v3_mul(get3(&s->beta, k), f), get3(&s->beta, k)));
+        set3(&s->last_pos, k, select3(ok, pos, get3(&s->last_pos, k)));
+        set3(&s->last_n, k, select3(ok, n, get3(&s->last_n, k)));
+        s->last_id[k] = ok ? v->id[k] : s->last_id[k];
+        s->last_pdf[k] = ok ? pdf : s->last_pdf[k];
+        s->specular[k] = ok ? 0 : s->specular[k];
+        set3(&s->o, k, select3(ok, offset_origin(pos, n), get3(&s->o, k)));
+        set3(&s->d, k, select3(ok, get3(&wi, k), get3(&s->d, k)));
+        s->active[k] = v->diffuse[k] ? ok : s->active[k];
     }
 }
 
 /* The lanes' next rays at mirror and glass vertices (glass draws its Fresnel number). */
-LANE_FN void lanes_specular_bounce(const packed_scene *scene, const vertex_lanes *v,
-                                   path_lanes *s) {
+LANE_FN void lanes_specular_bounce(const vertex_lanes *v, path_lanes *s) {
+    int refractive[LANES];
+    float uf[LANES];
+    for (int k = 0; k < LANES; k++)
+        refractive[k] = v->specular[k] & (v->material[k] == TZ_MATERIAL_REFRACTIVE);
+    draw_lanes(s->rng, refractive, uf);
     for (int k = 0; k < LANES; k++) {
-        if (!v->specular[k]) continue;
-        tz_vec4 params = sphere_params(scene, v->id[k]);
         vec3 d = get3(&s->d, k), nout = get3(&v->nout, k);
-        int refractive = (int)params.z == TZ_MATERIAL_REFRACTIVE;
-        int transmits = refractive;
-        if (refractive) {
-            float uf = rng_next(&s->rng[k]);
-            int entering = v3_dot(d, nout) < 0.0f;
-            float eta = entering ? 1.0f / params.y : params.y;
-            float c1 = entering ? -v3_dot(d, nout) : v3_dot(d, nout);
-            float kk = 1.0f - eta * eta * (1.0f - c1 * c1);
-            transmits = !(uf < fresnel_dielectric(eta, c1, kk));
-        }
-        set3(&s->beta, k, v3_mul(get3(&s->beta, k), xyz(sphere_color_ks(scene, v->id[k]))));
-        next_ray next = specular_next(get3(&v->pos, k), nout, d, transmits, params.y);
-        set3(&s->o, k, next.o);
-        set3(&s->d, k, next.d);
-        s->specular[k] = 1;
+        float ior = v->ior[k];
+        int entering = v3_dot(d, nout) < 0.0f;
+        float eta = entering ? 1.0f / ior : ior;
+        float c1 = entering ? -v3_dot(d, nout) : v3_dot(d, nout);
+        float kk = 1.0f - eta * eta * (1.0f - c1 * c1);
+        int transmits = refractive[k] & !(uf[k] < fresnel_dielectric(eta, c1, kk));
+        int on = v->specular[k];
+        vec3 beta = get3(&s->beta, k);
+        set3(&s->beta, k, select3(on, v3_mul(beta, get3(&v->kd, k)), beta));
+        next_ray next = specular_next(get3(&v->pos, k), nout, d, transmits, ior);
+        set3(&s->o, k, select3(on, next.o, get3(&s->o, k)));
+        set3(&s->d, k, select3(on, next.d, d));
+        s->specular[k] = on ? 1 : s->specular[k];
+    }
+}
+
+/* The emission of the emitters the lanes hit (emit[k]), weighted by MIS, added to radiance. */
+LANE_FN void lanes_emission(const packed_scene *scene, const vertex_lanes *v, const int *emit,
+                            path_lanes *s) {
+    uint32_t flags = scene->frame.flags;
+    for (int k = 0; k < LANES; k++) {
+        if (!emit[k]) continue;
+        int full = s->specular[k] || (flags & TZ_FLAG_BSDF_ONLY) != 0u;
+        path_vertex last;
+        last.pos = get3(&s->last_pos, k);
+        last.n = get3(&s->last_n, k);
+        last.id = s->last_id[k];
+        last.bsdf_pdf = s->last_pdf[k];
+        float w = full ? 1.0f
+                  : (flags & TZ_FLAG_LIGHTS_ONLY) != 0u
+                      ? 0.0f
+                      : power_heuristic(
+                            last.bsdf_pdf,
+                            light_pdf_at(scene, last, v->id[k], get3(&v->pos, k), get3(&s->d, k)));
+        vec3 emitted =
+            v3_scale(v3_mul(get3(&s->beta, k), xyz(emitter_emission_pick(scene, v->slot[k]))), w);
+        set3(&s->radiance, k, v3_add(get3(&s->radiance, k), emitted));
     }
 }
 
@@ -223,93 +315,81 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s, uint32_t ver
     uint32_t flags = fr->flags;
     vertex_lanes v;
     float tmax[LANES];
+    int emit[LANES], any_emit = 0;
     for (int k = 0; k < LANES; k++) tmax[k] = INFINITY;
     trace_lanes(scene, &s->o, &s->d, s->self, tmax, s->active, 0, v.id, v.t);
+    for (int k = 0; k < LANES; k++) { /* gather the hit spheres */
+        const struct gpu_sphere *g = &scene->spheres[v.id[k] >= 0 ? v.id[k] : 0];
+        set3(&v.c, k, xyz(g->center_radius));
+        v.r[k] = g->center_radius.w;
+        set3(&v.kd, k, xyz(g->color_ks));
+        v.ks[k] = g->color_ks.w;
+        v.alpha[k] = g->params.x;
+        v.ior[k] = g->params.y;
+        v.material[k] = (int)g->params.z;
+        v.slot[k] = (int)g->params.w - 1;
+    }
     vec3 background = xyz(fr->background);
     for (int k = 0; k < LANES; k++) {
-        int id = v.id[k];
-        v.diffuse[k] = v.specular[k] = 0;
-        if (!s->active[k]) continue;
-        if (id < 0) {
-            set3(&s->radiance, k,
-                 v3_add(get3(&s->radiance, k), v3_mul(get3(&s->beta, k), background)));
-            s->active[k] = 0;
-            continue;
-        }
-        tz_vec4 cr = sphere_center_radius(scene, id);
-        vec3 o = get3(&s->o, k), d = get3(&s->d, k);
-        vec3 pos = v3_add(o, v3_scale(d, v.t[k]));
-        vec3 nout = v3_scale(v3_sub(pos, xyz(cr)), 1.0f / cr.w);
+        int hit = s->active[k] & (v.id[k] >= 0), miss = s->active[k] & (v.id[k] < 0);
+        vec3 radiance = get3(&s->radiance, k);
+        set3(&s->radiance, k,
+             select3(miss, v3_add(radiance, v3_mul(get3(&s->beta, k), background)), radiance));
+        vec3 d = get3(&s->d, k);
+        vec3 pos = v3_add(get3(&s->o, k), v3_scale(d, v.t[k]));
+        vec3 nout = v3_scale(v3_sub(pos, get3(&v.c, k)), 1.0f / v.r[k]);
         set3(&v.pos, k, pos);
         set3(&v.nout, k, nout);
-        int slot = emitter_of(scene, id);
-        if (slot >= 0) {
-            int full = s->specular[k] || (flags & TZ_FLAG_BSDF_ONLY) != 0u;
-            path_vertex last;
-            last.pos = get3(&s->last_pos, k);
-            last.n = get3(&s->last_n, k);
-            last.id = s->last_id[k];
-            last.bsdf_pdf = s->last_pdf[k];
-            float w = full ? 1.0f
-                      : (flags & TZ_FLAG_LIGHTS_ONLY) != 0u
-                          ? 0.0f
-                          : power_heuristic(last.bsdf_pdf, light_pdf_at(scene, last, id, pos, d));
-            vec3 emitted =
-                v3_scale(v3_mul(get3(&s->beta, k), xyz(emitter_emission_pick(scene, slot))), w);
-            set3(&s->radiance, k, v3_add(get3(&s->radiance, k), emitted));
-        }
-        if (vertex > fr->bounces) {
-            s->active[k] = 0;
-            continue;
-        }
-        int material = (int)sphere_params(scene, id).z;
-        int diffuse = material == TZ_MATERIAL_LAMBERTIAN || material == TZ_MATERIAL_PHONG;
+        emit[k] = hit & (v.slot[k] >= 0);
+        any_emit |= emit[k];
+        int diffuse = hit & ((v.material[k] == TZ_MATERIAL_LAMBERTIAN) |
+                             (v.material[k] == TZ_MATERIAL_PHONG));
         v.diffuse[k] = diffuse;
-        v.specular[k] = !diffuse;
-        if (diffuse) {
-            tz_vec4 color_ks = sphere_color_ks(scene, id);
-            set3(&v.n, k, facing_normal(nout, d));
-            set3(&v.wo, k, v3_scale(d, -1.0f));
-            v.share[k] = diffuse_share(xyz(color_ks), color_ks.w);
-        }
+        v.specular[k] = hit & !diffuse;
+        set3(&v.n, k, facing_normal(nout, d));
+        set3(&v.wo, k, v3_scale(d, -1.0f));
+        v.share[k] = diffuse_share(get3(&v.kd, k), v.ks[k]);
+        s->active[k] = hit;
+    }
+    if (any_emit) lanes_emission(scene, &v, emit, s);
+    if (vertex > fr->bounces) {
+        for (int k = 0; k < LANES; k++) s->active[k] = 0;
+        return;
     }
     if (any_lane(v.diffuse)) {
         lanes3 direct;
         lanes_point_lights(scene, &v, &direct);
         if (fr->emitter_count > 0u) {
             float ul[LANES], ua[LANES], ub[LANES];
-            for (int k = 0; k < LANES; k++) {
-                if (!v.diffuse[k]) continue;
-                ul[k] = rng_next(&s->rng[k]);
-                ua[k] = rng_next(&s->rng[k]);
-                ub[k] = rng_next(&s->rng[k]);
-            }
+            draw_lanes(s->rng, v.diffuse, ul);
+            draw_lanes(s->rng, v.diffuse, ua);
+            draw_lanes(s->rng, v.diffuse, ub);
             if ((flags & TZ_FLAG_BSDF_ONLY) == 0u)
                 lanes_emitter_light(scene, &v, ul, ua, ub, &direct);
         }
         float us[LANES], u1[LANES], u2[LANES];
         for (int k = 0; k < LANES; k++) {
-            if (!v.diffuse[k]) continue;
+            vec3 radiance = get3(&s->radiance, k);
             set3(&s->radiance, k,
-                 v3_add(get3(&s->radiance, k), v3_mul(get3(&s->beta, k), get3(&direct, k))));
-            us[k] = rng_next(&s->rng[k]);
-            u1[k] = rng_next(&s->rng[k]);
-            u2[k] = rng_next(&s->rng[k]);
+                 select3(v.diffuse[k],
+                         v3_add(radiance, v3_mul(get3(&s->beta, k), get3(&direct, k))), radiance));
         }
+        draw_lanes(s->rng, v.diffuse, us);
+        draw_lanes(s->rng, v.diffuse, u1);
+        draw_lanes(s->rng, v.diffuse, u2);
         lanes_bsdf_bounce(scene, &v, s, us, u1, u2);
     }
-    lanes_specular_bounce(scene, &v, s);
-    for (int k = 0; k < LANES; k++) {
-        if (!s->active[k]) continue;
-        s->self[k] = v.id[k];
-        if (vertex >= 4u && (flags & TZ_FLAG_ROULETTE) != 0u) {
+    if (any_lane(v.specular)) lanes_specular_bounce(&v, s);
+    for (int k = 0; k < LANES; k++) s->self[k] = s->active[k] ? v.id[k] : s->self[k];
+    if (vertex >= 4u && (flags & TZ_FLAG_ROULETTE) != 0u) {
+        float u[LANES];
+        draw_lanes(s->rng, s->active, u);
+        for (int k = 0; k < LANES; k++) {
             vec3 beta = get3(&s->beta, k);
             float q = TZ_MIN(TZ_MAX(TZ_MAX(beta.x, beta.y), beta.z), 1.0f);
-            if (rng_next(&s->rng[k]) >= q) {
-                s->active[k] = 0;
-                continue;
-            }
-            set3(&s->beta, k, v3_scale(beta, 1.0f / q));
+            int survives = s->active[k] & !(u[k] >= q);
+            set3(&s->beta, k, select3(survives, v3_scale(beta, 1.0f / q), beta));
+            s->active[k] = survives;
         }
     }
 }
