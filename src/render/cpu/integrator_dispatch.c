@@ -56,16 +56,16 @@ static const struct {
 } compiled_builds[] = {
 #ifdef TRAZADOR_PACKET_X86_64_V4
     {{"x86-64-v4", 16, integrator_sample_packet_x86_64_v4},
-     {"x86-64-v4", 16, integrator_path_packet_x86_64_v4},
+     {"x86-64-v4", TRAZADOR_PATH_LANES_X86_64_V4, integrator_path_packet_x86_64_v4},
      runs_x86_64_v4},
 #endif
 #ifdef TRAZADOR_PACKET_AVX2
     {{"avx2", 8, integrator_sample_packet_avx2},
-     {"avx2", 8, integrator_path_packet_avx2},
+     {"avx2", TRAZADOR_PATH_LANES_AVX2, integrator_path_packet_avx2},
      runs_avx2},
 #endif
     {{"baseline", 8, integrator_sample_packet_baseline},
-     {"baseline", 8, integrator_path_packet_baseline},
+     {"baseline", TRAZADOR_PATH_LANES_BASELINE, integrator_path_packet_baseline},
      runs_anywhere},
     {{PACKET_REFERENCE_NAME, 8, sample_reference},
      {PACKET_REFERENCE_NAME, 8, sample_path_reference},
