@@ -38,6 +38,7 @@ static int bits_equal(vec3 a, vec3 b) { return memcmp(&a, &b, sizeof a) == 0; }
 static packet_integrator builds[PACKET_VARIANTS_MAX];
 static int build_count;
 static vec3 (*reference)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
+static bool path_mode;
 
 /* Every pixel of a SIDE x SIDE render by build b, packets of every width from 1 to its own; with
  * want_light, a quarter of the pixels at least must not be black. */
@@ -72,11 +73,45 @@ static void compare_build(const char *name, const packed_scene *p, const packet_
     CHECK(!want_light || lit > SIDE * SIDE / 4, "%s: only %d pixels have light", name, lit);
 }
 
+/* Path builds' runs of samples: every pixel of a SIDE x SIDE render by build b, 1 to 4 samples
+ * a run, packets of every width from 1 to its own, against integrator_path_sample. */
+static void compare_samples(const char *name, const packed_scene *p, const packet_integrator *b) {
+    int differing = 0;
+    uint64_t rays_one = 0, rays_packet = 0;
+    for (uint32_t j = 0; j < SIDE; j++) {
+        uint32_t lanes = 1 + (j * 7) % b->width, count = 1 + j % 4, first = j % 3;
+        for (uint32_t i = 0; i < SIDE; i += lanes) {
+            uint32_t n = SIDE - i < lanes ? SIDE - i : lanes;
+            vec3 out[PACKET_LANES_MAX * 4];
+            uint64_t before = integrator_rays_traced();
+            b->samples(p, i, j, n, first, count, out);
+            rays_packet += integrator_rays_traced() - before;
+            for (uint32_t s = 0; s < count; s++)
+                for (uint32_t k = 0; k < n; k++) {
+                    before = integrator_rays_traced();
+                    vec3 one = integrator_path_sample(p, i + k, j, first + s);
+                    rays_one += integrator_rays_traced() - before;
+                    if (!bits_equal(one, out[s * n + k]) && differing++ < 3)
+                        fprintf(stderr, "%s, %s runs: pixel %u,%u sample %u differs\n", name,
+                                b->name, i + k, j, first + s);
+                }
+        }
+    }
+    CHECK(differing == 0, "%s, %s runs: %d samples differ", name, b->name, differing);
+    CHECK(rays_one == rays_packet, "%s, %s runs: %llu rays one at a time, %llu in runs", name,
+          b->name, (unsigned long long)rays_one, (unsigned long long)rays_packet);
+}
+
 /* The scene with these options through every build. */
 static void compare(const char *name, const scene *s, const render_opts *o, bool want_light) {
     packed_scene p;
     CHECK(scene_pack(s, o, &p), "%s: pack failed", name);
-    for (int b = 0; b < build_count; b++) compare_build(name, &p, &builds[b], want_light);
+    for (int b = 0; b < build_count; b++) {
+        compare_build(name, &p, &builds[b], want_light);
+        CHECK(!path_mode == !builds[b].samples, "%s: runs of samples in path builds only",
+              builds[b].name);
+        if (path_mode && builds[b].samples) compare_samples(name, &p, &builds[b]);
+    }
     scene_pack_free(&p);
 }
 
@@ -136,8 +171,6 @@ static void compare_path_variants(const char *name, scene *s) {
 }
 
 /* Seed mode's variants, or path mode's when the tests are on the path builds. */
-static bool path_mode;
-
 static void compare_scene(const char *name, scene *s) {
     if (path_mode)
         compare_path_variants(name, s);

@@ -33,6 +33,11 @@ typedef struct packet_integrator {
     uint32_t width;
     void (*sample)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
                    uint32_t sample_index, vec3 *out);
+    /* Path builds only (else NULL): samples(p, i, j, lanes, first, count, out) sets
+     * out[s * lanes + k] = integrator_path_sample(p, i + k, j, first + s) for k < lanes (<=
+     * width), s < count, bit for bit, keeping every lane busy until the last samples. */
+    void (*samples)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes, uint32_t first,
+                    uint32_t count, vec3 *out);
 } packet_integrator;
 
 /* Scenes of at most this many spheres are intersected packet against every sphere; bigger ones

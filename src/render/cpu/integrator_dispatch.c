@@ -11,9 +11,14 @@
 typedef void packet_sample_fn(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
                               uint32_t sample_index, vec3 *out);
 
+typedef void path_samples_fn(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                             uint32_t first, uint32_t count, vec3 *out);
+
 packet_sample_fn integrator_sample_packet_baseline, integrator_path_packet_baseline;
+path_samples_fn integrator_path_samples_baseline;
 #ifdef TRAZADOR_PACKET_X86_64_V4
 packet_sample_fn integrator_sample_packet_x86_64_v4, integrator_path_packet_x86_64_v4;
+path_samples_fn integrator_path_samples_x86_64_v4;
 
 /* AVX-512 F, BW, CD, DQ and VL with AVX2, FMA and BMI2 (x86-64-v4), state saved by the OS. */
 static bool runs_x86_64_v4(void) {
@@ -26,6 +31,7 @@ static bool runs_x86_64_v4(void) {
 #endif
 #ifdef TRAZADOR_PACKET_AVX2
 packet_sample_fn integrator_sample_packet_avx2, integrator_path_packet_avx2;
+path_samples_fn integrator_path_samples_avx2;
 
 /* AVX2, state saved by the OS. */
 static bool runs_avx2(void) {
@@ -48,6 +54,13 @@ static void sample_path_reference(const packed_scene *p, uint32_t i, uint32_t j,
     for (uint32_t k = 0; k < lanes; k++) out[k] = integrator_path_sample(p, i + k, j, sample_index);
 }
 
+/* Path mode's reference build for runs of samples: integrator_path_sample one at a time. */
+static void samples_path_reference(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                                   uint32_t first, uint32_t count, vec3 *out) {
+    for (uint32_t s = 0; s < count; s++)
+        sample_path_reference(p, i, j, lanes, first + s, out + (size_t)s * lanes);
+}
+
 /* Every build compiled into this binary, fastest first, for seed mode and for path mode (of the
  * same name), with what it needs to run. */
 static const struct {
@@ -55,20 +68,22 @@ static const struct {
     bool (*runs)(void);
 } compiled_builds[] = {
 #ifdef TRAZADOR_PACKET_X86_64_V4
-    {{"x86-64-v4", 16, integrator_sample_packet_x86_64_v4},
-     {"x86-64-v4", TRAZADOR_PATH_LANES_X86_64_V4, integrator_path_packet_x86_64_v4},
+    {{"x86-64-v4", 16, integrator_sample_packet_x86_64_v4, NULL},
+     {"x86-64-v4", TRAZADOR_PATH_LANES_X86_64_V4, integrator_path_packet_x86_64_v4,
+      integrator_path_samples_x86_64_v4},
      runs_x86_64_v4},
 #endif
 #ifdef TRAZADOR_PACKET_AVX2
-    {{"avx2", 8, integrator_sample_packet_avx2},
-     {"avx2", TRAZADOR_PATH_LANES_AVX2, integrator_path_packet_avx2},
+    {{"avx2", 8, integrator_sample_packet_avx2, NULL},
+     {"avx2", TRAZADOR_PATH_LANES_AVX2, integrator_path_packet_avx2, integrator_path_samples_avx2},
      runs_avx2},
 #endif
-    {{"baseline", 8, integrator_sample_packet_baseline},
-     {"baseline", TRAZADOR_PATH_LANES_BASELINE, integrator_path_packet_baseline},
+    {{"baseline", 8, integrator_sample_packet_baseline, NULL},
+     {"baseline", TRAZADOR_PATH_LANES_BASELINE, integrator_path_packet_baseline,
+      integrator_path_samples_baseline},
      runs_anywhere},
-    {{PACKET_REFERENCE_NAME, 8, sample_reference},
-     {PACKET_REFERENCE_NAME, 8, sample_path_reference},
+    {{PACKET_REFERENCE_NAME, 8, sample_reference, NULL},
+     {PACKET_REFERENCE_NAME, 8, sample_path_reference, samples_path_reference},
      runs_anywhere},
 };
 #define COMPILED_BUILDS (sizeof compiled_builds / sizeof compiled_builds[0])

@@ -18,6 +18,8 @@
 #define LANES PACKET_LANES
 #define PATH_ENTRY_NAME(variant) integrator_path_packet_##variant
 #define PATH_ENTRY(variant) PATH_ENTRY_NAME(variant)
+#define PATH_RUN_NAME(variant) integrator_path_samples_##variant
+#define PATH_RUN(variant) PATH_RUN_NAME(variant)
 
 #include "render/cpu/packet_trace.h"
 
@@ -40,7 +42,8 @@ static __attribute__((noinline)) void trace_lanes(const packed_scene *p, const l
 
 /* The state of the lanes' paths (the locals of path_sample). */
 typedef struct path_lanes {
-    uint32_t rng[LANES];
+    uint32_t rng[LANES], vertex[LANES]; /* vertex: path_sample's k */
+    int job[LANES];                     /* the sample the lane runs (out's index), -1 none */
     int active[LANES], self[LANES], specular[LANES], last_id[LANES];
     float last_pdf[LANES];
     lanes3 o, d, beta, radiance, last_pos, last_n;
@@ -309,8 +312,8 @@ LANE_FN void lanes_emission(const packed_scene *scene, const vertex_lanes *v, co
     }
 }
 
-/* One vertex of every active lane's path (an iteration of path_sample's loop, the k-th). */
-LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s, uint32_t vertex) {
+/* One vertex of every active lane's path (an iteration of path_sample's loop). */
+LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s) {
     const struct gpu_frame *fr = &scene->frame;
     uint32_t flags = fr->flags;
     vertex_lanes v;
@@ -342,20 +345,17 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s, uint32_t ver
         set3(&v.nout, k, nout);
         emit[k] = hit & (v.slot[k] >= 0);
         any_emit |= emit[k];
-        int diffuse = hit & ((v.material[k] == TZ_MATERIAL_LAMBERTIAN) |
-                             (v.material[k] == TZ_MATERIAL_PHONG));
+        int go = hit & !(s->vertex[k] > fr->bounces); /* else the path ends at this hit */
+        int diffuse =
+            go & ((v.material[k] == TZ_MATERIAL_LAMBERTIAN) | (v.material[k] == TZ_MATERIAL_PHONG));
         v.diffuse[k] = diffuse;
-        v.specular[k] = hit & !diffuse;
+        v.specular[k] = go & !diffuse;
         set3(&v.n, k, facing_normal(nout, d));
         set3(&v.wo, k, v3_scale(d, -1.0f));
         v.share[k] = diffuse_share(get3(&v.kd, k), v.ks[k]);
-        s->active[k] = hit;
+        s->active[k] = go;
     }
     if (any_emit) lanes_emission(scene, &v, emit, s);
-    if (vertex > fr->bounces) {
-        for (int k = 0; k < LANES; k++) s->active[k] = 0;
-        return;
-    }
     if (any_lane(v.diffuse)) {
         lanes3 direct;
         lanes_point_lights(scene, &v, &direct);
@@ -381,16 +381,68 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s, uint32_t ver
     }
     if (any_lane(v.specular)) lanes_specular_bounce(&v, s);
     for (int k = 0; k < LANES; k++) s->self[k] = s->active[k] ? v.id[k] : s->self[k];
-    if (vertex >= 4u && (flags & TZ_FLAG_ROULETTE) != 0u) {
+    if ((flags & TZ_FLAG_ROULETTE) != 0u) {
         float u[LANES];
-        draw_lanes(s->rng, s->active, u);
+        int take[LANES];
+        for (int k = 0; k < LANES; k++) take[k] = s->active[k] & (s->vertex[k] >= 4u);
+        draw_lanes(s->rng, take, u);
         for (int k = 0; k < LANES; k++) {
             vec3 beta = get3(&s->beta, k);
             float q = TZ_MIN(TZ_MAX(TZ_MAX(beta.x, beta.y), beta.z), 1.0f);
-            int survives = s->active[k] & !(u[k] >= q);
-            set3(&s->beta, k, select3(survives, v3_scale(beta, 1.0f / q), beta));
-            s->active[k] = survives;
+            int survives = !(u[k] >= q);
+            set3(&s->beta, k, select3(take[k] & survives, v3_scale(beta, 1.0f / q), beta));
+            s->active[k] = take[k] ? survives : s->active[k];
         }
+    }
+    for (int k = 0; k < LANES; k++) s->vertex[k]++;
+}
+
+/* Lane k starts sample `sample` of pixel (x, y) (path_sample's start). */
+LANE_FN void lane_start(const packed_scene *p, path_lanes *s, int k, uint32_t x, uint32_t y,
+                        uint32_t sample) {
+    const struct gpu_frame *fr = &p->frame;
+    s->active[k] = 1;
+    s->vertex[k] = 1;
+    s->rng[k] = rng_seed(fr->seed, y * fr->width + x, sample);
+    float u = rng_next(&s->rng[k]), v = rng_next(&s->rng[k]);
+    if ((fr->flags & TZ_FLAG_JITTER) == 0u) u = v = 0.5f;
+    vec3 d = camera_direction(fr->right, fr->up, fr->forward, fr->origin.w, x, y, u, v);
+    vec3 o = camera_origin(fr->origin, fr->near_distance, d);
+    set3(&s->o, k, o);
+    set3(&s->d, k, d);
+    set3(&s->beta, k, v3(1.0f, 1.0f, 1.0f));
+    set3(&s->radiance, k, v3(0.0f, 0.0f, 0.0f));
+    set3(&s->last_pos, k, o);
+    set3(&s->last_n, k, d);
+    s->self[k] = -1;
+    s->specular[k] = 1;
+    s->last_id[k] = -1;
+    s->last_pdf[k] = 0.0f;
+}
+
+/* Samples [first, first + count) of pixels (i + k, j), k < lanes, into out[s * lanes + k]: each
+ * lane takes the next sample as soon as its path ends, so that the lanes stay busy. */
+LANE_FN void run_samples(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                         uint32_t first, uint32_t count, vec3 *out) {
+    path_lanes s;
+    uint32_t next = 0, total = lanes * count;
+    for (int k = 0; k < LANES; k++) {
+        s.job[k] = -1;
+        s.active[k] = 0;
+    }
+    for (;;) {
+        for (int k = 0; k < LANES; k++) {
+            if (s.active[k]) continue;
+            if (s.job[k] >= 0) out[s.job[k]] = get3(&s.radiance, k);
+            s.job[k] = -1;
+            if (next < total) {
+                s.job[k] = (int)next;
+                lane_start(p, &s, k, i + next % lanes, j, first + next / lanes);
+                next++;
+            }
+        }
+        if (!any_lane(s.active)) return;
+        lanes_vertex(p, &s);
     }
 }
 
@@ -400,27 +452,14 @@ void PATH_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j, u
 
 void PATH_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
                                 uint32_t sample_index, vec3 *out) {
-    const struct gpu_frame *fr = &p->frame;
-    path_lanes s;
-    for (int k = 0; k < LANES; k++) {
-        uint32_t x = i + (uint32_t)k;
-        s.active[k] = (uint32_t)k < lanes;
-        s.rng[k] = rng_seed(fr->seed, j * fr->width + x, sample_index);
-        float u = rng_next(&s.rng[k]), v = rng_next(&s.rng[k]);
-        if ((fr->flags & TZ_FLAG_JITTER) == 0u) u = v = 0.5f;
-        vec3 d = camera_direction(fr->right, fr->up, fr->forward, fr->origin.w, x, j, u, v);
-        vec3 o = camera_origin(fr->origin, fr->near_distance, d);
-        set3(&s.o, k, o);
-        set3(&s.d, k, d);
-        set3(&s.beta, k, v3(1.0f, 1.0f, 1.0f));
-        set3(&s.radiance, k, v3(0.0f, 0.0f, 0.0f));
-        set3(&s.last_pos, k, o);
-        set3(&s.last_n, k, d);
-        s.self[k] = -1;
-        s.specular[k] = 1;
-        s.last_id[k] = -1;
-        s.last_pdf[k] = 0.0f;
-    }
-    for (uint32_t vertex = 1; any_lane(s.active); vertex++) lanes_vertex(p, &s, vertex);
-    for (uint32_t k = 0; k < lanes; k++) out[k] = get3(&s.radiance, (int)k);
+    run_samples(p, i, j, lanes, sample_index, 1, out);
+}
+
+/* The packet_integrator samples function of this build (integrator.h). */
+void PATH_RUN(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                              uint32_t first, uint32_t count, vec3 *out);
+
+void PATH_RUN(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                              uint32_t first, uint32_t count, vec3 *out) {
+    run_samples(p, i, j, lanes, first, count, out);
 }
