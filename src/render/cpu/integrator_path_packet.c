@@ -67,13 +67,18 @@ LANE_FN void draw_lanes(uint32_t *rng, const int *take, float *u) {
     }
 }
 
-/* phong_lobe(x, alpha) where want[k], else 0: powf lane by lane (powf(x, 0) is 1 for every x). */
+/* phong_lobe(x, alpha) where want[k], else 0: powf lane by lane where alpha is not 0 (powf(x, 0)
+ * is 1 for every x, so Lambertian lanes need none). */
 LANE_FN void lobe_lanes(const float *x, const float *alpha, const int *want, float *lobe) {
+    int pow_lane[LANES], any_pow = 0;
     for (int k = 0; k < LANES; k++) {
-        float l = 0.0f;
-        if (want[k] && x[k] > 0.0f) l = alpha[k] == 0.0f ? 1.0f : powf(x[k], alpha[k]);
-        lobe[k] = l;
+        int positive = want[k] & (x[k] > 0.0f);
+        lobe[k] = positive ? 1.0f : 0.0f;
+        pow_lane[k] = positive & (alpha[k] != 0.0f);
+        any_pow |= pow_lane[k];
     }
+    for (int k = 0; any_pow && k < LANES; k++)
+        if (pow_lane[k]) lobe[k] = powf(x[k], alpha[k]);
 }
 
 /* bsdf_pdf of sampling.h with its phong_lobe(lobe_cos, alpha) given as lobe. */
@@ -133,8 +138,9 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
     float r[LANES], pick[LANES], phi[LANES], cos_phi[LANES], sin_phi[LANES];
     float pdf[LANES], cos_i[LANES], t_light[LANES], t[LANES], x[LANES], lobe[LANES];
     lanes3 c, emission, so, wi;
+    int one_emitter = scene->frame.emitter_count == 1u; /* pick_emitter's 0, whatever ul */
     for (int k = 0; k < LANES; k++) {
-        int slot = v->diffuse[k] ? pick_emitter(scene, ul[k]) : 0;
+        int slot = v->diffuse[k] && !one_emitter ? pick_emitter(scene, ul[k]) : 0;
         tz_vec4 emission_pick = emitter_emission_pick(scene, slot);
         e[k] = (int)uint_bits(emitter_sphere_cdf(scene, slot).x);
         tz_vec4 cr = sphere_center_radius(scene, e[k]);
@@ -386,11 +392,19 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s) {
         int take[LANES];
         for (int k = 0; k < LANES; k++) take[k] = s->active[k] & (s->vertex[k] >= 4u);
         draw_lanes(s->rng, take, u);
+        float q[LANES];
         for (int k = 0; k < LANES; k++) {
+            /* TZ_MIN(TZ_MAX(TZ_MAX(x, y), z), 1) of path_sample, one select at a time: nested,
+             * the selects kept the loop from compiling to SIMD */
+            float x = s->beta.x[k], y = s->beta.y[k], z = s->beta.z[k];
+            float xy = TZ_MAX(x, y);
+            float xyz = TZ_MAX(xy, z);
+            q[k] = TZ_MIN(xyz, 1.0f);
+        }
+        for (int k = 0; k < LANES; k++) {
+            int survives = !(u[k] >= q[k]);
             vec3 beta = get3(&s->beta, k);
-            float q = TZ_MIN(TZ_MAX(TZ_MAX(beta.x, beta.y), beta.z), 1.0f);
-            int survives = !(u[k] >= q);
-            set3(&s->beta, k, select3(take[k] & survives, v3_scale(beta, 1.0f / q), beta));
+            set3(&s->beta, k, select3(take[k] & survives, v3_scale(beta, 1.0f / q[k]), beta));
             s->active[k] = take[k] ? survives : s->active[k];
         }
     }
