@@ -411,27 +411,34 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s) {
     for (int k = 0; k < LANES; k++) s->vertex[k]++;
 }
 
-/* Lane k starts sample `sample` of pixel (x, y) (path_sample's start). */
-LANE_FN void lane_start(const packed_scene *p, path_lanes *s, int k, uint32_t x, uint32_t y,
-                        uint32_t sample) {
-    const struct gpu_frame *fr = &p->frame;
-    s->active[k] = 1;
-    s->vertex[k] = 1;
-    s->rng[k] = rng_seed(fr->seed, y * fr->width + x, sample);
-    float u = rng_next(&s->rng[k]), v = rng_next(&s->rng[k]);
-    if ((fr->flags & TZ_FLAG_JITTER) == 0u) u = v = 0.5f;
-    vec3 d = camera_direction(fr->right, fr->up, fr->forward, fr->origin.w, x, y, u, v);
-    vec3 o = camera_origin(fr->origin, fr->near_distance, d);
-    set3(&s->o, k, o);
-    set3(&s->d, k, d);
-    set3(&s->beta, k, v3(1.0f, 1.0f, 1.0f));
-    set3(&s->radiance, k, v3(0.0f, 0.0f, 0.0f));
-    set3(&s->last_pos, k, o);
-    set3(&s->last_n, k, d);
-    s->self[k] = -1;
-    s->specular[k] = 1;
-    s->last_id[k] = -1;
-    s->last_pdf[k] = 0.0f;
+/* The lanes of start begin sample sample[k] of pixel (x[k], y) (path_sample's start); the other
+ * lanes are left as they are. */
+LANE_FN void lanes_start(const packed_scene *p, path_lanes *s, const int *start, const uint32_t *x,
+                         uint32_t y, const uint32_t *sample) {
+    const struct gpu_frame fr = p->frame; /* a copy: the loop below then compiles to SIMD */
+    int jitter = (fr.flags & TZ_FLAG_JITTER) != 0u;
+    for (int k = 0; k < LANES; k++) {
+        int on = start[k];
+        uint32_t rng = rng_seed(fr.seed, y * fr.width + x[k], sample[k]);
+        float u = rng_next(&rng), v = rng_next(&rng);
+        u = jitter ? u : 0.5f;
+        v = jitter ? v : 0.5f;
+        vec3 d = camera_direction(fr.right, fr.up, fr.forward, fr.origin.w, x[k], y, u, v);
+        vec3 o = camera_origin(fr.origin, fr.near_distance, d);
+        s->rng[k] = on ? rng : s->rng[k];
+        s->active[k] = on ? 1 : s->active[k];
+        s->vertex[k] = on ? 1u : s->vertex[k];
+        set3(&s->o, k, select3(on, o, get3(&s->o, k)));
+        set3(&s->d, k, select3(on, d, get3(&s->d, k)));
+        set3(&s->beta, k, select3(on, v3(1.0f, 1.0f, 1.0f), get3(&s->beta, k)));
+        set3(&s->radiance, k, select3(on, v3(0.0f, 0.0f, 0.0f), get3(&s->radiance, k)));
+        set3(&s->last_pos, k, select3(on, o, get3(&s->last_pos, k)));
+        set3(&s->last_n, k, select3(on, d, get3(&s->last_n, k)));
+        s->self[k] = on ? -1 : s->self[k];
+        s->specular[k] = on ? 1 : s->specular[k];
+        s->last_id[k] = on ? -1 : s->last_id[k];
+        s->last_pdf[k] = on ? 0.0f : s->last_pdf[k];
+    }
 }
 
 /* Samples [first, first + count) of pixels (i + k, j), k < lanes, into out[s * lanes + k]: each
@@ -439,22 +446,28 @@ LANE_FN void lane_start(const packed_scene *p, path_lanes *s, int k, uint32_t x,
 LANE_FN void run_samples(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
                          uint32_t first, uint32_t count, vec3 *out) {
     path_lanes s;
+    memset(&s, 0, sizeof s);
     uint32_t next = 0, total = lanes * count;
-    for (int k = 0; k < LANES; k++) {
-        s.job[k] = -1;
-        s.active[k] = 0;
-    }
+    for (int k = 0; k < LANES; k++) s.job[k] = -1;
     for (;;) {
+        int start[LANES], any_start = 0;
+        uint32_t x[LANES], sample[LANES];
         for (int k = 0; k < LANES; k++) {
+            start[k] = 0;
+            x[k] = i;
+            sample[k] = first;
             if (s.active[k]) continue;
             if (s.job[k] >= 0) out[s.job[k]] = get3(&s.radiance, k);
             s.job[k] = -1;
             if (next < total) {
                 s.job[k] = (int)next;
-                lane_start(p, &s, k, i + next % lanes, j, first + next / lanes);
+                x[k] = i + next % lanes;
+                sample[k] = first + next / lanes;
+                start[k] = any_start = 1;
                 next++;
             }
         }
+        if (any_start) lanes_start(p, &s, start, x, j, sample);
         if (!any_lane(s.active)) return;
         lanes_vertex(p, &s);
     }
