@@ -1,8 +1,8 @@
 /* integrator_path_packet.c: path mode (DESIGN section 3.2) over a packet of LANES samples at once
- * (the same sample of a run of pixels in one row), each lane one pixel's path. The lanes go
- * vertex by vertex together, a lane whose path ended idling; each lane does the very operations
- * of path_sample (shaders/common/path.h) through the same shared steps and draws the same
- * numbers in the same order from its own stream, so the samples are bit-identical to
+ * (samples of a run of pixels in one row), each lane one pixel's path. The lanes go vertex by
+ * vertex together, a lane whose path ended taking the run's next sample (or idling); each lane does
+ * the very operations of path_sample (shaders/common/path.h) through the same shared steps and
+ * draws the same numbers in the same order from its own stream, so the samples are bit-identical to
  * integrator_path_sample (tested); the rays of all lanes are traced as one packet. */
 #include <math.h>
 #include <string.h>
@@ -25,7 +25,7 @@
 
 /* What the lanes' rays hit: id[k] the sphere (-1 none), through the packet trace; a shadow ray
  * (any_hit) is blocked when id[k] >= 0. Lanes not in active get -1; nothing is traced when no
- * lane is active. */
+ * lane is active. Out of line: inlined at its four calls it was slower (docs/PERF.md). */
 static __attribute__((noinline)) void trace_lanes(const packed_scene *p, const lanes3 *o,
                                                   const lanes3 *d, const int *self,
                                                   const float *tmax, const int *active, int any_hit,
@@ -219,9 +219,8 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
 
 /* The lanes' next rays at diffuse vertices: the BSDF's sample, beta and the last vertex updated;
  * lanes whose path ends here are made inactive. */
-LANE_FN void lanes_bsdf_bounce(const packed_scene *scene, const vertex_lanes *v, path_lanes *s,
-                               const float *us, const float *u1, const float *u2) {
-    (void)scene;
+LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float *us,
+                               const float *u1, const float *u2) {
     float phi[LANES], cos_phi[LANES], sin_phi[LANES], cos_i[LANES], x[LANES], lobe[LANES];
     int cosine[LANES], go[LANES];
     lanes3 lobe_wi, wi;
@@ -383,7 +382,7 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s) {
         draw_lanes(s->rng, v.diffuse, us);
         draw_lanes(s->rng, v.diffuse, u1);
         draw_lanes(s->rng, v.diffuse, u2);
-        lanes_bsdf_bounce(scene, &v, s, us, u1, u2);
+        lanes_bsdf_bounce(&v, s, us, u1, u2);
     }
     if (any_lane(v.specular)) lanes_specular_bounce(&v, s);
     for (int k = 0; k < LANES; k++) s->self[k] = s->active[k] ? v.id[k] : s->self[k];
