@@ -7,6 +7,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 
 #include "shared_layout.h"
 
@@ -34,6 +36,7 @@ layout(constant_id = TZ_SPEC_UNROLLED_SPHERES) const uint UNROLLED_SPHERES = 0u;
 layout(constant_id = TZ_SPEC_UNROLLED_LIGHTS) const uint UNROLLED_LIGHTS = 0u;
 layout(constant_id = TZ_SPEC_FLAGS) const uint FLAGS = 0u; /* frame.flags */
 layout(constant_id = TZ_SPEC_WALK_BUDGET) const uint WALK_BUDGET = 0u;
+layout(constant_id = TZ_SPEC_COOPERATIVE) const bool COOPERATIVE_WALK = false;
 
 #include "spec_scene.glsl"
 
