@@ -125,7 +125,8 @@ static void test_guard(vk_context *ctx) {
     free(spheres);
 }
 
-/* A pile of n coincident spheres on the axis, one pixel: a ray down the middle visits every leaf. */
+/* A pile of n coincident spheres on the axis, one pixel: a ray down its middle visits every
+ * leaf. */
 static scene pile_of_spheres(int n, sphere *spheres, light *l) {
     scene pile = row_of_spheres(n, spheres, l);
     for (int k = 0; k < n; k++) spheres[k].center = v3(0.0f, 0.0f, 5.0f);

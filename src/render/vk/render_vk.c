@@ -74,14 +74,15 @@ typedef struct strategy {
     uint32_t unrolled_spheres; /* TZ_SPEC_UNROLLED_SPHERES: 0 when not unrolled */
     bool use_bvh;
     bool cooperative; /* TZ_SPEC_COOPERATIVE: the subgroup walks the BVH together */
-    uint32_t walk;    /* TZ_SPEC_WALK_BUDGET: 0 unlimited */
+    uint32_t walk;    /* loop passes of a ray's walk (TZ_SPEC_WALK_BUDGET: walk_loop_budget), 0
+                         unlimited */
     uint64_t sample_iterations;
 } strategy;
 
 /* Whether the subgroup walks the BVH together: only where TRAZADOR_VK_WALK=cooperative asks for
- * it and the device has the subgroup operations (docs/PERF.md: on lavapipe 22.3 it measured
- * slower than one walk per invocation, which every other case takes; =invocation, the default,
- * says so explicitly). */
+ * it and the device has the subgroup operations. Otherwise (the default, or =invocation) each
+ * invocation walks on its own: on lavapipe 22.3 the cooperative walk measured slower
+ * (docs/PERF.md), and on GPUs incoherent rays diverge. */
 static bool cooperative_walk(const vk_context *ctx) {
     const char *walk = getenv("TRAZADOR_VK_WALK");
     return walk && !strcmp(walk, "cooperative") && vk_context_has_subgroup_walk(ctx);
@@ -564,9 +565,8 @@ render_status render_vk_try(const scene *s, const render_opts *opts, film *f, ch
               r.ctx.properties.deviceName, r.ctx.driver_name, (t_init - t0) * 1e3);
     strategy st = choose_strategy(&r.ctx, s, opts);
     if (st.use_bvh)
-        log_debug("vulkan: BVH walk %s", st.cooperative
-                                             ? "cooperative (TRAZADOR_VK_WALK=cooperative)"
-                                             : "per invocation");
+        log_debug("vulkan: BVH walk %s",
+                  st.cooperative ? "cooperative (TRAZADOR_VK_WALK=cooperative)" : "per invocation");
     render_opts packing = *opts;
     packing.no_bvh = !st.use_bvh;
     double t_pack = clock_seconds();
