@@ -2,7 +2,8 @@
  * force or through the BVH, on the shared steps of common/ray.h; the C back end's functions of
  * the same names are in src/render/cpu/integrator.c (trace_bvh, integrator_nearest,
  * integrator_occluded). The including shader declares `frame`, sphere_center_radius(),
- * sphere_params(), sphere_count(), node_field(), use_bvh(), WALK_BUDGET and COOPERATIVE_WALK. */
+ * sphere_params(), sphere_count(), node_field(), use_bvh() and WALK_BUDGET; with TZ_SUBGROUP_WALK
+ * defined (and the subgroup extensions enabled) the walk is cooperative for coherent rays. */
 #ifndef TRAZADOR_INTERSECT_GLSL
 #define TRAZADOR_INTERSECT_GLSL
 
@@ -91,6 +92,7 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
     return id;
 }
 
+#ifdef TZ_SUBGROUP_WALK
 /* Lane counts packed into one uint, so that one subgroupAdd a pass takes every vote (lavapipe
  * runs each subgroup operation as a loop over the lanes): fields of COOP_BITS bits, at most
  * 2^COOP_BITS - 1 lanes (vk_context_has_subgroup_walk checks the subgroup size). */
@@ -191,12 +193,15 @@ int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, ou
  * ray is the one that leaves no sphere). */
 bool coherent_rays;
 
-/* The walk of this device and ray: the subgroup's on CPU devices (COOPERATIVE_WALK) for coherent
- * rays, where the lanes visit much the same nodes; per invocation otherwise (a bounce's rays
- * scatter, and the union of the lanes' nodes would be many times one walk). */
+#endif
+
+/* The walk of this module and ray: with TZ_SUBGROUP_WALK the subgroup's for coherent rays, where
+ * the lanes visit much the same nodes; per invocation otherwise (a bounce's rays scatter, and the
+ * union of the lanes' nodes would be many times one walk). */
 int walk_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out) {
-    if (COOPERATIVE_WALK && coherent_rays)
-        return trace_bvh_cooperative(o, d, self, tmax, any_hit, t_out);
+#ifdef TZ_SUBGROUP_WALK
+    if (coherent_rays) return trace_bvh_cooperative(o, d, self, tmax, any_hit, t_out);
+#endif
     return trace_bvh(o, d, self, tmax, any_hit, t_out);
 }
 
@@ -205,7 +210,9 @@ int walk_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out
  * specialization constant): trace_ray of the C back end. */
 int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
     rays_traced++;
+#ifdef TZ_SUBGROUP_WALK
     coherent_rays = self < 0;
+#endif
     if (use_bvh()) return walk_bvh(o, d, self, TZ_INFINITY, false, t_out);
     float tmin = ray_eps(o), best = TZ_INFINITY;
     int id = -1;

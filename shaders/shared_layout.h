@@ -96,9 +96,6 @@ typedef struct tz_uvec4 {
 #define TZ_UNROLL_MAX_SPHERES 16
 #define TZ_UNROLL_MAX_LIGHTS 4
 #define TZ_SPEC_SCENE 4
-/* Which BVH walk the shader runs (a bool): the subgroup's cooperative walk (CPU devices, where a
- * subgroup is one SIMD packet) or one walk per invocation (GPUs). After the scene's constants. */
-#define TZ_SPEC_COOPERATIVE (TZ_SPEC_SCENE + 4 * (3 * TZ_UNROLL_MAX_SPHERES + 2 * TZ_UNROLL_MAX_LIGHTS))
 
 /* One sphere, 48 bytes. material is stored as an exactly representable float. */
 struct gpu_sphere {

@@ -7,8 +7,11 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
+/* TZ_SUBGROUP_WALK: the module with the cooperative BVH walk (CMakeLists.txt builds both). */
+#ifdef TZ_SUBGROUP_WALK
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#endif
 
 #include "shared_layout.h"
 
@@ -36,7 +39,6 @@ layout(constant_id = TZ_SPEC_UNROLLED_SPHERES) const uint UNROLLED_SPHERES = 0u;
 layout(constant_id = TZ_SPEC_UNROLLED_LIGHTS) const uint UNROLLED_LIGHTS = 0u;
 layout(constant_id = TZ_SPEC_FLAGS) const uint FLAGS = 0u; /* frame.flags */
 layout(constant_id = TZ_SPEC_WALK_BUDGET) const uint WALK_BUDGET = 0u;
-layout(constant_id = TZ_SPEC_COOPERATIVE) const bool COOPERATIVE_WALK = false;
 
 #include "spec_scene.glsl"
 

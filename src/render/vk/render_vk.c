@@ -13,6 +13,7 @@
 #include "util/log.h"
 #include "render/render.h"
 #include "render/scene_pack.h"
+#include "trace_coop_spv.h"
 #include "trace_spv.h"
 #include "render/vk/vk_context.h"
 #include "render/vk/vk_probe.h"
@@ -48,13 +49,10 @@
 typedef struct spec_data {
     uint32_t words[TZ_SPEC_SCENE];
     struct gpu_unrolled scene;
-    uint32_t cooperative; /* TZ_SPEC_COOPERATIVE, a VkBool32 */
 } spec_data;
 #define SPEC_COUNT (sizeof(spec_data) / sizeof(uint32_t))
 _Static_assert(offsetof(spec_data, scene) == TZ_SPEC_SCENE * sizeof(uint32_t),
                "scene data start at constant_id TZ_SPEC_SCENE");
-_Static_assert(offsetof(spec_data, cooperative) == TZ_SPEC_COOPERATIVE * sizeof(uint32_t),
-               "the walk's constant follows the scene's");
 
 typedef struct vk_render {
     vk_context ctx;
@@ -73,7 +71,7 @@ _Static_assert(TZ_COUNTER_WORDS * sizeof(uint32_t) <= 16,
 typedef struct strategy {
     uint32_t unrolled_spheres; /* TZ_SPEC_UNROLLED_SPHERES: 0 when not unrolled */
     bool use_bvh;
-    bool cooperative; /* TZ_SPEC_COOPERATIVE: the subgroup walks the BVH together */
+    bool cooperative; /* the subgroup walks the BVH together: the trace_coop module */
     uint32_t walk;    /* loop passes of a ray's walk (TZ_SPEC_WALK_BUDGET: walk_loop_budget), 0
                          unlimited */
     uint64_t sample_iterations;
@@ -481,9 +479,9 @@ static strategy choose_strategy(const vk_context *ctx, const scene *s, const ren
     return st;
 }
 
-/* Compiles trace.comp for the scene (specialization constants: the strategy, the flags, and the
- * spheres and lights of an unrolled scene), creates the fence and binds the buffers; false
- * (logged) on a Vulkan failure. */
+/* Compiles trace.comp for the scene (the module with the cooperative walk or the plain one;
+ * specialization constants: the strategy, the flags, and the spheres and lights of an unrolled
+ * scene), creates the fence and binds the buffers; false (logged) on a Vulkan failure. */
 static bool create_kernel(vk_render *r, const packed_scene *packed, const strategy *st, int width) {
     const VkDescriptorType types[] = {
         [TZ_BINDING_FRAME] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
@@ -508,8 +506,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
                                [TZ_SPEC_UNROLLED_LIGHTS] = unroll_lights ? lights : 0u,
                                [TZ_SPEC_FLAGS] = packed->frame.flags,
                                [TZ_SPEC_WALK_BUDGET] = walk_loop_budget(st),
-                           },
-                           .cooperative = st->cooperative};
+                           }};
     /* The unrolled spheres and lights, zero past the scene's (the shader reads none of those). */
     memcpy(constants.scene.spheres, packed->spheres,
            st->unrolled_spheres * sizeof *packed->spheres);
@@ -522,8 +519,8 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
     const VkSpecializationInfo spec = {SPEC_COUNT, entries, sizeof constants, &constants};
     vk_kernel_desc kernel = {
         .spec = &spec,
-        .code = trace_spv,
-        .code_size = sizeof trace_spv,
+        .code = st->cooperative ? trace_coop_spv : trace_spv,
+        .code_size = st->cooperative ? sizeof trace_coop_spv : sizeof trace_spv,
         .types = types,
         .binding_count = TZ_BINDING_COUNT,
         .push_size = sizeof(struct gpu_pass),
