@@ -17,3 +17,18 @@ function(embed_spirv target outdir)
   endforeach()
   add_custom_target(${target} DEPENDS ${headers})
 endfunction()
+
+# embed_spirv_variant(TARGET OUTDIR SHADER NAME DEFINE): SHADER compiled with DEFINE set into
+# OUTDIR/NAME_spv.h (a `NAME_spv` array): a second module of the same entry point.
+function(embed_spirv_variant target outdir shader name define)
+  set(header ${outdir}/${name}_spv.h)
+  add_custom_command(
+    OUTPUT ${header}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${outdir}
+    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -Os --quiet -D${define}
+            --vn ${name}_spv --depfile ${header}.d -o ${header} ${shader}
+    DEPENDS ${shader}
+    DEPFILE ${header}.d
+    COMMENT "Compiling ${name} (${define}) to SPIR-V")
+  add_custom_target(${target} DEPENDS ${header})
+endfunction()

@@ -2,7 +2,8 @@
  * force or through the BVH, on the shared steps of common/ray.h; the C back end's functions of
  * the same names are in src/render/cpu/integrator.c (trace_bvh, integrator_nearest,
  * integrator_occluded). The including shader declares `frame`, sphere_center_radius(),
- * sphere_params(), sphere_count(), node_field(), use_bvh() and WALK_BUDGET. */
+ * sphere_params(), sphere_count(), node_field(), use_bvh() and WALK_BUDGET; with TZ_SUBGROUP_WALK
+ * defined (and the subgroup extensions enabled) the walk is cooperative for coherent rays. */
 #ifndef TRAZADOR_INTERSECT_GLSL
 #define TRAZADOR_INTERSECT_GLSL
 
@@ -91,12 +92,128 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
     return id;
 }
 
+#ifdef TZ_SUBGROUP_WALK
+/* Lane counts packed into one uint, so that one subgroupAdd a pass takes every vote (lavapipe
+ * runs each subgroup operation as a loop over the lanes): fields of COOP_BITS bits, at most
+ * 2^COOP_BITS - 1 lanes (vk_context_has_subgroup_walk checks the subgroup size). */
+#define COOP_BITS 6u
+#define COOP_MASK 63u
+#define COOP_ENTER_LEFT 0u  /* lanes whose rays enter the left child before their hit so far */
+#define COOP_ENTER_RIGHT 1u /* the same for the right child */
+#define COOP_LEFT_FIRST 2u  /* lanes that enter the left child first (or it alone) */
+#define COOP_PENDING 3u     /* lanes that can find a nearer hit in the child on top of the stack */
+#define COOP_HIT 4u         /* lanes with a hit */
+uint coop_field(uint votes, uint field) { return (votes >> (COOP_BITS * field)) & COOP_MASK; }
+
+/* trace_bvh walked by the whole subgroup at once, as packet_walk of the CPU back end walks a
+ * packet: a child is entered when any active lane's ray enters its box before that lane's hit so
+ * far, the child most lanes enter first first, one stack for all. The passes are trace_bvh's (a
+ * node visit or one sphere test, then a pop), counted for the whole subgroup against
+ * WALK_BUDGET; every branch and loop exit is subgroup-uniform, so the active lanes stay together
+ * and any subset of the subgroup may call it. One subgroupAdd a pass takes the votes. Node and
+ * sphere indices are the same for every lane. With any_hit a lane stops voting at its first hit
+ * and the walk ends when every lane has one. The tie rule makes its hits trace_bvh's. */
+int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out) {
+    float tmin = ray_eps(o), best = tmax;
+    int id = -1;
+    vec3 inv = inverse_direction(d);
+    uint stack[TZ_BVH_MAX_DEPTH];
+    float stack_t[TZ_BVH_MAX_DEPTH]; /* per lane: where its ray enters the pending child */
+    int top = 0;
+    uint lanes = subgroupAdd(1u);
+    const uint none = 0xffffffffu;
+    uint node = 0u;                  /* the root */
+    uint sphere = 0u, leaf_end = 0u; /* the leaf's spheres still to test */
+    for (uint pass = 0u;; pass++) {
+        if (WALK_BUDGET > 0u && pass == WALK_BUDGET) {
+            loop_overflow = true;
+            break;
+        }
+        bool visit = node != none, test = sphere < leaf_end;
+        uvec4 left_lo = node_field(visit ? node : 0u, 0u);
+        uvec4 left_hi = node_field(visit ? node : 0u, 1u);
+        uvec4 right_lo = node_field(visit ? node : 0u, 2u);
+        uvec4 right_hi = node_field(visit ? node : 0u, 3u);
+        /* How far a lane's ray may still find a nearer hit: nowhere once a shadow ray has one. */
+        float reach = any_hit && id >= 0 ? -TZ_INFINITY : best;
+        float tl = box_entry(uintBitsToFloat(left_lo), uintBitsToFloat(left_hi), o, inv, reach);
+        float tr = box_entry(uintBitsToFloat(right_lo), uintBitsToFloat(right_hi), o, inv, reach);
+        if (test) {
+            vec4 cr = sphere_center_radius(int(sphere));
+            float t = sphere_distance(cr.x, cr.y, cr.z, cr.w, o, d, tmin, int(sphere) == self);
+            keep_nearer(int(sphere), t, best, id);
+            sphere++;
+        }
+        reach = any_hit && id >= 0 ? -TZ_INFINITY : best;
+        bool pending = top > 0 && stack_t[max(top - 1, 0)] < reach;
+        uint vote = (tl < TZ_INFINITY ? 1u : 0u) << (COOP_BITS * COOP_ENTER_LEFT);
+        vote |= (tr < TZ_INFINITY ? 1u : 0u) << (COOP_BITS * COOP_ENTER_RIGHT);
+        vote |= (tl <= tr && tl < TZ_INFINITY ? 1u : 0u) << (COOP_BITS * COOP_LEFT_FIRST);
+        vote |= (pending ? 1u : 0u) << (COOP_BITS * COOP_PENDING);
+        vote |= (id >= 0 ? 1u : 0u) << (COOP_BITS * COOP_HIT);
+        uint votes = subgroupAdd(vote);
+        if (any_hit && coop_field(votes, COOP_HIT) == lanes) break;
+        node = none;
+        if (visit) {
+            uint enter_l = coop_field(votes, COOP_ENTER_LEFT);
+            uint enter_r = coop_field(votes, COOP_ENTER_RIGHT);
+            bool left_first = 2u * coop_field(votes, COOP_LEFT_FIRST) >= enter_l + enter_r;
+            left_first = enter_r == 0u || (enter_l > 0u && left_first);
+            uint near_ref = left_first ? left_lo.w : right_lo.w;
+            uint near_count = child_count(near_ref);
+            bool enters = enter_l + enter_r > 0u;
+            node = enters && near_count == 0u ? near_ref : none;
+            sphere = child_index(near_ref);
+            leaf_end = enters && near_count > 0u ? sphere + near_count : 0u;
+            if (enter_l > 0u && enter_r > 0u) {
+                stack[top] = left_first ? right_lo.w : left_lo.w;
+                stack_t[top] = left_first ? tr : tl;
+                top++;
+            }
+            if (enters) continue;
+        } else if (sphere < leaf_end) {
+            continue;
+        }
+        /* Nothing left to visit: pop the child on top, entered when a lane voted for it. */
+        if (top == 0) break;
+        top--;
+        uint ref = stack[top], count = child_count(ref);
+        if (coop_field(votes, COOP_PENDING) > 0u) {
+            node = count == 0u ? ref : none;
+            sphere = child_index(ref);
+            leaf_end = count == 0u ? 0u : sphere + count;
+        }
+    }
+    t_out = best;
+    return id;
+}
+
+/* True while this invocation traces its camera ray and the shadow rays of the camera ray's hit:
+ * rays of neighbouring lanes that stay close together. Set by every nearest-hit query (a camera
+ * ray is the one that leaves no sphere). */
+bool coherent_rays;
+
+#endif
+
+/* The walk of this module and ray: with TZ_SUBGROUP_WALK the subgroup's for coherent rays, where
+ * the lanes visit much the same nodes; per invocation otherwise (a bounce's rays scatter, and the
+ * union of the lanes' nodes would be many times one walk). */
+int walk_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out) {
+#ifdef TZ_SUBGROUP_WALK
+    if (coherent_rays) return trace_bvh_cooperative(o, d, self, tmax, any_hit, t_out);
+#endif
+    return trace_bvh(o, d, self, tmax, any_hit, t_out);
+}
+
 /* Nearest sphere hit by o + t d with t > EPS, -1 on a miss; t_out is its distance. Through the
  * BVH when the scene has one, else over every sphere with the loop unrolled (sphere_count() a
  * specialization constant): trace_ray of the C back end. */
 int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
     rays_traced++;
-    if (use_bvh()) return trace_bvh(o, d, self, TZ_INFINITY, false, t_out);
+#ifdef TZ_SUBGROUP_WALK
+    coherent_rays = self < 0;
+#endif
+    if (use_bvh()) return walk_bvh(o, d, self, TZ_INFINITY, false, t_out);
     float tmin = ray_eps(o), best = TZ_INFINITY;
     int id = -1;
     [[unroll]] for (uint k = 0u; k < sphere_count(); k++)
@@ -110,10 +227,10 @@ int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
 bool integrator_occluded(vec3 o, vec3 d, float dist, int self) {
     rays_traced++;
     float t;
-    if (use_bvh()) return trace_bvh(o, d, self, dist, true, t) >= 0;
+    if (use_bvh()) return walk_bvh(o, d, self, dist, true, t) >= 0;
     float tmin = ray_eps(o);
-    [[unroll]] for (uint k = 0u; k < sphere_count(); k++)
-        if (sphere_distance_at(int(k), o, d, tmin, self) < dist) return true;
+    [[unroll]] for (uint k = 0u; k < sphere_count();
+                    k++) if (sphere_distance_at(int(k), o, d, tmin, self) < dist) return true;
     return false;
 }
 

@@ -8,6 +8,11 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
+/* TZ_SUBGROUP_WALK: the module with the cooperative BVH walk (CMakeLists.txt builds both). */
+#ifdef TZ_SUBGROUP_WALK
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#endif
 
 #include "shared_layout.h"
 

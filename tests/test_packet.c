@@ -1,17 +1,19 @@
 /* test_packet.c: every build of the packet integrator this machine runs (the CPU back end renders
  * with the fastest) returns bit for bit what the one-sample reference integrator_sample returns,
- * and traces the same rays, on every scene of scenes/, generated scenes on both of its intersection paths
- * (every sphere, the BVH), a scene of nested and overlapping spheres with the camera inside glass
- * and a cloud of overlapping spheres with exact duplicates; under every option that changes the
- * integrator's path. */
+ * and traces the same rays, on every scene of scenes/, generated scenes on both of its intersection
+ * paths (every sphere, the BVH), a scene of nested and overlapping spheres with the camera inside
+ * glass and a cloud of overlapping spheres with exact duplicates; under every option that changes
+ * the integrator's path. So does every path-mode build against integrator_path_sample, on the path
+ * scenes, point lights with emitters, the scenes above in path mode and a BVH scene with an
+ * emitter, under every path-mode option. */
 #include <stdlib.h>
 #include <string.h>
 
 #include "check.h"
-#include "scene/gen.h"
 #include "render/cpu/integrator.h"
 #include "render/render.h"
 #include "render/scene_pack.h"
+#include "scene/gen.h"
 
 #define SIDE 64 /* pixels of the square test image */
 
@@ -32,8 +34,12 @@ static const char tangle[] =
 
 static int bits_equal(vec3 a, vec3 b) { return memcmp(&a, &b, sizeof a) == 0; }
 
+/* The builds under test (seed or path mode) and the one-sample reference they must match. */
 static packet_integrator builds[PACKET_VARIANTS_MAX];
 static int build_count;
+static vec3 (*reference)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
+static bool path_mode;
+static bool check_runs; /* path mode: the runs of samples too (the scene's own settings only) */
 
 /* Every pixel of a SIDE x SIDE render by build b, packets of every width from 1 to its own; with
  * want_light, a quarter of the pixels at least must not be black. */
@@ -52,7 +58,7 @@ static void compare_build(const char *name, const packed_scene *p, const packet_
             rays_packet += integrator_rays_traced() - before;
             for (uint32_t k = 0; k < n; k++) {
                 before = integrator_rays_traced();
-                vec3 one = integrator_sample(p, i + k, j, sample);
+                vec3 one = reference(p, i + k, j, sample);
                 rays_one += integrator_rays_traced() - before;
                 if (!bits_equal(one, out[k]) && differing++ < 3)
                     fprintf(stderr, "%s, %s: pixel %u,%u: %.9g %.9g %.9g (one) vs %.9g %.9g %.9g\n",
@@ -68,11 +74,45 @@ static void compare_build(const char *name, const packed_scene *p, const packet_
     CHECK(!want_light || lit > SIDE * SIDE / 4, "%s: only %d pixels have light", name, lit);
 }
 
+/* Path builds' runs of samples: every pixel of a SIDE x SIDE render by build b, 1 to 4 samples
+ * a run, packets of every width from 1 to its own, against integrator_path_sample. */
+static void compare_samples(const char *name, const packed_scene *p, const packet_integrator *b) {
+    int differing = 0;
+    uint64_t rays_one = 0, rays_packet = 0;
+    for (uint32_t j = 0; j < SIDE; j++) {
+        uint32_t lanes = 1 + (j * 7) % b->width, count = 1 + j % 4, first = j % 3;
+        for (uint32_t i = 0; i < SIDE; i += lanes) {
+            uint32_t n = SIDE - i < lanes ? SIDE - i : lanes;
+            vec3 out[PACKET_LANES_MAX * 4];
+            uint64_t before = integrator_rays_traced();
+            b->samples(p, i, j, n, first, count, out);
+            rays_packet += integrator_rays_traced() - before;
+            for (uint32_t s = 0; s < count; s++)
+                for (uint32_t k = 0; k < n; k++) {
+                    before = integrator_rays_traced();
+                    vec3 one = integrator_path_sample(p, i + k, j, first + s);
+                    rays_one += integrator_rays_traced() - before;
+                    if (!bits_equal(one, out[s * n + k]) && differing++ < 3)
+                        fprintf(stderr, "%s, %s runs: pixel %u,%u sample %u differs\n", name,
+                                b->name, i + k, j, first + s);
+                }
+        }
+    }
+    CHECK(differing == 0, "%s, %s runs: %d samples differ", name, b->name, differing);
+    CHECK(rays_one == rays_packet, "%s, %s runs: %llu rays one at a time, %llu in runs", name,
+          b->name, (unsigned long long)rays_one, (unsigned long long)rays_packet);
+}
+
 /* The scene with these options through every build. */
 static void compare(const char *name, const scene *s, const render_opts *o, bool want_light) {
     packed_scene p;
     CHECK(scene_pack(s, o, &p), "%s: pack failed", name);
-    for (int b = 0; b < build_count; b++) compare_build(name, &p, &builds[b], want_light);
+    for (int b = 0; b < build_count; b++) {
+        compare_build(name, &p, &builds[b], want_light);
+        CHECK(!path_mode == !builds[b].samples, "%s: runs of samples in path builds only",
+              builds[b].name);
+        if (path_mode && check_runs && builds[b].samples) compare_samples(name, &p, &builds[b]);
+    }
     scene_pack_free(&p);
 }
 
@@ -100,6 +140,47 @@ static void compare_variants(const char *name, scene *s) {
     compare(name, s, &v, true);
 }
 
+/* In path mode: the scene's own settings, then each option that changes a path. */
+static void compare_path_variants(const char *name, scene *s) {
+    s->pixel_size = s->plane_width / (float)SIDE;
+    s->plane_height = s->plane_width;
+    s->width = s->height = SIDE;
+    render_opts o;
+    render_opts_from_scene(s, &o);
+    o.mode = RENDER_MODE_PATH;
+    check_runs = true;
+    compare(name, s, &o, true);
+    check_runs = false;
+    render_opts v = o;
+    v.roulette = !o.roulette;
+    compare(name, s, &v, false);
+    v = o;
+    v.strategy = PATH_LIGHTS_ONLY;
+    compare(name, s, &v, false);
+    v = o;
+    v.strategy = PATH_BSDF_ONLY;
+    v.seed = 7;
+    compare(name, s, &v, false);
+    v = o;
+    v.no_jitter = true;
+    v.bounces = 1;
+    compare(name, s, &v, false);
+    v = o;
+    v.bounces = 0;
+    compare(name, s, &v, false);
+    v = o;
+    v.no_bvh = true;
+    compare(name, s, &v, false);
+}
+
+/* Seed mode's variants, or path mode's when the tests are on the path builds. */
+static void compare_scene(const char *name, scene *s) {
+    if (path_mode)
+        compare_path_variants(name, s);
+    else
+        compare_variants(name, s);
+}
+
 static void compare_file(const char *file) {
     char path[512];
     snprintf(path, sizeof path, "%s/scenes/%s", TRAZADOR_SOURCE_DIR, file);
@@ -110,7 +191,7 @@ static void compare_file(const char *file) {
         CHECK(0, "%s does not parse", path);
         return;
     }
-    compare_variants(file, &s);
+    compare_scene(file, &s);
     scene_free(&s);
 }
 
@@ -119,7 +200,7 @@ static void compare_text(const char *name, const char *text, size_t length) {
     scene s;
     scene_error err;
     if (text && scene_parse_string(text, length, name, &s, &err)) {
-        compare_variants(name, &s);
+        compare_scene(name, &s);
         scene_free(&s);
     } else {
         if (text) scene_error_print(&err);
@@ -189,7 +270,66 @@ static bool write_coincident(FILE *fp, const void *unused) {
     return true;
 }
 
+/* Phong and Lambertian spheres under point lights and two emitters (one of them seen through
+ * glass, one tiny), a mirror; path mode. */
+static const char lit[] =
+    "camera position 0 1 -6 direction 0 -0.1 1 up 0 1 0\n"
+    "plane width 4 height 4 pixel 0.1\n"
+    "light position 2 4 -3 power 30\n"
+    "light position -3 2 1 power 10 color 0.4 0.6 1\n"
+    "sphere lambertian center 0 -1000 0 radius 1000 color 0.6 0.6 0.6\n"
+    "sphere phong center -1 0.7 1 radius 0.7 color 0.5 0.2 0.1 ks 0.4 alpha 25\n"
+    "sphere phong center 1.2 0.5 0 radius 0.5 color 0.1 0.1 0.1 ks 0.8 alpha 200\n"
+    "sphere mirror center 0 1 3 radius 1 color 0.9 0.9 0.9\n"
+    "sphere refractive center 0.3 0.4 -1.5 radius 0.4 ior 1.5\n"
+    "sphere lambertian center 0 3.5 1 radius 0.6 color 0 0 0 emission 8 7 6\n"
+    "sphere lambertian center 1.5 0.1 -1 radius 0.1 color 0.5 0.5 0.5 emission 50 20 10\n"
+    "background 0.05 0.05 0.1\n"
+    "render mode path bounces 10\n";
+
+/* `trazador gen random` (200 spheres: the BVH) lit by an emitter above it, its render line made
+ * path mode's; arg its gen_desc. */
+static bool write_generated_lit(FILE *fp, const void *arg) {
+    char *text = NULL;
+    size_t length = 0;
+    FILE *gen = open_memstream(&text, &length);
+    if (!gen) return false;
+    bool written = gen_write(arg, gen);
+    fclose(gen);
+    for (char *line = strtok(text, "\n"); written && line; line = strtok(NULL, "\n"))
+        if (strncmp(line, "render", 6)) fprintf(fp, "%s\n", line);
+    free(text);
+    fputs(
+        "sphere lambertian center 0 30 0 radius 8 color 0 0 0 emission 6 6 6\n"
+        "render mode path\n",
+        fp);
+    return written;
+}
+
+/* Every test scene through the path-mode builds. */
+static void compare_path_builds(void) {
+    path_mode = true;
+    reference = integrator_path_sample;
+    build_count = integrator_path_list(builds);
+    for (int b = 0; b < build_count; b++)
+        printf("path integrator build %s, %u lanes\n", builds[b].name, builds[b].width);
+    CHECK(build_count >= 2 && !strcmp(builds[build_count - 1].name, PACKET_REFERENCE_NAME) &&
+              !strcmp(integrator_path_choose(PACKET_REFERENCE_NAME, false).name,
+                      PACKET_REFERENCE_NAME) &&
+              !strcmp(integrator_path_choose(NULL, false).name, builds[0].name) &&
+              !strcmp(integrator_packet_path().name, builds[0].name),
+          "the path builds: the reference last and by name only, the fastest first");
+    const char *files[] = {"cornell_path.scene", "caustic.scene", "all.scene", "refraction.scene"};
+    for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) compare_file(files[k]);
+    compare_text("lit", lit, sizeof lit - 1);
+    compare_text("tangle", tangle, sizeof tangle - 1);
+    const gen_desc random200 = {.kind = GEN_RANDOM, .count = 200, .seed = 3};
+    compare_written("random 200 with an emitter", write_generated_lit, &random200);
+    compare_written("cloud", write_cloud, NULL);
+}
+
 int main(void) {
+    reference = integrator_sample;
     unsetenv("TRAZADOR_PACKET_BUILD"); /* the checks of the default choice below */
     build_count = integrator_packet_list(builds);
     for (int b = 0; b < build_count; b++)
@@ -218,5 +358,6 @@ int main(void) {
     compare_text("tangle", tangle, sizeof tangle - 1);
     compare_written("cloud", write_cloud, NULL);
     compare_written("coincident", write_coincident, NULL);
+    compare_path_builds();
     return check_summary("test_packet");
 }

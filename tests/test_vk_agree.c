@@ -22,7 +22,9 @@
 #include "render/render.h"
 #include "render/scene_pack.h"
 #include "render/vk/vk_context.h"
+#include "scene/gen.h"
 #include "test_scenes.h"
+#include "tmp_dir.h"
 
 #define MIN_PSNR 50.0
 #define MAX_DIFFER_SHARE 0.001
@@ -299,6 +301,75 @@ static void test_tiles(void) {
     check_agreement("materials 525 wide", &s, &opts);
 }
 
+/* The scene `trazador gen` writes for desc, `width` pixels across; false (checked) on failure. */
+static bool generated_scene(const gen_desc *desc, const char *name, int width, scene *s) {
+    const char *path = tmp_path(name);
+    FILE *fp = fopen(path, "w");
+    bool written = fp && gen_write(desc, fp);
+    if (fp) written = fclose(fp) == 0 && written;
+    scene_error err;
+    bool parsed = written && scene_parse_file(path, s, &err);
+    if (written && !parsed) scene_error_print(&err);
+    remove(path);
+    CHECK(parsed, "%s: the generated scene did not load", name);
+    if (parsed) set_width(s, width);
+    return parsed;
+}
+
+/* Renders s on Vulkan with the BVH walk TRAZADOR_VK_WALK names; false when it failed. */
+static bool render_walk(const scene *s, const render_opts *opts, const char *walk, film *f) {
+    setenv("TRAZADOR_VK_WALK", walk, 1);
+    bool ok = render_vk(s, opts, f);
+    unsetenv("TRAZADOR_VK_WALK");
+    return ok;
+}
+
+/* The subgroup's cooperative BVH walk and the walk per invocation give bit-identical films (the
+ * tie rule) on generated scenes, seed mode and path mode, with and without the indirect bounce. */
+static void check_walks(const char *name, const scene *s, render_opts opts) {
+    opts.validate = true;
+    film coop = {0}, alone = {0};
+    bool ok = render_walk(s, &opts, "cooperative", &coop);
+    ok = render_walk(s, &opts, "invocation", &alone) && ok;
+    CHECK(ok, "%s: a walk failed", name);
+    if (ok)
+        CHECK(!memcmp(coop.accum, alone.accum, (size_t)s->width * s->height * 4 * sizeof(float)),
+              "%s: the cooperative walk changed the film", name);
+    film_free(&coop);
+    film_free(&alone);
+}
+
+static void test_walks(void) {
+    if (!tmp_dir_make("test_vk_agree")) {
+        CHECK(0, "no temporary folder");
+        return;
+    }
+    const gen_desc random = {.kind = GEN_RANDOM, .count = 3000, .seed = 7};
+    const gen_desc flake = {.kind = GEN_SPHEREFLAKE, .depth = 3, .seed = 1};
+    scene s;
+    render_opts opts;
+    if (generated_scene(&random, "random.scene", 64, &s)) {
+        render_opts_from_scene(&s, &opts);
+        opts.samples = 2;
+        check_walks("random 3000, indirect", &s, opts);
+        opts.indirect = false;
+        check_walks("random 3000, direct", &s, opts);
+        opts.mode = RENDER_MODE_PATH;
+        opts.bounces = 4;
+        check_walks("random 3000, path", &s, opts);
+        scene_free(&s);
+    }
+    if (generated_scene(&flake, "flake.scene", 64, &s)) {
+        render_opts_from_scene(&s, &opts);
+        opts.samples = 2;
+        check_walks("sphereflake 3", &s, opts);
+        opts.mode = RENDER_MODE_PATH;
+        check_walks("sphereflake 3, path", &s, opts);
+        scene_free(&s);
+    }
+    remove(tmpdir);
+}
+
 /* TRAZADOR_VK_STAGING=1 sends every buffer through staging copies, as on a discrete GPU. */
 static void test_staging(void) {
     scene s = materials_scene();
@@ -353,5 +424,6 @@ int main(void) {
     test_tiles();
     test_staging();
     test_nonfinite();
+    test_walks();
     return check_summary("test_vk_agree");
 }

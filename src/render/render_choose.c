@@ -1,9 +1,30 @@
 /* render_choose.c: choosing the back end of a render: the one asked for, or with auto Vulkan
- * when it can render the scene and else the CPU back end, with one line saying why. */
+ * when it can render the scene and else the CPU back end, with one line saying why; where every
+ * Vulkan device is a CPU, auto takes the engine measured faster for the scene. */
 #include "render/part.h"
 #include "render/render.h"
 #include "render/vk/vk_context.h"
+#include "shared_layout.h"
 #include "util/log.h"
+
+/* With only CPU Vulkan devices (lavapipe), whether the CPU back end renders the scene faster,
+ * the reason in *why. From `trazador bench --backend both` (docs/PERF.md): lavapipe wins only in
+ * path mode on scenes small enough to unroll (cornell_path: 1.4-1.5x the CPU back end); the CPU
+ * back end everywhere else (seed mode on small scenes 0.4-0.8x, the scaling table's BVH rows
+ * 0.1-0.3x). */
+static bool cpu_faster(const scene *s, const render_opts *opts, const char **why) {
+    bool small = s->sphere_count <= TZ_UNROLL_MAX_SPHERES;
+    if (opts->mode == RENDER_MODE_PATH && small) {
+        *why = "path mode on a scene of at most 16 spheres, where lavapipe measured faster";
+        return false;
+    }
+    *why = opts->mode == RENDER_MODE_PATH
+               ? "path mode through the BVH, where the CPU back end measured faster than lavapipe"
+           : small ? "seed mode, where the CPU back end measured faster than lavapipe"
+                   : "seed mode through the BVH, where the CPU back end measured faster than "
+                     "lavapipe";
+    return true;
+}
 
 bool render_choose(const scene *s, const render_opts *opts, backend_choice backend, film *f,
                    const char **used) {
@@ -18,6 +39,16 @@ bool render_choose(const scene *s, const render_opts *opts, backend_choice backe
     /* A device or validation asked for (--device, --validate) asks for Vulkan: its verdict stands,
      * a refusal included. */
     if (opts->validate || opts->device >= 0) return render_vk(s, opts, f);
+    if (vk_context_cpu_only()) {
+        const char *why;
+        bool cpu = cpu_faster(s, opts, &why);
+        log_debug("auto: the only Vulkan devices are CPUs; the %s back end: %s",
+                  cpu ? "CPU" : "Vulkan", why);
+        if (cpu) {
+            *used = "cpu";
+            return render_cpu(s, opts, f);
+        }
+    }
     render_stats vk_stats = {0};
     render_opts tried = *opts;
     if (!tried.stats) tried.stats = &vk_stats;
@@ -49,6 +80,13 @@ bool render_choose_part(const scene *s, const render_opts *opts, backend_choice 
     if (vk_context_device_count() == 0) {
         log_info("no Vulkan device found; rendering with the CPU back end");
         return render_cpu_part(s, opts, p, sample_end);
+    }
+    if (vk_context_cpu_only()) {
+        const char *why;
+        bool cpu = cpu_faster(s, opts, &why);
+        log_debug("auto: the only Vulkan devices are CPUs; the %s back end: %s",
+                  cpu ? "CPU" : "Vulkan", why);
+        if (cpu) return render_cpu_part(s, opts, p, sample_end);
     }
     *used = "vulkan";
     render_stats vk_stats = {0};

@@ -24,14 +24,20 @@ vec3 integrator_path_sample(const packed_scene *p, uint32_t i, uint32_t j, uint3
  * default: the oracle, timed by bench). */
 #define PACKET_REFERENCE_NAME "reference"
 
-/* A build of the packet integrator (src/render/cpu/integrator_packet.c) for one vector level: sample(p, i, j,
- * lanes, sample_index, out) sets out[k] = integrator_sample(p, i + k, j, sample_index) for
- * k < lanes (<= width), bit for bit, computing all of them at once; never fails. */
+/* A build of the packet integrator (src/render/cpu/integrator_packet.c) for one vector level:
+ * sample(p, i, j, lanes, sample_index, out) sets out[k] = integrator_sample(p, i + k, j,
+ * sample_index) for k < lanes (<= width), bit for bit, computing all of them at once; never fails.
+ */
 typedef struct packet_integrator {
     const char *name; /* its vector level, e.g. "x86-64-v4" */
     uint32_t width;
     void (*sample)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
                    uint32_t sample_index, vec3 *out);
+    /* Path builds only (else NULL): samples(p, i, j, lanes, first, count, out) sets
+     * out[s * lanes + k] = integrator_path_sample(p, i + k, j, first + s) for k < lanes (<=
+     * width), s < count, bit for bit, keeping every lane busy until the last samples. */
+    void (*samples)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes, uint32_t first,
+                    uint32_t count, vec3 *out);
 } packet_integrator;
 
 /* Scenes of at most this many spheres are intersected packet against every sphere; bigger ones
@@ -55,7 +61,15 @@ int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]);
  * for the scene: the first listed, or with walks_bvh the first of at most PACKET_WALK_LANES_MAX
  * lanes; never fails (warns, falls back to the fastest). */
 packet_integrator integrator_packet_choose(const char *wanted, bool walks_bvh);
-/* The build that renders path mode: integrator_path_sample one lane at a time; never fails. */
+/* The path-mode builds (src/render/cpu/integrator_path_packet.c: sample(p, i, j, lanes,
+ * sample_index, out) sets out[k] = integrator_path_sample(p, i + k, j, sample_index) bit for bit)
+ * this processor runs into list, fastest first (the reference last); returns how many (>= 2). */
+int integrator_path_list(packet_integrator list[PACKET_VARIANTS_MAX]);
+/* The path-mode build named `wanted` (the names of integrator_packet_choose), chosen as that
+ * chooses; never fails (warns, falls back to the fastest). */
+packet_integrator integrator_path_choose(const char *wanted, bool walks_bvh);
+/* The path-mode build that TRAZADOR_PACKET_BUILD names, else the fastest for scenes tested
+ * against every sphere (integrator_path_choose(NULL, false)); never fails. */
 packet_integrator integrator_packet_path(void);
 
 /* Nearest sphere hit by the ray o + t d (|d| = 1) with t > EPS, -1 on a miss; `self` is the

@@ -16,6 +16,7 @@
 #include "render/scene_pack.h"
 #include "render/vk/vk_context.h"
 #include "render/vk/vk_probe.h"
+#include "trace_coop_spv.h"
 #include "trace_spv.h"
 #include "util/clock.h"
 #include "util/log.h"
@@ -76,9 +77,28 @@ _Static_assert(TZ_COUNTER_WORDS * sizeof(uint32_t) <= 16,
 typedef struct strategy {
     uint32_t unrolled_spheres; /* TZ_SPEC_UNROLLED_SPHERES: 0 when not unrolled */
     bool use_bvh;
-    uint32_t walk; /* TZ_SPEC_WALK_BUDGET: 0 unlimited */
+    bool cooperative; /* the subgroup walks the BVH together: the trace_coop module */
+    uint32_t walk;    /* loop passes of a ray's walk (TZ_SPEC_WALK_BUDGET: walk_loop_budget), 0
+                         unlimited */
     uint64_t sample_iterations;
 } strategy;
+
+/* Whether the subgroup walks the BVH together: only where TRAZADOR_VK_WALK=cooperative asks for
+ * it and the device has the subgroup operations. Otherwise (the default, or =invocation) each
+ * invocation walks on its own: on lavapipe 22.3 the cooperative walk measured slower
+ * (docs/PERF.md), and on GPUs incoherent rays diverge. */
+static bool cooperative_walk(const vk_context *ctx) {
+    const char *walk = getenv("TRAZADOR_VK_WALK");
+    return walk && !strcmp(walk, "cooperative") && vk_context_has_subgroup_walk(ctx);
+}
+
+/* TZ_SPEC_WALK_BUDGET: the passes each walk loop may take. A cooperative ray may run both walks
+ * (lanes of the subgroup that disagree on coherence), each loop with its exit pass, so each gets
+ * half of the ray's passes; 0 (unlimited) stays 0. */
+static uint32_t walk_loop_budget(const strategy *st) {
+    if (!st->cooperative || st->walk == 0u) return st->walk;
+    return st->walk > 1u ? (st->walk - 1u) / 2u : 1u;
+}
 
 /* Refuses what the device could not render right: scene or accumulation buffers past its limits,
  * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit; false
@@ -87,11 +107,11 @@ static bool check_limits(const vk_context *ctx, const scene *s, const render_opt
                          const strategy *st, int width, int height, uint32_t depth, char *reason) {
     bool use_bvh = st->use_bvh;
     uint64_t sample_iterations = st->sample_iterations;
-    if (vk_context_is_lavapipe(ctx) && use_bvh && st->walk < MIN_WALK_BUDGET) {
+    if (vk_context_is_lavapipe(ctx) && use_bvh && walk_loop_budget(st) < MIN_WALK_BUDGET) {
         snprintf(reason, RENDER_REASON_SIZE,
                  "with %d lights and this bounce limit a ray could walk the BVH only %u loop "
                  "passes on lavapipe (its shaders stop loops silently after %u)",
-                 s->light_count, st->walk, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+                 s->light_count, walk_loop_budget(st), VK_PROBE_LAVAPIPE_LOOP_LIMIT);
         return false;
     }
     /* One sample an invocation: its passes and the sample loop's exit pass. */
@@ -544,14 +564,15 @@ static strategy choose_strategy(const vk_context *ctx, const scene *s, const ren
     uint32_t spheres = (uint32_t)s->sphere_count;
     strategy st = {.unrolled_spheres = spheres <= TZ_UNROLL_MAX_SPHERES ? spheres : 0u};
     st.use_bvh = !opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u;
+    st.cooperative = st.use_bvh && cooperative_walk(ctx);
     bool lavapipe = vk_context_is_lavapipe(ctx);
     st.walk = st.use_bvh && lavapipe ? walk_budget(s, opts) : 0u;
     /* Unrolled sphere tests are no loop: a ray then costs only its own loop passes. */
     uint64_t every_sphere = sample_iterations(s, opts, st.unrolled_spheres ? 0u : spheres);
     /* Many lights leave each walk too few passes; testing every sphere may still fit. */
-    if (st.use_bvh && lavapipe && st.walk < MIN_WALK_BUDGET &&
+    if (st.use_bvh && lavapipe && walk_loop_budget(&st) < MIN_WALK_BUDGET &&
         every_sphere < VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
-        st.use_bvh = false;
+        st.use_bvh = st.cooperative = false;
         st.walk = 0u;
     }
     st.sample_iterations =
@@ -559,9 +580,9 @@ static strategy choose_strategy(const vk_context *ctx, const scene *s, const ren
     return st;
 }
 
-/* Compiles trace.comp for the scene (specialization constants: the strategy, the flags, and the
- * spheres and lights of an unrolled scene), creates the fence and binds the buffers; false
- * (logged) on a Vulkan failure. */
+/* Compiles trace.comp for the scene (the module with the cooperative walk or the plain one;
+ * specialization constants: the strategy, the flags, and the spheres and lights of an unrolled
+ * scene), creates the fence and binds the buffers; false (logged) on a Vulkan failure. */
 static bool create_kernel(vk_render *r, const packed_scene *packed, const strategy *st, int width,
                           uint32_t depth) {
     const VkDescriptorType types[] = {
@@ -587,7 +608,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
                                [TZ_SPEC_UNROLLED_SPHERES] = st->unrolled_spheres,
                                [TZ_SPEC_UNROLLED_LIGHTS] = unroll_lights ? lights : 0u,
                                [TZ_SPEC_FLAGS] = packed->frame.flags,
-                               [TZ_SPEC_WALK_BUDGET] = st->walk,
+                               [TZ_SPEC_WALK_BUDGET] = walk_loop_budget(st),
                            }};
     /* The unrolled spheres and lights, zero past the scene's (the shader reads none of those). */
     memcpy(constants.scene.spheres, packed->spheres,
@@ -601,8 +622,8 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
     const VkSpecializationInfo spec = {SPEC_COUNT, entries, sizeof constants, &constants};
     vk_kernel_desc kernel = {
         .spec = &spec,
-        .code = trace_spv,
-        .code_size = sizeof trace_spv,
+        .code = st->cooperative ? trace_coop_spv : trace_spv,
+        .code_size = st->cooperative ? sizeof trace_coop_spv : sizeof trace_spv,
         .types = types,
         .binding_count = TZ_BINDING_COUNT,
         .push_size = sizeof(struct gpu_pass),
@@ -761,6 +782,9 @@ render_status render_vk_part_try(const scene *s, const render_opts *opts, part *
     log_debug("vulkan: device %d, %s (%s), instance and device in %.1f ms", r.ctx.device_index,
               r.ctx.properties.deviceName, r.ctx.driver_name, (t_init - t0) * 1e3);
     strategy st = choose_strategy(&r.ctx, s, opts);
+    if (st.use_bvh)
+        log_debug("vulkan: BVH walk %s",
+                  st.cooperative ? "cooperative (TRAZADOR_VK_WALK=cooperative)" : "per invocation");
     render_opts packing = *opts;
     packing.no_bvh = !st.use_bvh;
     int width = p->meta.x1 - p->meta.x0, height = p->meta.y1 - p->meta.y0;

@@ -99,6 +99,7 @@ typedef struct vk_context {
     VkPhysicalDeviceMemoryProperties memory;
     VkDriverId driver_id; /* 0 when the device cannot tell (Vulkan 1.1 without the extension) */
     char driver_name[VK_MAX_DRIVER_NAME_SIZE];
+    VkPhysicalDeviceSubgroupProperties subgroup; /* size, operations and stages (Vulkan 1.1) */
     int device_index;
     VkDevice device;
     uint32_t queue_family;
@@ -122,6 +123,13 @@ unsigned vk_context_validation_errors(vk_context *ctx);
 /* True when the device is Mesa's lavapipe (llvmpipe), whose loops have an iteration budget;
  * never fails. */
 bool vk_context_is_lavapipe(const vk_context *ctx);
+
+/* True when compute shaders on the device have the subgroup operations the cooperative BVH walk
+ * uses (basic, arithmetic) in subgroups of at most 63 lanes; never fails. */
+bool vk_context_has_subgroup_walk(const vk_context *ctx);
+/* True when there are Vulkan devices and every one is a CPU (VK_PHYSICAL_DEVICE_TYPE_CPU, e.g.
+ * lavapipe); false when there is none or a GPU. Logs nothing. */
+bool vk_context_cpu_only(void);
 
 /* Number of Vulkan physical devices; 0 when there is no loader, driver or device. Logs nothing. */
 int vk_context_device_count(void);

@@ -23,6 +23,7 @@ static bool has_device_extension(VkPhysicalDevice device, const char *name) {
 /* What trazador needs to know of one physical device to list or choose it. */
 typedef struct device_info {
     VkPhysicalDeviceProperties properties;
+    VkPhysicalDeviceSubgroupProperties subgroup;
     VkDriverId driver_id;
     char driver_name[VK_MAX_DRIVER_NAME_SIZE];
     char driver_info[VK_MAX_DRIVER_INFO_SIZE];
@@ -46,6 +47,14 @@ static void query_device(VkPhysicalDevice device, device_info *out) {
         memcpy(out->driver_info, driver.driverInfo, sizeof out->driver_info);
         out->driver_name[sizeof out->driver_name - 1] = '\0';
         out->driver_info[sizeof out->driver_info - 1] = '\0';
+    }
+    if (out->properties.apiVersion >= VK_API_VERSION_1_1) {
+        out->subgroup = (VkPhysicalDeviceSubgroupProperties){
+            .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+        VkPhysicalDeviceProperties2 props2 = {
+            .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, .pNext = &out->subgroup};
+        vkGetPhysicalDeviceProperties2(device, &props2);
+        out->subgroup.pNext = NULL;
     }
     uint32_t count = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(device, &count, NULL);
@@ -187,6 +196,7 @@ bool vk_device_open(vk_context *ctx, int requested) {
     ctx->device_index = index;
     ctx->properties = info.properties;
     ctx->driver_id = info.driver_id;
+    ctx->subgroup = info.subgroup;
     memcpy(ctx->driver_name, info.driver_name, sizeof ctx->driver_name);
     ctx->queue_family = info.compute_family;
     vkGetPhysicalDeviceMemoryProperties(ctx->physical, &ctx->memory);
@@ -220,4 +230,29 @@ bool vk_device_open(vk_context *ctx, int requested) {
 
 bool vk_context_is_lavapipe(const vk_context *ctx) {
     return ctx->driver_id == VK_DRIVER_ID_MESA_LLVMPIPE;
+}
+
+bool vk_context_has_subgroup_walk(const vk_context *ctx) {
+    const VkSubgroupFeatureFlags needed =
+        VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+    /* The walk counts lanes in 6-bit fields (shaders/intersect.glsl, COOP_BITS). */
+    return (ctx->subgroup.supportedOperations & needed) == needed &&
+           (ctx->subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0 &&
+           ctx->subgroup.subgroupSize >= 1u && ctx->subgroup.subgroupSize <= 63u;
+}
+
+bool vk_context_cpu_only(void) {
+    VkInstance instance = open_listing_instance();
+    VkPhysicalDevice *devices = NULL;
+    uint32_t count = 0;
+    if (!instance) return false;
+    bool cpu = list_devices(instance, &devices, &count);
+    for (uint32_t k = 0; k < count && cpu; k++) {
+        device_info info;
+        query_device(devices[k], &info);
+        cpu = info.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    }
+    free(devices);
+    vkDestroyInstance(instance, NULL);
+    return cpu;
 }

@@ -1,0 +1,219 @@
+/* packet_trace.h: a packet of LANES rays traced at once (the lanes of the packet integrators,
+ * src/render/cpu/integrator_packet.c and integrator_path_packet.c): against every sphere in small
+ * scenes, through the BVH together or one by one in others, each lane finding the very hit
+ * integrator_trace finds. The includer defines LANES first. */
+#ifndef TRAZADOR_PACKET_TRACE_H
+#define TRAZADOR_PACKET_TRACE_H
+
+#include <math.h>
+#include <string.h>
+
+#include "common/ray.h"
+#include "render/cpu/integrator.h"
+
+/* A packet's active lanes walk the BVH together when there are at least this many (fewer walk it
+ * one by one): three eighths of the lanes for nearest hits, 2 for shadow rays, which converge on
+ * their light and end at the first blocker (the thresholds were measured: docs/PERF.md).
+ * Lanes of every direction walk together: split by the octant of their directions, the
+ * cosine-distributed bounce rays made groups too small to walk together. */
+#define WALK_GROUP_MIN (LANES * 3 / 8)
+#define SHADOW_WALK_GROUP_MIN 2
+
+/* The whole packet path is inlined into its entry point. */
+#define LANE_FN static inline __attribute__((always_inline))
+
+/* One vec3 per lane, structure of arrays. */
+typedef struct lanes3 {
+    float x[LANES], y[LANES], z[LANES];
+} lanes3;
+
+LANE_FN vec3 get3(const lanes3 *a, int k) { return v3(a->x[k], a->y[k], a->z[k]); }
+
+LANE_FN void set3(lanes3 *a, int k, vec3 v) {
+    a->x[k] = v.x;
+    a->y[k] = v.y;
+    a->z[k] = v.z;
+}
+
+/* Vector registers of LANES floats and ints (GCC and clang vector extensions). */
+typedef float float_lanes __attribute__((vector_size(LANES * sizeof(float))));
+typedef int32_t int_lanes __attribute__((vector_size(LANES * sizeof(int32_t))));
+
+/* best, id = ts, s in the lanes where take has all bits set. */
+LANE_FN void blend_hits(float_lanes *best, int_lanes *id, const float_lanes *ts,
+                        const int_lanes *take, int s) {
+    *best = (float_lanes)(((int_lanes)*ts & *take) | ((int_lanes)*best & ~*take));
+    *id = (*id & ~*take) | (s & *take);
+}
+
+/* best[k], id[k] = ts[k], s where ts[k] < best[k]: sphere s is nearer than the hit so far (spheres
+ * must come in increasing order for the tie rule to hold). In vector registers: the equivalent
+ * loop over lanes compiles to masked stores, whose reloads stall the next sphere's update. */
+LANE_FN void keep_nearer_in_order(float *best, int *id, const float *ts, int s) {
+    float_lanes b, t;
+    int_lanes i;
+    memcpy(&b, best, sizeof b);
+    memcpy(&t, ts, sizeof t);
+    memcpy(&i, id, sizeof i);
+    int_lanes nearer = t < b;
+    blend_hits(&b, &i, &t, &nearer, s);
+    memcpy(best, &b, sizeof b);
+    memcpy(id, &i, sizeof i);
+}
+
+/* keep_nearer_in_order with the whole tie rule (nearer_hit): sphere s also wins a tie with a
+ * higher index, so the order of a walk's leaves cannot change the hit (keep_nearer of
+ * shaders/intersect.glsl). The rule is taken lane by lane: as one
+ * vector expression gcc 12 scalarizes the loops around it. */
+LANE_FN void keep_nearer(float *best, int *id, const float *ts, int s) {
+    int32_t takes[LANES];
+    for (int k = 0; k < LANES; k++) takes[k] = -nearer_hit(ts[k], s, best[k], id[k]);
+    float_lanes b, t;
+    int_lanes i, take;
+    memcpy(&b, best, sizeof b);
+    memcpy(&t, ts, sizeof t);
+    memcpy(&i, id, sizeof i);
+    memcpy(&take, takes, sizeof take);
+    blend_hits(&b, &i, &t, &take, s);
+    memcpy(best, &b, sizeof b);
+    memcpy(id, &i, sizeof i);
+}
+
+/* The smallest of the lanes' values, as a tree of halvings: the chain of LANES - 1 minimums of a
+ * plain loop lay on the walk's critical path. */
+LANE_FN float lanes_min(const float *values) {
+    float m[LANES];
+    memcpy(m, values, sizeof m);
+    for (int half = LANES / 2; half > 0; half /= 2)
+        for (int k = 0; k < half; k++) m[k] = m[k + half] < m[k] ? m[k + half] : m[k];
+    return m[0];
+}
+
+LANE_FN int any_lane(const int *mask) {
+    int any = 0;
+    for (int k = 0; k < LANES; k++) any |= mask[k];
+    return any;
+}
+
+/* Tests sphere s against every lane's ray, keeping the nearest hits in best and id (the tie rule
+ * too with tie; without, spheres must come in increasing order). */
+LANE_FN void packet_sphere(const packed_scene *p, uint32_t s, const lanes3 *o, const lanes3 *d,
+                           const int *self, const float *tmin, int tie, float *best, int *id) {
+    float cx = p->soa.cx[s], cy = p->soa.cy[s], cz = p->soa.cz[s], r = p->soa.r[s], ts[LANES];
+    for (int k = 0; k < LANES; k++)
+        ts[k] = sphere_distance(cx, cy, cz, r, get3(o, k), get3(d, k), tmin[k], (int)s == self[k]);
+    if (tie)
+        keep_nearer(best, id, ts, (int)s);
+    else
+        keep_nearer_in_order(best, id, ts, (int)s);
+}
+
+/* 1 when every active lane has a hit. */
+LANE_FN int all_hit(const int *id, const int *active) {
+    int all = 1;
+    for (int k = 0; k < LANES; k++) all &= !active[k] | (id[k] >= 0);
+    return all;
+}
+
+/* The whole packet walks the BVH, as integrator_trace walks it with one ray: a node is entered
+ * when a lane's ray enters its box before that lane's hit so far, nearer child (over the lanes)
+ * first, each level pushing at most one node; every entered leaf is tested against every lane.
+ * With the tie rule, the spheres tested beyond one lane's own walk cannot change its hit. */
+LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d, const int *self,
+                         const float *tmin, const int *active, int any_hit, float *best, int *id) {
+    lanes3 inv;
+    for (int k = 0; k < LANES; k++) set3(&inv, k, inverse_direction(get3(d, k)));
+    uint32_t stack[TZ_BVH_MAX_DEPTH];
+    float stack_t[TZ_BVH_MAX_DEPTH][LANES];
+    int top = 0;
+    uint32_t ref = 0; /* the root */
+    for (;;) {
+        uint32_t leaf_count = child_count(ref), first = child_index(ref);
+        if (leaf_count > 0) {
+            for (uint32_t s = first; s < first + leaf_count; s++)
+                packet_sphere(p, s, o, d, self, tmin, 1, best, id);
+            if (any_hit && all_hit(id, active)) return;
+        } else {
+            const struct gpu_bvh_node *n = &p->nodes[first];
+            float tl[LANES], tr[LANES], near_l, near_r;
+            for (int k = 0; k < LANES; k++) {
+                tl[k] = box_entry(n->left_lo, n->left_hi, get3(o, k), get3(&inv, k), best[k]);
+                tr[k] = box_entry(n->right_lo, n->right_hi, get3(o, k), get3(&inv, k), best[k]);
+            }
+            near_l = lanes_min(tl);
+            near_r = lanes_min(tr);
+            if (near_l < INFINITY || near_r < INFINITY) {
+                int left_first = near_l <= near_r;
+                uint32_t left = uint_bits(n->left_lo.w), right = uint_bits(n->right_lo.w);
+                ref = left_first ? left : right;
+                if ((left_first ? near_r : near_l) < INFINITY) {
+                    stack[top] = left_first ? right : left;
+                    memcpy(stack_t[top++], left_first ? tr : tl, sizeof tl);
+                }
+                continue;
+            }
+        }
+        /* pop the next pending child that a lane can still find a nearer hit in */
+        int go = 0;
+        while (top > 0 && !go) {
+            top--;
+            ref = stack[top];
+            for (int k = 0; k < LANES; k++) go |= stack_t[top][k] < best[k];
+        }
+        if (!go) return;
+    }
+}
+
+/* packet_walk for nearest hits and for shadow rays. The 8-lane builds compile each once, out of
+ * line: inlined at every trace, the walk made their entry point big enough to slow down scenes
+ * that never walk. The 16-lane build inlines them: out of line it lost on scenes that walk
+ * (docs/PERF.md). */
+#if LANES > 8
+#define WALK_FN LANE_FN
+#else
+#define WALK_FN static __attribute__((noinline))
+#endif
+
+WALK_FN void packet_walk_nearest(const packed_scene *p, const lanes3 *o, const lanes3 *d,
+                                 const int *self, const float *tmin, const int *active, float *best,
+                                 int *id) {
+    packet_walk(p, o, d, self, tmin, active, 0, best, id);
+}
+
+WALK_FN void packet_walk_shadow(const packed_scene *p, const lanes3 *o, const lanes3 *d,
+                                const int *self, const float *tmin, const int *active, float *best,
+                                int *id) {
+    packet_walk(p, o, d, self, tmin, active, 1, best, id);
+}
+
+/* Hits of the active lanes' rays below tmax: id[k] the nearest sphere (-1 none) at t[k], or with
+ * any_hit some sphere nearer than tmax[k]. Small scenes test every sphere for all lanes at once;
+ * in others the lanes walk the BVH together (WALK_GROUP_MIN) or one by one. */
+LANE_FN void packet_trace(const packed_scene *p, const lanes3 *o, const lanes3 *d, const int *self,
+                          const float *tmax, const int *active, int any_hit, int *id, float *t) {
+    float tmin[LANES];
+    int rays = 0;
+    for (int k = 0; k < LANES; k++) {
+        tmin[k] = ray_eps(get3(o, k));
+        t[k] = active[k] ? tmax[k] : -INFINITY; /* nothing is nearer than -inf: lane idle */
+        id[k] = -1;
+        rays += active[k];
+    }
+    integrator_count_rays((uint64_t)rays);
+    uint32_t count = p->frame.sphere_count;
+    if (!integrator_packet_walks(p)) {
+        for (uint32_t s = 0; s < count; s++) packet_sphere(p, s, o, d, self, tmin, 0, t, id);
+    } else if (rays >= (any_hit ? SHADOW_WALK_GROUP_MIN : WALK_GROUP_MIN)) {
+        if (any_hit)
+            packet_walk_shadow(p, o, d, self, tmin, active, t, id);
+        else
+            packet_walk_nearest(p, o, d, self, tmin, active, t, id);
+    } else {
+        for (int k = 0; k < LANES; k++)
+            if (active[k])
+                id[k] = integrator_trace(p, get3(o, k), get3(d, k), self[k], t[k], any_hit, &t[k]);
+    }
+    for (int k = 0; k < LANES; k++) t[k] = active[k] ? t[k] : INFINITY;
+}
+
+#endif

@@ -1,0 +1,31 @@
+/* path_accessors.h: the scene accessors that shaders/common/path.h asks of its includer, over the
+ * packed scene, then path.h itself: for the C path integrators (integrator_path.c, one sample at a
+ * time, and integrator_path_packet.c); the GLSL back end provides the same names
+ * (shaders/trace.comp). */
+#ifndef TRAZADOR_PATH_ACCESSORS_H
+#define TRAZADOR_PATH_ACCESSORS_H
+
+#include "render/cpu/integrator.h"
+
+static inline tz_vec4 sphere_center_radius(const packed_scene *p, int k) {
+    return p->spheres[k].center_radius;
+}
+static inline tz_vec4 sphere_color_ks(const packed_scene *p, int k) {
+    return p->spheres[k].color_ks;
+}
+static inline tz_vec4 sphere_params(const packed_scene *p, int k) { return p->spheres[k].params; }
+static inline tz_vec4 light_position_power(const packed_scene *p, int k) {
+    return p->lights[k].position_power;
+}
+static inline tz_vec4 light_color(const packed_scene *p, int k) { return p->lights[k].color; }
+static inline uint32_t light_count(const packed_scene *p) { return p->frame.light_count; }
+static inline tz_vec4 emitter_emission_pick(const packed_scene *p, int e) {
+    return p->emitters[e].emission_pick;
+}
+static inline tz_vec4 emitter_sphere_cdf(const packed_scene *p, int e) {
+    return p->emitters[e].sphere_cdf;
+}
+
+#include "common/path.h"
+
+#endif

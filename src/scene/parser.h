@@ -1,0 +1,107 @@
+/* parser.h: what the three files of the scene parser share (not an API): the parser's state, the
+ * tokens and key tables of a line, and the lexer's functions. scene_lex.c splits lines into tokens
+ * and reads values and keys; scene_directives.c parses each directive into the scene;
+ * scene_parse.c drives them over a text, in chunks on several threads, and reads files. */
+#ifndef TRAZADOR_SCENE_PARSER_H
+#define TRAZADOR_SCENE_PARSER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "scene/scene.h"
+
+/* A line of SCENE_MAX_LINE bytes holds at most this many space-separated tokens. */
+#define MAX_TOKENS (SCENE_MAX_LINE / 2 + 1)
+/* Characters of a bad token quoted back in an error message. */
+#define MAX_QUOTED_CHARS 60
+/* Keys per directive: the sphere has the most (center radius color ks alpha ior emission). */
+#define MAX_KEYS 7
+
+#define BIT(key) (1u << (key))
+
+typedef struct token {
+    const char *text;
+    int length;
+    int col;
+} token;
+
+/* VALUE_WORD: one of the words listed in the key's `components`, its index the value. */
+typedef enum value_kind { VALUE_NUMBER, VALUE_INTEGER, VALUE_SWITCH, VALUE_WORD } value_kind;
+
+typedef struct key_spec {
+    const char *name;
+    const char *components; /* "x y z" or "r g b" for three numbers, NULL for one value; the
+                             * words of a VALUE_WORD */
+    value_kind kind;
+    double min, max;    /* inclusive range of every value */
+    bool min_exclusive; /* min itself is invalid: radius, plane sizes */
+} key_spec;
+
+/* The values of one directive line, indexed like its key_spec table. */
+typedef struct key_values {
+    unsigned given;            /* bit i set: key i appeared */
+    int key_token[MAX_KEYS];   /* index in parser.tokens, for errors found after parsing */
+    double value[MAX_KEYS][3]; /* numbers already rounded to float; integers exact; on = 1 */
+    int value_token[MAX_KEYS][3];
+} key_values;
+
+typedef struct parser {
+    const char *text;
+    size_t length;
+    const char *filename;
+    scene_error *err;
+    int line;
+    token tokens[MAX_TOKENS];
+    int token_count;
+    scene s;
+    size_t sphere_capacity, light_capacity;
+    /* line of the first camera, plane, background and render directive; 0 while unseen */
+    int camera_line, plane_line, background_line, render_line;
+    int camera_col; /* of the camera position, for the near-clip warning */
+    bool tiny_warned;
+    int emission_line, emission_col; /* the first sphere's emission, an error in seed mode */
+    bool spheres_only;               /* a chunk parsed ahead: any directive but sphere stops it */
+    char number[SCENE_MAX_LINE + 1]; /* a token NUL-terminated for strtod */
+    char quoted[2][MAX_QUOTED_CHARS + 4]; /* two, so one message can quote two tokens */
+    int quoted_next;
+} parser;
+
+/* Records the first error at column col of the current line; always returns false, so that
+ * callers can `return parser_fail(...)`. */
+bool parser_fail(parser *p, int col, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/* Records a warning at line:col for the CLI to print (past SCENE_MAX_WARNINGS, dropped). */
+void parser_warn(parser *p, int line, int col, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+/* The token as a message quotes it, long ones cut; two stay valid at once. */
+const char *parser_quote(parser *p, const token *t);
+/* Whether the token is the word. */
+bool parser_token_is(const token *t, const char *word);
+/* The column just after the line's last token (where a missing value was expected). */
+int parser_end_col(const parser *p);
+/* The largest |coordinate| of v, at least 1: what the ray offset TZ_EPS is scaled by there. */
+float parser_largest_coordinate(vec3 v);
+/* Reads key k's value(s) from token *next on, advancing *next; false (reported) on a bad value. */
+bool parser_values(parser *p, const key_spec *k, int *next, double value[3], int value_token[3]);
+/* Reads `key value...` pairs from token first to the end of the line into kv, the keys of
+ * `accepted` only; owner (and word, when not NULL) name the directive in messages. False
+ * (reported) on an unknown key, a key given twice or a bad value. */
+bool parser_keys_of(parser *p, const char *owner, const char *word, const key_spec *keys,
+                    int key_count, unsigned accepted, int first, key_values *kv);
+/* parser_keys_of for a directive named by owner alone. */
+bool parser_keys(parser *p, const char *owner, const key_spec *keys, int key_count,
+                 unsigned accepted, int first, key_values *kv);
+/* False (reported at the directive word) when a key of `required` is missing. */
+bool parser_require_keys(parser *p, const char *owner, const key_spec *keys, int key_count,
+                         unsigned required, const key_values *kv);
+/* Key's three values, or fallback when not given. */
+vec3 parser_vec3(const key_values *kv, int key, vec3 fallback);
+/* Key's value, or fallback when not given. */
+double parser_value_or(const key_values *kv, int key, double fallback);
+/* Splits one line (without its '\n') into p->tokens; false (reported) on bytes that cannot be
+ * scene text. */
+bool parser_tokenize(parser *p, const char *line, size_t length);
+/* Parses the directive of the tokenized line p->tokens into p->s; false (reported) on any error,
+ * or unreported for a chunk parsed ahead (spheres_only) meeting another directive. */
+bool parser_directive(parser *p);
+
+#endif
