@@ -68,9 +68,6 @@ int integrator_path_list(packet_integrator list[PACKET_VARIANTS_MAX]);
 /* The path-mode build named `wanted` (the names of integrator_packet_choose), chosen as that
  * chooses; never fails (warns, falls back to the fastest). */
 packet_integrator integrator_path_choose(const char *wanted, bool walks_bvh);
-/* The path-mode build that TRAZADOR_PACKET_BUILD names, else the fastest for scenes tested
- * against every sphere (integrator_path_choose(NULL, false)); never fails. */
-packet_integrator integrator_packet_path(void);
 
 /* Nearest sphere hit by the ray o + t d (|d| = 1) with t > EPS, -1 on a miss; `self` is the
  * sphere the ray leaves (-1 for none): its near root is the ray's own origin and is ignored. */

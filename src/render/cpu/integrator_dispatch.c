@@ -149,4 +149,3 @@ packet_integrator integrator_path_choose(const char *wanted, bool walks_bvh) {
     return choose(true, wanted, walks_bvh);
 }
 
-packet_integrator integrator_packet_path(void) { return integrator_path_choose(NULL, false); }

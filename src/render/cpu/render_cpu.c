@@ -62,9 +62,13 @@ static unsigned long long render_lanes(cpu_job *job, int i, int j, uint32_t lane
         uint32_t first = (job->first_chunk + n) * CHUNK_SAMPLES;
         uint32_t end = p->meta.spp - first < CHUNK_SAMPLES ? p->meta.spp : first + CHUNK_SAMPLES;
         float sum[PACKET_LANES_MAX][3] = {{0.0f}}, comp[PACKET_LANES_MAX][3] = {{0.0f}};
+        /* A path build renders the chunk's samples as one run (a lane whose path ends takes the
+         * next sample); they are summed in sample order all the same. */
+        vec3 run[CHUNK_SAMPLES * PACKET_LANES_MAX];
+        if (pk->samples) pk->samples(job->packed, x, y, lanes, first, end - first, run);
         for (uint32_t s = first; s < end; s++) {
-            vec3 l[PACKET_LANES_MAX];
-            pk->sample(job->packed, x, y, lanes, s, l);
+            vec3 *l = run + (size_t)(s - first) * lanes;
+            if (!pk->samples) pk->sample(job->packed, x, y, lanes, s, l);
             for (uint32_t k = 0; k < lanes; k++) {
                 if (!isfinite(l[k].x) || !isfinite(l[k].y) || !isfinite(l[k].z)) {
                     dropped++;
@@ -195,7 +199,7 @@ bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t 
                    .width = p->meta.x1 - p->meta.x0,
                    .height = p->meta.y1 - p->meta.y0};
     job.packet = opts->mode == RENDER_MODE_PATH
-                     ? integrator_packet_path()
+                     ? integrator_path_choose(opts->cpu_build, integrator_packet_walks(&packed))
                      : integrator_packet_choose(opts->cpu_build, integrator_packet_walks(&packed));
     log_debug("cpu back end: packet integrator build %s, %u lanes", job.packet.name,
               job.packet.width);
