@@ -1,6 +1,7 @@
 /* render_choose.c: choosing the back end of a render: the one asked for, or with auto Vulkan
  * when it can render the scene and else the CPU back end, with one line saying why; where every
  * Vulkan device is a CPU, auto takes the engine measured faster for the scene. */
+#include "render/cpu/integrator.h"
 #include "render/part.h"
 #include "render/render.h"
 #include "render/vk/vk_context.h"
@@ -8,18 +9,19 @@
 #include "util/log.h"
 
 /* With only CPU Vulkan devices (lavapipe), whether the CPU back end renders the scene faster,
- * the reason in *why. From `trazador bench --backend both` (docs/PERF.md): lavapipe wins only in
- * path mode on scenes small enough to unroll (cornell_path: 1.4-1.5x the CPU back end); the CPU
- * back end everywhere else (seed mode on small scenes 0.4-0.8x, the scaling table's BVH rows
- * 0.1-0.3x). */
+ * the reason in *why (docs/PERF.md, "Cooperative walk" and "Path mode on the CPU"): the CPU back
+ * end everywhere, but for path mode on scenes small enough to unroll where it has no 16-lane
+ * path build, whose narrower builds are no faster than the one-sample text, which lavapipe
+ * beats there. */
 static bool cpu_faster(const scene *s, const render_opts *opts, const char **why) {
     bool small = s->sphere_count <= TZ_UNROLL_MAX_SPHERES;
-    if (opts->mode == RENDER_MODE_PATH && small) {
-        *why = "path mode on a scene of at most 16 spheres, where lavapipe measured faster";
+    if (opts->mode == RENDER_MODE_PATH && small && integrator_path_choose(NULL, false).width < 16) {
+        *why = "path mode on a scene of at most 16 spheres, no 16-lane CPU build: lavapipe "
+               "measured faster";
         return false;
     }
     *why = opts->mode == RENDER_MODE_PATH
-               ? "path mode through the BVH, where the CPU back end measured faster than lavapipe"
+               ? "path mode, where the CPU back end measured faster than lavapipe"
            : small ? "seed mode, where the CPU back end measured faster than lavapipe"
                    : "seed mode through the BVH, where the CPU back end measured faster than "
                      "lavapipe";
