@@ -30,42 +30,15 @@ static bool cpu_faster(const scene *s, const render_opts *opts, const char **why
 
 bool render_choose(const scene *s, const render_opts *opts, backend_choice backend, film *f,
                    const char **used) {
+    *f = (film){0};
+    part_meta meta;
+    render_part_meta(s, opts, &meta);
+    part p;
     *used = backend == BACKEND_VULKAN ? "vulkan" : "cpu";
-    if (backend == BACKEND_CPU) return render_cpu(s, opts, f);
-    if (backend == BACKEND_VULKAN) return render_vk(s, opts, f);
-    if (vk_context_device_count() == 0) {
-        log_info("no Vulkan device found; rendering with the CPU back end");
-        return render_cpu(s, opts, f);
-    }
-    *used = "vulkan";
-    /* A device or validation asked for (--device, --validate) asks for Vulkan: its verdict stands,
-     * a refusal included. */
-    if (opts->validate || opts->device >= 0) return render_vk(s, opts, f);
-    if (vk_context_cpu_only()) {
-        const char *why;
-        bool cpu = cpu_faster(s, opts, &why);
-        log_debug("auto: the only Vulkan devices are CPUs; the %s back end: %s",
-                  cpu ? "CPU" : "Vulkan", why);
-        if (cpu) {
-            *used = "cpu";
-            return render_cpu(s, opts, f);
-        }
-    }
-    render_stats vk_stats = {0};
-    render_opts tried = *opts;
-    if (!tried.stats) tried.stats = &vk_stats;
-    char reason[RENDER_REASON_SIZE];
-    render_status status = render_vk_try(s, &tried, f, reason);
-    if (status == RENDER_DONE) return true;
-    /* Validation errors fail the run: they say the back end is wrong, not the scene too big. */
-    if (tried.stats->validation_errors > 0) return false;
-    if (status == RENDER_REFUSED)
-        log_info("%s; rendering with the CPU back end instead", reason);
-    else
-        log_info(
-            "the Vulkan back end failed (said above); rendering with the CPU back end instead");
-    *used = "cpu";
-    return render_cpu(s, opts, f);
+    if (!part_init(&p, &meta)) return false;
+    bool ok = render_choose_part(s, opts, backend, &p, meta.spp, used) && part_film(&p, f);
+    part_free(&p);
+    return ok;
 }
 
 bool render_choose_part(const scene *s, const render_opts *opts, backend_choice backend, part *p,
