@@ -16,14 +16,12 @@
 #include "render/scene_pack.h"
 #include "render/vk/vk_context.h"
 #include "render/vk/vk_probe.h"
+#include "render/vk/vk_strategy.h"
 #include "trace_coop_spv.h"
 #include "trace_spv.h"
 #include "util/clock.h"
 #include "util/log.h"
 
-/* Tile side in pixels: one dispatch covers at most one tile, which bounds its duration on real
- * GPUs (watchdogs) and the accumulation band it binds (TILE_SIZE rows of the image). */
-#define TILE_SIZE 256u
 /* Loop passes (about one ray/sphere test each) one dispatch may cost, so that a dispatch stays
  * well under a second on a GPU; samples per dispatch are chosen to fit. */
 #define DISPATCH_BUDGET (UINT64_C(1) << 29)
@@ -41,14 +39,8 @@
  * few invocations take as long as this many would (a 1 x 1 image of a million samples was timed
  * as one loop pass per sample, one submission of 14 s on lavapipe, with no progress). */
 #define MIN_CHARGED_PIXELS 1024u
-/* Loop passes a ray's BVH walk must be allowed at least on lavapipe for a scene to be tried. */
-#define MIN_WALK_BUDGET 256u
 /* The buffers of the packed scene: frame, spheres, lights, BVH nodes and emitters. */
 #define INPUT_BUFFERS 5
-/* Bytes a pixel takes in each accumulation buffer (sums, compensation): a vec4. */
-#define ACCUM_PIXEL_BYTES (4u * sizeof(float))
-/* Bytes a block of a pixel's stack takes: RGB. */
-#define STACK_BLOCK_BYTES (3u * sizeof(float))
 
 /* The specialization constants of trace.comp in constant_id order, one 32-bit word each. */
 typedef struct spec_data {
@@ -71,97 +63,6 @@ typedef struct vk_render {
 } vk_render;
 _Static_assert(TZ_COUNTER_WORDS * sizeof(uint32_t) <= 16,
                "the counters fit before the accumulation");
-
-/* How the shader intersects a scene: every sphere in unrolled tests, a walk of the BVH (bounded on
- * lavapipe), or a loop over every sphere; and the loop passes one sample may cost. */
-typedef struct strategy {
-    uint32_t unrolled_spheres; /* TZ_SPEC_UNROLLED_SPHERES: 0 when not unrolled */
-    bool use_bvh;
-    bool cooperative; /* the subgroup walks the BVH together: the trace_coop module */
-    uint32_t walk;    /* loop passes of a ray's walk (TZ_SPEC_WALK_BUDGET: walk_loop_budget), 0
-                         unlimited */
-    uint64_t sample_iterations;
-} strategy;
-
-/* Whether the subgroup walks the BVH together: only where TRAZADOR_VK_WALK=cooperative asks for
- * it and the device has the subgroup operations. Otherwise (the default, or =invocation) each
- * invocation walks on its own: on lavapipe 22.3 the cooperative walk measured slower
- * (docs/PERF.md), and on GPUs incoherent rays diverge. */
-static bool cooperative_walk(const vk_context *ctx) {
-    const char *walk = getenv("TRAZADOR_VK_WALK");
-    return walk && !strcmp(walk, "cooperative") && vk_context_has_subgroup_walk(ctx);
-}
-
-/* TZ_SPEC_WALK_BUDGET: the passes each walk loop may take. A cooperative ray may run both walks
- * (lanes of the subgroup that disagree on coherence), each loop with its exit pass, so each gets
- * half of the ray's passes; 0 (unlimited) stays 0. */
-static uint32_t walk_loop_budget(const strategy *st) {
-    if (!st->cooperative || st->walk == 0u) return st->walk;
-    return st->walk > 1u ? (st->walk - 1u) / 2u : 1u;
-}
-
-/* Refuses what the device could not render right: scene or accumulation buffers past its limits,
- * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit; false
- * with the reason in `reason` (RENDER_REASON_SIZE bytes), nothing logged. */
-static bool check_limits(const vk_context *ctx, const scene *s, const render_opts *opts,
-                         const strategy *st, int width, int height, uint32_t depth, char *reason) {
-    bool use_bvh = st->use_bvh;
-    uint64_t sample_iterations = st->sample_iterations;
-    if (vk_context_is_lavapipe(ctx) && use_bvh && walk_loop_budget(st) < MIN_WALK_BUDGET) {
-        snprintf(reason, RENDER_REASON_SIZE,
-                 "with %d lights and this bounce limit a ray could walk the BVH only %u loop "
-                 "passes on lavapipe (its shaders stop loops silently after %u)",
-                 s->light_count, walk_loop_budget(st), VK_PROBE_LAVAPIPE_LOOP_LIMIT);
-        return false;
-    }
-    /* One sample an invocation: its passes and the sample loop's exit pass. */
-    if (vk_context_is_lavapipe(ctx) && !use_bvh &&
-        sample_iterations + 1u > VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
-        snprintf(reason, RENDER_REASON_SIZE,
-                 "this scene needs up to %" PRIu64
-                 " loop passes per sample, past lavapipe's safe limit of %u (its shaders stop "
-                 "loops silently after %u%s)",
-                 sample_iterations + 1u, VK_PROBE_LAVAPIPE_SAFE_ITERATIONS,
-                 VK_PROBE_LAVAPIPE_LOOP_LIMIT,
-                 opts->no_bvh ? "; --no-bvh tests every sphere for every ray" : "");
-        return false;
-    }
-    /* The accumulation buffer is addressed with 32-bit dynamic offsets, and drivers cap buffers
-     * below 4 GiB (lavapipe's maxBufferSize is 2^32 - 1): 16384 x 16384 pixels need 2^32 bytes. */
-    uint64_t rows = ((uint64_t)height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
-    uint64_t row_bytes = (uint64_t)width * (ACCUM_PIXEL_BYTES > depth * STACK_BLOCK_BYTES
-                                                ? ACCUM_PIXEL_BYTES
-                                                : depth * STACK_BLOCK_BYTES);
-    uint64_t accum_bytes = rows * row_bytes;
-    if (accum_bytes > UINT32_MAX) {
-        snprintf(reason, RENDER_REASON_SIZE,
-                 "a %d x %d region with %u chunk-tree blocks a pixel needs %" PRIu64
-                 " bytes of accumulation buffer (rows rounded up to whole %u-row tiles), past the "
-                 "4 GiB - 1 the Vulkan back end addresses (at this width %" PRIu64
-                 " rows fit; --region splits the image)",
-                 width, height, depth, accum_bytes, TILE_SIZE,
-                 UINT32_MAX / row_bytes / TILE_SIZE * TILE_SIZE);
-        return false;
-    }
-    const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
-    uint64_t sizes[] = {(uint64_t)s->sphere_count * 3u, (uint64_t)s->light_count * 2u,
-                        (uint64_t)TILE_SIZE * row_bytes,
-                        use_bvh ? (uint64_t)s->sphere_count * 4u : 0u}; /* < 1 node a sphere */
-    uint64_t limit[] = {limits->maxTexelBufferElements, limits->maxTexelBufferElements,
-                        limits->maxStorageBufferRange, limits->maxTexelBufferElements};
-    const char *what[] = {"texels of spheres", "texels of lights", "bytes of accumulation rows",
-                          "texels of BVH nodes"};
-    for (int k = 0; k < 4; k++) {
-        if (sizes[k] > limit[k]) {
-            snprintf(reason, RENDER_REASON_SIZE,
-                     "the scene needs %" PRIu64
-                     " %s in one buffer, past this device's limit of %" PRIu64,
-                     sizes[k], what[k], limit[k]);
-            return false;
-        }
-    }
-    return true;
-}
 
 /* Creates the buffers and writes the packed scene into them (mapped, or through `upload`). */
 static bool create_buffers(vk_render *r, const packed_scene *p, int width, int height,
@@ -519,29 +420,6 @@ static pass_plan plan_passes(const vk_context *ctx, const part *p, uint64_t samp
     return plan;
 }
 
-/* Worst-case loop passes of one sample of the scene's mode when a ray costs what testing
- * `spheres` spheres does (vk_probe.h). */
-static uint64_t sample_iterations(const scene *s, const render_opts *opts, uint32_t spheres) {
-    uint32_t lights = (uint32_t)s->light_count, bounces = (uint32_t)opts->bounces;
-    if (opts->mode != RENDER_MODE_PATH)
-        return vk_probe_sample_iterations(spheres, lights, bounces, opts->indirect);
-    uint32_t emitters = 0;
-    for (int k = 0; k < s->sphere_count; k++) {
-        vec3 e = s->spheres[k].emission;
-        emitters += e.x > 0.0f || e.y > 0.0f || e.z > 0.0f;
-    }
-    return vk_probe_path_iterations(spheres, lights, bounces, emitters);
-}
-
-/* The most passes one ray's BVH walk may take on lavapipe so that a sample, every ray walking
- * that far, stays within the safe limit; 0 when even walks of no length do not fit. */
-static uint32_t walk_budget(const scene *s, const render_opts *opts) {
-    uint64_t fixed = sample_iterations(s, opts, 0u);
-    uint64_t rays = sample_iterations(s, opts, 1u) - fixed;
-    if (fixed + 1u >= VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) return 0u;
-    return (uint32_t)((VK_PROBE_LAVAPIPE_SAFE_ITERATIONS - 1u - fixed) / rays);
-}
-
 static void render_destroy(vk_render *r) {
     vk_context *ctx = &r->ctx;
     if (ctx->device) {
@@ -557,34 +435,11 @@ static void render_destroy(vk_render *r) {
     }
 }
 
-/* Small scenes test every sphere in unrolled loops; bigger ones walk the BVH, each walk bounded on
- * lavapipe by TZ_SPEC_WALK_BUDGET passes as if it tested that many spheres (a guess of 64 sizes
- * the dispatches elsewhere). */
-static strategy choose_strategy(const vk_context *ctx, const scene *s, const render_opts *opts) {
-    uint32_t spheres = (uint32_t)s->sphere_count;
-    strategy st = {.unrolled_spheres = spheres <= TZ_UNROLL_MAX_SPHERES ? spheres : 0u};
-    st.use_bvh = !opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u;
-    st.cooperative = st.use_bvh && cooperative_walk(ctx);
-    bool lavapipe = vk_context_is_lavapipe(ctx);
-    st.walk = st.use_bvh && lavapipe ? walk_budget(s, opts) : 0u;
-    /* Unrolled sphere tests are no loop: a ray then costs only its own loop passes. */
-    uint64_t every_sphere = sample_iterations(s, opts, st.unrolled_spheres ? 0u : spheres);
-    /* Many lights leave each walk too few passes; testing every sphere may still fit. */
-    if (st.use_bvh && lavapipe && walk_loop_budget(&st) < MIN_WALK_BUDGET &&
-        every_sphere < VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
-        st.use_bvh = st.cooperative = false;
-        st.walk = 0u;
-    }
-    st.sample_iterations =
-        st.use_bvh ? sample_iterations(s, opts, lavapipe ? st.walk : 64u) : every_sphere;
-    return st;
-}
-
 /* Compiles trace.comp for the scene (the module with the cooperative walk or the plain one;
  * specialization constants: the strategy, the flags, and the spheres and lights of an unrolled
  * scene), creates the fence and binds the buffers; false (logged) on a Vulkan failure. */
-static bool create_kernel(vk_render *r, const packed_scene *packed, const strategy *st, int width,
-                          uint32_t depth) {
+static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_strategy *st,
+                          int width, uint32_t depth) {
     const VkDescriptorType types[] = {
         [TZ_BINDING_FRAME] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
         [TZ_BINDING_SPHERES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
@@ -608,7 +463,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const strate
                                [TZ_SPEC_UNROLLED_SPHERES] = st->unrolled_spheres,
                                [TZ_SPEC_UNROLLED_LIGHTS] = unroll_lights ? lights : 0u,
                                [TZ_SPEC_FLAGS] = packed->frame.flags,
-                               [TZ_SPEC_WALK_BUDGET] = walk_loop_budget(st),
+                               [TZ_SPEC_WALK_BUDGET] = vk_strategy_walk_loop(st),
                            }};
     /* The unrolled spheres and lights, zero past the scene's (the shader reads none of those). */
     memcpy(constants.scene.spheres, packed->spheres,
@@ -781,7 +636,7 @@ render_status render_vk_part_try(const scene *s, const render_opts *opts, part *
     double t_init = clock_seconds();
     log_debug("vulkan: device %d, %s (%s), instance and device in %.1f ms", r.ctx.device_index,
               r.ctx.properties.deviceName, r.ctx.driver_name, (t_init - t0) * 1e3);
-    strategy st = choose_strategy(&r.ctx, s, opts);
+    vk_strategy st = vk_strategy_choose(&r.ctx, s, opts);
     if (st.use_bvh)
         log_debug("vulkan: BVH walk %s",
                   st.cooperative ? "cooperative (TRAZADOR_VK_WALK=cooperative)" : "per invocation");
@@ -792,7 +647,7 @@ render_status render_vk_part_try(const scene *s, const render_opts *opts, part *
     uint32_t depth = stack_depth(&p->stack, end_chunk);
     bool resumed = p->stack.count > 0;
     double t_pack = clock_seconds();
-    if (!check_limits(&r.ctx, s, opts, &st, width, height, depth, reason) ||
+    if (!vk_strategy_check(&r.ctx, s, opts, &st, width, height, depth, reason) ||
         !scene_pack(s, &packing, &packed))
         goto done;
     scene_pack_report(&packed, opts, t_pack);

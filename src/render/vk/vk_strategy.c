@@ -1,0 +1,140 @@
+/* vk_strategy.c: the Vulkan back end's intersection strategy for a scene and its refusals
+ * (vk_strategy.h), on lavapipe's loop budget model (vk_probe.h). */
+#include "render/vk/vk_strategy.h"
+
+#include <inttypes.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/vk/vk_probe.h"
+#include "shared_layout.h"
+
+/* Loop passes a ray's BVH walk must be allowed at least on lavapipe for a scene to be tried. */
+#define MIN_WALK_BUDGET 256u
+
+/* Whether the subgroup walks the BVH together: only where TRAZADOR_VK_WALK=cooperative asks for
+ * it and the device has the subgroup operations. Otherwise (the default, or =invocation) each
+ * invocation walks on its own: on lavapipe 22.3 the cooperative walk measured slower
+ * (docs/PERF.md), and on GPUs incoherent rays diverge. */
+static bool cooperative_walk(const vk_context *ctx) {
+    const char *walk = getenv("TRAZADOR_VK_WALK");
+    return walk && !strcmp(walk, "cooperative") && vk_context_has_subgroup_walk(ctx);
+}
+
+/* TZ_SPEC_WALK_BUDGET: the passes each walk loop may take. A cooperative ray may run both walks
+ * (lanes of the subgroup that disagree on coherence), each loop with its exit pass, so each gets
+ * half of the ray's passes; 0 (unlimited) stays 0. */
+uint32_t vk_strategy_walk_loop(const vk_strategy *st) {
+    if (!st->cooperative || st->walk == 0u) return st->walk;
+    return st->walk > 1u ? (st->walk - 1u) / 2u : 1u;
+}
+
+/* Refuses what the device could not render right: scene or accumulation buffers past its limits,
+ * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit; false
+ * with the reason in `reason` (RENDER_REASON_SIZE bytes), nothing logged. */
+bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts *opts,
+                       const vk_strategy *st, int width, int height, uint32_t depth, char *reason) {
+    bool use_bvh = st->use_bvh;
+    uint64_t sample_iterations = st->sample_iterations;
+    if (vk_context_is_lavapipe(ctx) && use_bvh && vk_strategy_walk_loop(st) < MIN_WALK_BUDGET) {
+        snprintf(reason, RENDER_REASON_SIZE,
+                 "with %d lights and this bounce limit a ray could walk the BVH only %u loop "
+                 "passes on lavapipe (its shaders stop loops silently after %u)",
+                 s->light_count, vk_strategy_walk_loop(st), VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+        return false;
+    }
+    /* One sample an invocation: its passes and the sample loop's exit pass. */
+    if (vk_context_is_lavapipe(ctx) && !use_bvh &&
+        sample_iterations + 1u > VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
+        snprintf(reason, RENDER_REASON_SIZE,
+                 "this scene needs up to %" PRIu64
+                 " loop passes per sample, past lavapipe's safe limit of %u (its shaders stop "
+                 "loops silently after %u%s)",
+                 sample_iterations + 1u, VK_PROBE_LAVAPIPE_SAFE_ITERATIONS,
+                 VK_PROBE_LAVAPIPE_LOOP_LIMIT,
+                 opts->no_bvh ? "; --no-bvh tests every sphere for every ray" : "");
+        return false;
+    }
+    /* The accumulation buffer is addressed with 32-bit dynamic offsets, and drivers cap buffers
+     * below 4 GiB (lavapipe's maxBufferSize is 2^32 - 1): 16384 x 16384 pixels need 2^32 bytes. */
+    uint64_t rows = ((uint64_t)height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
+    uint64_t row_bytes = (uint64_t)width * (ACCUM_PIXEL_BYTES > depth * STACK_BLOCK_BYTES
+                                                ? ACCUM_PIXEL_BYTES
+                                                : depth * STACK_BLOCK_BYTES);
+    uint64_t accum_bytes = rows * row_bytes;
+    if (accum_bytes > UINT32_MAX) {
+        snprintf(reason, RENDER_REASON_SIZE,
+                 "a %d x %d region with %u chunk-tree blocks a pixel needs %" PRIu64
+                 " bytes of accumulation buffer (rows rounded up to whole %u-row tiles), past the "
+                 "4 GiB - 1 the Vulkan back end addresses (at this width %" PRIu64
+                 " rows fit; --region splits the image)",
+                 width, height, depth, accum_bytes, TILE_SIZE,
+                 UINT32_MAX / row_bytes / TILE_SIZE * TILE_SIZE);
+        return false;
+    }
+    const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
+    uint64_t sizes[] = {(uint64_t)s->sphere_count * 3u, (uint64_t)s->light_count * 2u,
+                        (uint64_t)TILE_SIZE * row_bytes,
+                        use_bvh ? (uint64_t)s->sphere_count * 4u : 0u}; /* < 1 node a sphere */
+    uint64_t limit[] = {limits->maxTexelBufferElements, limits->maxTexelBufferElements,
+                        limits->maxStorageBufferRange, limits->maxTexelBufferElements};
+    const char *what[] = {"texels of spheres", "texels of lights", "bytes of accumulation rows",
+                          "texels of BVH nodes"};
+    for (int k = 0; k < 4; k++) {
+        if (sizes[k] > limit[k]) {
+            snprintf(reason, RENDER_REASON_SIZE,
+                     "the scene needs %" PRIu64
+                     " %s in one buffer, past this device's limit of %" PRIu64,
+                     sizes[k], what[k], limit[k]);
+            return false;
+        }
+    }
+    return true;
+}
+
+/* Worst-case loop passes of one sample of the scene's mode when a ray costs what testing
+ * `spheres` spheres does (vk_probe.h). */
+static uint64_t sample_iterations(const scene *s, const render_opts *opts, uint32_t spheres) {
+    uint32_t lights = (uint32_t)s->light_count, bounces = (uint32_t)opts->bounces;
+    if (opts->mode != RENDER_MODE_PATH)
+        return vk_probe_sample_iterations(spheres, lights, bounces, opts->indirect);
+    uint32_t emitters = 0;
+    for (int k = 0; k < s->sphere_count; k++) {
+        vec3 e = s->spheres[k].emission;
+        emitters += e.x > 0.0f || e.y > 0.0f || e.z > 0.0f;
+    }
+    return vk_probe_path_iterations(spheres, lights, bounces, emitters);
+}
+
+/* The most passes one ray's BVH walk may take on lavapipe so that a sample, every ray walking
+ * that far, stays within the safe limit; 0 when even walks of no length do not fit. */
+static uint32_t walk_budget(const scene *s, const render_opts *opts) {
+    uint64_t fixed = sample_iterations(s, opts, 0u);
+    uint64_t rays = sample_iterations(s, opts, 1u) - fixed;
+    if (fixed + 1u >= VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) return 0u;
+    return (uint32_t)((VK_PROBE_LAVAPIPE_SAFE_ITERATIONS - 1u - fixed) / rays);
+}
+
+/* Small scenes test every sphere in unrolled loops; bigger ones walk the BVH, each walk bounded on
+ * lavapipe by TZ_SPEC_WALK_BUDGET passes as if it tested that many spheres (a guess of 64 sizes
+ * the dispatches elsewhere). */
+vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const render_opts *opts) {
+    uint32_t spheres = (uint32_t)s->sphere_count;
+    vk_strategy st = {.unrolled_spheres = spheres <= TZ_UNROLL_MAX_SPHERES ? spheres : 0u};
+    st.use_bvh = !opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u;
+    st.cooperative = st.use_bvh && cooperative_walk(ctx);
+    bool lavapipe = vk_context_is_lavapipe(ctx);
+    st.walk = st.use_bvh && lavapipe ? walk_budget(s, opts) : 0u;
+    /* Unrolled sphere tests are no loop: a ray then costs only its own loop passes. */
+    uint64_t every_sphere = sample_iterations(s, opts, st.unrolled_spheres ? 0u : spheres);
+    /* Many lights leave each walk too few passes; testing every sphere may still fit. */
+    if (st.use_bvh && lavapipe && vk_strategy_walk_loop(&st) < MIN_WALK_BUDGET &&
+        every_sphere < VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
+        st.use_bvh = st.cooperative = false;
+        st.walk = 0u;
+    }
+    st.sample_iterations =
+        st.use_bvh ? sample_iterations(s, opts, lavapipe ? st.walk : 64u) : every_sphere;
+    return st;
+}

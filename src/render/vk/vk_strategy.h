@@ -1,0 +1,42 @@
+/* vk_strategy.h: how the Vulkan back end renders a scene on a device: the tile size and the
+ * accumulation's bytes a pixel, the intersection strategy (unrolled spheres, a BVH walk bounded
+ * on lavapipe, every sphere) and the refusals of what the device could not render right. */
+#ifndef TRAZADOR_VK_STRATEGY_H
+#define TRAZADOR_VK_STRATEGY_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "render/render.h"
+#include "render/vk/vk_context.h"
+
+/* Tile side in pixels: one dispatch covers at most one tile, which bounds its duration on real
+ * GPUs (watchdogs) and the accumulation band it binds (TILE_SIZE rows of the image). */
+#define TILE_SIZE 256u
+/* Bytes a pixel takes in each accumulation buffer (sums, compensation): a vec4. */
+#define ACCUM_PIXEL_BYTES (4u * sizeof(float))
+/* Bytes a block of a pixel's stack takes: RGB. */
+#define STACK_BLOCK_BYTES (3u * sizeof(float))
+
+/* How the shader intersects a scene: every sphere in unrolled tests, a walk of the BVH (bounded on
+ * lavapipe), or a loop over every sphere; and the loop passes one sample may cost. */
+typedef struct vk_strategy {
+    uint32_t unrolled_spheres; /* TZ_SPEC_UNROLLED_SPHERES: 0 when not unrolled */
+    bool use_bvh;
+    bool cooperative; /* the subgroup walks the BVH together: the trace_coop module */
+    uint32_t walk;    /* loop passes of a ray's walk (TZ_SPEC_WALK_BUDGET: vk_strategy_walk_loop), 0
+                         unlimited */
+    uint64_t sample_iterations;
+} vk_strategy;
+
+/* The strategy for the scene on this device; never fails. */
+vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const render_opts *opts);
+/* TZ_SPEC_WALK_BUDGET: the passes each walk loop may take (0 unlimited); never fails. */
+uint32_t vk_strategy_walk_loop(const vk_strategy *st);
+/* False, with the reason in `reason` (RENDER_REASON_SIZE bytes) and nothing logged, when the
+ * device could not render a width x height region with `depth` chunk-tree blocks a pixel right:
+ * buffers past its limits, or on lavapipe loop work that could reach its silent loop limit. */
+bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts *opts,
+                       const vk_strategy *st, int width, int height, uint32_t depth, char *reason);
+
+#endif
