@@ -135,19 +135,27 @@ struct gpu_emitter {
     TZ_VEC4 sphere_cdf;    /* x its sphere's index (uint bits), y the running sum of picks */
 };
 
+/* Samples of a chunk of the chunk tree (src/render/chunk_tree.h: CHUNK_SAMPLES). */
+#define TZ_CHUNK_SAMPLES 16u
+/* The most chunks one dispatch spans: fewer dispatches, so fewer joins of lavapipe's threads. */
+#define TZ_PASS_CHUNKS 8
 /* Push constants of one dispatch: which tile of the region and which samples (count >= 1, taken
- * in order, all within one chunk of CHUNK_SAMPLES), and where the chunk goes on the pixel's stack
- * of chunk-tree blocks (src/render/chunk_tree.h) when the dispatch closes it. */
+ * in order, over chunk_count chunks of TZ_CHUNK_SAMPLES), and where each chunk it closes goes on
+ * the pixel's stack of chunk-tree blocks (src/render/chunk_tree.h). */
 struct gpu_pass {
     TZ_UINT x0, y0; /* the tile's corner in pixels of the region */
     TZ_UINT first_sample, sample_count;
     TZ_UINT group_stride;         /* workgroup stride (see trace.comp) */
     TZ_UINT region_x0, region_y0; /* the region's corner in the image */
     TZ_UINT region_width, region_height;
-    TZ_UINT chunk_flags;             /* TZ_CHUNK_OPEN: restart the sums; TZ_CHUNK_CLOSE: push */
-    TZ_UINT stack_top, stack_merges; /* chunk_stack_push: where the value goes, merges after */
-    TZ_UINT stack_depth;             /* blocks a pixel has room for in TZ_BINDING_STACK */
-    TZ_UINT pad0, pad1, pad2;        /* 0: 64 bytes, as the C asserts check */
+    TZ_UINT chunk_flags; /* TZ_CHUNK_OPEN: restart the first chunk's sums; TZ_CHUNK_CLOSE: push
+                          * the last one */
+    TZ_UINT chunk_count; /* chunks the samples span, 1 to TZ_PASS_CHUNKS: the first and the last
+                          * as the flags say, the others whole */
+    TZ_UINT stack_depth; /* blocks a pixel has room for in TZ_BINDING_STACK */
+    TZ_UINT pad0, pad1, pad2, pad3; /* 0 */
+    /* chunk_stack_push for chunk c: where its value goes (low 16 bits), merges after (high) */
+    TZ_UINT stack_slot[TZ_PASS_CHUNKS];
 };
 #define TZ_CHUNK_OPEN 1u
 #define TZ_CHUNK_CLOSE 2u

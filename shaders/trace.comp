@@ -152,43 +152,54 @@ void main() {
     uint i = pass.region_x0 + ri;
     uint j = pass.region_y0 + rj;
     uint slot = at.y * pass.region_width + ri;
-    /* A chunk's sums start from zero (chunk_tree.h); the count goes on over the whole part. */
-    bool open = (pass.chunk_flags & TZ_CHUNK_OPEN) != 0u;
-    precise vec4 sum = open ? vec4(0.0, 0.0, 0.0, accum[slot].w) : accum[slot];
-    vec3 comp = open ? vec3(0.0) : accum_comp[slot].xyz;
+    /* A chunk's sums start from zero (chunk_tree.h); the count goes on over the whole part. The
+     * samples span pass.chunk_count chunks: the first opens as the flags say, the last closes as
+     * they say, the ones between are whole. */
+    precise vec4 sum = accum[slot];
+    vec3 comp = accum_comp[slot].xyz;
     uint dropped = 0u, overflowed = 0u;
     loop_overflow = false;
     rays_traced = 0u;
-    for (uint k = 0u; k < pass.sample_count; k++) {
-        vec3 l = (FLAGS & TZ_FLAG_PATH) != 0u ? path_sample(i, j, pass.first_sample + k)
-                                              : integrator_sample(i, j, pass.first_sample + k);
-        if (loop_overflow) { /* a walk was cut short: the sample would be wrong */
-            overflowed++;
-            loop_overflow = false;
-            continue;
+    uint s = pass.first_sample, left = pass.sample_count;
+    for (uint c = 0u; c < pass.chunk_count; c++) {
+        if (c > 0u || (pass.chunk_flags & TZ_CHUNK_OPEN) != 0u) {
+            sum = vec4(0.0, 0.0, 0.0, sum.w);
+            comp = vec3(0.0);
         }
-        if (finite3(l)) {
-            vec3 rgb = sum.xyz;
-            film_sum_add(rgb, comp, l);
-            sum = vec4(rgb, sum.w + 1.0);
-        } else {
-            dropped++;
+        bool last = c + 1u == pass.chunk_count;
+        uint n = last ? left : TZ_CHUNK_SAMPLES - s % TZ_CHUNK_SAMPLES;
+        for (uint k = 0u; k < n; k++) {
+            vec3 l = (FLAGS & TZ_FLAG_PATH) != 0u ? path_sample(i, j, s + k)
+                                                  : integrator_sample(i, j, s + k);
+            if (loop_overflow) { /* a walk was cut short: the sample would be wrong */
+                overflowed++;
+                loop_overflow = false;
+                continue;
+            }
+            if (finite3(l)) {
+                vec3 rgb = sum.xyz;
+                film_sum_add(rgb, comp, l);
+                sum = vec4(rgb, sum.w + 1.0);
+            } else {
+                dropped++;
+            }
+        }
+        s += n;
+        left -= n;
+        if (!last || (pass.chunk_flags & TZ_CHUNK_CLOSE) != 0u) {
+            /* film_sum_value(), then chunk_values_push(): each merge is left + right */
+            precise vec3 value = sum.xyz - comp;
+            uint top = pass.stack_slot[c] & 0xffffu;
+            for (uint m = 0u; m < pass.stack_slot[c] >> 16u; m++) {
+                top--;
+                precise vec3 left_value = stack_load(slot, top);
+                value = left_value + value;
+            }
+            stack_store(slot, top, value);
         }
     }
     accum[slot] = sum;
-    if ((pass.chunk_flags & TZ_CHUNK_CLOSE) != 0u) {
-        /* film_sum_value(), then chunk_values_push(): each merge is left + right */
-        precise vec3 value = sum.xyz - comp;
-        uint top = pass.stack_top;
-        for (uint m = 0u; m < pass.stack_merges; m++) {
-            top--;
-            precise vec3 left = stack_load(slot, top);
-            value = left + value;
-        }
-        stack_store(slot, top, value);
-    } else {
-        accum_comp[slot] = vec4(comp, 0.0);
-    }
+    if ((pass.chunk_flags & TZ_CHUNK_CLOSE) == 0u) accum_comp[slot] = vec4(comp, 0.0);
     if (dropped > 0u) atomicAdd(nonfinite, dropped);
     if (overflowed > 0u) atomicAdd(overflow, overflowed);
     uint before = atomicAdd(rays, rays_traced);

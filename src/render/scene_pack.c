@@ -42,13 +42,15 @@ _Static_assert(offsetof(struct gpu_frame, flags) == 104, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, node_count) == 108, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, near_distance) == 112, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, emitter_count) == 116, "gpu_frame layout");
-_Static_assert(sizeof(struct gpu_pass) == 64, "gpu_pass is 64 bytes");
+_Static_assert(sizeof(struct gpu_pass) == 64 + 4 * TZ_PASS_CHUNKS, "gpu_pass is 96 bytes");
+_Static_assert(sizeof(struct gpu_pass) <= 128, "gpu_pass fits the push constants of any device");
+_Static_assert(offsetof(struct gpu_pass, stack_slot) == 64, "gpu_pass layout");
 _Static_assert(offsetof(struct gpu_pass, x0) == 0, "gpu_pass layout");
 _Static_assert(offsetof(struct gpu_pass, y0) == 4, "gpu_pass layout");
 _Static_assert(offsetof(struct gpu_pass, first_sample) == 8, "gpu_pass layout");
 _Static_assert(offsetof(struct gpu_pass, sample_count) == 12, "gpu_pass layout");
 _Static_assert(offsetof(struct gpu_pass, group_stride) == 16, "gpu_pass layout");
-_Static_assert(offsetof(struct gpu_pass, stack_depth) == 48, "gpu_pass layout");
+_Static_assert(offsetof(struct gpu_pass, stack_depth) == 44, "gpu_pass layout");
 
 _Static_assert(sizeof(struct gpu_unrolled) == TZ_UNROLL_MAX_SPHERES * sizeof(struct gpu_sphere) +
                                                   TZ_UNROLL_MAX_LIGHTS * sizeof(struct gpu_light),

@@ -191,6 +191,7 @@ typedef struct pass_plan {
     uint32_t region_x0, region_y0;
     uint32_t spp;               /* samples per pixel of the whole render */
     uint32_t per_dispatch;      /* samples one invocation renders, in order, within a chunk */
+    uint32_t group;             /* whole chunks a dispatch spans when per_dispatch is a chunk */
     uint32_t passes_per_submit; /* dispatch passes */
     uint32_t depth;             /* stack blocks a pixel has room for */
     /* The host pass being run: chunks first_chunk to first_chunk + chunks - 1, ending at sample
@@ -199,6 +200,7 @@ typedef struct pass_plan {
     const chunk_slot *slot;
 } pass_plan;
 
+_Static_assert(TZ_CHUNK_SAMPLES == CHUNK_SAMPLES, "the shader's chunks are the tree's");
 /* A dispatch has at most (TILE_SIZE / 8) x (TILE_SIZE / 4) workgroups. */
 _Static_assert((uint64_t)(TILE_SIZE / TZ_GROUP_X) * (TILE_SIZE / TZ_GROUP_Y) *
                        (TILE_SIZE / TZ_GROUP_X) * (TILE_SIZE / TZ_GROUP_Y) <=
@@ -232,6 +234,12 @@ static uint32_t plan_subpasses(const pass_plan *plan) {
     return (CHUNK_SAMPLES + plan->per_dispatch - 1u) / plan->per_dispatch;
 }
 
+/* Dispatch passes of the host pass: groups of whole chunks, or each chunk in subpasses. */
+static uint32_t plan_passes_of(const pass_plan *plan) {
+    if (plan->group > 1u) return (plan->chunks + plan->group - 1u) / plan->group;
+    return plan->chunks * plan_subpasses(plan);
+}
+
 /* Records steps [first, last) of the host pass: one dispatch per tile, a barrier before each
  * dispatch pass (and at the first step), each tile's row band bound at its first row through
  * the dynamic offsets. Dispatch pass d is pass d % subpasses of chunk first_chunk + d /
@@ -243,14 +251,20 @@ static void record_steps(vk_render *r, const pass_plan *plan, uint64_t first, ui
     uint32_t subs = plan_subpasses(plan);
     for (uint64_t step = first; step < last; step++) {
         uint32_t pass = (uint32_t)(step / tiles), tile = (uint32_t)(step % tiles);
-        uint32_t k = pass / subs, sub = pass % subs, chunk = plan->first_chunk + k;
-        uint32_t chunk_begin = chunk * CHUNK_SAMPLES;
+        /* chunks k to k + spans - 1 of the host pass, from subpass sub of the first */
+        uint32_t group = plan->group > 1u ? plan->group : 1u;
+        uint32_t k = plan->group > 1u ? pass * group : pass / subs;
+        uint32_t sub = plan->group > 1u ? 0u : pass % subs;
+        uint32_t spans = plan->chunks - k < group ? plan->chunks - k : group;
+        uint32_t chunk = plan->first_chunk + k, last_chunk = chunk + spans - 1u;
+        uint32_t chunk_begin = last_chunk * CHUNK_SAMPLES;
         uint32_t chunk_end =
             plan->spp - chunk_begin < CHUNK_SAMPLES ? plan->spp : chunk_begin + CHUNK_SAMPLES;
-        uint32_t sample = chunk_begin + sub * plan->per_dispatch;
+        uint32_t sample = chunk * CHUNK_SAMPLES + sub * plan->per_dispatch;
         if (sample >= chunk_end) continue; /* the render's last chunk is short */
-        uint32_t count =
-            chunk_end - sample < plan->per_dispatch ? chunk_end - sample : plan->per_dispatch;
+        uint32_t count = spans > 1u                                ? chunk_end - sample
+                         : chunk_end - sample < plan->per_dispatch ? chunk_end - sample
+                                                                   : plan->per_dispatch;
         /* Each pass reads and writes what the one before wrote: samples add in order. */
         if (tile == 0u || step == first)
             vk_commands_barrier(
@@ -283,9 +297,10 @@ static void record_steps(vk_render *r, const pass_plan *plan, uint64_t first, ui
                                 .region_width = plan->width,
                                 .region_height = plan->height,
                                 .chunk_flags = flags,
-                                .stack_top = plan->slot[k].top,
-                                .stack_merges = plan->slot[k].merges,
+                                .chunk_count = spans,
                                 .stack_depth = plan->depth};
+        for (uint32_t c = 0; c < spans; c++)
+            push.stack_slot[c] = plan->slot[k + c].top | plan->slot[k + c].merges << 16u;
         vkCmdPushConstants(cmd, r->kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push,
                            &push);
         vkCmdDispatch(cmd, gx, gy, 1);
@@ -338,7 +353,7 @@ typedef struct pass_run {
 static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *opts,
                        const pass_run *run, uint64_t *nonfinite, uint64_t *rays, char *refusal) {
     vk_context *ctx = &r->ctx;
-    uint32_t passes = plan->chunks * plan_subpasses(plan);
+    uint32_t passes = plan_passes_of(plan);
     uint64_t tiles = plan_tiles(plan), steps = (uint64_t)passes * tiles;
     uint64_t per_submit = (uint64_t)plan->passes_per_submit * tiles;
     if (opts->progress) {
@@ -408,11 +423,15 @@ static pass_plan plan_passes(const vk_context *ctx, const part *p, uint64_t samp
     if (pixels < MIN_CHARGED_PIXELS) pixels = MIN_CHARGED_PIXELS;
     uint64_t whole = SUBMIT_BUDGET / pixels / sample_iterations;
     if (whole < per_dispatch) per_dispatch = whole;
+    /* Whole chunks, up to TZ_PASS_CHUNKS, where a dispatch has room for more than one. */
+    uint64_t group = per_dispatch / CHUNK_SAMPLES;
+    plan.group = group > TZ_PASS_CHUNKS ? TZ_PASS_CHUNKS : group > 1u ? (uint32_t)group : 1u;
     if (per_dispatch > CHUNK_SAMPLES) per_dispatch = CHUNK_SAMPLES;
     if (per_dispatch > plan.spp) per_dispatch = plan.spp;
     plan.per_dispatch = per_dispatch ? (uint32_t)per_dispatch : 1u;
     uint64_t pass_cost; /* saturated: 16384^2 pixels of 4096 lights, 2^24 spheres, --no-bvh */
-    if (__builtin_mul_overflow(pixels * plan.per_dispatch, sample_iterations, &pass_cost))
+    if (__builtin_mul_overflow(pixels * plan.per_dispatch * plan.group, sample_iterations,
+                               &pass_cost))
         pass_cost = UINT64_MAX;
     uint64_t per_submit = SUBMIT_BUDGET / pass_cost;
     plan.passes_per_submit =
