@@ -1,9 +1,10 @@
 /* trace.comp: the per-sample compute entry point. One invocation renders `pass.sample_count`
- * samples (in sample order, within one chunk) of one pixel of the tile at (pass.x0, pass.y0) of
- * the region and adds each finite one to the chunk's compensated sums exactly as the C back end
- * does, then, closing the chunk, pushes its value on the pixel's stack of chunk-tree blocks;
- * non-finite samples are counted instead. integrator_sample() is the one of src/render/cpu/integrator.c, on the same shared
- * steps (shaders/common/). Declares the bindings and the scene accessors the included files
+ * samples (in sample order, over pass.chunk_count chunks) of one pixel of the tile at (pass.x0,
+ * pass.y0) of the region and adds each finite one to its chunk's compensated sums exactly as the
+ * C back end does, pushing each chunk it closes on the pixel's stack of chunk-tree blocks;
+ * non-finite samples are counted instead. integrator_sample() is the one of
+ * src/render/cpu/integrator.c and path_sample() that of shaders/common/path.h, on the shared
+ * steps of shaders/common/. Declares the bindings and the scene accessors the included files
  * use. */
 #version 450
 #extension GL_GOOGLE_include_directive : require
