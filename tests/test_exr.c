@@ -147,26 +147,6 @@ static void test_image_round_trip(void) {
     image_free(&img);
 }
 
-static unsigned char *slurp(const char *path, size_t *len) {
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return NULL;
-    fseek(fp, 0, SEEK_END);
-    long n = ftell(fp);
-    fseek(fp, 0, SEEK_SET);
-    unsigned char *buf = malloc((size_t)n);
-    *len = fread(buf, 1, (size_t)n, fp);
-    fclose(fp);
-    return buf;
-}
-
-static void write_bytes(const char *path, const unsigned char *data, size_t len) {
-    FILE *fp = fopen(path, "wb");
-    if (fp) {
-        fwrite(data, 1, len, fp);
-        fclose(fp);
-    }
-}
-
 /* Every truncation of a valid file, and bytes flipped through it, are refused (or, for a flip in
  * pixel data that ZIP does not notice, read as a whole image), never a crash; the message names
  * the file. A text file and a missing file are refused too. */
@@ -177,11 +157,11 @@ static void test_damaged_files(void) {
     const char *good = tmp_path("good.exr"), *bad = tmp_path("damaged.exr");
     EXPECT(exr_write_image(good, &img, false));
     size_t len = 0;
-    unsigned char *data = slurp(good, &len);
+    unsigned char *data = tmp_file_read(good, &len);
     EXPECT(data && len > 100);
     int accepted = 0, unnamed = 0;
     for (size_t cut = 0; data && cut < len; cut += cut < 400 ? 1 : 97) {
-        write_bytes(bad, data, cut);
+        tmp_file_write(bad, data, cut);
         image back;
         log_hold_errors();
         bool ok = exr_read_image(bad, &back);
@@ -198,7 +178,7 @@ static void test_damaged_files(void) {
         memcpy(copy, data, len);
         size_t at = next_u32() % len;
         copy[at] ^= (unsigned char)(1u + next_u32() % 255u);
-        write_bytes(bad, copy, len);
+        tmp_file_write(bad, copy, len);
         image back;
         log_hold_errors();
         bool ok = exr_read_image(bad, &back);
@@ -211,7 +191,7 @@ static void test_damaged_files(void) {
         free(copy);
     }
     CHECK(flips_refused > 0, "no flipped file was refused");
-    write_bytes(bad, (const unsigned char *)"P3\n1 1\n255\n0 0 0\n", 17);
+    tmp_file_write(bad, (const unsigned char *)"P3\n1 1\n255\n0 0 0\n", 17);
     log_hold_errors();
     image back;
     EXPECT(!exr_read_image(bad, &back));

@@ -20,30 +20,6 @@
 #include "util/atomic_file.h"
 #include "util/log.h"
 
-static void write_file(const char *path, const void *data, size_t len) {
-    FILE *fp = fopen(path, "wb");
-    if (!fp || fwrite(data, 1, len, fp) != len || fclose(fp) != 0) {
-        printf("cannot write %s\n", path);
-        exit(1);
-    }
-}
-
-/* The whole file, or NULL; *len its size. */
-static unsigned char *slurp(const char *path, size_t *len) {
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return NULL;
-    unsigned char *buf = NULL;
-    size_t n = 0, cap = 0, got;
-    do {
-        if (n == cap) buf = realloc(buf, cap = cap * 2 + 4096);
-        got = fread(buf + n, 1, cap - n, fp);
-        n += got;
-    } while (got > 0);
-    fclose(fp);
-    *len = n;
-    return buf;
-}
-
 static int count_entries(const char *dir) {
     DIR *d = opendir(dir);
     if (!d) return -1;
@@ -257,7 +233,7 @@ static void test_ppm_bytes(void) {
     make_8bit_image(&src, TONEMAP_SRGB);
     EXPECT(image_write(tmp_path("bytes.ppm"), &src, TONEMAP_SRGB));
     size_t len;
-    unsigned char *data = slurp(tmp_path("bytes.ppm"), &len);
+    unsigned char *data = tmp_file_read(tmp_path("bytes.ppm"), &len);
     const char header[] = "P6\n6 5\n255\n";
     size_t hl = sizeof header - 1;
     EXPECT(data && len == hl + W * H * 3);
@@ -286,7 +262,7 @@ static void test_pfm_bytes(void) {
     make_float_image(&src);
     EXPECT(image_write(tmp_path("bytes.pfm"), &src, TONEMAP_SRGB));
     size_t len;
-    unsigned char *data = slurp(tmp_path("bytes.pfm"), &len);
+    unsigned char *data = tmp_file_read(tmp_path("bytes.pfm"), &len);
     const char header[] = "PF\n6 5\n-1.0\n";
     size_t hl = sizeof header - 1;
     EXPECT(data && len == hl + W * H * 12);
@@ -311,7 +287,7 @@ static void test_pfm_big_endian_and_gray(void) {
         "PF\n2 1\n1.0\n"
         "\x3f\x80\x00\x00\x40\x00\x00\x00\x40\x40\x00\x00"
         "\xc0\x80\x00\x00\x3f\x00\x00\x00\x3e\x80\x00\x00";
-    write_file(tmp_path("be.pfm"), be, sizeof be - 1);
+    tmp_file_write(tmp_path("be.pfm"), be, sizeof be - 1);
     image img;
     EXPECT(image_read(tmp_path("be.pfm"), &img, TONEMAP_SRGB));
     float want_be[] = {1.0f, 2.0f, 3.0f, -4.0f, 0.5f, 0.25f};
@@ -323,7 +299,7 @@ static void test_pfm_big_endian_and_gray(void) {
     unsigned char gray[] =
         "Pf\n2 2\n-1\n"
         "\x00\x00\x80\x3f\x00\x00\x00\x40\x00\x00\x40\x40\x00\x00\x80\x40";
-    write_file(tmp_path("gray.pfm"), gray, sizeof gray - 1);
+    tmp_file_write(tmp_path("gray.pfm"), gray, sizeof gray - 1);
     EXPECT(image_read(tmp_path("gray.pfm"), &img, TONEMAP_SRGB));
     float want_gray[] = {3, 3, 3, 4, 4, 4, 1, 1, 1, 2, 2, 2};
     image ref_gray = {2, 2, want_gray};
@@ -333,7 +309,7 @@ static void test_pfm_big_endian_and_gray(void) {
 
 static void test_ppm_comments_and_p3(void) {
     unsigned char p6[] = "P6\n# a comment\n2 # width\n1\n255\n\x00\x80\xff\x01\x02\x03";
-    write_file(tmp_path("comments.ppm"), p6, sizeof p6 - 1);
+    tmp_file_write(tmp_path("comments.ppm"), p6, sizeof p6 - 1);
     float want[6];
     const uint8_t bytes[] = {0, 128, 255, 1, 2, 3};
     for (int i = 0; i < 6; i++) want[i] = tonemap_decode(bytes[i], TONEMAP_LINEAR);
@@ -343,7 +319,7 @@ static void test_ppm_comments_and_p3(void) {
     image_free(&img);
 
     const char p3[] = "P3\n# ascii\n2 1\n255\n0 128 255\n1 2 3\n";
-    write_file(tmp_path("ascii.ppm"), p3, sizeof p3 - 1);
+    tmp_file_write(tmp_path("ascii.ppm"), p3, sizeof p3 - 1);
     EXPECT(image_read(tmp_path("ascii.ppm"), &img, TONEMAP_LINEAR));
     EXPECT(same_image(&img, &ref));
     image_free(&img);
@@ -363,7 +339,7 @@ static void test_extension_case(void) {
 
 static bool file_is(const char *path, const char *content) {
     size_t len;
-    unsigned char *data = slurp(path, &len);
+    unsigned char *data = tmp_file_read(path, &len);
     bool same = data && len == strlen(content) && memcmp(data, content, len) == 0;
     free(data);
     return same;
@@ -375,10 +351,10 @@ static void test_write_errors(void) {
     const char *keep = tmp_path("werr/keep.bmp"), *noext = tmp_path("werr/noext");
     const char *missing = tmp_path("werr/missing/out.ppm"), *blocked = tmp_path("werr/blocked.ppm");
     const char *inner = tmp_path("werr/blocked.ppm/inside");
-    write_file(keep, "original", 8);
-    write_file(noext, "original", 8);
+    tmp_file_write(keep, "original", 8);
+    tmp_file_write(noext, "original", 8);
     mkdir(blocked, 0755); /* rename over a folder fails after the temporary is complete */
-    write_file(inner, "x", 1);
+    tmp_file_write(inner, "x", 1);
 
     image src;
     make_8bit_image(&src, TONEMAP_SRGB);
@@ -404,7 +380,7 @@ static void test_write_interrupted(void) {
     const char *names[] = {"old.ppm", "old.png", "old.pfm"};
     for (int k = 0; k < 3; k++) {
         snprintf(dest, sizeof dest, "%s/%s", dir, names[k]);
-        write_file(dest, "original", 8);
+        tmp_file_write(dest, "original", 8);
         fflush(NULL);
         pid_t pid = fork();
         if (pid == 0) { /* SIGXFSZ as a shell leaves it: the writer must not die of it */
@@ -445,7 +421,7 @@ static void test_write_killed(void) {
     const int signals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE, SIGALRM, SIGXCPU};
     char dest[600];
     snprintf(dest, sizeof dest, "%s/out.png", dir);
-    write_file(dest, "original", 8);
+    tmp_file_write(dest, "original", 8);
     for (int k = 0; k < (int)(sizeof signals / sizeof signals[0]); k++) {
         fflush(NULL);
         pid_t pid = fork();
@@ -492,7 +468,7 @@ static void test_write_special(void) {
     struct stat st;
     EXPECT(lstat(fifo, &st) == 0 && S_ISFIFO(st.st_mode));
     EXPECT(file_is(got, "hello\n"));
-    write_file(target, "old", 3);
+    tmp_file_write(target, "old", 3);
     EXPECT(symlink("target.scene", link) == 0);
     EXPECT(atomic_file_write(link, fill_hello, NULL));
     EXPECT(lstat(link, &st) == 0 && S_ISLNK(st.st_mode));
@@ -553,7 +529,7 @@ static void test_overwrite(void) {
     for (int k = 0; k < 3; k++) {
         char path[600];
         snprintf(path, sizeof path, "%s/%s", dir, names[k]);
-        write_file(path, "original", 8);
+        tmp_file_write(path, "original", 8);
         chmod(path, 0600);
         EXPECT(image_write(path, &src, TONEMAP_SRGB));
         EXPECT(image_read(path, &back, TONEMAP_SRGB) && same_image(&back, &src));
@@ -583,12 +559,12 @@ static unsigned char *written_png(const char *name, size_t *len) {
     make_8bit_image(&src, TONEMAP_SRGB);
     EXPECT(image_write(tmp_path(name), &src, TONEMAP_SRGB));
     image_free(&src);
-    return slurp(tmp_path(name), len);
+    return tmp_file_read(tmp_path(name), len);
 }
 
 static void expect_bad(const char *name, const void *data, size_t len) {
     const char *path = tmp_path(name);
-    write_file(path, data, len);
+    tmp_file_write(path, data, len);
     image img = {7, 7, NULL};
     bool ok = image_read(path, &img, TONEMAP_SRGB);
     if (ok || img.rgb || img.width || img.height) {
@@ -754,11 +730,11 @@ static void test_png_corrupt(void) {
         /* The chunk's CRC alone: the pixels are sound, the file is not. */
         uint32_t size = (uint32_t)idat[-4] << 24 | idat[-3] << 16 | idat[-2] << 8 | idat[-1];
         idat[4 + size] ^= 0x01;
-        write_file(tmp_path("bad_crc.png"), png, len);
+        tmp_file_write(tmp_path("bad_crc.png"), png, len);
         expect_refused(tmp_path("bad_crc.png"), "CRC error");
         idat[4 + size] ^= 0x01;
         idat[4 + 10] ^= 0x01; /* a byte of the compressed pixels, well inside the chunk */
-        write_file(tmp_path("damaged.png"), png, len);
+        tmp_file_write(tmp_path("damaged.png"), png, len);
         expect_refused(tmp_path("damaged.png"), "corrupt");
     }
     free(png);

@@ -284,26 +284,6 @@ static void test_refusals(void) {
     CHECK(strstr(why, "region 0,13,0,11 samples 128:170"), "%s", why);
 }
 
-static unsigned char *slurp(const char *path, size_t *len) {
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return NULL;
-    fseek(fp, 0, SEEK_END);
-    long n = ftell(fp);
-    fseek(fp, 0, SEEK_SET);
-    unsigned char *buf = malloc((size_t)n);
-    *len = buf ? fread(buf, 1, (size_t)n, fp) : 0;
-    fclose(fp);
-    return buf;
-}
-
-static void write_bytes(const char *path, const unsigned char *data, size_t len) {
-    FILE *fp = fopen(path, "wb");
-    if (fp) {
-        fwrite(data, 1, len, fp);
-        fclose(fp);
-    }
-}
-
 /* A merge of files stops at the first that is not a part. */
 static void test_merge_files(void) {
     const char *paths[] = {tmp_path("missing.exr")};
@@ -340,11 +320,11 @@ static void test_bad_files(void) {
     EXPECT(render_part(0, 5, 0, 4, 32, 96, &q));
     EXPECT(part_write(path, &q));
     size_t len = 0;
-    unsigned char *bytes = slurp(path, &len);
+    unsigned char *bytes = tmp_file_read(path, &len);
     unsigned char *at = bytes ? memmem(bytes, len, "d1g3st", 6) : NULL;
     EXPECT(at != NULL);
     if (at) at[5] = 'u';
-    write_bytes(path, bytes, len);
+    tmp_file_write(path, bytes, len);
     log_hold_errors();
     EXPECT(!part_read(path, &p));
     held = log_release_errors();
@@ -358,7 +338,7 @@ static void test_bad_files(void) {
         size_t where = rng % len;
         unsigned char was = bytes[where];
         bytes[where] ^= (unsigned char)(1u << (rng >> 29));
-        write_bytes(path, bytes, len);
+        tmp_file_write(path, bytes, len);
         bytes[where] = was;
         log_hold_errors();
         bool ok = part_read(path, &p);
