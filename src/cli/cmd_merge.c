@@ -7,7 +7,6 @@
 
 #include "cli/cli.h"
 #include "cli/options.h"
-#include "image/exr.h"
 #include "image/image.h"
 #include "render/part.h"
 #include "util/atomic_file.h"
@@ -92,22 +91,17 @@ int cmd_merge(int argc, char **argv) {
             double t0 = clock_seconds();
             part merged;
             film f = {0};
-            image img = {0};
-            bool ok = part_merge_files(paths, n, &merged);
+            bool merged_ok = part_merge_files(paths, n, &merged);
             double t1 = clock_seconds();
-            if (ok && a.part) {
-                ok = part_write(a.output, &merged);
-            } else if (ok) {
-                ok = part_film(&merged, &f) && image_from_film(&f, &img) &&
-                     (!strcmp(format, "exr") ? exr_write_image(a.output, &img, a.exr_type == 0)
-                                             : image_write_as(a.output, format, &img, a.tm));
-            }
+            bool ok = merged_ok && (a.part ? part_write(a.output, &merged)
+                                           : part_film(&merged, &f) &&
+                                                 image_write_film(a.output, format, &f, a.tm,
+                                                                  a.exr_type == 0));
             if (ok && !a.quiet)
                 log_info("%s: %d parts of %dx%d, %u spp merged in %.3f s, written in %.3f s",
                          a.output, n, merged.meta.width, merged.meta.height, merged.meta.spp,
                          t1 - t0, clock_seconds() - t1);
-            if (ok) part_free(&merged);
-            image_free(&img);
+            if (merged_ok) part_free(&merged);
             film_free(&f);
             status = ok ? 0 : 1;
         }

@@ -12,7 +12,6 @@
 #include "cli/options.h"
 #include "cli/render_pacer.h"
 #include "default_scene.h"
-#include "image/exr.h"
 #include "image/image.h"
 #include "render/part.h"
 #include "render/vk/vk_context.h"
@@ -376,13 +375,8 @@ static bool load_resume(const char *path, const part_meta *want, uint32_t end, p
 
 /* Writes a whole-image film as the output image; false (logged) on failure. */
 static bool write_image(const render_args *a, const film *f) {
-    image img = {0};
-    const char *format = a->format >= 0 ? format_names[a->format] : image_path_format(a->output);
-    bool ok = image_from_film(f, &img) &&
-              (!strcmp(format, "exr") ? exr_write_image(a->output, &img, a->exr_type == 0)
-                                      : image_write_as(a->output, format, &img, a->tm));
-    image_free(&img);
-    return ok;
+    const char *format = a->format >= 0 ? format_names[a->format] : NULL;
+    return image_write_film(a->output, format, f, a->tm, a->exr_type == 0);
 }
 
 /* Renders and writes the image or the part; the exit code. */

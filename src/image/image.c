@@ -195,6 +195,16 @@ bool image_write(const char *path, const image *img, tonemap tm) {
     return image_write_as(path, NULL, img, tm);
 }
 
+bool image_write_film(const char *path, const char *format, const film *f, tonemap tm,
+                      bool exr_half) {
+    image img = {0};
+    image_format fmt = format ? format_named(format) : format_of(path);
+    bool ok = image_from_film(f, &img) && (fmt == FORMAT_EXR ? exr_write_image(path, &img, exr_half)
+                                                            : image_write_as(path, format, &img, tm));
+    image_free(&img);
+    return ok;
+}
+
 bool image_write_as(const char *path, const char *format, const image *img, tonemap tm) {
     image_format fmt = format ? format_named(format) : format_of(path);
     if (fmt == FORMAT_NONE) {

@@ -61,6 +61,10 @@ const char *image_path_format(const char *path);
 /* image_write in `format` ("ppm", "png", "pfm" or "exr"; NULL: by extension) whatever the path's
  * name, for outputs such as /dev/stdout; false on error. */
 bool image_write_as(const char *path, const char *format, const image *img, tonemap tm);
+/* The film's mean as an image written by image_write_as, an EXR one with half or float channels
+ * (exr_half); false (logged) on error. */
+bool image_write_film(const char *path, const char *format, const film *f, tonemap tm,
+                      bool exr_half);
 /* Reads .ppm, .png, .pfm or .exr (8-bit formats decoded with tm back to linear); false on error. */
 bool image_read(const char *path, image *out, tonemap tm);
 
