@@ -4,22 +4,7 @@
 set -u
 tz=$1
 src=$2
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-cd "$tmp" || exit 1
-passed=0
-failed=0
-
-ok() { passed=$((passed + 1)); }
-bad() { failed=$((failed + 1)); echo "FAIL: $*" >&2; }
-# run NAME EXPECTED_RC CMD...: runs CMD with stdout/stderr in $tmp/out, $tmp/err.
-run() {
-    local name=$1 want=$2
-    shift 2
-    "$@" >"$tmp/out" 2>"$tmp/err"
-    local rc=$?
-    if [ "$rc" = "$want" ]; then ok; else bad "$name: exit $rc, want $want; stderr: $(head -c 400 "$tmp/err")"; fi
-}
+source "$(dirname "$0")/check.sh"
 has() { # has NAME FILE TEXT
     if grep -qF -- "$3" "$2"; then ok; else bad "$1: '$3' not in $(basename "$2"): $(head -c 400 "$2")"; fi
 }
@@ -384,5 +369,4 @@ for scene in "$src"/scenes/*.scene; do
     run "$(basename "$scene")" 0 "$tz" render "$scene" --backend cpu --spp 1 --width 40 -q -o s.png
 done
 
-echo "cli_test: $passed passed, $failed failed"
-[ "$failed" = 0 ]
+check_summary cli_test

@@ -6,20 +6,7 @@
 # samples each pixel got. No step depends on timing: the checkpoint file is polled for.
 set -u
 tz=$1
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-cd "$tmp" || exit 1
-passed=0
-failed=0
-ok() { passed=$((passed + 1)); }
-bad() { failed=$((failed + 1)); echo "FAIL: $*" >&2; }
-run() { # run NAME EXPECTED_RC CMD...
-    local name=$1 want=$2
-    shift 2
-    "$@" >"$tmp/out" 2>"$tmp/err"
-    local rc=$?
-    if [ "$rc" = "$want" ]; then ok; else bad "$name: exit $rc, want $want; stderr: $(head -c 600 "$tmp/err")"; fi
-}
+source "$(dirname "$0")/check.sh"
 has() { # has NAME TEXT: TEXT in the last stderr
     if grep -qF -- "$2" "$tmp/err"; then ok; else bad "$1: '$2' not in stderr: $(head -c 600 "$tmp/err")"; fi
 }
@@ -161,5 +148,4 @@ n=$(sed -n 's/.*every pixel got samples 0:\([0-9]*\) .*/\1/p' "$tmp/err")
 run "time limit samples" 0 $tz render $tl --samples "0:$n" -o tl_n.exr
 same "time limit as samples 0:$n" tl.exr tl_n.exr
 
-echo "split_test: $passed passed, $failed failed"
-[ "$failed" = 0 ]
+check_summary split_test
