@@ -5,11 +5,11 @@
 #include <string.h>
 
 #include "check.h"
-#include "test_scenes.h"
 #include "image/diff.h"
 #include "image/image.h"
 #include "render/render.h"
 #include "render/vk/vk_context.h"
+#include "test_scenes.h"
 
 #define PI 3.14159265358979323846
 

@@ -9,9 +9,9 @@
 #include <time.h>
 
 #include "check.h"
+#include "common/rng.h"
 #include "render/bvh.h"
 #include "render/cpu/integrator.h"
-#include "common/rng.h"
 
 static uint32_t rng_state = 12345u;
 static float uniform(float lo, float hi) { return lo + (hi - lo) * rng_next(&rng_state); }

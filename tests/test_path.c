@@ -8,9 +8,9 @@
 #include <string.h>
 
 #include "check.h"
-#include "test_scenes.h"
 #include "render/render.h"
 #include "render/vk/vk_context.h"
+#include "test_scenes.h"
 
 #define PI 3.14159265358979323846
 #define SIGMAS 4.5
@@ -166,10 +166,10 @@ static void test_strategies_agree(void) {
     CHECK(ok, "strategies: render failed");
     if (ok) {
         estimate m = whole(&mis, 0), l = whole(&lights, 0), b = whole(&bsdf, 0);
-        CHECK(fabs(m.mean - l.mean) <= SIGMAS * hypot(m.se, l.se), "MIS %.5f+-%.5f vs lights %.5f+-%.5f",
-              m.mean, m.se, l.mean, l.se);
-        CHECK(fabs(m.mean - b.mean) <= SIGMAS * hypot(m.se, b.se), "MIS %.5f+-%.5f vs BSDF %.5f+-%.5f",
-              m.mean, m.se, b.mean, b.se);
+        CHECK(fabs(m.mean - l.mean) <= SIGMAS * hypot(m.se, l.se),
+              "MIS %.5f+-%.5f vs lights %.5f+-%.5f", m.mean, m.se, l.mean, l.se);
+        CHECK(fabs(m.mean - b.mean) <= SIGMAS * hypot(m.se, b.se),
+              "MIS %.5f+-%.5f vs BSDF %.5f+-%.5f", m.mean, m.se, b.mean, b.se);
         CHECK(m.se < b.se, "MIS (se %.5f) is no less noisy than BSDF sampling (%.5f)", m.se, b.se);
     }
     film_free(&mis);

@@ -7,8 +7,8 @@
 #include <stdlib.h>
 
 #include "check.h"
-#include "common/sampling.h"
 #include "common/rng.h"
+#include "common/sampling.h"
 
 #define PI 3.14159265358979323846
 
@@ -176,9 +176,10 @@ int main(void) {
     CHECK(fabsf(fresnel_dielectric(1.5f, ct, back) - fresnel_dielectric(eta, cb, kb)) < 1e-6f,
           "reciprocal %g vs %g", (double)fresnel_dielectric(1.5f, ct, back),
           (double)fresnel_dielectric(eta, cb, kb));
-    CHECK(fresnel_dielectric(1.5f, 0.5f, 1.0f - 2.25f * 0.75f) == 1.0f, "total internal reflection");
-    CHECK(fabsf(power_heuristic(1.0f, 1.0f) - 0.5f) < 1e-7f && power_heuristic(0.0f, 1.0f) == 0.0f &&
-              power_heuristic(2.0f, 0.0f) == 1.0f,
+    CHECK(fresnel_dielectric(1.5f, 0.5f, 1.0f - 2.25f * 0.75f) == 1.0f,
+          "total internal reflection");
+    CHECK(fabsf(power_heuristic(1.0f, 1.0f) - 0.5f) < 1e-7f &&
+              power_heuristic(0.0f, 1.0f) == 0.0f && power_heuristic(2.0f, 0.0f) == 1.0f,
           "power heuristic");
     /* tiny cones: 1 - cos(theta_max) keeps its precision where 1 - sqrt(1 - s) loses it */
     float omc = cone_one_minus_cos(1e-10f, 1.0f);

@@ -90,7 +90,7 @@ float v3_max_abs(vec3 a) { return max(abs(a.x), max(abs(a.y), abs(a.z))); }
 #define TZ_AND &
 #define TZ_OR |
 #define TZ_BRANCH_IF(c)
-#define TZ_INOUT(type) type*
+#define TZ_INOUT(type) type *
 #define TZ_DEREF(x) (*(x))
 #define TZ_INFINITY INFINITY
 #define TZ_FLOAT(x) ((float)(x))

@@ -41,9 +41,7 @@ TZ_FN int pick_emitter(TZ_SCENE_PARAM float u) {
 }
 
 /* The emitter slot of sphere id, -1 when it emits nothing. */
-TZ_FN int emitter_of(TZ_SCENE_PARAM int id) {
-    return TZ_INT(sphere_params(TZ_SCENE_ARG id).w) - 1;
-}
+TZ_FN int emitter_of(TZ_SCENE_PARAM int id) { return TZ_INT(sphere_params(TZ_SCENE_ARG id).w) - 1; }
 
 /* The Phong BRDF of sphere id at the lobe cosine x (phong_from_lobe). */
 TZ_FN vec3 sphere_brdf_at(TZ_SCENE_PARAM int id, float x) {
@@ -71,7 +69,8 @@ TZ_FN float light_pdf_at(TZ_SCENE_PARAM path_vertex v, int id, vec3 pos, vec3 d)
     int strategy = light_strategy(v.pos, v.n, v.id, id, c, cr.w);
     TZ_PRECISE vec3 to_c = v3_sub(c, v.pos), to_hit = v3_sub(pos, v.pos);
     TZ_PRECISE vec3 nl = v3_scale(v3_sub(pos, c), 1.0f / cr.w);
-    TZ_PRECISE float cone = pick / (2.0f * TZ_PI * cone_one_minus_cos(cr.w * cr.w, v3_dot(to_c, to_c)));
+    TZ_PRECISE float cone =
+        pick / (2.0f * TZ_PI * cone_one_minus_cos(cr.w * cr.w, v3_dot(to_c, to_c)));
     TZ_PRECISE float area = pick * area_pdf(cr.w, v3_dot(to_hit, to_hit), v3_dot(nl, d));
     return strategy == LIGHT_CONE ? cone : strategy == LIGHT_AREA ? area : 0.0f;
 }
@@ -118,8 +117,8 @@ TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, vec3 pos, vec3 n, vec3 wo, float
     /* the MIS weight over the pdf, or 1 / pdf with light sampling alone */
     TZ_PRECISE float mis = pdf / (pdf * pdf + b * b);
     TZ_PRECISE float weight = (TZ_FRAME.flags & TZ_FLAG_LIGHTS_ONLY) != 0u ? 1.0f / pdf : mis;
-    TZ_PRECISE vec3 l = v3_scale(v3_mul(sphere_brdf_at(TZ_SCENE_ARG id, x), xyz(emission_pick)),
-                                 cos_i * weight);
+    TZ_PRECISE vec3 l =
+        v3_scale(v3_mul(sphere_brdf_at(TZ_SCENE_ARG id, x), xyz(emission_pick)), cos_i * weight);
     return l;
 }
 
@@ -131,8 +130,8 @@ TZ_FN vec3 point_lights(TZ_SCENE_PARAM int id, vec3 pos, vec3 n, vec3 wo) {
         light_sample l = point_light(light_position_power(TZ_SCENE_ARG TZ_INT(k)),
                                      light_color(TZ_SCENE_ARG TZ_INT(k)), pos, n);
         if (l.cos_i <= 0.0f || integrator_occluded(TZ_SCENE_ARG o, l.wi, l.dist, id)) continue;
-        sum = v3_add(sum, v3_mul(sphere_brdf_at(TZ_SCENE_ARG id, phong_lobe_cos(n, l.wi, wo)),
-                                 l.radiance));
+        sum = v3_add(
+            sum, v3_mul(sphere_brdf_at(TZ_SCENE_ARG id, phong_lobe_cos(n, l.wi, wo)), l.radiance));
     }
     return sum;
 }
@@ -169,11 +168,13 @@ TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index
         int slot = emitter_of(TZ_SCENE_ARG id);
         if (slot >= 0) {
             TZ_BOOL full = specular || (flags & TZ_FLAG_BSDF_ONLY) != 0u;
-            float w = full ? 1.0f
-                      : (flags & TZ_FLAG_LIGHTS_ONLY) != 0u
-                          ? 0.0f
-                          : power_heuristic(last.bsdf_pdf, light_pdf_at(TZ_SCENE_ARG last, id, pos, d));
-            TZ_PRECISE vec3 emitted = v3_scale(v3_mul(beta, xyz(emitter_emission_pick(TZ_SCENE_ARG slot))), w);
+            float w =
+                full ? 1.0f
+                : (flags & TZ_FLAG_LIGHTS_ONLY) != 0u
+                    ? 0.0f
+                    : power_heuristic(last.bsdf_pdf, light_pdf_at(TZ_SCENE_ARG last, id, pos, d));
+            TZ_PRECISE vec3 emitted =
+                v3_scale(v3_mul(beta, xyz(emitter_emission_pick(TZ_SCENE_ARG slot))), w);
             radiance = v3_add(radiance, emitted);
         }
         if (k > TZ_FRAME.bounces) break;
@@ -188,7 +189,8 @@ TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index
                 float ua = rng_next(TZ_REF(rng));
                 float ub = rng_next(TZ_REF(rng));
                 if ((flags & TZ_FLAG_BSDF_ONLY) == 0u)
-                    direct = v3_add(direct, emitter_light(TZ_SCENE_ARG id, pos, n, wo, share, ul, ua, ub));
+                    direct = v3_add(direct,
+                                    emitter_light(TZ_SCENE_ARG id, pos, n, wo, share, ul, ua, ub));
             }
             radiance = v3_add(radiance, v3_mul(beta, direct));
             float us = rng_next(TZ_REF(rng));

@@ -289,11 +289,13 @@ int cmd_bench(int argc, char **argv) {
     for (size_t k = 0; k < sizeof workloads / sizeof workloads[0]; k++) {
         const workload *w = &workloads[k];
         double cpu_rays = 0.0, ref_rays = 0.0, vk_rays = 0.0;
-        double cpu = want_cpu ? run_workload(&s, &path, w, BACKEND_CPU, NULL, (int)spp, &cpu_rays) : 0.0;
-        double ref =
-            want_cpu ? run_workload(&s, &path, w, BACKEND_CPU, PACKET_REFERENCE_NAME, (int)spp, &ref_rays)
-                     : 0.0;
-        double vk = want_vk ? run_workload(&s, &path, w, BACKEND_VULKAN, NULL, (int)spp, &vk_rays) : 0.0;
+        double cpu =
+            want_cpu ? run_workload(&s, &path, w, BACKEND_CPU, NULL, (int)spp, &cpu_rays) : 0.0;
+        double ref = want_cpu ? run_workload(&s, &path, w, BACKEND_CPU, PACKET_REFERENCE_NAME,
+                                             (int)spp, &ref_rays)
+                              : 0.0;
+        double vk =
+            want_vk ? run_workload(&s, &path, w, BACKEND_VULKAN, NULL, (int)spp, &vk_rays) : 0.0;
         failures += cpu < 0.0 || ref < 0.0 || vk < 0.0;
         char name[64];
         snprintf(name, sizeof name, "%s, %d spp", w->name, spp > 0 ? (int)spp : w->samples);

@@ -93,10 +93,10 @@ int cmd_merge(int argc, char **argv) {
             film f = {0};
             bool merged_ok = part_merge_files(paths, n, &merged);
             double t1 = clock_seconds();
-            bool ok = merged_ok && (a.part ? part_write(a.output, &merged)
-                                           : part_film(&merged, &f) &&
-                                                 image_write_film(a.output, format, &f, a.tm,
-                                                                  a.exr_type == 0));
+            bool ok = merged_ok &&
+                      (a.part ? part_write(a.output, &merged)
+                              : part_film(&merged, &f) &&
+                                    image_write_film(a.output, format, &f, a.tm, a.exr_type == 0));
             if (ok && !a.quiet)
                 log_info("%s: %d parts of %dx%d, %u spp merged in %.3f s, written in %.3f s",
                          a.output, n, merged.meta.width, merged.meta.height, merged.meta.spp,

@@ -35,8 +35,8 @@ typedef struct command {
 } command;
 
 static const command commands[] = {
-    {"render", cmd_render},   {"merge", cmd_merge}, {"diff", cmd_diff}, {"gen", cmd_gen},
-    {"devices", cmd_devices}, {"bench", cmd_bench},
+    {"render", cmd_render}, {"merge", cmd_merge},     {"diff", cmd_diff},
+    {"gen", cmd_gen},       {"devices", cmd_devices}, {"bench", cmd_bench},
 };
 
 /* Runs the subcommand argv[1]; its exit code. */

@@ -16,8 +16,9 @@
 static bool cpu_faster(const scene *s, const render_opts *opts, const char **why) {
     bool small = s->sphere_count <= TZ_UNROLL_MAX_SPHERES;
     if (opts->mode == RENDER_MODE_PATH && small && integrator_path_choose(NULL, false).width < 16) {
-        *why = "path mode on a scene of at most 16 spheres, no 16-lane CPU build: lavapipe "
-               "measured faster";
+        *why =
+            "path mode on a scene of at most 16 spheres, no 16-lane CPU build: lavapipe "
+            "measured faster";
         return false;
     }
     *why = opts->mode == RENDER_MODE_PATH

@@ -195,7 +195,8 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
                      (opts->strategy == PATH_BSDF_ONLY ? TZ_FLAG_BSDF_ONLY : 0u);
     /* The plane's distance: 2 x width (the seed's), or what the field of view asks. */
     float distance = s->camera_fov > 0.0f
-                         ? (float)(0.5 * s->plane_width / tan(0.5 * s->camera_fov * (3.14159265358979323846 / 180.0)))
+                         ? (float)(0.5 * s->plane_width /
+                                   tan(0.5 * s->camera_fov * (3.14159265358979323846 / 180.0)))
                          : 2.0f * s->plane_width;
     out->frame = (struct gpu_frame){
         .origin = vec4_from(s->camera_position, s->pixel_size),

@@ -17,8 +17,8 @@ typedef struct packed_scene {
     struct gpu_frame frame;
     struct gpu_sphere *spheres;
     struct gpu_light *lights;
-    sphere_soa soa;             /* the C back end's copy of spheres[].center_radius */
-    struct gpu_bvh_node *nodes; /* frame.node_count of them; NULL (0) without a BVH */
+    sphere_soa soa;               /* the C back end's copy of spheres[].center_radius */
+    struct gpu_bvh_node *nodes;   /* frame.node_count of them; NULL (0) without a BVH */
     struct gpu_emitter *emitters; /* frame.emitter_count (path mode), one zeroed when none */
     uint32_t bvh_depth;
     double bvh_seconds; /* build time */

@@ -18,10 +18,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/atomic_file.h"
-#include "util/log.h"
 #include "common/rng.h"
 #include "scene/scene.h"
+#include "util/atomic_file.h"
+#include "util/log.h"
 
 _Static_assert(GEN_MAX_COUNT + 4 <= SCENE_MAX_SPHERES, "random scenes must stay parseable");
 

@@ -148,4 +148,3 @@ packet_integrator integrator_packet_choose(const char *wanted, bool walks_bvh) {
 packet_integrator integrator_path_choose(const char *wanted, bool walks_bvh) {
     return choose(true, wanted, walks_bvh);
 }
-
