@@ -277,8 +277,7 @@ static void apply_overrides(const render_args *a, const scene *s, render_opts *o
 static bool check_mode(int mode, const scene *s) {
     if (mode != RENDER_MODE_SEED) return true;
     for (int k = 0; k < s->sphere_count; k++) {
-        vec3 e = s->spheres[k].emission;
-        if (e.x > 0.0f || e.y > 0.0f || e.z > 0.0f) {
+        if (sphere_emits(&s->spheres[k])) {
             fprintf(stderr,
                     "trazador: render --mode seed: sphere %d of the scene has emission, which "
                     "needs path mode (the scene's own mode, or --mode path)\n",

@@ -104,6 +104,10 @@ bool scene_parse_file(const char *path, scene *out, scene_error *err);
 /* Prints err to stderr as "file:line:col: message" ("file: message" for errors about the file
  * itself, which have line 0); never fails. */
 void scene_error_print(const scene_error *err);
+/* Whether the sphere emits light (path mode's emitters); never fails. */
+static inline bool sphere_emits(const sphere *sp) {
+    return sp->emission.x > 0.0f || sp->emission.y > 0.0f || sp->emission.z > 0.0f;
+}
 /* Releases the arrays of a parsed scene; safe on a zeroed scene. */
 void scene_free(scene *s);
 

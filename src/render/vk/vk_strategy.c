@@ -93,25 +93,21 @@ bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts 
     return true;
 }
 
-/* Worst-case loop passes of one sample of the scene's mode when a ray costs what testing
- * `spheres` spheres does (vk_probe.h). */
-static uint64_t sample_iterations(const scene *s, const render_opts *opts, uint32_t spheres) {
+/* Worst-case loop passes of one sample of the scene's mode (with `emitters` emitting spheres) when
+ * a ray costs what testing `spheres` spheres does (vk_probe.h). */
+static uint64_t sample_iterations(const scene *s, const render_opts *opts, uint32_t emitters,
+                                  uint32_t spheres) {
     uint32_t lights = (uint32_t)s->light_count, bounces = (uint32_t)opts->bounces;
     if (opts->mode != RENDER_MODE_PATH)
         return vk_probe_sample_iterations(spheres, lights, bounces, opts->indirect);
-    uint32_t emitters = 0;
-    for (int k = 0; k < s->sphere_count; k++) {
-        vec3 e = s->spheres[k].emission;
-        emitters += e.x > 0.0f || e.y > 0.0f || e.z > 0.0f;
-    }
     return vk_probe_path_iterations(spheres, lights, bounces, emitters);
 }
 
 /* The most passes one ray's BVH walk may take on lavapipe so that a sample, every ray walking
  * that far, stays within the safe limit; 0 when even walks of no length do not fit. */
-static uint32_t walk_budget(const scene *s, const render_opts *opts) {
-    uint64_t fixed = sample_iterations(s, opts, 0u);
-    uint64_t rays = sample_iterations(s, opts, 1u) - fixed;
+static uint32_t walk_budget(const scene *s, const render_opts *opts, uint32_t emitters) {
+    uint64_t fixed = sample_iterations(s, opts, emitters, 0u);
+    uint64_t rays = sample_iterations(s, opts, emitters, 1u) - fixed;
     if (fixed + 1u >= VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) return 0u;
     return (uint32_t)((VK_PROBE_LAVAPIPE_SAFE_ITERATIONS - 1u - fixed) / rays);
 }
@@ -120,14 +116,17 @@ static uint32_t walk_budget(const scene *s, const render_opts *opts) {
  * lavapipe by TZ_SPEC_WALK_BUDGET passes as if it tested that many spheres (a guess of 64 sizes
  * the dispatches elsewhere). */
 vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const render_opts *opts) {
-    uint32_t spheres = (uint32_t)s->sphere_count;
+    uint32_t spheres = (uint32_t)s->sphere_count, emitters = 0;
+    for (int k = 0; opts->mode == RENDER_MODE_PATH && k < s->sphere_count; k++)
+        emitters += sphere_emits(&s->spheres[k]);
     vk_strategy st = {.unrolled_spheres = spheres <= TZ_UNROLL_MAX_SPHERES ? spheres : 0u};
     st.use_bvh = !opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u;
     st.cooperative = st.use_bvh && cooperative_walk(ctx);
     bool lavapipe = vk_context_is_lavapipe(ctx);
-    st.walk = st.use_bvh && lavapipe ? walk_budget(s, opts) : 0u;
+    st.walk = st.use_bvh && lavapipe ? walk_budget(s, opts, emitters) : 0u;
     /* Unrolled sphere tests are no loop: a ray then costs only its own loop passes. */
-    uint64_t every_sphere = sample_iterations(s, opts, st.unrolled_spheres ? 0u : spheres);
+    uint64_t every_sphere =
+        sample_iterations(s, opts, emitters, st.unrolled_spheres ? 0u : spheres);
     /* Many lights leave each walk too few passes; testing every sphere may still fit. */
     if (st.use_bvh && lavapipe && vk_strategy_walk_loop(&st) < MIN_WALK_BUDGET &&
         every_sphere < VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
@@ -135,6 +134,6 @@ vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const rend
         st.walk = 0u;
     }
     st.sample_iterations =
-        st.use_bvh ? sample_iterations(s, opts, lavapipe ? st.walk : 64u) : every_sphere;
+        st.use_bvh ? sample_iterations(s, opts, emitters, lavapipe ? st.walk : 64u) : every_sphere;
     return st;
 }
