@@ -1,4 +1,4 @@
-/* test_part.c: src/render/part.c and chunk_tree.h on synthetic films: the chunk tree's total is
+/* test_part.c: src/render/part*.c and chunk_tree.h on synthetic films: the chunk tree's total is
  * the fixed binary tree over chunks; parts split by regions, by chunk-aligned sample ranges and
  * both, written as EXR, read back and merged, give the whole render's film bit for bit; and every
  * refusal (other render, overlap, gaps, a part ending mid-chunk, a foreign or bad file). */
