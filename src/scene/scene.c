@@ -6,6 +6,7 @@
 
 void scene_free(scene *s) {
     free(s->spheres);
+    free(s->triangles);
     free(s->lights);
     s->spheres = NULL;
     s->lights = NULL;

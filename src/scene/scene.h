@@ -10,6 +10,8 @@
 
 #define SCENE_MAX_RESOLUTION 16384
 #define SCENE_MAX_SPHERES 16777216 /* the GPU addresses spheres with 24-bit-exact floats */
+/* Spheres and triangles share one primitive index (spheres first), at most this many in all. */
+#define SCENE_MAX_PRIMITIVES 16777216
 #define SCENE_MAX_LIGHTS 4096
 #define SCENE_MAX_SAMPLES 1048576
 #define SCENE_MAX_BOUNCES 64
@@ -51,6 +53,18 @@ typedef struct sphere {
     vec3 emission; /* radiance emitted (path mode; an error in seed mode) */
 } sphere;
 
+/* A triangle (a `triangle` line, half of a `quad`, or a face of a mesh). Its geometric normal
+ * is normalize(cross(v[1] - v[0], v[2] - v[0])); both sides are seen. */
+typedef struct triangle {
+    vec3 v[3];
+    vec3 n[3];   /* unit shading normals at the corners, interpolated; zero when flat */
+    bool smooth; /* n[] holds shading normals */
+    material_kind material; /* lambertian, phong or mirror (glass needs a closed mesh) */
+    vec3 color;
+    float ks, alpha, ior; /* as a sphere's */
+    vec3 emission;        /* as a sphere's: radiance emitted from both sides (path mode) */
+} triangle;
+
 typedef struct light {
     vec3 position;
     float power;
@@ -82,6 +96,8 @@ typedef struct scene {
     render_mode mode;
     sphere *spheres;
     int sphere_count;
+    triangle *triangles;
+    int triangle_count;
     light *lights;
     int light_count;
     /* What the CLI warns about: the first sphere of radius under SCENE_TINY_OFFSETS ray offsets,
@@ -107,6 +123,10 @@ void scene_error_print(const scene_error *err);
 /* Whether the sphere emits light (path mode's emitters); never fails. */
 static inline bool sphere_emits(const sphere *sp) {
     return sp->emission.x > 0.0f || sp->emission.y > 0.0f || sp->emission.z > 0.0f;
+}
+/* Whether the triangle emits light (path mode's emitters); never fails. */
+static inline bool triangle_emits(const triangle *t) {
+    return t->emission.x > 0.0f || t->emission.y > 0.0f || t->emission.z > 0.0f;
 }
 /* Releases the arrays of a parsed scene; safe on a zeroed scene. */
 void scene_free(scene *s);
