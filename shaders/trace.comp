@@ -2,10 +2,9 @@
  * samples (in sample order, over pass.chunk_count chunks) of one pixel of the tile at (pass.x0,
  * pass.y0) of the region and adds each finite one to its chunk's compensated sums exactly as the
  * C back end does, pushing each chunk it closes on the pixel's stack of chunk-tree blocks;
- * non-finite samples are counted instead. integrator_sample() is the one of
- * src/render/cpu/integrator.c and path_sample() that of shaders/common/path.h, on the shared
- * steps of shaders/common/. Declares the bindings and the scene accessors the included files
- * use. */
+ * non-finite samples are counted instead. report_sample() and path_sample() are the shared texts
+ * of shaders/common/report.h and path.h, which the C back end compiles too. Declares the
+ * bindings and the scene accessors the included files use. */
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -75,34 +74,9 @@ uint light_count() { return UNROLLED_LIGHTS > 0u ? UNROLLED_LIGHTS : frame.light
 /* The BVH serves the scenes too big to unroll, when it was built (frame.node_count nodes). */
 bool use_bvh() { return UNROLLED_SPHERES == 0u && frame.node_count > 0u; }
 
-#include "shade.glsl"
+#include "intersect.glsl"
 #include "common/path.h"
-
-/* Radiance of sample `sample_index` of pixel (i, j), i to the right and j down. */
-vec3 integrator_sample(uint i, uint j, uint sample_index) {
-    uint rng = rng_seed(frame.seed, j * frame.width + i, sample_index);
-    /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag. */
-    float u = rng_next(rng);
-    float v = rng_next(rng);
-    if ((FLAGS & TZ_FLAG_JITTER) == 0u) u = v = 0.5;
-    vec3 d = camera_direction(frame.right, frame.up, frame.forward, frame.origin.w, i, j, u, v);
-    vec3 o = camera_origin(frame.origin, frame.near_distance, d);
-    vec3 weight = vec3(1.0), pos, n;
-    int id = follow_specular(o, d, -1, weight, pos, n);
-    precise vec3 r;
-    if (id == -1) {
-        r = weight * frame.background.xyz;
-    } else if (id == -2) {
-        r = vec3(0.0);
-    } else {
-        vec3 wo = d * -1.0;
-        precise vec3 radiance = direct_light(id, pos, n, wo);
-        if ((FLAGS & TZ_FLAG_INDIRECT) != 0u)
-            radiance = radiance + indirect_light(id, pos, n, wo, rng);
-        r = weight * radiance;
-    }
-    return r;
-}
+#include "common/report.h"
 
 /* isfinite() on the bits, per component: immune to a compiler that assumes no NaN or infinity. */
 bvec3 finite_parts(vec3 v) {
@@ -171,7 +145,7 @@ void main() {
         uint n = last ? left : TZ_CHUNK_SAMPLES - s % TZ_CHUNK_SAMPLES;
         for (uint k = 0u; k < n; k++) {
             vec3 l = (FLAGS & TZ_FLAG_PATH) != 0u ? path_sample(i, j, s + k)
-                                                  : integrator_sample(i, j, s + k);
+                                                  : report_sample(i, j, s + k);
             if (loop_overflow) { /* a walk was cut short: the sample would be wrong */
                 overflowed++;
                 loop_overflow = false;

@@ -44,6 +44,9 @@
 #define TZ_SCENE_ARG
 #define TZ_SCENE_ONLY
 #define TZ_FRAME frame
+/* The frame's flags: the includer's specialization constant FLAGS, equal to frame.flags, so
+ * that the compiler drops the code of the modes a render does not use. */
+#define TZ_FLAGS FLAGS
 /* A struct type: `TZ_STRUCT(name) { ... } TZ_STRUCT_END(name)`. */
 #define TZ_STRUCT(name) struct name
 #define TZ_STRUCT_END(name) ;
@@ -113,6 +116,7 @@ float v3_max_abs(vec3 a) { return max(abs(a.x), max(abs(a.y), abs(a.z))); }
 #define TZ_SCENE_ARG scene,
 #define TZ_SCENE_ONLY scene
 #define TZ_FRAME (scene->frame)
+#define TZ_FLAGS (scene->frame.flags)
 #define TZ_STRUCT(name) typedef struct name
 #define TZ_STRUCT_END(name) name;
 

@@ -8,6 +8,7 @@
 #define TRAZADOR_COMMON_PATH_H
 
 #include "dialect.h"
+#include "lights.h"
 #include "ray.h"
 #include "rng.h"
 #include "sampling.h"
@@ -42,14 +43,6 @@ TZ_FN int pick_emitter(TZ_SCENE_PARAM float u) {
 
 /* The emitter slot of sphere id, -1 when it emits nothing. */
 TZ_FN int emitter_of(TZ_SCENE_PARAM int id) { return TZ_INT(sphere_params(TZ_SCENE_ARG id).w) - 1; }
-
-/* The Phong BRDF of sphere id at the lobe cosine x (phong_from_lobe). */
-TZ_FN vec3 sphere_brdf_at(TZ_SCENE_PARAM int id, float x) {
-    TZ_VEC4 color_ks = sphere_color_ks(TZ_SCENE_ARG id);
-    float alpha = sphere_params(TZ_SCENE_ARG id).x;
-    float lobe = color_ks.w > 0.0f ? phong_lobe(x, alpha) : 0.0f;
-    return phong_from_lobe(xyz(color_ks), color_ks.w, alpha, lobe);
-}
 
 /* What the last non-specular vertex leaves for the MIS weight of emission its BSDF ray finds. */
 TZ_STRUCT(path_vertex) {
@@ -120,20 +113,6 @@ TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, vec3 pos, vec3 n, vec3 wo, float
     TZ_PRECISE vec3 l =
         v3_scale(v3_mul(sphere_brdf_at(TZ_SCENE_ARG id, x), xyz(emission_pick)), cos_i * weight);
     return l;
-}
-
-/* Point lights at a diffuse vertex, as in seed mode's direct light; beta not applied. */
-TZ_FN vec3 point_lights(TZ_SCENE_PARAM int id, vec3 pos, vec3 n, vec3 wo) {
-    vec3 o = offset_origin(pos, n);
-    TZ_PRECISE vec3 sum = v3(0.0f, 0.0f, 0.0f);
-    TZ_UNROLL for (TZ_UINT k = 0u; k < light_count(TZ_SCENE_ONLY); k++) {
-        light_sample l = point_light(light_position_power(TZ_SCENE_ARG TZ_INT(k)),
-                                     light_color(TZ_SCENE_ARG TZ_INT(k)), pos, n);
-        if (l.cos_i <= 0.0f || integrator_occluded(TZ_SCENE_ARG o, l.wi, l.dist, id)) continue;
-        sum = v3_add(
-            sum, v3_mul(sphere_brdf_at(TZ_SCENE_ARG id, phong_lobe_cos(n, l.wi, wo)), l.radiance));
-    }
-    return sum;
 }
 
 /* Radiance of path-mode sample `sample_index` of pixel (i, j), i to the right, j down. */

@@ -1,7 +1,7 @@
-/* integrator.c: the one-sample C integrator (DESIGN section 3), the "reference" build that
- * test_packet checks the packet builds against. Its steps are the shared ones of
- * shaders/common/; its control flow has a GLSL counterpart of the same name in
- * shaders/intersect.glsl and shade.glsl (change both and a test in one commit). */
+/* integrator.c: the one-ray C walk of the one-sample integrators (integrator_sample.c): the
+ * nearest hit and the shadow test, through the BVH or over every sphere, on the shared sphere
+ * and box tests of shaders/common/ray.h; the GLSL walks of the same names are in
+ * shaders/intersect.glsl. */
 #include "render/cpu/integrator.h"
 
 #include <math.h>
@@ -126,91 +126,4 @@ int integrator_occluded(const packed_scene *p, vec3 o, vec3 d, float dist, int s
     float t;
     rays_traced++;
     return integrator_trace(p, o, d, self, dist, 1, &t) >= 0;
-}
-
-/* The Phong BRDF of sphere s (phong_brdf). */
-static vec3 sphere_brdf(const struct gpu_sphere *s, vec3 n, vec3 wi, vec3 wo) {
-    return phong_brdf(xyz(s->color_ks), s->color_ks.w, s->params.x, n, wi, wo);
-}
-
-/* Direct light from every point light at p (shading normal n, facing wo) on sphere id. */
-static vec3 direct_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3 wo) {
-    vec3 o = offset_origin(pos, n);
-    vec3 sum = v3(0.0f, 0.0f, 0.0f);
-    for (uint32_t k = 0; k < p->frame.light_count; k++) {
-        light_sample l = point_light(p->lights[k].position_power, p->lights[k].color, pos, n);
-        if (l.cos_i <= 0.0f || integrator_occluded(p, o, l.wi, l.dist, id)) continue;
-        sum = v3_add(sum, v3_mul(sphere_brdf(&p->spheres[id], n, l.wi, wo), l.radiance));
-    }
-    return sum;
-}
-
-/* Follows a ray through mirrors and glass to a diffuse hit. Returns the sphere id (-1 on a miss,
- * -2 when the chain exceeds the bounce limit); *o, *d become the last ray, *weight the tints. */
-static int follow_specular(const packed_scene *p, vec3 *o, vec3 *d, int self, vec3 *weight,
-                           vec3 *pos, vec3 *n) {
-    uint32_t bounces = p->frame.bounces;
-    for (uint32_t chain = 0;; chain++) {
-        float t;
-        int id = integrator_nearest(p, *o, *d, self, &t);
-        if (id < 0) return -1;
-        const struct gpu_sphere *s = &p->spheres[id];
-        *pos = v3_add(*o, v3_scale(*d, t));
-        vec3 nout = v3_scale(v3_sub(*pos, xyz(s->center_radius)), 1.0f / s->center_radius.w);
-        int material = (int)s->params.z;
-        if (material == TZ_MATERIAL_LAMBERTIAN || material == TZ_MATERIAL_PHONG) {
-            *n = facing_normal(nout, *d);
-            return id;
-        }
-        if (chain == bounces) return -2;
-        *weight = v3_mul(*weight, xyz(s->color_ks));
-        next_ray next =
-            specular_next(*pos, nout, *d, material == TZ_MATERIAL_REFRACTIVE, s->params.y);
-        *o = next.o;
-        *d = next.d;
-        self = id;
-    }
-}
-
-/* Radiance arriving along a ray: background on a miss, black past the bounce limit, else the
- * direct light of the diffuse surface it reaches through mirrors and glass, times their tints. */
-static vec3 radiance_direct_only(const packed_scene *p, vec3 o, vec3 d, int self) {
-    vec3 weight = v3(1.0f, 1.0f, 1.0f), pos, n;
-    int id = follow_specular(p, &o, &d, self, &weight, &pos, &n);
-    if (id == -1) return v3_mul(weight, xyz(p->frame.background));
-    if (id == -2) return v3(0.0f, 0.0f, 0.0f);
-    return v3_mul(weight, direct_light(p, id, pos, n, v3_scale(d, -1.0f)));
-}
-
-/* One cosine-weighted bounce at a diffuse hit: theta = acos(sqrt(1 - y1)), phi = 2 pi y2,
- * pdf = cos(theta) / pi; returns f_r * L_direct * cos / pdf. */
-static vec3 indirect_light(const packed_scene *p, int id, vec3 pos, vec3 n, vec3 wo,
-                           uint32_t *rng) {
-    float y1 = rng_next(rng), y2 = rng_next(rng);
-    float cos_t = sqrtf(1.0f - y1), phi = 2.0f * TZ_PI * y2;
-    vec3 wi = cosine_direction(n, y1, cosf(phi), sinf(phi));
-    vec3 o = offset_origin(pos, n);
-    vec3 incoming = radiance_direct_only(p, o, wi, id);
-    float pdf = cos_t / TZ_PI;
-    vec3 f = sphere_brdf(&p->spheres[id], n, wi, wo);
-    return v3_mul(f, v3_scale(incoming, cos_t / pdf));
-}
-
-vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index) {
-    const struct gpu_frame *fr = &p->frame;
-    uint32_t rng = rng_seed(fr->seed, j * fr->width + i, sample_index);
-    /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag. */
-    float u = rng_next(&rng), v = rng_next(&rng);
-    if (!(fr->flags & TZ_FLAG_JITTER)) u = v = 0.5f;
-    vec3 d = camera_direction(fr->right, fr->up, fr->forward, fr->origin.w, i, j, u, v);
-    vec3 o = camera_origin(fr->origin, fr->near_distance, d);
-    vec3 weight = v3(1.0f, 1.0f, 1.0f), pos, n;
-    int id = follow_specular(p, &o, &d, -1, &weight, &pos, &n);
-    if (id == -1) return v3_mul(weight, xyz(fr->background));
-    if (id == -2) return v3(0.0f, 0.0f, 0.0f);
-    vec3 wo = v3_scale(d, -1.0f);
-    vec3 radiance = direct_light(p, id, pos, n, wo);
-    if (fr->flags & TZ_FLAG_INDIRECT)
-        radiance = v3_add(radiance, indirect_light(p, id, pos, n, wo, &rng));
-    return v3_mul(weight, radiance);
 }

@@ -7,7 +7,10 @@
 #include <math.h>
 #include <string.h>
 
-#include "render/cpu/path_accessors.h"
+#include "render/cpu/scene_accessors.h"
+
+/* The shared text calls the accessors above. */
+#include "common/path.h"
 
 /* Built once per vector level (CMakeLists.txt): PACKET_LANES lanes, the entry point named
  * integrator_path_packet_<PACKET_VARIANT>; src/render/cpu/integrator_dispatch.c picks one. */

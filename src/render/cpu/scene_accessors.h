@@ -1,9 +1,8 @@
-/* path_accessors.h: the scene accessors that shaders/common/path.h asks of its includer, over the
- * packed scene, then path.h itself: for the C path integrators (integrator_path.c, one sample at a
- * time, and integrator_path_packet.c); the GLSL back end provides the same names
- * (shaders/trace.comp). */
-#ifndef TRAZADOR_PATH_ACCESSORS_H
-#define TRAZADOR_PATH_ACCESSORS_H
+/* scene_accessors.h: the scene accessors that the shared integrators (shaders/common/report.h and
+ * path.h) ask of their includer, over the packed scene, for the C integrators; the GLSL back end
+ * provides the same names (shaders/trace.comp). */
+#ifndef TRAZADOR_SCENE_ACCESSORS_H
+#define TRAZADOR_SCENE_ACCESSORS_H
 
 #include "render/cpu/integrator.h"
 
@@ -25,7 +24,5 @@ static inline tz_vec4 emitter_emission_pick(const packed_scene *p, int e) {
 static inline tz_vec4 emitter_sphere_cdf(const packed_scene *p, int e) {
     return p->emitters[e].sphere_cdf;
 }
-
-#include "common/path.h"
 
 #endif

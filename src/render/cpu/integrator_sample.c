@@ -1,0 +1,16 @@
+/* integrator_sample.c: both modes' one-sample C integrators, the shared texts of
+ * shaders/common/ (report.h, path.h) over the packed scene: the references that the packet
+ * builds are checked against (test_packet). */
+#include "render/cpu/scene_accessors.h"
+
+/* The shared texts call the accessors above. */
+#include "common/path.h"
+#include "common/report.h"
+
+vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index) {
+    return report_sample(p, i, j, sample_index);
+}
+
+vec3 integrator_path_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index) {
+    return path_sample(p, i, j, sample_index);
+}
