@@ -1,5 +1,5 @@
-/* intersect.glsl: the GLSL back end's nearest-hit and shadow queries over the spheres, by brute
- * force or through the BVH, on the shared steps of common/ray.h; the C back end's functions of
+/* intersect.glsl: the GLSL back end's nearest-hit and shadow queries over the spheres and
+ * triangles, by brute force or through the BVH, on the shared steps of common/ray.h; the C back end's functions of
  * the same names are in src/render/cpu/integrator.c (trace_bvh, integrator_nearest,
  * integrator_occluded). The including shader declares `frame`, sphere_center_radius(),
  * sphere_params(), sphere_count(), node_field(), use_bvh() and WALK_BUDGET; with TZ_SUBGROUP_WALK
@@ -7,6 +7,7 @@
 #ifndef TRAZADOR_INTERSECT_GLSL
 #define TRAZADOR_INTERSECT_GLSL
 
+#include "common/primitive.h"
 #include "common/ray.h"
 
 /* Distance to sphere k along o + t d (sphere_distance), with one read of the sphere. */
@@ -83,7 +84,7 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
             }
         }
         if (sphere < leaf_end) {
-            keep_nearer(int(sphere), sphere_distance_at(int(sphere), o, d, tmin, self), best, id);
+            keep_nearer(int(sphere), primitive_distance(int(sphere), o, d, tmin, self), best, id);
             sphere++;
             if (any_hit && id >= 0) break;
         }
@@ -139,8 +140,7 @@ int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, ou
         float tl = box_entry(uintBitsToFloat(left_lo), uintBitsToFloat(left_hi), o, inv, reach);
         float tr = box_entry(uintBitsToFloat(right_lo), uintBitsToFloat(right_hi), o, inv, reach);
         if (test) {
-            vec4 cr = sphere_center_radius(int(sphere));
-            float t = sphere_distance(cr.x, cr.y, cr.z, cr.w, o, d, tmin, int(sphere) == self);
+            float t = primitive_distance(int(sphere), o, d, tmin, self);
             keep_nearer(int(sphere), t, best, id);
             sphere++;
         }
@@ -218,6 +218,10 @@ int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
     int id = -1;
     [[unroll]] for (uint k = 0u; k < sphere_count(); k++)
         keep_nearer(int(k), sphere_distance_at(int(k), o, d, tmin, self), best, id);
+    if (frame.triangle_count > 0u) for (uint k = 0u; k < frame.triangle_count; k++) {
+        int t = int(frame.sphere_count + k);
+        keep_nearer(t, triangle_distance_at(t, o, d, tmin, self), best, id);
+    }
     t_out = best;
     return id;
 }
@@ -231,6 +235,10 @@ bool integrator_occluded(vec3 o, vec3 d, float dist, int self) {
     float tmin = ray_eps(o);
     [[unroll]] for (uint k = 0u; k < sphere_count();
                     k++) if (sphere_distance_at(int(k), o, d, tmin, self) < dist) return true;
+    if (frame.triangle_count > 0u) for (uint k = 0u; k < frame.triangle_count; k++) {
+        int t = int(frame.sphere_count + k);
+        if (triangle_distance_at(t, o, d, tmin, self) < dist) return true;
+    }
     return false;
 }
 

@@ -76,7 +76,13 @@ typedef struct tz_uvec4 {
 /* Dynamic, bound as TZ_BINDING_ACCUM: pass.stack_depth blocks of 3 floats a pixel, the values of
  * the pixel's chunk-tree blocks (src/render/chunk_tree.h), bottom first. */
 #define TZ_BINDING_STACK 8
-#define TZ_BINDING_COUNT 9
+/* Texels 3t..3t+2: gpu_triangle t (one zeroed triangle without any). */
+#define TZ_BINDING_TRIANGLES 9
+/* Texels 2m, 2m + 1: gpu_material m, the materials of the triangles (one zeroed without any). */
+#define TZ_BINDING_MATERIALS 10
+/* Texels 3s..3s+2: gpu_normals s, the shading normals of the smooth triangles (one zeroed). */
+#define TZ_BINDING_NORMALS 11
+#define TZ_BINDING_COUNT 12
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
  * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.sphere_count
@@ -105,6 +111,29 @@ struct gpu_sphere {
     TZ_VEC4 params;        /* x phong alpha, y ior, z material, w its emitter + 1 (0: none) */
 };
 
+/* One triangle, 48 bytes: its corners, what the walks read (the watertight test needs them, not
+ * edges). Primitive ids number the spheres first, then the triangles: triangle t is primitive
+ * frame.sphere_count + t. */
+struct gpu_triangle {
+    TZ_VEC4 v0; /* xyz corner 0, w its material (uint bits: a gpu_material index) */
+    TZ_VEC4 v1; /* xyz corner 1, w its shading normals (uint bits: a gpu_normals index, or
+                 * TZ_FLAT for a flat face) */
+    TZ_VEC4 v2; /* xyz corner 2, w its emitter + 1 (0: none), as gpu_sphere params.w */
+};
+#define TZ_FLAT 0xffffffffu
+
+/* The material of triangles, 32 bytes: the fields of a sphere's color_ks and params (params.w
+ * unused: emitters are per triangle). */
+struct gpu_material {
+    TZ_VEC4 color_ks;
+    TZ_VEC4 params;
+};
+
+/* The unit shading normals at a smooth triangle's corners, 48 bytes. */
+struct gpu_normals {
+    TZ_VEC4 n0, n1, n2; /* w unused (0) */
+};
+
 /* One point light, 32 bytes. */
 struct gpu_light {
     TZ_VEC4 position_power; /* xyz position, w power */
@@ -124,15 +153,17 @@ struct gpu_frame {
     TZ_UINT flags;         /* TZ_FLAG_* */
     TZ_UINT node_count;    /* of the BVH, 0 without one */
     float near_distance;   /* camera rays start this far along their direction (`near`) */
-    TZ_UINT emitter_count; /* path mode's emissive spheres */
-    TZ_UINT pad0, pad1;    /* 0 */
+    TZ_UINT emitter_count;  /* path mode's emissive spheres and triangles */
+    TZ_UINT triangle_count; /* primitives sphere_count to sphere_count + triangle_count - 1 */
+    TZ_UINT pad0;           /* 0 */
 };
 
-/* One emissive sphere of path mode, 32 bytes: emitters are picked in proportion to their power
- * by the first cdf above a uniform number. */
+/* One emissive sphere or triangle of path mode, 32 bytes: emitters are picked in proportion to
+ * their power by the first cdf above a uniform number. */
 struct gpu_emitter {
     TZ_VEC4 emission_pick; /* rgb emitted radiance, w the probability of picking it */
-    TZ_VEC4 sphere_cdf;    /* x its sphere's index (uint bits), y the running sum of picks */
+    TZ_VEC4 primitive_cdf; /* x its primitive id (uint bits), y the running sum of picks, z its
+                            * area (triangles) */
 };
 
 /* Samples of a chunk of the chunk tree (src/render/chunk_tree.h: CHUNK_SAMPLES). */

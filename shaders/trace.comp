@@ -37,6 +37,9 @@ layout(set = 0, binding = TZ_BINDING_NODES) uniform usamplerBuffer node_texels;
 layout(set = 0, binding = TZ_BINDING_EMITTERS) uniform samplerBuffer emitter_texels;
 /* Bound at the tile's first row, as the sums are. */
 layout(std430, set = 0, binding = TZ_BINDING_STACK) buffer stack_block { float stack[]; };
+layout(set = 0, binding = TZ_BINDING_TRIANGLES) uniform samplerBuffer triangle_texels;
+layout(set = 0, binding = TZ_BINDING_MATERIALS) uniform samplerBuffer material_texels;
+layout(set = 0, binding = TZ_BINDING_NORMALS) uniform samplerBuffer normals_texels;
 layout(push_constant) uniform pass_block { gpu_pass pass; };
 layout(constant_id = TZ_SPEC_UNROLLED_SPHERES) const uint UNROLLED_SPHERES = 0u;
 layout(constant_id = TZ_SPEC_UNROLLED_LIGHTS) const uint UNROLLED_LIGHTS = 0u;
@@ -62,9 +65,18 @@ vec4 light_position_power(int k) {
 vec4 light_color(int k) {
     return UNROLLED_LIGHTS > 0u ? spec_light_color(k) : texelFetch(light_texels, 2 * k + 1);
 }
+/* The fields of struct gpu_triangle t, gpu_material m and gpu_normals n. */
+vec4 triangle_v0(int t) { return texelFetch(triangle_texels, 3 * t); }
+vec4 triangle_v1(int t) { return texelFetch(triangle_texels, 3 * t + 1); }
+vec4 triangle_v2(int t) { return texelFetch(triangle_texels, 3 * t + 2); }
+vec4 material_color_ks(int m) { return texelFetch(material_texels, 2 * m); }
+vec4 material_params(int m) { return texelFetch(material_texels, 2 * m + 1); }
+vec4 normals_n0(int n) { return texelFetch(normals_texels, 3 * n); }
+vec4 normals_n1(int n) { return texelFetch(normals_texels, 3 * n + 1); }
+vec4 normals_n2(int n) { return texelFetch(normals_texels, 3 * n + 2); }
 /* The fields of struct gpu_emitter e (path mode). */
 vec4 emitter_emission_pick(int e) { return texelFetch(emitter_texels, 2 * e); }
-vec4 emitter_sphere_cdf(int e) { return texelFetch(emitter_texels, 2 * e + 1); }
+vec4 emitter_primitive_cdf(int e) { return texelFetch(emitter_texels, 2 * e + 1); }
 /* vec4 f of struct gpu_bvh_node k as uints (0 left_lo, 1 left_hi, 2 right_lo, 3 right_hi). */
 uvec4 node_field(uint k, uint f) { return texelFetch(node_texels, int(4u * k + f)); }
 

@@ -44,6 +44,7 @@
 #define TZ_SCENE_ARG
 #define TZ_SCENE_ONLY
 #define TZ_FRAME frame
+#define TZ_VEC4_ZERO vec4(0.0)
 /* The frame's flags: the includer's specialization constant FLAGS, equal to frame.flags, so
  * that the compiler drops the code of the modes a render does not use. */
 #define TZ_FLAGS FLAGS
@@ -74,6 +75,11 @@ float v3_length(vec3 a) {
 
 vec3 v3_normalize(vec3 a) {
     precise vec3 r = a * (1.0 / v3_length(a));
+    return r;
+}
+
+vec3 v3_cross(vec3 a, vec3 b) {
+    precise vec3 r = vec3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
     return r;
 }
 
@@ -116,6 +122,7 @@ float v3_max_abs(vec3 a) { return max(abs(a.x), max(abs(a.y), abs(a.z))); }
 #define TZ_SCENE_ARG scene,
 #define TZ_SCENE_ONLY scene
 #define TZ_FRAME (scene->frame)
+#define TZ_VEC4_ZERO ((tz_vec4){0.0f, 0.0f, 0.0f, 0.0f})
 #define TZ_FLAGS (scene->frame.flags)
 #define TZ_STRUCT(name) typedef struct name
 #define TZ_STRUCT_END(name) name;

@@ -1,14 +1,16 @@
 /* path.h: path mode's sample (DESIGN section 3.2), one text for C and GLSL (dialect.h), on the
  * steps of sampling.h, so that every back end draws the same numbers in the same order. The
  * includer provides the scene: TZ_FRAME, the accessors sphere_center_radius(), sphere_color_ks(),
- * sphere_params(), light_position_power(), light_color(), light_count(), emitter_emission_pick()
- * and emitter_sphere_cdf(), and integrator_nearest() and integrator_occluded(), each taking
- * TZ_SCENE_ARG first (dialect.h). */
+ * sphere_params(), triangle_v0(), triangle_v1(), triangle_v2(), material_color_ks(),
+ * material_params(), normals_n0(), normals_n1(), normals_n2(), light_position_power(),
+ * light_color(), light_count(), emitter_emission_pick() and emitter_primitive_cdf(), and
+ * integrator_nearest() and integrator_occluded(), each taking TZ_SCENE_ARG first (dialect.h). */
 #ifndef TRAZADOR_COMMON_PATH_H
 #define TRAZADOR_COMMON_PATH_H
 
 #include "dialect.h"
 #include "lights.h"
+#include "primitive.h"
 #include "ray.h"
 #include "rng.h"
 #include "sampling.h"
@@ -33,16 +35,13 @@ TZ_FN int pick_emitter(TZ_SCENE_PARAM float u) {
     int lo = 0, hi = TZ_INT(TZ_FRAME.emitter_count) - 1;
     while (lo < hi) {
         int mid = (lo + hi) / 2;
-        if (u < emitter_sphere_cdf(TZ_SCENE_ARG mid).y)
+        if (u < emitter_primitive_cdf(TZ_SCENE_ARG mid).y)
             hi = mid;
         else
             lo = mid + 1;
     }
     return lo;
 }
-
-/* The emitter slot of sphere id, -1 when it emits nothing. */
-TZ_FN int emitter_of(TZ_SCENE_PARAM int id) { return TZ_INT(sphere_params(TZ_SCENE_ARG id).w) - 1; }
 
 /* What the last non-specular vertex leaves for the MIS weight of emission its BSDF ray finds. */
 TZ_STRUCT(path_vertex) {
@@ -53,9 +52,26 @@ TZ_STRUCT(path_vertex) {
 }
 TZ_STRUCT_END(path_vertex)
 
+/* The solid-angle pdf of area sampling triangle k (of area `area`) for the point pos seen from
+ * `from` along d: dist^2 / (area |cos at pos|). */
+TZ_FN float triangle_area_pdf(triangle_corners k, float area, vec3 from, vec3 pos, vec3 d) {
+    TZ_PRECISE vec3 to_hit = v3_sub(pos, from);
+    TZ_PRECISE float pdf = v3_dot(to_hit, to_hit) / (area * TZ_ABS(v3_dot(triangle_normal(k), d)));
+    return pdf;
+}
+
 /* The solid-angle pdf (the pick included) with which light sampling at vertex v would have
- * chosen the point pos on emitter sphere id, reached along d. */
+ * chosen the point pos on emitter primitive id, reached along d (a triangle never lights
+ * itself). */
 TZ_FN float light_pdf_at(TZ_SCENE_PARAM path_vertex v, int id, vec3 pos, vec3 d) {
+    if (is_triangle(TZ_SCENE_ARG id)) {
+        int slot = emitter_of(TZ_SCENE_ARG id);
+        float pick = emitter_emission_pick(TZ_SCENE_ARG slot).w;
+        float area = emitter_primitive_cdf(TZ_SCENE_ARG slot).z;
+        TZ_PRECISE float pdf =
+            pick * triangle_area_pdf(corners_of(TZ_SCENE_ARG id), area, v.pos, pos, d);
+        return v.id == id ? 0.0f : pdf;
+    }
     TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG id);
     vec3 c = xyz(cr);
     float pick = emitter_emission_pick(TZ_SCENE_ARG emitter_of(TZ_SCENE_ARG id)).w;
@@ -68,50 +84,64 @@ TZ_FN float light_pdf_at(TZ_SCENE_PARAM path_vertex v, int id, vec3 pos, vec3 d)
     return strategy == LIGHT_CONE ? cone : strategy == LIGHT_AREA ? area : 0.0f;
 }
 
-/* Light from the emitter picked by ul and sampled by ua, ub at a diffuse vertex (sphere id at pos,
- * facing normal n, wo the way back, share the BSDF's diffuse share), weighted by MIS, or alone;
- * beta not applied. */
-TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, vec3 pos, vec3 n, vec3 wo, float share, float ul,
-                         float ua, float ub) {
+/* Light from the emitter picked by ul and sampled by ua, ub at a diffuse vertex (primitive id at
+ * surface sf, facing shading normal n and geometric normal ng, wo the way back, share the BSDF's
+ * diffuse share), weighted by MIS, or alone; beta not applied. */
+TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, surface sf, vec3 n, vec3 ng, vec3 wo, float share,
+                         float ul, float ua, float ub) {
+    vec3 pos = sf.pos;
     int slot = pick_emitter(TZ_SCENE_ARG ul);
     TZ_VEC4 emission_pick = emitter_emission_pick(TZ_SCENE_ARG slot);
-    int e = TZ_INT(uint_bits(emitter_sphere_cdf(TZ_SCENE_ARG slot).x));
-    TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG e);
-    vec3 c = xyz(cr);
-    float r = cr.w;
-    int strategy = light_strategy(pos, n, id, e, c, r);
-    if (strategy == LIGHT_NONE) return v3(0.0f, 0.0f, 0.0f);
+    TZ_VEC4 primitive_cdf = emitter_primitive_cdf(TZ_SCENE_ARG slot);
+    int e = TZ_INT(uint_bits(primitive_cdf.x));
     vec3 wi;
     TZ_PRECISE float pdf;
-    if (strategy == LIGHT_CONE) {
-        TZ_PRECISE vec3 to_c = v3_sub(c, pos);
-        TZ_PRECISE float d2 = v3_dot(to_c, to_c);
-        TZ_PRECISE vec3 w = v3_scale(to_c, 1.0f / TZ_SQRT(d2));
-        direction_sample s = cone_direction(w, cone_one_minus_cos(r * r, d2), ua, ub);
-        wi = s.wi;
-        pdf = emission_pick.w * s.pdf;
-    } else {
-        TZ_PRECISE vec3 q = v3_add(c, v3_scale(sphere_area_direction(ua, ub), r));
+    float t_light;
+    vec3 o = offset_origin(pos, ng);
+    if (is_triangle(TZ_SCENE_ARG e)) {
+        if (e == id) return v3(0.0f, 0.0f, 0.0f);
+        triangle_corners k = corners_of(TZ_SCENE_ARG e);
+        vec3 q = triangle_area_point(k, ua, ub);
         TZ_PRECISE vec3 to_q = v3_sub(q, pos);
-        TZ_PRECISE float dist2 = v3_dot(to_q, to_q);
-        TZ_PRECISE vec3 w = v3_scale(to_q, 1.0f / TZ_SQRT(dist2));
-        TZ_PRECISE vec3 nq = v3_scale(v3_sub(q, c), 1.0f / r);
-        wi = w;
-        pdf = emission_pick.w * area_pdf(r, dist2, v3_dot(nq, w));
+        wi = v3_normalize(to_q);
+        pdf = emission_pick.w * triangle_area_pdf(k, primitive_cdf.z, pos, q, wi);
+        t_light = triangle_distance(k.a, k.b, k.c, o, wi, ray_eps(o), TZ_FALSE);
+    } else {
+        TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG e);
+        vec3 c = xyz(cr);
+        float r = cr.w;
+        int strategy = light_strategy(pos, n, id, e, c, r);
+        if (strategy == LIGHT_NONE) return v3(0.0f, 0.0f, 0.0f);
+        if (strategy == LIGHT_CONE) {
+            TZ_PRECISE vec3 to_c = v3_sub(c, pos);
+            TZ_PRECISE float d2 = v3_dot(to_c, to_c);
+            TZ_PRECISE vec3 w = v3_scale(to_c, 1.0f / TZ_SQRT(d2));
+            direction_sample ds = cone_direction(w, cone_one_minus_cos(r * r, d2), ua, ub);
+            wi = ds.wi;
+            pdf = emission_pick.w * ds.pdf;
+        } else {
+            TZ_PRECISE vec3 q = v3_add(c, v3_scale(sphere_area_direction(ua, ub), r));
+            TZ_PRECISE vec3 to_q = v3_sub(q, pos);
+            TZ_PRECISE float dist2 = v3_dot(to_q, to_q);
+            TZ_PRECISE vec3 w = v3_scale(to_q, 1.0f / TZ_SQRT(dist2));
+            TZ_PRECISE vec3 nq = v3_scale(v3_sub(q, c), 1.0f / r);
+            wi = w;
+            pdf = emission_pick.w * area_pdf(r, dist2, v3_dot(nq, w));
+        }
+        t_light = sphere_distance(c.x, c.y, c.z, r, o, wi, ray_eps(o), e == id);
     }
     float cos_i = v3_dot(n, wi);
-    if (!(cos_i > 0.0f) || !(pdf > 0.0f) || !(pdf < TZ_INFINITY)) return v3(0.0f, 0.0f, 0.0f);
-    vec3 o = offset_origin(pos, n);
-    float t_light = sphere_distance(c.x, c.y, c.z, r, o, wi, ray_eps(o), e == id);
+    if (!(cos_i > 0.0f) || !(v3_dot(ng, wi) > 0.0f) || !(pdf > 0.0f) || !(pdf < TZ_INFINITY))
+        return v3(0.0f, 0.0f, 0.0f);
     if (!(t_light < TZ_INFINITY) || integrator_occluded(TZ_SCENE_ARG o, wi, t_light, id))
         return v3(0.0f, 0.0f, 0.0f);
     float x = phong_lobe_cos(n, wi, wo);
-    float b = bsdf_pdf(share, sphere_params(TZ_SCENE_ARG id).x, cos_i, x);
+    float b = bsdf_pdf(share, sf.params.x, cos_i, x);
     /* the MIS weight over the pdf, or 1 / pdf with light sampling alone */
     TZ_PRECISE float mis = pdf / (pdf * pdf + b * b);
     TZ_PRECISE float weight = (TZ_FRAME.flags & TZ_FLAG_LIGHTS_ONLY) != 0u ? 1.0f / pdf : mis;
     TZ_PRECISE vec3 l =
-        v3_scale(v3_mul(sphere_brdf_at(TZ_SCENE_ARG id, x), xyz(emission_pick)), cos_i * weight);
+        v3_scale(v3_mul(brdf_at(sf.color_ks, sf.params.x, x), xyz(emission_pick)), cos_i * weight);
     return l;
 }
 
@@ -139,12 +169,12 @@ TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index
             radiance = v3_add(radiance, v3_mul(beta, xyz(TZ_FRAME.background)));
             break;
         }
-        TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG id);
-        TZ_VEC4 params = sphere_params(TZ_SCENE_ARG id);
-        TZ_VEC4 color_ks = sphere_color_ks(TZ_SCENE_ARG id);
-        TZ_PRECISE vec3 pos = v3_add(o, v3_scale(d, t));
-        TZ_PRECISE vec3 nout = v3_scale(v3_sub(pos, xyz(cr)), 1.0f / cr.w);
-        int slot = emitter_of(TZ_SCENE_ARG id);
+        surface sf = surface_at(TZ_SCENE_ARG id, o, d, t);
+        TZ_VEC4 params = sf.params;
+        TZ_VEC4 color_ks = sf.color_ks;
+        vec3 pos = sf.pos;
+        vec3 nout = sf.nout;
+        int slot = TZ_INT(params.w) - 1;
         if (slot >= 0) {
             TZ_BOOL full = specular || (flags & TZ_FLAG_BSDF_ONLY) != 0u;
             float w =
@@ -159,17 +189,18 @@ TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index
         if (k > TZ_FRAME.bounces) break;
         int material = TZ_INT(params.z);
         if (material == TZ_MATERIAL_LAMBERTIAN || material == TZ_MATERIAL_PHONG) {
-            vec3 n = facing_normal(nout, d);
+            vec3 n = facing_shading(sf, d);
+            vec3 ng = facing_normal(nout, d);
             TZ_PRECISE vec3 wo = v3_scale(d, -1.0f);
             float share = diffuse_share(xyz(color_ks), color_ks.w);
-            TZ_PRECISE vec3 direct = point_lights(TZ_SCENE_ARG id, pos, n, wo);
+            TZ_PRECISE vec3 direct = point_lights(TZ_SCENE_ARG sf, id, n, ng, wo);
             if (TZ_FRAME.emitter_count > 0u) {
                 float ul = rng_next(TZ_REF(rng));
                 float ua = rng_next(TZ_REF(rng));
                 float ub = rng_next(TZ_REF(rng));
                 if ((flags & TZ_FLAG_BSDF_ONLY) == 0u)
-                    direct = v3_add(direct,
-                                    emitter_light(TZ_SCENE_ARG id, pos, n, wo, share, ul, ua, ub));
+                    direct = v3_add(
+                        direct, emitter_light(TZ_SCENE_ARG id, sf, n, ng, wo, share, ul, ua, ub));
             }
             radiance = v3_add(radiance, v3_mul(beta, direct));
             float us = rng_next(TZ_REF(rng));
@@ -186,15 +217,16 @@ TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index
             }
             float cos_i = v3_dot(n, wi), x = phong_lobe_cos(n, wi, wo);
             float pdf = bsdf_pdf(share, params.x, cos_i, x);
-            if (!(cos_i > 0.0f) || !(pdf > 0.0f)) break;
-            TZ_PRECISE vec3 f = v3_scale(sphere_brdf_at(TZ_SCENE_ARG id, x), cos_i / pdf);
+            /* A direction below the face (a shading normal leaning away) ends the path. */
+            if (!(cos_i > 0.0f) || !(v3_dot(ng, wi) > 0.0f) || !(pdf > 0.0f)) break;
+            TZ_PRECISE vec3 f = v3_scale(brdf_at(color_ks, params.x, x), cos_i / pdf);
             beta = v3_mul(beta, f);
             last.pos = pos;
             last.n = n;
             last.id = id;
             last.bsdf_pdf = pdf;
             specular = TZ_FALSE;
-            o = offset_origin(pos, n);
+            o = offset_origin(pos, ng);
             d = wi;
         } else {
             TZ_BOOL refractive = material == TZ_MATERIAL_REFRACTIVE;

@@ -1,6 +1,6 @@
 /* ray.h: where rays start and what they hit, one text for C and GLSL (dialect.h): the camera
- * ray, the ray offset, the sphere test, the tie rule and the BVH's slab test. The walks that call
- * them differ by back end (src/render/bvh.h says why they agree). */
+ * ray, the ray offset, the sphere and triangle tests, the tie rule and the BVH's slab test. The
+ * walks that call them differ by back end (src/render/bvh.h says why they agree). */
 #ifndef TRAZADOR_COMMON_RAY_H
 #define TRAZADOR_COMMON_RAY_H
 
@@ -69,8 +69,65 @@ TZ_FN float sphere_distance(float cx, float cy, float cz, float r, vec3 o, vec3 
     return miss ? TZ_INFINITY : near;
 }
 
-/* The tie rule: true when sphere k at distance t replaces the nearest hit so far (sphere id at
- * distance best, id -1 for none): nearer, or as near with a lower index. */
+/* v's components in the order the watertight triangle test takes them for a ray whose largest
+ * direction component is kz: (kx, ky, kz) with kx = kz + 1 and ky = kx + 1 (mod 3), kx and ky
+ * swapped when that component is negative (swap), so that the triangle's winding is kept. */
+TZ_FN vec3 shear_axes(vec3 v, int kz, TZ_BOOL swap) {
+    vec3 p = select3(kz == 0, v3(v.y, v.z, v.x), select3(kz == 1, v3(v.z, v.x, v.y), v));
+    return select3(swap, v3(p.y, p.x, p.z), p);
+}
+
+/* The edge functions and distance of the watertight test: U, V, W the weights of corners a, b,
+ * c times det = U + V + W, and T = t * det. */
+TZ_STRUCT(triangle_edges) { float u, v, w, det, t_det; }
+TZ_STRUCT_END(triangle_edges)
+
+/* The watertight ray-triangle test of Woop, Benthin and Wald (JCGT 2(1), 2013), without its
+ * double-precision fallback: the corners are moved to the ray origin and sheared so that the
+ * ray runs along +z, and the edge functions are 2D cross products of corners. An edge shared by
+ * two faces gives them exactly opposite edge functions (the same products, subtracted the other
+ * way round), so a ray through it hits at least one of them: no ray slips between faces. */
+TZ_FN triangle_edges triangle_edge_functions(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d) {
+    float ax = TZ_ABS(d.x), ay = TZ_ABS(d.y), az = TZ_ABS(d.z);
+    int kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+    float dz = kz == 0 ? d.x : kz == 1 ? d.y : d.z;
+    TZ_BOOL swap = dz < 0.0f;
+    vec3 ds = shear_axes(d, kz, swap);
+    TZ_PRECISE float sx = ds.x / ds.z, sy = ds.y / ds.z, sz = 1.0f / ds.z;
+    vec3 pa = shear_axes(v3_sub(a, o), kz, swap);
+    vec3 pb = shear_axes(v3_sub(b, o), kz, swap);
+    vec3 pc = shear_axes(v3_sub(c, o), kz, swap);
+    TZ_PRECISE float ax2 = pa.x - sx * pa.z, ay2 = pa.y - sy * pa.z;
+    TZ_PRECISE float bx2 = pb.x - sx * pb.z, by2 = pb.y - sy * pb.z;
+    TZ_PRECISE float cx2 = pc.x - sx * pc.z, cy2 = pc.y - sy * pc.z;
+    triangle_edges e;
+    TZ_PRECISE float u = cx2 * by2 - cy2 * bx2;
+    TZ_PRECISE float v = ax2 * cy2 - ay2 * cx2;
+    TZ_PRECISE float w = bx2 * ay2 - by2 * ax2;
+    TZ_PRECISE float det = u + v + w;
+    TZ_PRECISE float t_det = u * (sz * pa.z) + v * (sz * pb.z) + w * (sz * pc.z);
+    e.u = u;
+    e.v = v;
+    e.w = w;
+    e.det = det;
+    e.t_det = t_det;
+    return e;
+}
+
+/* Distance to the triangle (corners a, b, c) along o + t d: t > tmin, infinity for a miss (or
+ * when the ray leaves this very triangle, is_self: a plane cannot be met again). Both sides
+ * count. Branch-free, as sphere_distance. */
+TZ_FN float triangle_distance(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d, float tmin, TZ_BOOL is_self) {
+    triangle_edges e = triangle_edge_functions(a, b, c, o, d);
+    TZ_BOOL negative = (e.u < 0.0f) TZ_OR(e.v < 0.0f) TZ_OR(e.w < 0.0f);
+    TZ_BOOL positive = (e.u > 0.0f) TZ_OR(e.v > 0.0f) TZ_OR(e.w > 0.0f);
+    TZ_PRECISE float t = e.t_det / e.det;
+    TZ_BOOL hit = !(negative TZ_AND positive)TZ_AND(e.det != 0.0f) TZ_AND(t > tmin) TZ_AND !is_self;
+    return hit ? t : TZ_INFINITY;
+}
+
+/* The tie rule: true when primitive k at distance t replaces the nearest hit so far (primitive id
+ * at distance best, id -1 for none): nearer, or as near with a lower index. */
 TZ_FN TZ_BOOL nearer_hit(float t, int k, float best, int id) {
     return (t < best) TZ_OR((t == best) TZ_AND(id >= 0) TZ_AND(k < id));
 }

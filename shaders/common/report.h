@@ -7,42 +7,43 @@
 
 #include "dialect.h"
 #include "lights.h"
+#include "primitive.h"
 #include "ray.h"
 #include "rng.h"
 #include "shade.h"
 
-/* Where a ray led through mirrors and glass: id the diffuse sphere reached (-1 on a miss, -2
- * past the bounce limit), d the last ray's direction, weight the product of the tints, pos and
- * n the hit and its facing normal. */
+/* Where a ray led through mirrors and glass: id the diffuse primitive reached (-1 on a miss, -2
+ * past the bounce limit), d the last ray's direction, weight the product of the tints, s the
+ * surface hit, n and ng its shading and geometric normals facing the ray. */
 TZ_STRUCT(specular_chain) {
     int id;
     vec3 d;
     vec3 weight;
-    vec3 pos;
+    surface s;
     vec3 n;
+    vec3 ng;
 }
 TZ_STRUCT_END(specular_chain)
 
-/* Follows the ray o + t d (leaving sphere self) through mirrors and glass to a diffuse hit. */
+/* Follows the ray o + t d (leaving primitive self) through mirrors and glass to a diffuse hit. */
 TZ_FN specular_chain follow_specular(TZ_SCENE_PARAM vec3 o, vec3 d, int self) {
     specular_chain c;
     c.id = -1;
     c.weight = v3(1.0f, 1.0f, 1.0f);
-    c.pos = v3(0.0f, 0.0f, 0.0f);
-    c.n = v3(0.0f, 0.0f, 0.0f);
+    c.s = surface_none();
+    c.n = c.s.nout;
+    c.ng = c.s.nout;
     for (TZ_UINT chain = 0u;; chain++) {
         float t;
         int id = integrator_nearest(TZ_SCENE_ARG o, d, self, TZ_REF(t));
         c.d = d;
         if (id < 0) return c;
-        TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG id);
-        TZ_PRECISE vec3 hit = v3_add(o, v3_scale(d, t));
-        c.pos = hit;
-        TZ_PRECISE vec3 nout = v3_scale(v3_sub(hit, xyz(cr)), 1.0f / cr.w);
-        TZ_VEC4 params = sphere_params(TZ_SCENE_ARG id);
-        int material = TZ_INT(params.z);
+        surface s = surface_at(TZ_SCENE_ARG id, o, d, t);
+        c.s = s;
+        int material = TZ_INT(s.params.z);
         if (material == TZ_MATERIAL_LAMBERTIAN || material == TZ_MATERIAL_PHONG) {
-            c.n = facing_normal(nout, d);
+            c.n = facing_shading(s, d);
+            c.ng = facing_normal(s.nout, d);
             c.id = id;
             return c;
         }
@@ -50,9 +51,10 @@ TZ_FN specular_chain follow_specular(TZ_SCENE_PARAM vec3 o, vec3 d, int self) {
             c.id = -2;
             return c;
         }
-        TZ_PRECISE vec3 tinted = v3_mul(c.weight, xyz(sphere_color_ks(TZ_SCENE_ARG id)));
+        TZ_PRECISE vec3 tinted = v3_mul(c.weight, xyz(s.color_ks));
         c.weight = tinted;
-        next_ray next = specular_next(hit, nout, d, material == TZ_MATERIAL_REFRACTIVE, params.y);
+        next_ray next =
+            specular_next(s.pos, s.nout, d, material == TZ_MATERIAL_REFRACTIVE, s.params.y);
         o = next.o;
         d = next.d;
         self = id;
@@ -65,22 +67,24 @@ TZ_FN vec3 chain_direct(TZ_SCENE_PARAM specular_chain c) {
     vec3 black = v3(0.0f, 0.0f, 0.0f);
     if (c.id == -1) return xyz(TZ_FRAME.background);
     if (c.id == -2) return black;
-    return point_lights(TZ_SCENE_ARG c.id, c.pos, c.n, v3_scale(c.d, -1.0f));
+    return point_lights(TZ_SCENE_ARG c.s, c.id, c.n, c.ng, v3_scale(c.d, -1.0f));
 }
 
-/* One cosine-weighted bounce at a diffuse hit (sphere id at pos, facing normal n, wo the way
- * back): theta = acos(sqrt(1 - y1)), phi = 2 pi y2, pdf = cos(theta) / pi; returns f_r *
- * L_direct * cos / pdf, L_direct following mirrors and glass but adding no further bounce. */
-TZ_FN vec3 indirect_light(TZ_SCENE_PARAM int id, vec3 pos, vec3 n, vec3 wo, float y1, float y2) {
+/* One cosine-weighted bounce at the diffuse hit of chain c (wo the way back): theta =
+ * acos(sqrt(1 - y1)), phi = 2 pi y2, pdf = cos(theta) / pi; returns f_r * L_direct * cos / pdf,
+ * L_direct following mirrors and glass but adding no further bounce; nothing for a direction
+ * below a triangle's face (its shading normal leans away from the geometric one). */
+TZ_FN vec3 indirect_light(TZ_SCENE_PARAM specular_chain c, vec3 wo, float y1, float y2) {
     TZ_PRECISE float cos_t = TZ_SQRT(1.0f - y1);
     TZ_PRECISE float phi = 2.0f * TZ_PI * y2;
     TZ_PRECISE float cos_phi = TZ_COS(phi);
     TZ_PRECISE float sin_phi = TZ_SIN(phi);
-    vec3 wi = cosine_direction(n, y1, cos_phi, sin_phi);
-    specular_chain c = follow_specular(TZ_SCENE_ARG offset_origin(pos, n), wi, id);
-    TZ_PRECISE vec3 incoming = v3_mul(c.weight, chain_direct(TZ_SCENE_ARG c));
+    vec3 wi = cosine_direction(c.n, y1, cos_phi, sin_phi);
+    if (is_triangle(TZ_SCENE_ARG c.id) && !(v3_dot(c.ng, wi) > 0.0f)) return v3(0.0f, 0.0f, 0.0f);
+    specular_chain next = follow_specular(TZ_SCENE_ARG offset_origin(c.s.pos, c.ng), wi, c.id);
+    TZ_PRECISE vec3 incoming = v3_mul(next.weight, chain_direct(TZ_SCENE_ARG next));
     TZ_PRECISE float pdf = cos_t / TZ_PI;
-    vec3 f = sphere_brdf_at(TZ_SCENE_ARG id, phong_lobe_cos(n, wi, wo));
+    vec3 f = brdf_at(c.s.color_ks, c.s.params.x, phong_lobe_cos(c.n, wi, wo));
     TZ_PRECISE vec3 r = v3_mul(f, v3_scale(incoming, cos_t / pdf));
     return r;
 }
@@ -99,8 +103,7 @@ TZ_FN vec3 report_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_ind
     if (c.id >= 0 && (TZ_FLAGS & TZ_FLAG_INDIRECT) != 0u) {
         float y1 = rng_next(TZ_REF(rng));
         float y2 = rng_next(TZ_REF(rng));
-        radiance = v3_add(
-            radiance, indirect_light(TZ_SCENE_ARG c.id, c.pos, c.n, v3_scale(c.d, -1.0f), y1, y2));
+        radiance = v3_add(radiance, indirect_light(TZ_SCENE_ARG c, v3_scale(c.d, -1.0f), y1, y2));
     }
     TZ_PRECISE vec3 r = v3_mul(c.weight, radiance);
     return r;

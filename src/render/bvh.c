@@ -1,5 +1,5 @@
-/* bvh.c: binned-SAH BVH build over spheres: a binary tree, then its inner nodes written into the
- * flat array of shared_layout.h, each holding its two children's boxes.
+/* bvh.c: binned-SAH BVH build over spheres and triangles: a binary tree, then its inner nodes
+ * written into the flat array of shared_layout.h, each holding its two children's boxes.
  *
  * The tree is a function of the input alone, whatever the thread count: the nodes over many
  * spheres are split one at a time with their binning shared among the threads, and the subtrees
@@ -42,7 +42,8 @@ typedef struct box {
  * only the partition touches); its box is the centre minus and plus the radius, computed where
  * needed by the very operations that would have stored it. */
 typedef struct item {
-    float centroid[4]; /* the fourth lane is the radius */
+    float centroid[4]; /* the fourth lane is a sphere's radius, 0 for a triangle */
+    float half[4];     /* the box's half extents (a sphere's radius four times) */
 } item;
 
 /* A node of the binary tree. A subtree over n spheres takes at most 2n - 1 slots: a node's
@@ -64,7 +65,9 @@ typedef struct task {
 
 typedef struct builder {
     item *items;
-    uint32_t *order; /* order[k]: the input sphere at position k */
+    uint32_t *order; /* order[k]: the input primitive at position k */
+    uint32_t
+        first_triangle; /* inputs from here on are triangles, which share no leaf with spheres */
     binary_node *nodes;
     uint32_t max_depth;
     int threads;
@@ -156,20 +159,29 @@ static void swap_items(const builder *b, uint32_t i, uint32_t j) {
     b->order[j] = o;
 }
 
-/* The box of an item (its fourth lanes 0 and twice the radius). */
+/* The box of an item (a sphere's fourth lanes 0 and twice the radius). */
 static box item_box(const item *it) {
     box b;
 #ifdef __SSE2__
-    __m128 c = _mm_loadu_ps(it->centroid), r = _mm_set1_ps(it->centroid[3]);
+    __m128 c = _mm_loadu_ps(it->centroid), r = _mm_loadu_ps(it->half);
     _mm_storeu_ps(b.lo, _mm_sub_ps(c, r));
     _mm_storeu_ps(b.hi, _mm_add_ps(c, r));
 #else
     for (int a = 0; a < 4; a++) {
-        b.lo[a] = it->centroid[a] - it->centroid[3];
-        b.hi[a] = it->centroid[a] + it->centroid[3];
+        b.lo[a] = it->centroid[a] - it->half[a];
+        b.hi[a] = it->centroid[a] + it->half[a];
     }
 #endif
     return b;
+}
+
+/* Whether positions [begin, end) hold primitives of one kind: a leaf holds spheres or triangles,
+ * so that a walk tests it with one test. */
+static bool one_kind(const builder *b, uint32_t begin, uint32_t end) {
+    bool first = b->order[begin] >= b->first_triangle;
+    for (uint32_t k = begin + 1; k < end; k++)
+        if ((b->order[k] >= b->first_triangle) != first) return false;
+    return true;
 }
 
 /* The box and centroid box of items [begin, end). */
@@ -399,7 +411,7 @@ static uint32_t build_node(builder *b, const task *t, bool top, uint32_t *depth)
 
     /* Near the depth limit only median splits, which halve the count, are sure to fit. */
     bool must_median = t->depth + 1 + median_levels(n) >= b->max_depth;
-    bool leaf_ok = n <= TZ_BVH_LEAF_MAX;
+    bool leaf_ok = n <= TZ_BVH_LEAF_MAX && one_kind(b, begin, end);
     /* A split's cost is the traversal and more: as few spheres as that are a leaf whatever the
      * split would cost, so they are not binned. */
     bool leaf_sure = leaf_ok && (float)n <= TRAVERSAL_COST;
@@ -597,53 +609,112 @@ static int thread_count(int requested) {
     return n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
 }
 
-bool bvh_build_threads(const struct gpu_sphere *spheres, uint32_t count, uint32_t max_depth,
-                       int threads, bvh *out) {
+/* The item of a sphere: its centre and its radius, padded by a few float ulps of the largest
+ * coordinate, so that a hit the sphere test accepts never lies outside its box through
+ * rounding. */
+static item sphere_item(const struct gpu_sphere *sp) {
+    const tz_vec4 *c = &sp->center_radius;
+    float m = fabsf(c->x) > fabsf(c->y) ? fabsf(c->x) : fabsf(c->y);
+    m = m > fabsf(c->z) ? m : fabsf(c->z);
+    float r = c->w + (m + c->w) * 4e-6f;
+    return (item){{c->x, c->y, c->z, r}, {r, r, r, r}};
+}
+
+/* The item of a triangle: the middle of its corners' box and its half extents, padded as a
+ * sphere's. */
+static item triangle_item(const struct gpu_triangle *t) {
+    const tz_vec4 *v[3] = {&t->v0, &t->v1, &t->v2};
+    float lo[3], hi[3];
+    for (int a = 0; a < 3; a++) {
+        float x0 = (&v[0]->x)[a], x1 = (&v[1]->x)[a], x2 = (&v[2]->x)[a];
+        lo[a] = fminf(x0, fminf(x1, x2));
+        hi[a] = fmaxf(x0, fmaxf(x1, x2));
+    }
+    item it = {{0}, {0}};
+    float m = 0.0f, h = 0.0f;
+    for (int a = 0; a < 3; a++) {
+        it.centroid[a] = 0.5f * lo[a] + 0.5f * hi[a];
+        it.half[a] = 0.5f * hi[a] - 0.5f * lo[a];
+        m = fmaxf(m, fmaxf(fabsf(lo[a]), fabsf(hi[a])));
+        h = fmaxf(h, it.half[a]);
+    }
+    for (int a = 0; a < 3; a++) it.half[a] += (m + h) * 4e-6f;
+    return it;
+}
+
+/* Leaf references hold positions until here; a walk wants primitive ids, spheres numbered in
+ * their order, then triangles: each leaf's range (of one kind) maps to consecutive ids. */
+static bool renumber_leaves(const builder *b, uint32_t count, struct gpu_bvh_node *nodes,
+                            uint32_t node_count) {
+    uint32_t *id = malloc((count ? count : 1) * sizeof *id);
+    if (!id) return false;
+    uint32_t spheres = 0, triangles = 0;
+    for (uint32_t k = 0; k < count; k++)
+        id[k] = b->order[k] < b->first_triangle ? spheres++ : b->first_triangle + triangles++;
+    for (uint32_t k = 0; k < node_count; k++) {
+        tz_vec4 *lo[2] = {&nodes[k].left_lo, &nodes[k].right_lo};
+        for (int c = 0; c < 2; c++) {
+            uint32_t ref;
+            memcpy(&ref, &lo[c]->w, sizeof ref);
+            if (ref >> TZ_BVH_COUNT_SHIFT == 0) continue;
+            ref = (ref & ~TZ_BVH_INDEX_MASK) | id[ref & TZ_BVH_INDEX_MASK];
+            lo[c]->w = float_of(ref);
+        }
+    }
+    free(id);
+    return true;
+}
+
+bool bvh_build_primitives(const bvh_input *in, uint32_t max_depth, int threads, bvh *out) {
     *out = (bvh){0};
-    builder b = {.max_depth = max_depth, .threads = thread_count(threads)};
+    uint32_t count = in->sphere_count + in->triangle_count;
+    builder b = {.max_depth = max_depth,
+                 .threads = thread_count(threads),
+                 .first_triangle = in->sphere_count};
     size_t n = count ? count : 1;
     b.items = malloc(n * sizeof *b.items);
     b.nodes = malloc(2 * n * sizeof *b.nodes);
     b.order = malloc(n * sizeof *b.order);
     struct gpu_bvh_node *flat = malloc(n * sizeof *flat); /* the inner nodes: fewer than n */
     if (!b.items || !b.nodes || !b.order || !flat) {
-        log_error("out of memory building a BVH over %u spheres", count);
+        log_error("out of memory building a BVH over %u primitives", count);
         free(b.items), free(b.nodes), free(b.order), free(flat);
         return false;
     }
     task root = {.end = count, .bounds = box_empty(), .cbox = box_empty()};
     for (uint32_t k = 0; k < count; k++) {
-        const tz_vec4 *c = &spheres[k].center_radius;
-        /* Pad by a few float ulps of the largest coordinate: a hit the sphere test accepts must
-         * never lie outside its box through rounding. */
-        float m = fabsf(c->x) > fabsf(c->y) ? fabsf(c->x) : fabsf(c->y);
-        m = m > fabsf(c->z) ? m : fabsf(c->z);
-        float r = c->w + (m + c->w) * 4e-6f;
         item *it = &b.items[k];
-        *it = (item){{c->x, c->y, c->z, r}};
+        *it = k < in->sphere_count ? sphere_item(&in->spheres[k])
+                                   : triangle_item(&in->triangles[k - in->sphere_count]);
         b.order[k] = k;
         box ib = item_box(it);
         box_grow(&root.bounds, &ib);
         box_grow_point(&root.cbox, it->centroid);
     }
     uint32_t flat_count = 0, depth = 0;
-    if (count > 0) { /* no spheres, no nodes: nothing to traverse */
+    if (count > 0) { /* no primitives, no nodes: nothing to traverse */
         b.task_items = b.threads > 1 ? count / ((uint32_t)b.threads * TASKS_PER_THREAD) : count;
         build_node(&b, &root, true, &depth);
-        if (b.failed) {
-            log_error("out of memory building a BVH over %u spheres", count);
+        uint32_t task_depth = b.failed ? 0 : build_tasks(&b);
+        if (task_depth > depth) depth = task_depth;
+        if (!b.failed) flat_count = flatten_all(&b, flat);
+        if (b.failed || (in->triangle_count > 0 && !renumber_leaves(&b, count, flat, flat_count))) {
+            log_error("out of memory building a BVH over %u primitives", count);
             free(b.items), free(b.nodes), free(b.order), free(flat), free(b.tasks);
             return false;
         }
-        uint32_t task_depth = build_tasks(&b);
-        if (task_depth > depth) depth = task_depth;
-        flat_count = flatten_all(&b, flat);
     }
     free(b.items);
     free(b.nodes);
     free(b.tasks);
     *out = (bvh){.nodes = flat, .node_count = flat_count, .depth = depth, .order = b.order};
     return true;
+}
+
+bool bvh_build_threads(const struct gpu_sphere *spheres, uint32_t count, uint32_t max_depth,
+                       int threads, bvh *out) {
+    bvh_input in = {.spheres = spheres, .sphere_count = count};
+    return bvh_build_primitives(&in, max_depth, threads, out);
 }
 
 bool bvh_build(const struct gpu_sphere *spheres, uint32_t count, uint32_t max_depth, bvh *out) {

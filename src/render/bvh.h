@@ -19,8 +19,23 @@ typedef struct bvh {
     struct gpu_bvh_node *nodes;
     uint32_t node_count;
     uint32_t depth;  /* levels from the root to the deepest leaf, below the build's max_depth */
-    uint32_t *order; /* order[k]: the input sphere stored at position k (leaves are ranges) */
+    uint32_t *order; /* order[k]: the input primitive stored at position k (leaves are ranges) */
 } bvh;
+
+/* The primitives a tree is built over: spheres, then triangles (input ids in that order). Its
+ * leaves hold one kind each and refer to primitive ids of the stored order: the spheres in
+ * their order of `order`, then the triangles in theirs (ids from sphere_count on). */
+typedef struct bvh_input {
+    const struct gpu_sphere *spheres;
+    uint32_t sphere_count;
+    const struct gpu_triangle *triangles;
+    uint32_t triangle_count;
+} bvh_input;
+
+/* Builds the tree over the input's primitives on at most threads threads (0: one per online
+ * processor), every leaf at depth < max_depth; the same tree for every thread count. False
+ * (logged) on out-of-memory. */
+bool bvh_build_primitives(const bvh_input *in, uint32_t max_depth, int threads, bvh *out);
 
 /* Builds the tree over count spheres (0 spheres: 0 nodes) with every leaf at depth < max_depth
  * (TZ_BVH_MAX_DEPTH for rendering; at least 22 so that 2^24 spheres fit); false (logged) on

@@ -23,6 +23,12 @@ _Static_assert(sizeof(struct gpu_sphere) == 48, "gpu_sphere is 48 bytes");
 _Static_assert(offsetof(struct gpu_sphere, center_radius) == 0, "gpu_sphere layout");
 _Static_assert(offsetof(struct gpu_sphere, color_ks) == 16, "gpu_sphere layout");
 _Static_assert(offsetof(struct gpu_sphere, params) == 32, "gpu_sphere layout");
+_Static_assert(sizeof(struct gpu_triangle) == 48, "gpu_triangle is 48 bytes");
+_Static_assert(offsetof(struct gpu_triangle, v1) == 16, "gpu_triangle layout");
+_Static_assert(offsetof(struct gpu_triangle, v2) == 32, "gpu_triangle layout");
+_Static_assert(sizeof(struct gpu_material) == 32, "gpu_material is 32 bytes");
+_Static_assert(offsetof(struct gpu_material, params) == 16, "gpu_material layout");
+_Static_assert(sizeof(struct gpu_normals) == 48, "gpu_normals is 48 bytes");
 _Static_assert(sizeof(struct gpu_light) == 32, "gpu_light is 32 bytes");
 _Static_assert(offsetof(struct gpu_light, position_power) == 0, "gpu_light layout");
 _Static_assert(offsetof(struct gpu_light, color) == 16, "gpu_light layout");
@@ -42,6 +48,7 @@ _Static_assert(offsetof(struct gpu_frame, flags) == 104, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, node_count) == 108, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, near_distance) == 112, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, emitter_count) == 116, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, triangle_count) == 120, "gpu_frame layout");
 _Static_assert(sizeof(struct gpu_pass) == 64 + 4 * TZ_PASS_CHUNKS, "gpu_pass is 96 bytes");
 _Static_assert(sizeof(struct gpu_pass) <= 128, "gpu_pass fits the push constants of any device");
 _Static_assert(offsetof(struct gpu_pass, stack_slot) == 64, "gpu_pass layout");
@@ -59,33 +66,51 @@ _Static_assert(offsetof(struct gpu_unrolled, lights) ==
                    TZ_UNROLL_MAX_SPHERES * sizeof(struct gpu_sphere),
                "gpu_unrolled layout");
 _Static_assert(sizeof(struct gpu_emitter) == 32, "gpu_emitter is 32 bytes");
-_Static_assert(offsetof(struct gpu_emitter, sphere_cdf) == 16, "gpu_emitter layout");
+_Static_assert(offsetof(struct gpu_emitter, primitive_cdf) == 16, "gpu_emitter layout");
 _Static_assert(sizeof(struct gpu_bvh_node) == 64, "gpu_bvh_node is 64 bytes");
 _Static_assert(offsetof(struct gpu_bvh_node, left_hi) == 16, "gpu_bvh_node layout");
 _Static_assert(offsetof(struct gpu_bvh_node, right_lo) == 32, "gpu_bvh_node layout");
 _Static_assert(offsetof(struct gpu_bvh_node, right_hi) == 48, "gpu_bvh_node layout");
 _Static_assert(TZ_BVH_LEAF_MAX < 1u << (32u - TZ_BVH_COUNT_SHIFT) &&
-                   SCENE_MAX_SPHERES - 1u <= TZ_BVH_INDEX_MASK,
+                   SCENE_MAX_PRIMITIVES - 1u <= TZ_BVH_INDEX_MASK,
                "a leaf's count and first sphere fit a child reference");
 
 static tz_vec4 vec4_from(vec3 v, float w) { return (tz_vec4){v.x, v.y, v.z, w}; }
 
-/* Sorts the spheres into BVH order and keeps the tree unless no_bvh (the order stays: exact ties
- * go to the lower index, so the same order gives the same image with and without the tree);
- * false (logged) on out-of-memory. */
-static bool pack_bvh(packed_scene *out, uint32_t count, bool no_bvh) {
+/* Sorts the spheres and triangles into BVH order and keeps the tree unless no_bvh (the order
+ * stays: exact ties go to the lower index, so the same order gives the same image with and
+ * without the tree); *triangle_source[t] becomes the scene index of stored triangle t. False
+ * (logged) on out-of-memory. */
+static bool pack_bvh(packed_scene *out, uint32_t spheres, uint32_t triangles, bool no_bvh,
+                     uint32_t **triangle_source) {
     double start = clock_seconds();
     bvh tree;
-    if (!bvh_build(out->spheres, count, TZ_BVH_MAX_DEPTH, &tree)) return false;
-    struct gpu_sphere *sorted = malloc((count ? count : 1) * sizeof *sorted);
-    if (!sorted) {
-        log_error("out of memory sorting %u spheres into BVH order", count);
+    bvh_input in = {out->spheres, spheres, out->triangles, triangles};
+    if (!bvh_build_primitives(&in, TZ_BVH_MAX_DEPTH, 0, &tree)) return false;
+    struct gpu_sphere *sorted = malloc((spheres ? spheres : 1) * sizeof *sorted);
+    struct gpu_triangle *sorted_t = calloc(triangles ? triangles : 1, sizeof *sorted_t);
+    *triangle_source = malloc((triangles ? triangles : 1) * sizeof **triangle_source);
+    if (!sorted || !sorted_t || !*triangle_source) {
+        log_error("out of memory sorting %u primitives into BVH order", spheres + triangles);
+        free(sorted), free(sorted_t), free(*triangle_source);
+        *triangle_source = NULL;
         bvh_free(&tree);
         return false;
     }
-    for (uint32_t k = 0; k < count; k++) sorted[k] = out->spheres[tree.order[k]];
+    uint32_t ns = 0, nt = 0;
+    for (uint32_t k = 0; k < spheres + triangles; k++) {
+        uint32_t from = tree.order[k];
+        if (from < spheres) {
+            sorted[ns++] = out->spheres[from];
+        } else {
+            (*triangle_source)[nt] = from - spheres;
+            sorted_t[nt++] = out->triangles[from - spheres];
+        }
+    }
     free(out->spheres);
     out->spheres = sorted;
+    free(out->triangles);
+    out->triangles = sorted_t;
     free(tree.order);
     if (no_bvh) {
         free(tree.nodes);
@@ -101,16 +126,52 @@ static bool pack_bvh(packed_scene *out, uint32_t count, bool no_bvh) {
 /* The mean of an emission's channels, as double. */
 static double emission_mean(vec3 e) { return ((double)e.x + e.y + e.z) / 3.0; }
 
-/* The emitters of path mode from the spheres in their final (BVH) order, whose params.w holds
- * their index in the scene until here: each emitter is picked in proportion to its power
- * r^2 mean(Le), the shares summed in double; params.w becomes the emitter's slot + 1, or 0.
- * False (logged) on out-of-memory. */
-static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode) {
-    uint32_t count = (uint32_t)sc->sphere_count, n = 0;
+/* A triangle's area, in double. */
+static double triangle_area(const triangle *t) {
+    double e1[3] = {t->v[1].x - (double)t->v[0].x, t->v[1].y - (double)t->v[0].y,
+                    t->v[1].z - (double)t->v[0].z};
+    double e2[3] = {t->v[2].x - (double)t->v[0].x, t->v[2].y - (double)t->v[0].y,
+                    t->v[2].z - (double)t->v[0].z};
+    double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                   e1[0] * e2[1] - e1[1] * e2[0]};
+    return 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+}
+
+/* The power an emitter is picked by, in units of a sphere's r^2 mean(Le) (its flux over 4 pi^2):
+ * a two-sided triangle of area A emits 2 pi A Le, so A mean(Le) / (2 pi). */
+static double sphere_power(const sphere *sp) {
+    return (double)sp->radius * sp->radius * emission_mean(sp->emission);
+}
+static double triangle_power(const triangle *t) {
+    return triangle_area(t) * emission_mean(t->emission) / (2.0 * 3.14159265358979323846);
+}
+
+/* Appends emitter slot `slot` for primitive id (uint bits in primitive_cdf.x). */
+static void put_emitter(packed_scene *out, uint32_t slot, uint32_t id, vec3 emission, double power,
+                        double running, double total, uint32_t n, float area) {
+    float index_bits;
+    memcpy(&index_bits, &id, sizeof index_bits);
+    out->emitters[slot] = (struct gpu_emitter){
+        .emission_pick = vec4_from(emission, (float)(power / total)),
+        .primitive_cdf = {index_bits, slot + 1 == n ? 1.0f : (float)(running / total), area, 0},
+    };
+}
+
+/* The emitters of path mode from the spheres, then the triangles, in their final (BVH) order
+ * (a sphere's params.w holds its index in the scene until here, triangle_source[t] the scene
+ * index of triangle t): each emitter is picked in proportion to its power (sphere_power,
+ * triangle_power), the shares summed in double; params.w and a triangle's v2.w become the
+ * emitter's slot + 1, or 0. False (logged) on out-of-memory. */
+static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
+                          const uint32_t *triangle_source) {
+    uint32_t count = (uint32_t)sc->sphere_count, triangles = (uint32_t)sc->triangle_count, n = 0;
     double total = 0.0;
     for (uint32_t k = 0; path_mode && k < count; k++) {
-        const sphere *sp = &sc->spheres[k];
-        double power = (double)sp->radius * sp->radius * emission_mean(sp->emission);
+        double power = sphere_power(&sc->spheres[k]);
+        if (power > 0.0) total += power, n++;
+    }
+    for (uint32_t k = 0; path_mode && k < triangles; k++) {
+        double power = triangle_power(&sc->triangles[k]);
         if (power > 0.0) total += power, n++;
     }
     out->emitters = calloc(n ? n : 1, sizeof *out->emitters);
@@ -123,19 +184,87 @@ static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode) {
     for (uint32_t k = 0; k < count; k++) {
         struct gpu_sphere *g = &out->spheres[k];
         const sphere *sp = &sc->spheres[(uint32_t)g->params.w];
-        double power = (double)sp->radius * sp->radius * emission_mean(sp->emission);
+        double power = sphere_power(sp);
         g->params.w = 0.0f;
         if (!path_mode || !(power > 0.0)) continue;
         running += power;
-        float index_bits;
-        memcpy(&index_bits, &k, sizeof index_bits);
-        out->emitters[slot] = (struct gpu_emitter){
-            .emission_pick = vec4_from(sp->emission, (float)(power / total)),
-            .sphere_cdf = {index_bits, slot + 1 == n ? 1.0f : (float)(running / total), 0, 0},
-        };
+        put_emitter(out, slot, k, sp->emission, power, running, total, n, 0.0f);
         g->params.w = (float)++slot;
     }
+    for (uint32_t k = 0; k < triangles; k++) {
+        const triangle *t = &sc->triangles[triangle_source[k]];
+        double power = triangle_power(t);
+        out->triangles[k].v2.w = 0.0f;
+        if (!path_mode || !(power > 0.0)) continue;
+        running += power;
+        put_emitter(out, slot, count + k, t->emission, power, running, total, n,
+                    (float)triangle_area(t));
+        out->triangles[k].v2.w = (float)++slot;
+    }
     out->frame.emitter_count = n;
+    return true;
+}
+
+/* Whether two triangles have one material (the same fields, bit for bit). */
+static bool same_material(const triangle *a, const triangle *b) {
+    return a->material == b->material && !memcmp(&a->color, &b->color, sizeof a->color) &&
+           !memcmp(&a->ks, &b->ks, sizeof a->ks) &&
+           !memcmp(&a->alpha, &b->alpha, sizeof a->alpha) &&
+           !memcmp(&a->ior, &b->ior, sizeof a->ior);
+}
+
+/* The triangles in scene order, their materials (one per run of triangles that share one: a
+ * mesh's faces come in runs) and the normals of the smooth ones; v2.w holds nothing yet
+ * (pack_emitters). False on out-of-memory. */
+static bool pack_triangles(packed_scene *out, const scene *s) {
+    uint32_t count = (uint32_t)s->triangle_count, materials = 0, smooth = 0;
+    for (uint32_t k = 0; k < count; k++) {
+        materials += k == 0 || !same_material(&s->triangles[k], &s->triangles[k - 1]);
+        smooth += s->triangles[k].smooth;
+    }
+    out->triangles = calloc(count ? count : 1, sizeof *out->triangles);
+    out->materials = calloc(materials ? materials : 1, sizeof *out->materials);
+    out->normals = calloc(smooth ? smooth : 1, sizeof *out->normals);
+    if (!out->triangles || !out->materials || !out->normals) return false;
+    uint32_t m = 0, n = 0;
+    for (uint32_t k = 0; k < count; k++) {
+        const triangle *t = &s->triangles[k];
+        if (k == 0 || !same_material(t, &s->triangles[k - 1])) {
+            out->materials[m++] = (struct gpu_material){
+                .color_ks = vec4_from(t->color, t->ks),
+                .params = {t->alpha, t->ior, (float)t->material, 0.0f},
+            };
+        }
+        uint32_t material = m - 1, normals = t->smooth ? n : TZ_FLAT;
+        if (t->smooth)
+            out->normals[n++] = (struct gpu_normals){
+                vec4_from(t->n[0], 0.0f), vec4_from(t->n[1], 0.0f), vec4_from(t->n[2], 0.0f)};
+        float material_bits, normals_bits;
+        memcpy(&material_bits, &material, sizeof material_bits);
+        memcpy(&normals_bits, &normals, sizeof normals_bits);
+        out->triangles[k] =
+            (struct gpu_triangle){vec4_from(t->v[0], material_bits),
+                                  vec4_from(t->v[1], normals_bits), vec4_from(t->v[2], 0.0f)};
+    }
+    out->material_count = materials;
+    out->normals_count = smooth;
+    return true;
+}
+
+/* The corners' structure-of-arrays copy, padded as pack_soa's. */
+static bool pack_triangle_soa(packed_scene *out, uint32_t count) {
+    size_t n = ((size_t)count + SOA_LANES - 1) / SOA_LANES * SOA_LANES + SOA_LANES;
+    out->triangle_soa.v[0] = calloc(9 * n, sizeof(float));
+    if (!out->triangle_soa.v[0]) return false;
+    for (int a = 1; a < 9; a++) out->triangle_soa.v[a] = out->triangle_soa.v[0] + a * n;
+    for (uint32_t k = 0; k < count; k++) {
+        const tz_vec4 *v[3] = {&out->triangles[k].v0, &out->triangles[k].v1, &out->triangles[k].v2};
+        for (int c = 0; c < 3; c++) {
+            out->triangle_soa.v[3 * c][k] = v[c]->x;
+            out->triangle_soa.v[3 * c + 1][k] = v[c]->y;
+            out->triangle_soa.v[3 * c + 2][k] = v[c]->z;
+        }
+    }
     return true;
 }
 
@@ -163,8 +292,8 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     /* One zero element when empty keeps every buffer non-empty for Vulkan. */
     out->spheres = calloc(count ? count : 1, sizeof *out->spheres);
     out->lights = calloc(s->light_count ? (size_t)s->light_count : 1, sizeof *out->lights);
-    if (!out->spheres || !out->lights) {
-        log_error("out of memory packing %u spheres", count);
+    if (!out->spheres || !out->lights || !pack_triangles(out, s)) {
+        log_error("out of memory packing %u spheres and %d triangles", count, s->triangle_count);
         scene_pack_free(out);
         return false;
     }
@@ -207,15 +336,21 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         .width = (uint32_t)s->width,
         .height = (uint32_t)s->height,
         .sphere_count = (uint32_t)s->sphere_count,
+        .triangle_count = (uint32_t)s->triangle_count,
         .light_count = (uint32_t)s->light_count,
         .seed = opts->seed,
         .bounces = (uint32_t)opts->bounces,
         .flags = flags,
         .near_distance = s->camera_near,
     };
-    bool sorted = pack_bvh(out, count, opts->no_bvh) && pack_emitters(out, s, path); /* logged */
-    if (sorted && !pack_soa(out, count)) log_error("out of memory packing %u spheres", count);
-    if (!sorted || !out->soa.cx) {
+    uint32_t *triangle_source = NULL;
+    bool sorted =
+        pack_bvh(out, count, (uint32_t)s->triangle_count, opts->no_bvh, &triangle_source) &&
+        pack_emitters(out, s, path, triangle_source); /* logged */
+    free(triangle_source);
+    if (sorted && (!pack_soa(out, count) || !pack_triangle_soa(out, out->frame.triangle_count)))
+        log_error("out of memory packing %u spheres", count);
+    if (!sorted || !out->soa.cx || !out->triangle_soa.v[0]) {
         scene_pack_free(out);
         return false;
     }
@@ -230,20 +365,28 @@ void scene_pack_report(const packed_scene *p, const render_opts *opts, double pa
     st->bvh_nodes = p->frame.node_count;
     st->bvh_depth = p->bvh_depth;
     st->scene_bytes = (uint64_t)p->frame.sphere_count * sizeof *p->spheres +
+                      (uint64_t)p->frame.triangle_count * sizeof *p->triangles +
+                      (uint64_t)p->material_count * sizeof *p->materials +
+                      (uint64_t)p->normals_count * sizeof *p->normals +
                       (uint64_t)p->frame.light_count * sizeof *p->lights +
                       (uint64_t)p->frame.node_count * sizeof *p->nodes;
     log_debug(
-        "scene: %u sphere%s, %u BVH node%s (depth %u) built in %.3f s, %.1f MB for the "
-        "shaders, packed in %.3f s in all",
-        p->frame.sphere_count, p->frame.sphere_count == 1 ? "" : "s", st->bvh_nodes,
-        st->bvh_nodes == 1 ? "" : "s", st->bvh_depth, st->bvh_seconds,
-        (double)st->scene_bytes * 1e-6, st->pack_seconds);
+        "scene: %u sphere%s, %u triangle%s (%u smooth, %u material%s), %u BVH node%s (depth %u) "
+        "built in %.3f s, %.1f MB for the shaders, packed in %.3f s in all",
+        p->frame.sphere_count, p->frame.sphere_count == 1 ? "" : "s", p->frame.triangle_count,
+        p->frame.triangle_count == 1 ? "" : "s", p->normals_count, p->material_count,
+        p->material_count == 1 ? "" : "s", st->bvh_nodes, st->bvh_nodes == 1 ? "" : "s",
+        st->bvh_depth, st->bvh_seconds, (double)st->scene_bytes * 1e-6, st->pack_seconds);
 }
 
 void scene_pack_free(packed_scene *p) {
     free(p->spheres);
     free(p->lights);
     free(p->soa.cx);
+    free(p->triangles);
+    free(p->materials);
+    free(p->normals);
+    free(p->triangle_soa.v[0]);
     free(p->nodes);
     free(p->emitters);
     *p = (packed_scene){0};

@@ -13,11 +13,22 @@ typedef struct sphere_soa {
     float *cx, *cy, *cz, *r;
 } sphere_soa;
 
+/* Triangle corners as separate arrays (corner k of triangle t at v[3 * k + axis][t]), padded as
+ * sphere_soa: the C integrator tests 8 triangles at a time. */
+typedef struct triangle_soa {
+    float *v[9];
+} triangle_soa;
+
 typedef struct packed_scene {
     struct gpu_frame frame;
     struct gpu_sphere *spheres;
+    struct gpu_triangle *triangles; /* frame.triangle_count, one zeroed when none */
+    struct gpu_material *materials; /* the triangles' materials, one zeroed when none */
+    struct gpu_normals *normals;    /* the smooth triangles' normals, one zeroed when none */
+    uint32_t material_count, normals_count;
     struct gpu_light *lights;
     sphere_soa soa;               /* the C back end's copy of spheres[].center_radius */
+    triangle_soa triangle_soa;    /* and of triangles[]' corners */
     struct gpu_bvh_node *nodes;   /* frame.node_count of them; NULL (0) without a BVH */
     struct gpu_emitter *emitters; /* frame.emitter_count (path mode), one zeroed when none */
     uint32_t bvh_depth;

@@ -41,6 +41,49 @@ static inline void leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end,
     *id = i;
 }
 
+/* Distances to triangles [begin, begin + SOA_LANES) (primitives sphere_count + begin on) into
+ * t[] (triangle_distance), INFINITY past end: SIMD as spheres_hit. */
+static inline void triangles_hit(const triangle_soa *tr, int begin, int end, int first_id, vec3 o,
+                                 vec3 d, float tmin, int self, float *restrict t) {
+    for (int lane = 0; lane < SOA_LANES; lane++) {
+        int k = begin + lane;
+        vec3 a = v3(tr->v[0][k], tr->v[1][k], tr->v[2][k]);
+        vec3 b = v3(tr->v[3][k], tr->v[4][k], tr->v[5][k]);
+        vec3 c = v3(tr->v[6][k], tr->v[7][k], tr->v[8][k]);
+        float near = triangle_distance(a, b, c, o, d, tmin, first_id + k == self);
+        t[lane] = k >= end ? INFINITY : near;
+    }
+}
+
+/* Tests triangles [begin, end) (at most SOA_LANES, by triangle index) and keeps the nearest hit
+ * below *best (nearer_hit, over primitive ids). */
+static inline void triangle_leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end, vec3 o,
+                                     vec3 d, float tmin, int self, float *best, int *id) {
+    float t[SOA_LANES];
+    int first_id = (int)p->frame.sphere_count;
+    triangles_hit(&p->triangle_soa, (int)begin, (int)end, first_id, o, d, tmin, self, t);
+    float b = *best;
+    int i = *id;
+    for (int lane = 0; lane < SOA_LANES; lane++) {
+        int k = first_id + (int)begin + lane;
+        int take = nearer_hit(t[lane], k, b, i);
+        b = take ? t[lane] : b;
+        i = take ? k : i;
+    }
+    *best = b;
+    *id = i;
+}
+
+/* Tests the primitives [first, first + count) of one BVH leaf (one kind). */
+static inline void primitive_leaf_hit(const packed_scene *p, uint32_t first, uint32_t count, vec3 o,
+                                      vec3 d, float tmin, int self, float *best, int *id) {
+    uint32_t spheres = p->frame.sphere_count;
+    if (first < spheres)
+        leaf_hit(p, first, first + count, o, d, tmin, self, best, id);
+    else
+        triangle_leaf_hit(p, first - spheres, first - spheres + count, o, d, tmin, self, best, id);
+}
+
 /* Rays traced by this thread, for Mrays/s (render_cpu sums the threads'). */
 static _Thread_local uint64_t rays_traced;
 
@@ -65,7 +108,7 @@ static inline __attribute__((always_inline)) int trace_bvh(const packed_scene *p
     for (;;) {
         uint32_t leaf = child_count(ref), first = child_index(ref);
         if (leaf > 0) {
-            leaf_hit(p, first, first + leaf, o, d, tmin, self, &best, &id);
+            primitive_leaf_hit(p, first, leaf, o, d, tmin, self, &best, &id);
             if (any_hit && id >= 0) break;
         } else {
             const struct gpu_bvh_node *n = &p->nodes[first];
@@ -100,14 +143,17 @@ static inline __attribute__((always_inline)) int trace_bvh(const packed_scene *p
  * find the same hit). */
 SIMD_CLONES static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self, float tmax,
                                  int any_hit, float *t) {
-    if (p->frame.node_count > 0 && p->frame.sphere_count > PACKET_BRUTE_FORCE_MAX)
+    uint32_t count = p->frame.sphere_count, triangles = p->frame.triangle_count;
+    if (p->frame.node_count > 0 && count + triangles > PACKET_BRUTE_FORCE_MAX)
         return trace_bvh(p, o, d, self, tmax, any_hit, t);
     float tmin = ray_eps(o), best = tmax;
     int id = -1;
-    uint32_t count = p->frame.sphere_count;
     for (uint32_t begin = 0; begin < count && !(any_hit && id >= 0); begin += SOA_LANES)
         leaf_hit(p, begin, begin + SOA_LANES < count ? begin + SOA_LANES : count, o, d, tmin, self,
                  &best, &id);
+    for (uint32_t begin = 0; begin < triangles && !(any_hit && id >= 0); begin += SOA_LANES)
+        triangle_leaf_hit(p, begin, begin + SOA_LANES < triangles ? begin + SOA_LANES : triangles,
+                          o, d, tmin, self, &best, &id);
     *t = best;
     return id;
 }

@@ -91,6 +91,11 @@ LANE_FN float bsdf_pdf_of_lobe(float share, float alpha, float cos_i, float lobe
     return share * (cos_i > 0.0f ? diffuse : 0.0f) + (1.0f - share) * l;
 }
 
+/* The BRDF of sphere id at the lobe cosine x (brdf_at of lights.h). */
+static inline vec3 sphere_brdf_at(const packed_scene *p, int id, float x) {
+    return brdf_at(p->spheres[id].color_ks, p->spheres[id].params.x, x);
+}
+
 /* sphere_brdf_at of path.h for lane k of the vertex, phong_lobe(x, alpha) given as lobe. */
 LANE_FN vec3 brdf_of_lobe(const vertex_lanes *v, int k, float lobe) {
     return phong_from_lobe(get3(&v->kd, k), v->ks[k], v->alpha[k], v->ks[k] > 0.0f ? lobe : 0.0f);
@@ -145,7 +150,7 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
     for (int k = 0; k < LANES; k++) {
         int slot = v->diffuse[k] && !one_emitter ? pick_emitter(scene, ul[k]) : 0;
         tz_vec4 emission_pick = emitter_emission_pick(scene, slot);
-        e[k] = (int)uint_bits(emitter_sphere_cdf(scene, slot).x);
+        e[k] = (int)uint_bits(emitter_primitive_cdf(scene, slot).x);
         tz_vec4 cr = sphere_center_radius(scene, e[k]);
         set3(&c, k, xyz(cr));
         r[k] = cr.w;

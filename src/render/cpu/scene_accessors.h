@@ -13,6 +13,18 @@ static inline tz_vec4 sphere_color_ks(const packed_scene *p, int k) {
     return p->spheres[k].color_ks;
 }
 static inline tz_vec4 sphere_params(const packed_scene *p, int k) { return p->spheres[k].params; }
+static inline tz_vec4 triangle_v0(const packed_scene *p, int t) { return p->triangles[t].v0; }
+static inline tz_vec4 triangle_v1(const packed_scene *p, int t) { return p->triangles[t].v1; }
+static inline tz_vec4 triangle_v2(const packed_scene *p, int t) { return p->triangles[t].v2; }
+static inline tz_vec4 material_color_ks(const packed_scene *p, int m) {
+    return p->materials[m].color_ks;
+}
+static inline tz_vec4 material_params(const packed_scene *p, int m) {
+    return p->materials[m].params;
+}
+static inline tz_vec4 normals_n0(const packed_scene *p, int s) { return p->normals[s].n0; }
+static inline tz_vec4 normals_n1(const packed_scene *p, int s) { return p->normals[s].n1; }
+static inline tz_vec4 normals_n2(const packed_scene *p, int s) { return p->normals[s].n2; }
 static inline tz_vec4 light_position_power(const packed_scene *p, int k) {
     return p->lights[k].position_power;
 }
@@ -21,8 +33,8 @@ static inline uint32_t light_count(const packed_scene *p) { return p->frame.ligh
 static inline tz_vec4 emitter_emission_pick(const packed_scene *p, int e) {
     return p->emitters[e].emission_pick;
 }
-static inline tz_vec4 emitter_sphere_cdf(const packed_scene *p, int e) {
-    return p->emitters[e].sphere_cdf;
+static inline tz_vec4 emitter_primitive_cdf(const packed_scene *p, int e) {
+    return p->emitters[e].primitive_cdf;
 }
 
 #endif

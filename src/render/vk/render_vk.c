@@ -39,8 +39,9 @@
  * few invocations take as long as this many would (a 1 x 1 image of a million samples was timed
  * as one loop pass per sample, one submission of 14 s on lavapipe, with no progress). */
 #define MIN_CHARGED_PIXELS 1024u
-/* The buffers of the packed scene: frame, spheres, lights, BVH nodes and emitters. */
-#define INPUT_BUFFERS 5
+/* The buffers of the packed scene: frame, spheres, lights, BVH nodes, emitters, triangles, their
+ * materials and normals. */
+#define INPUT_BUFFERS 8
 
 /* The specialization constants of trace.comp in constant_id order, one 32-bit word each. */
 typedef struct spec_data {
@@ -53,7 +54,8 @@ _Static_assert(offsetof(spec_data, scene) == TZ_SPEC_SCENE * sizeof(uint32_t),
 
 typedef struct vk_render {
     vk_context ctx;
-    vk_buffer frame, spheres, lights, nodes, emitters, accum, accum_comp, stack, counter;
+    vk_buffer frame, spheres, lights, nodes, emitters, triangles, materials, normals;
+    vk_buffer accum, accum_comp, stack, counter;
     vk_buffer upload;   /* staging for the inputs when device memory is not mapped */
     vk_buffer state;    /* staging for a resumed part's counts and stacks, likewise */
     vk_buffer readback; /* staging: the counters at 0, the sums at 16, then the stacks */
@@ -80,6 +82,10 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
     size_t node_bytes = (p->frame.node_count ? p->frame.node_count : 1u) * sizeof *p->nodes;
     size_t emitter_bytes =
         (p->frame.emitter_count ? p->frame.emitter_count : 1u) * sizeof *p->emitters;
+    size_t triangle_bytes =
+        (p->frame.triangle_count ? p->frame.triangle_count : 1u) * sizeof *p->triangles;
+    size_t material_bytes = (p->material_count ? p->material_count : 1u) * sizeof *p->materials;
+    size_t normals_bytes = (p->normals_count ? p->normals_count : 1u) * sizeof *p->normals;
     /* Rows padded to whole tiles: every band binding of TILE_SIZE rows stays inside the buffer. */
     uint64_t rows = ((uint64_t)height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
     VkDeviceSize accum_bytes = rows * (uint64_t)width * ACCUM_PIXEL_BYTES;
@@ -96,6 +102,12 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
         !vk_buffer_create_view(ctx, &r->nodes, VK_FORMAT_R32G32B32A32_UINT) ||
         !vk_buffer_create(ctx, emitter_bytes, texels, VK_MEMORY_DEVICE, &r->emitters) ||
         !vk_buffer_create_view(ctx, &r->emitters, VK_FORMAT_R32G32B32A32_SFLOAT) ||
+        !vk_buffer_create(ctx, triangle_bytes, texels, VK_MEMORY_DEVICE, &r->triangles) ||
+        !vk_buffer_create_view(ctx, &r->triangles, VK_FORMAT_R32G32B32A32_SFLOAT) ||
+        !vk_buffer_create(ctx, material_bytes, texels, VK_MEMORY_DEVICE, &r->materials) ||
+        !vk_buffer_create_view(ctx, &r->materials, VK_FORMAT_R32G32B32A32_SFLOAT) ||
+        !vk_buffer_create(ctx, normals_bytes, texels, VK_MEMORY_DEVICE, &r->normals) ||
+        !vk_buffer_create_view(ctx, &r->normals, VK_FORMAT_R32G32B32A32_SFLOAT) ||
         !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum) ||
         !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum_comp) ||
         !vk_buffer_create(ctx, stack_bytes, storage, VK_MEMORY_DEVICE, &r->stack) ||
@@ -109,11 +121,12 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
                               &r->readback))
             return false;
     }
-    const void *data[INPUT_BUFFERS] = {&p->frame, p->spheres, p->lights, nodes, p->emitters};
-    vk_buffer *targets[INPUT_BUFFERS] = {&r->frame, &r->spheres, &r->lights, &r->nodes,
-                                         &r->emitters};
-    size_t sizes[INPUT_BUFFERS] = {sizeof p->frame, sphere_bytes, light_bytes, node_bytes,
-                                   emitter_bytes};
+    const void *data[INPUT_BUFFERS] = {&p->frame,   p->spheres,   p->lights,    nodes,
+                                       p->emitters, p->triangles, p->materials, p->normals};
+    vk_buffer *targets[INPUT_BUFFERS] = {&r->frame,    &r->spheres,   &r->lights,    &r->nodes,
+                                         &r->emitters, &r->triangles, &r->materials, &r->normals};
+    size_t sizes[INPUT_BUFFERS] = {sizeof p->frame, sphere_bytes,   light_bytes,    node_bytes,
+                                   emitter_bytes,   triangle_bytes, material_bytes, normals_bytes};
     bool mapped = true;
     size_t total = 0;
     for (int k = 0; k < INPUT_BUFFERS; k++) mapped &= targets[k]->mapped != NULL, total += sizes[k];
@@ -159,8 +172,9 @@ static bool load_state(vk_render *r, const part *p, uint32_t depth) {
  * zeroes the accumulation buffers of a new part. */
 static void record_setup(vk_render *r, bool resumed, size_t pixels) {
     if (r->upload.buffer) {
-        vk_buffer *targets[INPUT_BUFFERS] = {&r->frame, &r->spheres, &r->lights, &r->nodes,
-                                             &r->emitters};
+        vk_buffer *targets[INPUT_BUFFERS] = {&r->frame,     &r->spheres,  &r->lights,
+                                             &r->nodes,     &r->emitters, &r->triangles,
+                                             &r->materials, &r->normals};
         VkDeviceSize offset = 0;
         for (int k = 0; k < INPUT_BUFFERS; k++) {
             VkBufferCopy copy = {offset, 0, targets[k]->size};
@@ -446,9 +460,10 @@ static void render_destroy(vk_render *r) {
         if (r->fence) vkDestroyFence(ctx->device, r->fence, NULL);
         if (r->cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &r->cmd);
         vk_kernel_destroy(ctx, &r->kernel);
-        vk_buffer *buffers[] = {&r->readback, &r->state,      &r->upload,  &r->counter,
-                                &r->stack,    &r->accum_comp, &r->accum,   &r->emitters,
-                                &r->nodes,    &r->lights,     &r->spheres, &r->frame};
+        vk_buffer *buffers[] = {&r->readback,  &r->state,      &r->upload,  &r->counter,
+                                &r->stack,     &r->accum_comp, &r->accum,   &r->emitters,
+                                &r->nodes,     &r->lights,     &r->spheres, &r->frame,
+                                &r->triangles, &r->materials,  &r->normals};
         for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; k++)
             vk_buffer_destroy(ctx, buffers[k]);
     }
@@ -469,6 +484,9 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
         [TZ_BINDING_ACCUM_COMP] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC,
         [TZ_BINDING_EMITTERS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         [TZ_BINDING_STACK] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC,
+        [TZ_BINDING_TRIANGLES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+        [TZ_BINDING_MATERIALS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+        [TZ_BINDING_NORMALS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
     };
     /* Small scenes get their sphere and light loops unrolled, and their spheres and lights
      * become specialization constants: the unrolled tests read immediates, and the loop
@@ -511,7 +529,8 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
         [TZ_BINDING_LIGHTS] = &r->lights,         [TZ_BINDING_ACCUM] = &r->accum,
         [TZ_BINDING_COUNTERS] = &r->counter,      [TZ_BINDING_NODES] = &r->nodes,
         [TZ_BINDING_ACCUM_COMP] = &r->accum_comp, [TZ_BINDING_EMITTERS] = &r->emitters,
-        [TZ_BINDING_STACK] = &r->stack,
+        [TZ_BINDING_STACK] = &r->stack,           [TZ_BINDING_TRIANGLES] = &r->triangles,
+        [TZ_BINDING_MATERIALS] = &r->materials,   [TZ_BINDING_NORMALS] = &r->normals,
     };
     const VkDeviceSize band = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)width * ACCUM_PIXEL_BYTES;
     const VkDeviceSize ranges[] = {
@@ -524,6 +543,9 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
         [TZ_BINDING_ACCUM_COMP] = band, /* the same band rows as the sums */
         [TZ_BINDING_EMITTERS] = VK_WHOLE_SIZE,
         [TZ_BINDING_STACK] = band * depth * STACK_BLOCK_BYTES / ACCUM_PIXEL_BYTES,
+        [TZ_BINDING_TRIANGLES] = VK_WHOLE_SIZE,
+        [TZ_BINDING_MATERIALS] = VK_WHOLE_SIZE,
+        [TZ_BINDING_NORMALS] = VK_WHOLE_SIZE,
     };
     vk_kernel_bind(&r->ctx, &r->kernel, buffers, ranges);
     return true;

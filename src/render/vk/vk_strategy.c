@@ -74,14 +74,17 @@ bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts 
         return false;
     }
     const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
+    uint64_t primitives = (uint64_t)s->sphere_count + (uint64_t)s->triangle_count;
     uint64_t sizes[] = {(uint64_t)s->sphere_count * 3u, (uint64_t)s->light_count * 2u,
                         (uint64_t)TILE_SIZE * row_bytes,
-                        use_bvh ? (uint64_t)s->sphere_count * 4u : 0u}; /* < 1 node a sphere */
+                        use_bvh ? primitives * 4u : 0u, /* < 1 node a primitive */
+                        (uint64_t)s->triangle_count * 3u};
     uint64_t limit[] = {limits->maxTexelBufferElements, limits->maxTexelBufferElements,
-                        limits->maxStorageBufferRange, limits->maxTexelBufferElements};
+                        limits->maxStorageBufferRange, limits->maxTexelBufferElements,
+                        limits->maxTexelBufferElements};
     const char *what[] = {"texels of spheres", "texels of lights", "bytes of accumulation rows",
-                          "texels of BVH nodes"};
-    for (int k = 0; k < 4; k++) {
+                          "texels of BVH nodes", "texels of triangles"};
+    for (int k = 0; k < 5; k++) {
         if (sizes[k] > limit[k]) {
             snprintf(reason, RENDER_REASON_SIZE,
                      "the scene needs %" PRIu64
@@ -116,10 +119,15 @@ static uint32_t walk_budget(const scene *s, const render_opts *opts, uint32_t em
  * lavapipe by TZ_SPEC_WALK_BUDGET passes as if it tested that many spheres (a guess of 64 sizes
  * the dispatches elsewhere). */
 vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const render_opts *opts) {
-    uint32_t spheres = (uint32_t)s->sphere_count, emitters = 0;
+    /* A ray tests spheres and triangles alike: one loop pass a primitive. */
+    uint32_t spheres = (uint32_t)s->sphere_count + (uint32_t)s->triangle_count, emitters = 0;
     for (int k = 0; opts->mode == RENDER_MODE_PATH && k < s->sphere_count; k++)
         emitters += sphere_emits(&s->spheres[k]);
-    vk_strategy st = {.unrolled_spheres = spheres <= TZ_UNROLL_MAX_SPHERES ? spheres : 0u};
+    for (int k = 0; opts->mode == RENDER_MODE_PATH && k < s->triangle_count; k++)
+        emitters += triangle_emits(&s->triangles[k]);
+    /* Only spheres are unrolled (their data become specialization constants). */
+    bool unroll = spheres <= TZ_UNROLL_MAX_SPHERES && s->triangle_count == 0;
+    vk_strategy st = {.unrolled_spheres = unroll ? spheres : 0u};
     st.use_bvh = !opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u;
     st.cooperative = st.use_bvh && cooperative_walk(ctx);
     bool lavapipe = vk_context_is_lavapipe(ctx);

@@ -1,0 +1,143 @@
+/* primitive.h: spheres and triangles as one kind of thing, one text for C and GLSL (dialect.h)
+ * over the includer's scene accessors (path.h lists them): primitive ids number the spheres
+ * first, then the triangles; a primitive's distance along a ray, the surface at a hit (its
+ * normals and material), and what an emitting triangle needs for light sampling. */
+#ifndef TRAZADOR_COMMON_PRIMITIVE_H
+#define TRAZADOR_COMMON_PRIMITIVE_H
+
+#include "dialect.h"
+#include "ray.h"
+
+/* Whether primitive id is a triangle (else a sphere). */
+TZ_FN TZ_BOOL is_triangle(TZ_SCENE_PARAM int id) { return id >= TZ_INT(TZ_FRAME.sphere_count); }
+
+/* The corners of triangle primitive id. */
+TZ_STRUCT(triangle_corners) {
+    vec3 a;
+    vec3 b;
+    vec3 c;
+}
+TZ_STRUCT_END(triangle_corners)
+
+TZ_FN triangle_corners corners_of(TZ_SCENE_PARAM int id) {
+    int t = id - TZ_INT(TZ_FRAME.sphere_count);
+    triangle_corners k;
+    k.a = xyz(triangle_v0(TZ_SCENE_ARG t));
+    k.b = xyz(triangle_v1(TZ_SCENE_ARG t));
+    k.c = xyz(triangle_v2(TZ_SCENE_ARG t));
+    return k;
+}
+
+/* Distance to triangle primitive id along o + t d (triangle_distance). */
+TZ_FN float triangle_distance_at(TZ_SCENE_PARAM int id, vec3 o, vec3 d, float tmin, int self) {
+    triangle_corners k = corners_of(TZ_SCENE_ARG id);
+    return triangle_distance(k.a, k.b, k.c, o, d, tmin, id == self);
+}
+
+/* Distance to primitive id along o + t d: the nearest t > tmin, infinity for a miss; self is
+ * the primitive the ray leaves. */
+TZ_FN float primitive_distance(TZ_SCENE_PARAM int id, vec3 o, vec3 d, float tmin, int self) {
+    if (is_triangle(TZ_SCENE_ARG id))
+        return triangle_distance_at(TZ_SCENE_ARG id, o, d, tmin, self);
+    TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG id);
+    return sphere_distance(cr.x, cr.y, cr.z, cr.w, o, d, tmin, id == self);
+}
+
+/* The unit geometric normal of a triangle, cross(b - a, c - a) normalized. */
+TZ_FN vec3 triangle_normal(triangle_corners k) {
+    TZ_PRECISE vec3 e1 = v3_sub(k.b, k.a), e2 = v3_sub(k.c, k.a);
+    return v3_normalize(v3_cross(e1, e2));
+}
+
+/* A hit surface: pos the point, nout its outward normal (a sphere's, or a triangle's geometric
+ * one), shading the shading normal on nout's side (nout itself for spheres and flat faces),
+ * color_ks and params as gpu_sphere's (params.w the emitter + 1). */
+TZ_STRUCT(surface) {
+    vec3 pos;
+    vec3 nout;
+    vec3 shading;
+    TZ_VEC4 color_ks;
+    TZ_VEC4 params;
+}
+TZ_STRUCT_END(surface)
+
+/* No surface: every field zero (where a ray met nothing). */
+TZ_FN surface surface_none(void) {
+    surface s;
+    s.pos = v3(0.0f, 0.0f, 0.0f);
+    s.nout = s.pos;
+    s.shading = s.pos;
+    s.color_ks = TZ_VEC4_ZERO;
+    s.params = TZ_VEC4_ZERO;
+    return s;
+}
+
+/* The surface of triangle primitive id at pos, hit by o + t d. */
+TZ_FN surface triangle_surface(TZ_SCENE_PARAM int id, vec3 pos, vec3 o, vec3 d) {
+    int t = id - TZ_INT(TZ_FRAME.sphere_count);
+    TZ_VEC4 v0 = triangle_v0(TZ_SCENE_ARG t), v1 = triangle_v1(TZ_SCENE_ARG t);
+    TZ_VEC4 v2 = triangle_v2(TZ_SCENE_ARG t);
+    triangle_corners k = corners_of(TZ_SCENE_ARG id);
+    surface s;
+    s.pos = pos;
+    s.nout = triangle_normal(k);
+    s.shading = s.nout;
+    TZ_UINT material = uint_bits(v0.w), normals = uint_bits(v1.w);
+    s.color_ks = material_color_ks(TZ_SCENE_ARG TZ_INT(material));
+    s.params = material_params(TZ_SCENE_ARG TZ_INT(material));
+    s.params.w = v2.w;
+    if (normals != TZ_FLAT) {
+        /* Barycentric weights of the hit from the very edge functions the walk tested. */
+        triangle_edges e = triangle_edge_functions(k.a, k.b, k.c, o, d);
+        TZ_PRECISE float inv = 1.0f / e.det;
+        TZ_PRECISE vec3 n =
+            v3_add(v3_add(v3_scale(xyz(normals_n0(TZ_SCENE_ARG TZ_INT(normals))), e.u * inv),
+                          v3_scale(xyz(normals_n1(TZ_SCENE_ARG TZ_INT(normals))), e.v * inv)),
+                   v3_scale(xyz(normals_n2(TZ_SCENE_ARG TZ_INT(normals))), e.w * inv));
+        TZ_PRECISE float len = v3_length(n);
+        vec3 unit = v3_scale(n, 1.0f / len);
+        /* A normal that interpolates to nothing or faces away from the face: the face's own. */
+        TZ_BOOL usable = (len > 0.0f) TZ_AND(v3_dot(unit, s.nout) > 0.0f);
+        s.shading = select3(usable, unit, s.nout);
+    }
+    return s;
+}
+
+/* The surface of primitive id where the ray o + t d meets it. */
+TZ_FN surface surface_at(TZ_SCENE_PARAM int id, vec3 o, vec3 d, float t) {
+    TZ_PRECISE vec3 pos = v3_add(o, v3_scale(d, t));
+    if (is_triangle(TZ_SCENE_ARG id)) return triangle_surface(TZ_SCENE_ARG id, pos, o, d);
+    TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG id);
+    surface s;
+    s.pos = pos;
+    TZ_PRECISE vec3 nout = v3_scale(v3_sub(pos, xyz(cr)), 1.0f / cr.w);
+    s.nout = nout;
+    s.shading = nout;
+    s.color_ks = sphere_color_ks(TZ_SCENE_ARG id);
+    s.params = sphere_params(TZ_SCENE_ARG id);
+    return s;
+}
+
+/* The shading normal of surface s facing the ray d: the side is the geometric normal's. */
+TZ_FN vec3 facing_shading(surface s, vec3 d) {
+    TZ_BOOL front = v3_dot(s.nout, d) < 0.0f;
+    return select3(front, s.shading, v3_scale(s.shading, -1.0f));
+}
+
+/* The emitter slot of primitive id, -1 when it emits nothing. */
+TZ_FN int emitter_of(TZ_SCENE_PARAM int id) {
+    if (is_triangle(TZ_SCENE_ARG id))
+        return TZ_INT(triangle_v2(TZ_SCENE_ARG id - TZ_INT(TZ_FRAME.sphere_count)).w) - 1;
+    return TZ_INT(sphere_params(TZ_SCENE_ARG id).w) - 1;
+}
+
+/* A point of triangle k uniform by area, from two uniform numbers (the square-root warp). */
+TZ_FN vec3 triangle_area_point(triangle_corners k, float ua, float ub) {
+    TZ_PRECISE float su = TZ_SQRT(ua);
+    TZ_PRECISE float b0 = 1.0f - su, b1 = ub * su;
+    TZ_PRECISE float b2 = 1.0f - b0 - b1;
+    TZ_PRECISE vec3 q = v3_add(v3_add(v3_scale(k.a, b0), v3_scale(k.b, b1)), v3_scale(k.c, b2));
+    return q;
+}
+
+#endif
