@@ -601,7 +601,7 @@ static bool check_face(parser *p, vec3 a, vec3 b, vec3 c, const char *what) {
     }
     if (cross < SCENE_FACE_MIN_SHAPE * longest) {
         return parser_fail(p, col,
-                           "%s is degenerate: its height is %.3g of its longest edge, under the "
+                           "%s is degenerate: its height is %.6g of its longest edge, under the "
                            "%g that single precision needs for its normal",
                            what, cross / longest, SCENE_FACE_MIN_SHAPE);
     }
