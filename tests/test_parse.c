@@ -845,16 +845,17 @@ static bool parse_all_threads(const char *name, const char *text, size_t length,
                   e.message, err->line, err->col, err->message);
             continue;
         }
-        check(t.sphere_count == s->sphere_count && t.light_count == s->light_count &&
-                  !memcmp(t.spheres, s->spheres, (size_t)s->sphere_count * sizeof *s->spheres) &&
-                  t.triangle_count == s->triangle_count &&
-                  !memcmp(t.triangles, s->triangles,
-                          (size_t)s->triangle_count * sizeof *s->triangles) &&
-                  t.warning_count == s->warning_count &&
-                  !memcmp(t.warnings, s->warnings, (size_t)s->warning_count * sizeof *t.warnings),
-              name, "%d threads: %d spheres, %d triangles, %d warnings; one thread: %d, %d, %d",
-              counts[k], t.sphere_count, t.triangle_count, t.warning_count, s->sphere_count,
-              s->triangle_count, s->warning_count);
+        check(
+            t.sphere_count == s->sphere_count && t.light_count == s->light_count &&
+                !memcmp(t.spheres, s->spheres, (size_t)s->sphere_count * sizeof *s->spheres) &&
+                t.triangle_count == s->triangle_count &&
+                (!s->triangle_count || !memcmp(t.triangles, s->triangles,
+                                               (size_t)s->triangle_count * sizeof *s->triangles)) &&
+                t.warning_count == s->warning_count &&
+                !memcmp(t.warnings, s->warnings, (size_t)s->warning_count * sizeof *t.warnings),
+            name, "%d threads: %d spheres, %d triangles, %d warnings; one thread: %d, %d, %d",
+            counts[k], t.sphere_count, t.triangle_count, t.warning_count, s->sphere_count,
+            s->triangle_count, s->warning_count);
         scene_free(&t);
     }
     return ok;
