@@ -1,4 +1,5 @@
-/* fuzz_parse.c: libFuzzer target for the scene parser; any crash, leak, hang or UB is a bug. */
+/* fuzz_parse.c: libFuzzer target for the scene parser; any crash, leak, hang or UB is a bug.
+ * Its corpus (.ci/run): every .scene file of scenes/ and of tests/corpus/ (triangles, quads). */
 #include <stddef.h>
 #include <stdint.h>
 

@@ -209,6 +209,90 @@ static void test_valid(void) {
           "NULL file name", "file '%s'", err.file);
 }
 
+static bool triangle_at(const triangle *t, vec3 a, vec3 b, vec3 c) {
+    return vec_is(t->v[0], a.x, a.y, a.z) && vec_is(t->v[1], b.x, b.y, b.z) &&
+           vec_is(t->v[2], c.x, c.y, c.z);
+}
+
+/* Triangles and quads: every field, defaults, the quad's split, Spanish names, and spheres and
+ * faces kept apart in file order. */
+static void test_faces(void) {
+    static const char faces[] = BASE
+        "triangle lambertian v0 0 0 0 v1 1 0 0 v2 0 1 0\n"
+        "sphere mirror center 0 0 9 radius 1\n"
+        "triangle phong v2 0 1 2 v0 -1 0 2 n1 3 4 0 v1 1 0 2 n0 0 0 -2 n2 0 0 -1e-30 "
+        "color 0.5 0.25 1 ks 0.1 alpha 8\n"
+        "quad espejo v0 0 0 0 v1 2 0 0 v2 2 0 2 v3 0 0 2 color 0.9 0.5 0.1\n"
+        "triangle lambertiana v0 0 0 0 v1 1 0 0 v2 0 0 1 emission 1 2 3\n"
+        "quad mirror v0 -1 -1 5 v1 1 -1 5 v2 1 1 5 v3 -1 1 5\n"
+        "triangle espejo v0 0 0 0 v1 1 0 0 v2 0 1 0\n"
+        "quad phong v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 0 ks 1 alpha 0 emission 0 0 0.5\n"
+        "sphere lambertian center 0 0 -9 radius 1\n"
+        "render mode path\n";
+    scene s;
+    const char *n = "faces";
+    if (!parse_ok(n, BYTES(faces), &s)) return;
+    if (!check(s.triangle_count == 10 && s.sphere_count == 2, n, "%d triangles, %d spheres",
+               s.triangle_count, s.sphere_count)) {
+        scene_free(&s);
+        return;
+    }
+    const triangle *t = s.triangles;
+    check(triangle_at(&t[0], v3(0, 0, 0), v3(1, 0, 0), v3(0, 1, 0)) && !t[0].smooth &&
+              vec_is(t[0].n[0], 0, 0, 0) && vec_is(t[0].n[1], 0, 0, 0) &&
+              vec_is(t[0].n[2], 0, 0, 0) && t[0].material == MATERIAL_LAMBERTIAN &&
+              vec_is(t[0].color, 0.8f, 0.8f, 0.8f) && t[0].ks == 0 && t[0].alpha == 0 &&
+              t[0].ior == 1.0f && vec_is(t[0].emission, 0, 0, 0) && !triangle_emits(&t[0]),
+          n, "lambertian triangle and its defaults");
+    /* Keys in any order; normals of any length normalized, their direction kept. */
+    check(triangle_at(&t[1], v3(-1, 0, 2), v3(1, 0, 2), v3(0, 1, 2)) && t[1].smooth &&
+              vec_is(t[1].n[0], 0, 0, -1) && vec_is(t[1].n[1], 0.6f, 0.8f, 0) &&
+              vec_is(t[1].n[2], 0, 0, -1) && t[1].material == MATERIAL_PHONG &&
+              vec_is(t[1].color, 0.5f, 0.25f, 1) && t[1].ks == 0.1f && t[1].alpha == 8.0f &&
+              t[1].ior == 1.0f,
+          n, "phong triangle with normals: n1 %g %g %g", t[1].n[1].x, t[1].n[1].y, t[1].n[1].z);
+    /* A quad is (v0 v1 v2) then (v0 v2 v3), both with its material. */
+    check(triangle_at(&t[2], v3(0, 0, 0), v3(2, 0, 0), v3(2, 0, 2)) &&
+              triangle_at(&t[3], v3(0, 0, 0), v3(2, 0, 2), v3(0, 0, 2)),
+          n, "quad split");
+    for (int k = 2; k <= 3; k++)
+        check(t[k].material == MATERIAL_MIRROR && vec_is(t[k].color, 0.9f, 0.5f, 0.1f) &&
+                  !t[k].smooth && vec_is(t[k].n[0], 0, 0, 0) && t[k].ks == 0 && t[k].ior == 1.0f,
+              n, "espejo quad half %d", k - 2);
+    check(t[4].material == MATERIAL_LAMBERTIAN && vec_is(t[4].color, 0.8f, 0.8f, 0.8f) &&
+              vec_is(t[4].emission, 1, 2, 3) && triangle_emits(&t[4]),
+          n, "lambertiana triangle with emission");
+    check(triangle_at(&t[5], v3(-1, -1, 5), v3(1, -1, 5), v3(1, 1, 5)) &&
+              triangle_at(&t[6], v3(-1, -1, 5), v3(1, 1, 5), v3(-1, 1, 5)) &&
+              t[5].material == MATERIAL_MIRROR && vec_is(t[5].color, 1, 1, 1),
+          n, "mirror quad");
+    check(t[7].material == MATERIAL_MIRROR && vec_is(t[7].color, 1, 1, 1), n, "espejo triangle");
+    for (int k = 8; k <= 9; k++)
+        check(t[k].material == MATERIAL_PHONG && t[k].ks == 1.0f && t[k].alpha == 0.0f &&
+                  vec_is(t[k].color, 0.8f, 0.8f, 0.8f) && vec_is(t[k].emission, 0, 0, 0.5f) &&
+                  triangle_emits(&t[k]),
+              n, "phong quad half %d", k - 8);
+    check(vec_is(s.spheres[0].center, 0, 0, 9) && vec_is(s.spheres[1].center, 0, 0, -9), n,
+          "spheres among the faces");
+    scene_free(&s);
+    check(!s.triangles && s.triangle_count == 0, n, "scene_free leaves triangles zeroed");
+
+    /* The tolerances' edges: a quad 0.9e-5 of its diagonal off flat, a face of height 1.1e-5 of
+     * its longest edge, faces just inside the sizes single precision can normalize. */
+    static const char edges[] = BASE
+        "quad lambertian v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 1.27e-5\n"
+        "triangle lambertian v0 0 0 0 v1 1 0 0 v2 0.5 1.1e-5 0\n"
+        "triangle lambertian v0 0 0 0 v1 4e-10 0 0 v2 0 4e-10 0\n"
+        "triangle lambertian v0 0 0 0 v1 3.6e9 0 0 v2 0 3.6e9 0\n"
+        "quad mirror v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 -0.5 0.5 0\n"
+        "triangle mirror v0 1e9 1e9 -1e9 v1 -1e9 1e9 -1e9 v2 1e9 -1e9 -1e9\n";
+    n = "face tolerances";
+    if (parse_ok(n, BYTES(edges), &s)) {
+        check(s.triangle_count == 8, n, "%d triangles", s.triangle_count);
+        scene_free(&s);
+    }
+}
+
 typedef struct invalid_case {
     const char *name;
     const char *text;
@@ -218,7 +302,9 @@ typedef struct invalid_case {
 } invalid_case;
 
 static const invalid_case invalid_cases[] = {
-    {"unknown directive", BYTES(BASE "spere lambertian"), 3, 1, "unknown directive 'spere'"},
+    {"unknown directive", BYTES(BASE "spere lambertian"), 3, 1,
+     "unknown directive 'spere' (expected one of: camera plane light sphere triangle quad "
+     "background render)"},
     {"unknown key", BYTES(BASE "sphere lambertian center 0 0 0 radiu 1"), 3, 32,
      "unknown key 'radiu' for sphere lambertian (expected one of: center radius color emission)"},
     {"ior on lambertian", BYTES(BASE "sphere lambertian center 0 0 0 radius 1 ior 1.5"), 3, 41,
@@ -487,6 +573,120 @@ static const invalid_case invalid_cases[] = {
                 "sphere mirror center 0 0 0 radius -2\n"
                 "sphere mirror center 0 0 0 radius 1\n"),
      7, 35, "radius must be in (0, 1e+18], got -2"},
+    /* triangle and quad */
+    {"triangle without material", BYTES(BASE "triangle"), 3, 9,
+     "expected a material after 'triangle' (lambertian, phong, mirror), got end of line"},
+    {"quad without material", BYTES(BASE "quad "), 3, 5,
+     "expected a material after 'quad' (lambertian, phong, mirror), got end of line"},
+    {"unknown triangle material", BYTES(BASE "triangle glass v0 0 0 0 v1 1 0 0 v2 0 1 0"), 3, 10,
+     "unknown material 'glass' for triangle (expected one of: lambertian phong mirror, or "
+     "lambertiana espejo)"},
+    {"refractive triangle", BYTES(BASE "triangle refractive v0 0 0 0 v1 1 0 0 v2 0 1 0 ior 1.5"), 3,
+     10,
+     "a triangle cannot be 'refractive': glass needs a closed mesh, which the coming 'mesh' "
+     "directive will accept"},
+    {"refractada quad", BYTES(BASE "quad refractada v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 0"), 3, 6,
+     "a quad cannot be 'refractada': glass needs a closed mesh"},
+    {"n0 on a quad", BYTES(BASE "quad lambertian v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 0 n0 0 0 1"), 3,
+     53, "unknown key 'n0' for quad lambertian (expected one of: v0 v1 v2 v3 color emission)"},
+    {"ior on a phong triangle", BYTES(BASE "triangle phong v0 0 0 0 v1 1 0 0 v2 0 1 0 ior 2"), 3,
+     43,
+     "unknown key 'ior' for triangle phong (expected one of: v0 v1 v2 n0 n1 n2 color ks alpha "
+     "emission)"},
+    {"ks on a mirror quad", BYTES(BASE "quad espejo v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 0 ks 1"), 3,
+     49, "unknown key 'ks' for quad espejo (expected one of: v0 v1 v2 v3 color emission)"},
+    {"triangle v1 twice", BYTES(BASE "triangle mirror v0 0 0 0 v1 1 0 0 v2 0 1 0 v1 1 1 1"), 3, 44,
+     "'v1' given twice"},
+    {"triangle missing v2", BYTES(BASE "triangle mirror v0 0 0 0 v1 1 0 0"), 3, 1,
+     "triangle is missing required key 'v2'"},
+    {"quad missing v3", BYTES(BASE "quad mirror v0 0 0 0 v1 1 0 0 v2 1 1 0"), 3, 1,
+     "quad is missing required key 'v3'"},
+    {"triangle v1 missing a number", BYTES(BASE "triangle mirror v0 0 0 0 v2 0 1 0 v1 1 0"), 3, 41,
+     "expected 3 numbers (x y z) for 'v1', got 2"},
+    {"triangle coordinate out of range",
+     BYTES(BASE "triangle mirror v0 0 0 0 v1 2e18 0 0 v2 0 1 0"), 3, 29,
+     "v1 must be in [-1e+18, 1e+18], got 2e18"},
+    {"quad coordinate out of range",
+     BYTES(BASE "quad mirror v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 -1.5e18"), 3, 47,
+     "v3 must be in [-1e+18, 1e+18], got -1.5e18"},
+    {"triangle NaN", BYTES(BASE "triangle mirror v0 0 nan 0 v1 1 0 0 v2 0 1 0"), 3, 22,
+     "(NaN and infinities are not allowed)"},
+    {"quad infinity", BYTES(BASE "quad mirror v0 0 0 0 v1 1 0 0 v2 1 inf 0 v3 0 1 0"), 3, 36,
+     "(NaN and infinities are not allowed)"},
+    {"normal infinity",
+     BYTES(BASE "triangle mirror v0 0 0 0 v1 1 0 0 v2 0 1 0 n0 0 0 1 n1 0 0 1 n2 0 -inf 1"), 3, 67,
+     "(NaN and infinities are not allowed)"},
+    {"triangle overflowing float", BYTES(BASE "triangle mirror v0 0 0 0 v1 1e39 0 0 v2 0 1 0"), 3,
+     29, "number '1e39' for 'v1' is out of range"},
+    {"collinear triangle", BYTES(BASE "triangle lambertian v0 0 0 0 v1 1 1 1 v2 2 2 2"), 3, 1,
+     "triangle is degenerate: its corners are on a line (zero area)"},
+    {"triangle with two equal corners",
+     BYTES(BASE "triangle lambertian v0 0 0 0 v1 1 1 1 v2 1 1 1"), 3, 1,
+     "triangle is degenerate: two of its corners are the same point (zero area)"},
+    {"triangle of one point", BYTES(BASE "triangle lambertian v0 5 5 5 v1 5 5 5 v2 5 5 5"), 3, 1,
+     "triangle is degenerate: its corners are one point (zero area)"},
+    {"sliver triangle", BYTES(BASE "triangle lambertian v0 0 0 0 v1 1 0 0 v2 0.5 9e-6 0"), 3, 1,
+     "triangle is degenerate: its height is 9e-06 of its longest edge, under the 1e-05 that single "
+     "precision needs"},
+    {"tiny triangle", BYTES(BASE "triangle lambertian v0 0 0 0 v1 3e-10 0 0 v2 0 3e-10 0"), 3, 1,
+     "triangle is too small for single precision: twice its area (the length of the cross product "
+     "of two edges) is 9e-20, and must be from 1.5334e-19 to 1.3043e+19"},
+    {"huge triangle", BYTES(BASE "triangle lambertian v0 0 0 0 v1 4e9 0 0 v2 0 4e9 0"), 3, 1,
+     "triangle is too large for single precision: twice its area (the length of the cross product "
+     "of two edges) is 1.6e+19"},
+    {"n0 alone", BYTES(BASE "triangle phong v0 0 0 0 v1 1 0 0 v2 0 1 0 n0 0 0 1"), 3, 43,
+     "triangle n0 needs n1: shading normals come all three (n0 n1 n2) or none"},
+    {"n0 and n2", BYTES(BASE "triangle phong v0 0 0 0 v1 1 0 0 v2 0 1 0 n2 0 0 1 n0 0 0 1"), 3, 52,
+     "triangle n0 needs n1"},
+    {"n1 and n2", BYTES(BASE "triangle phong v0 0 0 0 v1 1 0 0 v2 0 1 0 n1 0 0 1 n2 0 0 1"), 3, 43,
+     "triangle n1 needs n0"},
+    {"zero normal",
+     BYTES(BASE "triangle phong v0 0 0 0 v1 1 0 0 v2 0 1 0 n0 0 0 1 n1 0 1 0 n2 0 0 0"), 3, 61,
+     "triangle n2 must not be zero (a shading normal is a direction)"},
+    {"negative zero normal",
+     BYTES(BASE "triangle phong v0 0 0 0 v1 1 0 0 v2 0 1 0 n0 -0 0 -0 n1 0 1 0 n2 0 0 1"), 3, 43,
+     "triangle n0 must not be zero"},
+    {"normal too small for float",
+     BYTES(BASE "triangle phong v0 0 0 0 v1 1 0 0 v2 0 1 0 n0 0 0 1 n1 1e-50 0 0 n2 0 0 1"), 3, 52,
+     "triangle n1 must not be zero"},
+    {"quad not flat", BYTES(BASE "quad lambertian v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 0.0001"), 3, 44,
+     "quad is not flat: v3 is 0.0001 off the plane of v0 v1 v2, more than 1e-05 times its longest "
+     "diagonal (1.41)"},
+    {"quad not convex at v3", BYTES(BASE "quad lambertian v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0.7 0.3 0"),
+     3, 44,
+     "quad is not convex at v3: its corners v0 v1 v2 v3 must go once around it, turning the same "
+     "way at each"},
+    {"quad not convex at v0", BYTES(BASE "quad lambertian v0 0.6 0.6 0 v1 1 0 0 v2 1 1 0 v3 0 1 0"),
+     3, 17, "quad is not convex at v0"},
+    {"quad straight at v0", BYTES(BASE "quad lambertian v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 -1 0 0"), 3,
+     17, "quad is not convex at v0"},
+    {"bow-tie quad", BYTES(BASE "quad lambertian v0 0 0 0 v1 1 0 0 v2 0 1 0 v3 1 1 0"), 3, 35,
+     "quad is not convex at v2"},
+    {"quad with v3 on v0", BYTES(BASE "quad lambertian v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 0 0"), 3, 1,
+     "quad half v0 v2 v3 is degenerate: two of its corners are the same point (zero area)"},
+    {"quad with v3 on its diagonal",
+     BYTES(BASE "quad lambertian v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0.5 0.5 0"), 3, 1,
+     "quad half v0 v2 v3 is degenerate: its corners are on a line (zero area)"},
+    {"quad with a degenerate first half",
+     BYTES(BASE "quad lambertian v0 0 0 0 v1 1 1 0 v2 2 2 0 v3 0 1 0"), 3, 1,
+     "quad half v0 v1 v2 is degenerate: its corners are on a line (zero area)"},
+    {"quad with a sliver half",
+     BYTES(BASE "quad lambertian v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0.5 0.500001 0"), 3, 1,
+     "quad half v0 v2 v3 is degenerate: its height is"},
+    {"triangle emission in seed mode",
+     BYTES(BASE "triangle lambertian v0 0 0 0 v1 1 0 0 v2 0 1 0 emission 1 1 1"), 3, 48,
+     "emission needs path mode: add 'render mode path'"},
+    {"quad emission in seed mode",
+     BYTES(BASE
+           "quad lambertiana v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 0 emission 0 0 5\nrender seed 3\n"),
+     3, 54, "emission needs path mode"},
+    {"negative face emission",
+     BYTES(
+         BASE
+         "quad lambertian v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 0 emission 0 -1 5\nrender mode path\n"),
+     3, 64, "emission must be >= 0, got -1"},
+    {"face color above 1", BYTES(BASE "triangle phong v0 0 0 0 v1 1 0 0 v2 0 1 0 color 1 1.5 0"), 3,
+     51, "color must be in [0, 1], got 1.5"},
 };
 
 /* Parses text that must fail at line:col with `message` in the error, and leave *out alone. */
@@ -625,11 +825,12 @@ static void replace_line(char *text, const size_t *line_at, int k, const char *l
 }
 
 /* Parses text on 1 and on several threads: both fail or succeed alike, with the same error or
- * the same spheres, lights and warnings; returns the one-thread result (*err set on failure). */
+ * the same spheres, triangles (bytes: the parser zeroes their padding), lights and warnings;
+ * returns the one-thread result (*err set on failure). */
 static bool parse_all_threads(const char *name, const char *text, size_t length, scene_error *err,
                               scene *s) {
     bool ok = scene_parse_string_threads(text, length, "big.scene", 1, s, err);
-    const int counts[] = {2, 3, 7};
+    const int counts[] = {2, 3, 4, 7};
     for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
         scene t;
         scene_error e;
@@ -644,12 +845,17 @@ static bool parse_all_threads(const char *name, const char *text, size_t length,
                   e.message, err->line, err->col, err->message);
             continue;
         }
-        check(t.sphere_count == s->sphere_count && t.light_count == s->light_count &&
-                  !memcmp(t.spheres, s->spheres, (size_t)s->sphere_count * sizeof *s->spheres) &&
-                  t.warning_count == s->warning_count &&
-                  !memcmp(t.warnings, s->warnings, (size_t)s->warning_count * sizeof *t.warnings),
-              name, "%d threads: %d spheres, %d warnings; one thread: %d, %d", counts[k],
-              t.sphere_count, t.warning_count, s->sphere_count, s->warning_count);
+        check(
+            t.sphere_count == s->sphere_count && t.light_count == s->light_count &&
+                !memcmp(t.spheres, s->spheres, (size_t)s->sphere_count * sizeof *s->spheres) &&
+                t.triangle_count == s->triangle_count &&
+                (!s->triangle_count || !memcmp(t.triangles, s->triangles,
+                                               (size_t)s->triangle_count * sizeof *s->triangles)) &&
+                t.warning_count == s->warning_count &&
+                !memcmp(t.warnings, s->warnings, (size_t)s->warning_count * sizeof *t.warnings),
+            name, "%d threads: %d spheres, %d triangles, %d warnings; one thread: %d, %d, %d",
+            counts[k], t.sphere_count, t.triangle_count, t.warning_count, s->sphere_count,
+            s->triangle_count, s->warning_count);
         scene_free(&t);
     }
     return ok;
@@ -734,6 +940,89 @@ static void test_chunks(void) {
     check(!ok && err.line == 22222 && strstr(err.message, "emission needs path mode"),
           "chunks, emission in seed mode", "%d:%d %s", err.line, err.col, err.message);
     if (ok) scene_free(&s);
+    free(text);
+}
+
+/* A text of several MB mixing spheres, triangles (some smooth, some emitting) and quads: any
+ * thread count gives the faces in file order, bit for bit, and the same first error. */
+static void test_chunks_faces(void) {
+    int lines = 40000;
+    size_t size = (size_t)lines * 128, used = 0;
+    char *text = malloc(size);
+    size_t *line_at = malloc(((size_t)lines + 1) * sizeof *line_at);
+    for (int k = 1; k <= lines; k++) {
+        line_at[k - 1] = used;
+        const char *line = "";
+        char buffer[128];
+        if (k == 1) {
+            line = "camera position 0 0 0";
+        } else if (k == 2) {
+            line = "plane width 4 height 3 pixel 0.01";
+        } else if (k == 3) {
+            line = "render mode path";
+        } else if (k % 101 == 0) {
+            line = "# comment";
+        } else if (k % 3 == 0) {
+            snprintf(buffer, sizeof buffer, "sphere phong center %d.5 %d 9 radius 0.25", k % 1000,
+                     k % 17);
+            line = buffer;
+        } else if (k % 3 == 1) {
+            snprintf(buffer, sizeof buffer, "triangle mirror v0 %d 0 0 v1 %d.5 0 1 v2 0 %d 2%s%s",
+                     k, k, k % 97 + 1, k % 7 ? "" : " n0 0 0 1 n1 0 1 1 n2 1 0.5 0",
+                     k % 11 ? "" : " emission 1 1 1");
+            line = buffer;
+        } else {
+            snprintf(buffer, sizeof buffer,
+                     "quad lambertiana v0 0 0 %d v1 %d 0 %d v2 %d 1 %d v3 0 1 %d color 0.5 0.5 0.5",
+                     k, k % 50 + 1, k, k % 50 + 1, k, k);
+            line = buffer;
+        }
+        used += (size_t)snprintf(text + used, size - used, "%s\n", line);
+    }
+    line_at[lines] = used;
+    scene s;
+    scene_error err;
+    const char *name = "chunks of mixed primitives";
+    if (check(parse_all_threads(name, text, used, &err, &s), name, "%d:%d %s", err.line, err.col,
+              err.message)) {
+        /* Lines 3k+1 are triangles, 3k+2 quads (both halves): file order, halves in order. */
+        int expected = 0;
+        for (int k = 4; k <= lines; k++)
+            if (k % 101 && k % 3 != 0) expected += k % 3 == 1 ? 1 : 2;
+        check(s.triangle_count == expected && s.triangles[0].v[0].x == 4.0f &&
+                  s.triangles[1].v[0].z == 5.0f && s.triangles[2].v[0].z == 5.0f &&
+                  s.triangles[2].v[1].x == 6.0f &&
+                  s.triangles[s.triangle_count - 1].v[0].x == (float)lines,
+              name, "%d triangles, expected %d", s.triangle_count, expected);
+        scene_free(&s);
+    }
+    /* A bad face late, found by a chunk parsed ahead, and a face emitting in seed mode. */
+    char *bad = malloc(used + 1);
+    const struct {
+        int line;
+        const char *text, *message;
+        int col;
+    } cases[] = {
+        {29999, "quad mirror v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0.5 0.5 1", "quad is not flat", 40},
+        {20002, "triangle mirror v0 0 0 0 v1 1 1 1 v2 2 2 2", "triangle is degenerate", 1},
+        {3, "render seed 2", "emission needs path mode", 0},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        memcpy(bad, text, used);
+        replace_line(bad, line_at, cases[c].line, cases[c].text);
+        char case_name[96];
+        snprintf(case_name, sizeof case_name, "%s, '%s' at line %d", name, cases[c].text,
+                 cases[c].line);
+        bool ok = parse_all_threads(case_name, bad, used, &err, &s);
+        /* in seed mode the first emitting triangle (line 22: 3k+1 and a multiple of 11) fails */
+        int line = cases[c].col ? cases[c].line : 22;
+        check(!ok && err.line == line && (!cases[c].col || err.col == cases[c].col) &&
+                  strstr(err.message, cases[c].message),
+              case_name, "%d:%d %s", err.line, err.col, err.message);
+        if (ok) scene_free(&s);
+    }
+    free(bad);
+    free(line_at);
     free(text);
 }
 
@@ -840,12 +1129,14 @@ static void test_files(void) {
 
 int main(void) {
     test_valid();
+    test_faces();
     for (size_t i = 0; i < sizeof invalid_cases / sizeof invalid_cases[0]; i++) {
         const invalid_case *c = &invalid_cases[i];
         expect_error(c->name, c->text, c->length, c->line, c->col, c->message);
     }
     test_generated();
     test_chunks();
+    test_chunks_faces();
     test_files();
     printf("test_parse: %d passed, %d failed (%zu invalid-input cases)\n", passed, failed,
            sizeof invalid_cases / sizeof invalid_cases[0]);

@@ -95,6 +95,23 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
         h = digest_float(h, s->lights[k].power);
         h = digest_vec3(h, s->lights[k].color);
     }
+    /* Only scenes with triangles hash them, so that sphere-only scenes keep their digest (and
+     * their part files stay mergeable with ones rendered before triangles existed). */
+    if (s->triangle_count > 0) {
+        h = digest_int(h, s->triangle_count);
+        for (int k = 0; k < s->triangle_count; k++) {
+            const triangle *t = &s->triangles[k];
+            for (int c = 0; c < 3; c++) h = digest_vec3(h, t->v[c]);
+            for (int c = 0; c < 3; c++) h = digest_vec3(h, t->n[c]);
+            h = digest_int(h, t->smooth);
+            h = digest_int(h, t->material);
+            h = digest_vec3(h, t->color);
+            h = digest_float(h, t->ks);
+            h = digest_float(h, t->alpha);
+            h = digest_float(h, t->ior);
+            h = digest_vec3(h, t->emission);
+        }
+    }
     int64_t settings[] = {o->samples,  o->seed,      o->mode,     o->bounces,
                           o->indirect, o->no_jitter, o->roulette, o->strategy};
     for (size_t k = 0; k < sizeof settings / sizeof settings[0]; k++)

@@ -14,8 +14,14 @@
 #define MAX_TOKENS (SCENE_MAX_LINE / 2 + 1)
 /* Characters of a bad token quoted back in an error message. */
 #define MAX_QUOTED_CHARS 60
-/* Keys per directive: the sphere has the most (center radius color ks alpha ior emission). */
-#define MAX_KEYS 7
+/* Keys per directive: the triangle has the most (v0 v1 v2 n0 n1 n2 and the five material keys:
+ * color ks alpha ior emission). */
+#define MAX_KEYS 11
+/* Spheres and triangles in all (a quad is two). A test build lowers it (test_parse_limit) to
+ * reach the limit with a small text. */
+#ifndef PARSER_MAX_PRIMITIVES
+#define PARSER_MAX_PRIMITIVES SCENE_MAX_PRIMITIVES
+#endif
 
 #define BIT(key) (1u << (key))
 
@@ -54,14 +60,15 @@ typedef struct parser {
     token tokens[MAX_TOKENS];
     int token_count;
     scene s;
-    size_t sphere_capacity, light_capacity;
+    size_t sphere_capacity, triangle_capacity, light_capacity;
     /* line of the first camera, plane, background and render directive; 0 while unseen */
     int camera_line, plane_line, background_line, render_line;
     int camera_col; /* of the camera position, for the near-clip warning */
     bool tiny_warned;
-    int emission_line, emission_col; /* the first sphere's emission, an error in seed mode */
-    bool spheres_only;               /* a chunk parsed ahead: any directive but sphere stops it */
-    char number[SCENE_MAX_LINE + 1]; /* a token NUL-terminated for strtod */
+    int emission_line, emission_col; /* the first emission (sphere or face): seed mode refuses */
+    /* A chunk parsed ahead: any directive but sphere, triangle and quad stops it. */
+    bool primitives_only;
+    char number[SCENE_MAX_LINE + 1];      /* a token NUL-terminated for strtod */
     char quoted[2][MAX_QUOTED_CHARS + 4]; /* two, so one message can quote two tokens */
     int quoted_next;
 } parser;
@@ -101,7 +108,7 @@ double parser_value_or(const key_values *kv, int key, double fallback);
  * scene text. */
 bool parser_tokenize(parser *p, const char *line, size_t length);
 /* Parses the directive of the tokenized line p->tokens into p->s; false (reported) on any error,
- * or unreported for a chunk parsed ahead (spheres_only) meeting another directive. */
+ * or unreported for a chunk parsed ahead (primitives_only) meeting another directive. */
 bool parser_directive(parser *p);
 
 #endif

@@ -9,8 +9,10 @@ void scene_free(scene *s) {
     free(s->triangles);
     free(s->lights);
     s->spheres = NULL;
+    s->triangles = NULL;
     s->lights = NULL;
     s->sphere_count = 0;
+    s->triangle_count = 0;
     s->light_count = 0;
 }
 

@@ -12,6 +12,17 @@
 #define SCENE_MAX_SPHERES 16777216 /* the GPU addresses spheres with 24-bit-exact floats */
 /* Spheres and triangles share one primitive index (spheres first), at most this many in all. */
 #define SCENE_MAX_PRIMITIVES 16777216
+/* A face (triangle or quad half) whose height over its longest edge, |cross(v1 - v0, v2 - v0)|
+ * over the squared longest edge (in double), is under this is refused as degenerate: the float
+ * cross product of float edges is off by at most about 3.1e-7 times the squared longest edge, so
+ * above this its length is within 3.1% and its direction within 1.8 degrees. */
+#define SCENE_FACE_MIN_SHAPE 1e-5
+/* |cross(v1 - v0, v2 - v0)| (twice the area) must lie in [MIN, MAX], so that its square, within
+ * 6.3% in float (above), is a normal float: normalizing it in single precision cannot fail. */
+#define SCENE_FACE_MIN_CROSS 1.5334e-19 /* sqrt(2 FLT_MIN) */
+#define SCENE_FACE_MAX_CROSS 1.3043e19  /* sqrt(FLT_MAX / 2) */
+/* A quad's v3 may lie at most this times its longest diagonal off the plane of v0 v1 v2. */
+#define SCENE_QUAD_PLANE_TOLERANCE 1e-5
 #define SCENE_MAX_LIGHTS 4096
 #define SCENE_MAX_SAMPLES 1048576
 #define SCENE_MAX_BOUNCES 64
@@ -57,8 +68,8 @@ typedef struct sphere {
  * is normalize(cross(v[1] - v[0], v[2] - v[0])); both sides are seen. */
 typedef struct triangle {
     vec3 v[3];
-    vec3 n[3];   /* unit shading normals at the corners, interpolated; zero when flat */
-    bool smooth; /* n[] holds shading normals */
+    vec3 n[3];              /* unit shading normals at the corners, interpolated; zero when flat */
+    bool smooth;            /* n[] holds shading normals */
     material_kind material; /* lambertian, phong or mirror (glass needs a closed mesh) */
     vec3 color;
     float ks, alpha, ior; /* as a sphere's */

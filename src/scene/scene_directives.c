@@ -61,47 +61,124 @@ static const key_spec light_keys[LIGHT_KEY_COUNT] = {
     {"color", "r g b", VALUE_NUMBER, UNIT_RANGE},
 };
 
+/* The keys of a surface's material, the same for every shape: each shape's key table holds its
+ * own keys, then these, so that one material table and one reader serve spheres and faces. */
+enum { MAT_COLOR, MAT_KS, MAT_ALPHA, MAT_IOR, MAT_EMISSION, MAT_KEY_COUNT };
+/* clang-format off */
+#define MATERIAL_KEY_SPECS                                          \
+    {"color", "r g b", VALUE_NUMBER, UNIT_RANGE},                   \
+    {"ks", NULL, VALUE_NUMBER, UNIT_RANGE},                         \
+    {"alpha", NULL, VALUE_NUMBER, 0.0, FLT_MAX, false},             \
+    {"ior", NULL, VALUE_NUMBER, 1.0, FLT_MAX, false},               \
+    {"emission", "r g b", VALUE_NUMBER, 0.0, FLT_MAX, false}
+/* clang-format on */
+
 enum {
     SPHERE_CENTER,
     SPHERE_RADIUS,
-    SPHERE_COLOR,
-    SPHERE_KS,
-    SPHERE_ALPHA,
-    SPHERE_IOR,
-    SPHERE_EMISSION,
-    SPHERE_KEY_COUNT
+    SPHERE_MATERIAL,
+    SPHERE_KEY_COUNT = SPHERE_MATERIAL + MAT_KEY_COUNT
 };
 static const key_spec sphere_keys[SPHERE_KEY_COUNT] = {
     {"center", "x y z", VALUE_NUMBER, COORD_RANGE},
     {"radius", NULL, VALUE_NUMBER, RADIUS_RANGE},
-    {"color", "r g b", VALUE_NUMBER, UNIT_RANGE},
-    {"ks", NULL, VALUE_NUMBER, UNIT_RANGE},
-    {"alpha", NULL, VALUE_NUMBER, 0.0, FLT_MAX, false},
-    {"ior", NULL, VALUE_NUMBER, 1.0, FLT_MAX, false},
-    {"emission", "r g b", VALUE_NUMBER, 0.0, FLT_MAX, false},
+    MATERIAL_KEY_SPECS,
 };
-_Static_assert(SPHERE_KEY_COUNT <= MAX_KEYS, "raise MAX_KEYS");
 
-#define SPHERE_COMMON_KEYS \
-    (BIT(SPHERE_CENTER) | BIT(SPHERE_RADIUS) | BIT(SPHERE_COLOR) | BIT(SPHERE_EMISSION))
+/* A triangle's corners, its optional shading normals (any finite length but zero: normalized),
+ * then the material keys. */
+enum {
+    TRIANGLE_V0,
+    TRIANGLE_N0 = TRIANGLE_V0 + 3,
+    TRIANGLE_MATERIAL = TRIANGLE_N0 + 3,
+    TRIANGLE_KEY_COUNT = TRIANGLE_MATERIAL + MAT_KEY_COUNT
+};
+static const key_spec triangle_keys[TRIANGLE_KEY_COUNT] = {
+    {"v0", "x y z", VALUE_NUMBER, COORD_RANGE},
+    {"v1", "x y z", VALUE_NUMBER, COORD_RANGE},
+    {"v2", "x y z", VALUE_NUMBER, COORD_RANGE},
+    {"n0", "x y z", VALUE_NUMBER, NO_RANGE},
+    {"n1", "x y z", VALUE_NUMBER, NO_RANGE},
+    {"n2", "x y z", VALUE_NUMBER, NO_RANGE},
+    MATERIAL_KEY_SPECS,
+};
+_Static_assert(TRIANGLE_KEY_COUNT <= MAX_KEYS, "raise MAX_KEYS");
+
+enum { QUAD_V0, QUAD_MATERIAL = QUAD_V0 + 4, QUAD_KEY_COUNT = QUAD_MATERIAL + MAT_KEY_COUNT };
+static const key_spec quad_keys[QUAD_KEY_COUNT] = {
+    {"v0", "x y z", VALUE_NUMBER, COORD_RANGE},
+    {"v1", "x y z", VALUE_NUMBER, COORD_RANGE},
+    {"v2", "x y z", VALUE_NUMBER, COORD_RANGE},
+    {"v3", "x y z", VALUE_NUMBER, COORD_RANGE},
+    MATERIAL_KEY_SPECS,
+};
+
+/* A shape directive (sphere, triangle, quad) as the shared readers (read_shape, read_surface)
+ * see it. */
+typedef struct shape_spec {
+    const char *word;
+    const key_spec *keys;
+    int key_count;
+    int material_first; /* index in keys of the first material key */
+    unsigned own_keys;  /* bits of keys the shape takes whatever its material */
+    unsigned required;
+    bool glass; /* takes refractive: only a closed surface bounds a medium */
+} shape_spec;
+
+#define LOW_BITS(n) ((1u << (n)) - 1u)
+static const shape_spec sphere_shape = {
+    .word = "sphere",
+    .keys = sphere_keys,
+    .key_count = SPHERE_KEY_COUNT,
+    .material_first = SPHERE_MATERIAL,
+    .own_keys = LOW_BITS(SPHERE_MATERIAL),
+    .required = BIT(SPHERE_CENTER) | BIT(SPHERE_RADIUS),
+    .glass = true,
+};
+static const shape_spec triangle_shape = {
+    .word = "triangle",
+    .keys = triangle_keys,
+    .key_count = TRIANGLE_KEY_COUNT,
+    .material_first = TRIANGLE_MATERIAL,
+    .own_keys = LOW_BITS(TRIANGLE_MATERIAL),
+    .required = LOW_BITS(TRIANGLE_N0), /* v0 v1 v2 */
+};
+static const shape_spec quad_shape = {
+    .word = "quad",
+    .keys = quad_keys,
+    .key_count = QUAD_KEY_COUNT,
+    .material_first = QUAD_MATERIAL,
+    .own_keys = LOW_BITS(QUAD_MATERIAL),
+    .required = LOW_BITS(QUAD_MATERIAL), /* v0 v1 v2 v3 */
+};
+
+#define MATERIAL_COMMON_KEYS (BIT(MAT_COLOR) | BIT(MAT_EMISSION))
 
 typedef struct material_spec {
     const char *word;
     material_kind kind;
-    unsigned keys; /* bits of sphere_keys this material accepts */
+    unsigned keys; /* bits of the material keys (MAT_*) this material accepts */
     float default_color;
+    bool alias; /* one of the seed's Spanish names */
 } material_spec;
 
 static const material_spec materials[] = {
-    {"lambertian", MATERIAL_LAMBERTIAN, SPHERE_COMMON_KEYS, 0.8f},
-    {"phong", MATERIAL_PHONG, SPHERE_COMMON_KEYS | BIT(SPHERE_KS) | BIT(SPHERE_ALPHA), 0.8f},
-    {"mirror", MATERIAL_MIRROR, SPHERE_COMMON_KEYS, 1.0f},
-    {"refractive", MATERIAL_REFRACTIVE, SPHERE_COMMON_KEYS | BIT(SPHERE_IOR), 1.0f},
-    /* the seed's Spanish names */
-    {"lambertiana", MATERIAL_LAMBERTIAN, SPHERE_COMMON_KEYS, 0.8f},
-    {"espejo", MATERIAL_MIRROR, SPHERE_COMMON_KEYS, 1.0f},
-    {"refractada", MATERIAL_REFRACTIVE, SPHERE_COMMON_KEYS | BIT(SPHERE_IOR), 1.0f},
+    {"lambertian", MATERIAL_LAMBERTIAN, MATERIAL_COMMON_KEYS, 0.8f, false},
+    {"phong", MATERIAL_PHONG, MATERIAL_COMMON_KEYS | BIT(MAT_KS) | BIT(MAT_ALPHA), 0.8f, false},
+    {"mirror", MATERIAL_MIRROR, MATERIAL_COMMON_KEYS, 1.0f, false},
+    {"refractive", MATERIAL_REFRACTIVE, MATERIAL_COMMON_KEYS | BIT(MAT_IOR), 1.0f, false},
+    {"lambertiana", MATERIAL_LAMBERTIAN, MATERIAL_COMMON_KEYS, 0.8f, true},
+    {"espejo", MATERIAL_MIRROR, MATERIAL_COMMON_KEYS, 1.0f, true},
+    {"refractada", MATERIAL_REFRACTIVE, MATERIAL_COMMON_KEYS | BIT(MAT_IOR), 1.0f, true},
 };
+
+/* A surface's material as its line gives it, defaults filled in. */
+typedef struct surface {
+    material_kind material;
+    vec3 color;
+    float ks, alpha, ior;
+    vec3 emission;
+} surface;
 
 enum {
     RENDER_SAMPLES,
@@ -333,14 +410,16 @@ static bool parse_plane(parser *p) {
     return true;
 }
 
-/* Grows an array by doubling so a million appends cost a few dozen reallocations. */
-static bool grow(parser *p, void **array, size_t *capacity, int count, int max, size_t item,
-                 const char *what) {
-    if (count >= max) {
+/* Grows an array by doubling so a million appends cost a few dozen reallocations; room for
+ * `adding` more items. */
+static bool grow(parser *p, void **array, size_t *capacity, int count, int adding, int max,
+                 size_t item, const char *what) {
+    if (count > max - adding) {
         return parser_fail(p, p->tokens[0].col, "too many %s (the maximum is %d)", what, max);
     }
-    if ((size_t)count < *capacity) return true;
+    if ((size_t)count + (size_t)adding <= *capacity) return true;
     size_t capacity_new = *capacity ? *capacity * 2 : 64;
+    if (capacity_new < (size_t)count + (size_t)adding) capacity_new = (size_t)count + adding;
     if (capacity_new > (size_t)max) capacity_new = (size_t)max;
     void *grown = realloc(*array, capacity_new * item);
     if (!grown) {
@@ -352,6 +431,17 @@ static bool grow(parser *p, void **array, size_t *capacity, int count, int max, 
     return true;
 }
 
+/* Spheres and triangles share one primitive index: false (reported at the directive word) when
+ * `adding` more would pass PARSER_MAX_PRIMITIVES. */
+static bool reserve_primitives(parser *p, int adding) {
+    long long total = (long long)p->s.sphere_count + p->s.triangle_count + adding;
+    if (total <= PARSER_MAX_PRIMITIVES) return true;
+    return parser_fail(p, p->tokens[0].col,
+                       "too many primitives (spheres and triangles together, a quad counting as "
+                       "two; the maximum is %d)",
+                       PARSER_MAX_PRIMITIVES);
+}
+
 static bool parse_light(parser *p) {
     key_values kv;
     if (!parser_keys(p, "light", light_keys, LIGHT_KEY_COUNT, ~0u, 1, &kv) ||
@@ -360,8 +450,8 @@ static bool parse_light(parser *p) {
         return false;
     }
     void *array = p->s.lights;
-    bool ok = grow(p, &array, &p->light_capacity, p->s.light_count, SCENE_MAX_LIGHTS, sizeof(light),
-                   "lights");
+    bool ok = grow(p, &array, &p->light_capacity, p->s.light_count, 1, SCENE_MAX_LIGHTS,
+                   sizeof(light), "lights");
     p->s.lights = array;
     if (!ok) return false;
     p->s.lights[p->s.light_count++] = (light){
@@ -372,11 +462,35 @@ static bool parse_light(parser *p) {
     return true;
 }
 
-static bool parse_sphere(parser *p) {
+/* The materials a shape takes, for messages: "lambertian phong mirror refractive, or lambertiana
+ * espejo refractada" (sep " ") or "lambertian, phong, mirror, refractive" (sep ", ", no aliases).
+ */
+static void material_list(char *out, size_t size, const shape_spec *shape, const char *sep,
+                          bool aliases) {
+    out[0] = '\0';
+    for (int pass = 0; pass < (aliases ? 2 : 1); pass++) {
+        bool first = true;
+        for (size_t i = 0; i < sizeof materials / sizeof materials[0]; i++) {
+            const material_spec *m = &materials[i];
+            if (m->alias != (pass == 1) || (m->kind == MATERIAL_REFRACTIVE && !shape->glass))
+                continue;
+            append(out, size, "%s%s", first ? (pass ? ", or " : "") : sep, m->word);
+            first = false;
+        }
+    }
+}
+
+/* Reads a shape's line: its material word (token 1), then its keys and the material's into kv.
+ * False (reported) on a missing or unknown material, glass on a shape that takes none, or a bad
+ * or missing key. */
+static bool read_shape(parser *p, const shape_spec *shape, const material_spec **material,
+                       key_values *kv) {
+    char list[128];
     if (p->token_count < 2) {
+        material_list(list, sizeof list, shape, ", ", false);
         return parser_fail(p, parser_end_col(p),
-                           "expected a material after 'sphere' (lambertian, phong, mirror, "
-                           "refractive), got end of line");
+                           "expected a material after '%s' (%s), got end of line", shape->word,
+                           list);
     }
     const token *word = &p->tokens[1];
     const material_spec *m = NULL;
@@ -384,38 +498,64 @@ static bool parse_sphere(parser *p) {
         if (parser_token_is(word, materials[i].word)) m = &materials[i];
     }
     if (!m) {
+        material_list(list, sizeof list, shape, " ", true);
+        return parser_fail(p, word->col, "unknown material '%s' for %s (expected one of: %s)",
+                           parser_quote(p, word), shape->word, list);
+    }
+    if (m->kind == MATERIAL_REFRACTIVE && !shape->glass) {
         return parser_fail(p, word->col,
-                           "unknown material '%s' for sphere (expected one of: lambertian phong "
-                           "mirror refractive, or lambertiana espejo refractada)",
-                           parser_quote(p, word));
+                           "a %s cannot be '%s': glass needs a closed mesh, which the coming "
+                           "'mesh' directive will accept",
+                           shape->word, m->word);
     }
-    key_values kv;
-    if (!parser_keys_of(p, "sphere", m->word, sphere_keys, SPHERE_KEY_COUNT, m->keys, 2, &kv) ||
-        !parser_require_keys(p, "sphere", sphere_keys, SPHERE_KEY_COUNT,
-                             BIT(SPHERE_CENTER) | BIT(SPHERE_RADIUS), &kv)) {
-        return false;
-    }
-    void *array = p->s.spheres;
-    bool ok = grow(p, &array, &p->sphere_capacity, p->s.sphere_count, SCENE_MAX_SPHERES,
-                   sizeof(sphere), "spheres");
-    p->s.spheres = array;
-    if (!ok) return false;
+    *material = m;
+    unsigned accepted = shape->own_keys | m->keys << shape->material_first;
+    return parser_keys_of(p, shape->word, m->word, shape->keys, shape->key_count, accepted, 2,
+                          kv) &&
+           parser_require_keys(p, shape->word, shape->keys, shape->key_count, shape->required, kv);
+}
+
+/* The material of a shape's line, defaults filled in; records the first emission, which seed
+ * mode refuses once the whole text is read (render mode may come later). */
+static surface read_surface(parser *p, const shape_spec *shape, const material_spec *m,
+                            const key_values *kv) {
+    int k = shape->material_first;
     bool phong = m->kind == MATERIAL_PHONG;
     float c = m->default_color;
+    if ((kv->given & BIT(k + MAT_EMISSION)) && !p->emission_line) {
+        p->emission_line = p->line;
+        p->emission_col = p->tokens[kv->key_token[k + MAT_EMISSION]].col;
+    }
+    return (surface){
+        .material = m->kind,
+        .color = parser_vec3(kv, k + MAT_COLOR, v3(c, c, c)),
+        .ks = phong ? (float)parser_value_or(kv, k + MAT_KS, 0.5) : 0.0f,
+        .alpha = phong ? (float)parser_value_or(kv, k + MAT_ALPHA, 32.0) : 0.0f,
+        .ior = (float)parser_value_or(kv, k + MAT_IOR, m->kind == MATERIAL_REFRACTIVE ? 1.5 : 1.0),
+        .emission = parser_vec3(kv, k + MAT_EMISSION, v3(0, 0, 0)),
+    };
+}
+
+static bool parse_sphere(parser *p) {
+    const material_spec *m;
+    key_values kv;
+    if (!read_shape(p, &sphere_shape, &m, &kv)) return false;
+    void *array = p->s.spheres;
+    bool ok = grow(p, &array, &p->sphere_capacity, p->s.sphere_count, 1, SCENE_MAX_SPHERES,
+                   sizeof(sphere), "spheres");
+    p->s.spheres = array;
+    if (!ok || !reserve_primitives(p, 1)) return false;
+    surface f = read_surface(p, &sphere_shape, m, &kv);
     p->s.spheres[p->s.sphere_count++] = (sphere){
         .center = parser_vec3(&kv, SPHERE_CENTER, v3(0, 0, 0)),
         .radius = (float)parser_value_or(&kv, SPHERE_RADIUS, 0.0),
-        .material = m->kind,
-        .color = parser_vec3(&kv, SPHERE_COLOR, v3(c, c, c)),
-        .ks = phong ? (float)parser_value_or(&kv, SPHERE_KS, 0.5) : 0.0f,
-        .alpha = phong ? (float)parser_value_or(&kv, SPHERE_ALPHA, 32.0) : 0.0f,
-        .ior = (float)parser_value_or(&kv, SPHERE_IOR, m->kind == MATERIAL_REFRACTIVE ? 1.5 : 1.0),
-        .emission = parser_vec3(&kv, SPHERE_EMISSION, v3(0, 0, 0)),
+        .material = f.material,
+        .color = f.color,
+        .ks = f.ks,
+        .alpha = f.alpha,
+        .ior = f.ior,
+        .emission = f.emission,
     };
-    if ((kv.given & BIT(SPHERE_EMISSION)) && !p->emission_line) {
-        p->emission_line = p->line;
-        p->emission_col = p->tokens[kv.key_token[SPHERE_EMISSION]].col;
-    }
     const sphere *added = &p->s.spheres[p->s.sphere_count - 1];
     float offset = TZ_EPS * parser_largest_coordinate(added->center);
     if (added->radius < SCENE_TINY_OFFSETS * offset && !p->tiny_warned) {
@@ -427,6 +567,151 @@ static bool parse_sphere(parser *p) {
                     (double)added->radius, (double)SCENE_TINY_OFFSETS, (double)offset,
                     (double)TZ_EPS, (double)TZ_EPS);
     }
+    return true;
+}
+
+/* Double-precision vectors: the face checks must not overflow or cancel where float would. */
+typedef struct dvec3 {
+    double x, y, z;
+} dvec3;
+static dvec3 d3_sub(vec3 a, vec3 b) {
+    return (dvec3){(double)a.x - b.x, (double)a.y - b.y, (double)a.z - b.z};
+}
+static dvec3 d3_cross(dvec3 a, dvec3 b) {
+    return (dvec3){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+static double d3_dot(dvec3 a, dvec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static double d3_length(dvec3 a) { return sqrt(d3_dot(a, a)); }
+
+/* False (reported at the directive word) unless face a b c is one the renderer can normalize in
+ * single precision: not degenerate (SCENE_FACE_MIN_SHAPE) and twice its area within
+ * [SCENE_FACE_MIN_CROSS, SCENE_FACE_MAX_CROSS]. `what` names the face ("triangle", "quad half
+ * v0 v1 v2"). */
+static bool check_face(parser *p, vec3 a, vec3 b, vec3 c, const char *what) {
+    dvec3 ab = d3_sub(b, a), ac = d3_sub(c, a), bc = d3_sub(c, b);
+    double cross = d3_length(d3_cross(ab, ac));
+    double longest = fmax(d3_dot(ab, ab), fmax(d3_dot(ac, ac), d3_dot(bc, bc)));
+    int col = p->tokens[0].col;
+    if (cross == 0.0) {
+        double shortest = fmin(d3_dot(ab, ab), fmin(d3_dot(ac, ac), d3_dot(bc, bc)));
+        return parser_fail(p, col, "%s is degenerate: %s (zero area)", what,
+                           longest == 0.0    ? "its corners are one point"
+                           : shortest == 0.0 ? "two of its corners are the same point"
+                                             : "its corners are on a line");
+    }
+    if (cross < SCENE_FACE_MIN_SHAPE * longest) {
+        return parser_fail(p, col,
+                           "%s is degenerate: its height is %.6g of its longest edge, under the "
+                           "%g that single precision needs for its normal",
+                           what, cross / longest, SCENE_FACE_MIN_SHAPE);
+    }
+    if (cross < SCENE_FACE_MIN_CROSS || cross > SCENE_FACE_MAX_CROSS) {
+        return parser_fail(p, col,
+                           "%s is too %s for single precision: twice its area (the length of "
+                           "the cross product of two edges) is %g, and must be from %g to %g",
+                           what, cross < SCENE_FACE_MIN_CROSS ? "small" : "large", cross,
+                           SCENE_FACE_MIN_CROSS, SCENE_FACE_MAX_CROSS);
+    }
+    return true;
+}
+
+/* Appends one face to the scene's triangles (room reserved by the caller). */
+static void add_triangle(parser *p, vec3 a, vec3 b, vec3 c, const surface *f) {
+    triangle *t = &p->s.triangles[p->s.triangle_count++];
+    memset(t, 0, sizeof *t); /* padding too: equal faces are equal bytes */
+    t->v[0] = a;
+    t->v[1] = b;
+    t->v[2] = c;
+    t->material = f->material;
+    t->color = f->color;
+    t->ks = f->ks;
+    t->alpha = f->alpha;
+    t->ior = f->ior;
+    t->emission = f->emission;
+}
+
+/* Room for `adding` triangles; false (reported) past the limits or out of memory. */
+static bool reserve_triangles(parser *p, int adding) {
+    if (!reserve_primitives(p, adding)) return false;
+    void *array = p->s.triangles;
+    bool ok = grow(p, &array, &p->triangle_capacity, p->s.triangle_count, adding,
+                   PARSER_MAX_PRIMITIVES, sizeof(triangle), "triangles");
+    p->s.triangles = array;
+    return ok;
+}
+
+static bool parse_triangle(parser *p) {
+    const material_spec *m;
+    key_values kv;
+    if (!read_shape(p, &triangle_shape, &m, &kv)) return false;
+    unsigned normals = kv.given & (BIT(TRIANGLE_N0) | BIT(TRIANGLE_N0 + 1) | BIT(TRIANGLE_N0 + 2));
+    if (normals && normals != (BIT(TRIANGLE_N0) | BIT(TRIANGLE_N0 + 1) | BIT(TRIANGLE_N0 + 2))) {
+        int given = TRIANGLE_N0, missing = TRIANGLE_N0;
+        while (!(normals & BIT(given))) given++;
+        while (normals & BIT(missing)) missing++;
+        return parser_fail(p, p->tokens[kv.key_token[given]].col,
+                           "triangle %s needs %s: shading normals come all three (n0 n1 n2) or "
+                           "none",
+                           triangle_keys[given].name, triangle_keys[missing].name);
+    }
+    vec3 v[3], n[3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    for (int k = 0; k < 3; k++) v[k] = parser_vec3(&kv, TRIANGLE_V0 + k, v3(0, 0, 0));
+    for (int k = 0; normals && k < 3; k++) {
+        /* In double: any finite nonzero float vector normalizes there without overflow. */
+        double x = kv.value[TRIANGLE_N0 + k][0], y = kv.value[TRIANGLE_N0 + k][1],
+               z = kv.value[TRIANGLE_N0 + k][2];
+        double length = sqrt(x * x + y * y + z * z);
+        if (length == 0.0) {
+            return parser_fail(p, p->tokens[kv.key_token[TRIANGLE_N0 + k]].col,
+                               "triangle %s must not be zero (a shading normal is a direction)",
+                               triangle_keys[TRIANGLE_N0 + k].name);
+        }
+        n[k] = v3((float)(x / length), (float)(y / length), (float)(z / length));
+    }
+    if (!check_face(p, v[0], v[1], v[2], "triangle") || !reserve_triangles(p, 1)) return false;
+    surface f = read_surface(p, &triangle_shape, m, &kv);
+    add_triangle(p, v[0], v[1], v[2], &f);
+    triangle *t = &p->s.triangles[p->s.triangle_count - 1];
+    t->smooth = normals != 0;
+    for (int k = 0; k < 3; k++) t->n[k] = n[k];
+    return true;
+}
+
+/* A quad is stored as (v0 v1 v2) and (v0 v2 v3): both must be faces, v3 on the plane of the
+ * first (SCENE_QUAD_PLANE_TOLERANCE) and the quad convex, so that the halves tile it without
+ * folding over each other. */
+static bool parse_quad(parser *p) {
+    const material_spec *m;
+    key_values kv;
+    if (!read_shape(p, &quad_shape, &m, &kv)) return false;
+    vec3 v[4];
+    for (int k = 0; k < 4; k++) v[k] = parser_vec3(&kv, QUAD_V0 + k, v3(0, 0, 0));
+    if (!check_face(p, v[0], v[1], v[2], "quad half v0 v1 v2")) return false;
+    dvec3 normal = d3_cross(d3_sub(v[1], v[0]), d3_sub(v[2], v[0]));
+    double normal_length = d3_length(normal);
+    double off = fabs(d3_dot(d3_sub(v[3], v[0]), normal)) / normal_length;
+    double diagonal = fmax(d3_length(d3_sub(v[2], v[0])), d3_length(d3_sub(v[3], v[1])));
+    if (off > SCENE_QUAD_PLANE_TOLERANCE * diagonal) {
+        return parser_fail(p, p->tokens[kv.key_token[QUAD_V0 + 3]].col,
+                           "quad is not flat: v3 is %.3g off the plane of v0 v1 v2, more than %g "
+                           "times its longest diagonal (%.3g)",
+                           off, SCENE_QUAD_PLANE_TOLERANCE, diagonal);
+    }
+    if (!check_face(p, v[0], v[2], v[3], "quad half v0 v2 v3")) return false;
+    /* Convex: seen along the first half's normal, every corner turns the same way. */
+    for (int k = 0; k < 4; k++) {
+        dvec3 in = d3_sub(v[k], v[(k + 3) % 4]), out = d3_sub(v[(k + 1) % 4], v[k]);
+        if (!(d3_dot(d3_cross(in, out), normal) > 0.0)) {
+            return parser_fail(p, p->tokens[kv.key_token[QUAD_V0 + k]].col,
+                               "quad is not convex at v%d: its corners v0 v1 v2 v3 must go once "
+                               "around it, turning the same way at each",
+                               k);
+        }
+    }
+    if (!reserve_triangles(p, 2)) return false;
+    surface f = read_surface(p, &quad_shape, m, &kv);
+    add_triangle(p, v[0], v[1], v[2], &f);
+    add_triangle(p, v[0], v[2], v[3], &f);
     return true;
 }
 
@@ -462,22 +747,25 @@ static bool parse_render(parser *p) {
 typedef struct directive_spec {
     const char *word;
     bool (*parse)(parser *p);
+    bool primitive; /* parsed in chunks ahead (primitives_only) */
 } directive_spec;
 
 static const directive_spec directives[] = {
-    {"camera", parse_camera}, {"plane", parse_plane},           {"light", parse_light},
-    {"sphere", parse_sphere}, {"background", parse_background}, {"render", parse_render},
+    {"camera", parse_camera, false},         {"plane", parse_plane, false},
+    {"light", parse_light, false},           {"sphere", parse_sphere, true},
+    {"triangle", parse_triangle, true},      {"quad", parse_quad, true},
+    {"background", parse_background, false}, {"render", parse_render, false},
 };
 
 bool parser_directive(parser *p) {
     const token *word = &p->tokens[0];
     for (size_t i = 0; i < sizeof directives / sizeof directives[0]; i++) {
         if (!parser_token_is(word, directives[i].word)) continue;
-        if (p->spheres_only && directives[i].parse != parse_sphere) return false;
+        if (p->primitives_only && !directives[i].primitive) return false;
         return directives[i].parse(p);
     }
     return parser_fail(p, word->col,
                        "unknown directive '%s' (expected one of: camera plane light sphere "
-                       "background render)",
+                       "triangle quad background render)",
                        parser_quote(p, word));
 }

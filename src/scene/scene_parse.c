@@ -7,9 +7,11 @@
  *
  * Big texts are cut into chunks at line ends. The first chunk is parsed in order on the calling
  * thread while the others are parsed at the same time, a chunk at a time by whichever thread is
- * free, on the guess that they hold only spheres, comments and blank lines. A chunk that does parse
- * so is appended as if read in order; any other (another directive, an error, too many spheres) is
- * parsed again in order, so messages, warnings and which error comes first are those of one pass.
+ * free, on the guess that they hold only primitives (spheres, triangles, quads), comments and
+ * blank lines. A chunk that does parse so is appended as if read in order (its spheres after the
+ * spheres so far, its triangles after the triangles); any other (another directive, an error, too
+ * many primitives) is parsed again in order, so the scene, messages, warnings and which error
+ * comes first are those of one pass.
  */
 #include <errno.h>
 #include <fcntl.h>
@@ -32,7 +34,7 @@
 
 /* Line numbers are ints: even a text of only newlines this long keeps them in range. */
 #define MAX_TEXT_BYTES ((size_t)INT_MAX - 1)
-/* Chunks are no shorter than this: a chunk costs a parser and a copy of its spheres. */
+/* Chunks are no shorter than this: a chunk costs a parser and a copy of its primitives. */
 #define MIN_CHUNK_BYTES (256 * 1024)
 /* Threads a parse uses at most. */
 #define MAX_PARSE_THREADS 16
@@ -125,7 +127,7 @@ static bool parse_lines(parser *p, const char *text, const char *end) {
 typedef struct chunk {
     const char *begin, *end;
     parser *p; /* NULL: no memory for it, parse it in order */
-    bool ok;   /* every line was a sphere, a comment or blank, and parsed */
+    bool ok;   /* every line was a primitive, a comment or blank, and parsed */
 } chunk;
 
 typedef struct chunk_list {
@@ -145,24 +147,44 @@ static void *chunks_run(void *arg) {
     }
 }
 
-/* Appends chunk c's spheres and warning to p as if p had parsed its lines; false when c must be
- * parsed in order instead. */
+/* Appends count items of size `item` to *array (holding *used of *capacity); false when out of
+ * memory. */
+static bool append_items(void **array, int *used, size_t *capacity, const void *items, int count,
+                         size_t item) {
+    size_t total = (size_t)*used + (size_t)count;
+    if (total > *capacity) {
+        void *grown = realloc(*array, total * item);
+        if (!grown) return false;
+        *array = grown;
+        *capacity = total;
+    }
+    if (count > 0) memcpy((char *)*array + (size_t)*used * item, items, (size_t)count * item);
+    *used += count;
+    return true;
+}
+
+/* Appends chunk c's spheres, triangles and warning to p as if p had parsed its lines; false when
+ * c must be parsed in order instead. */
 static bool chunk_adopt(parser *p, const chunk *c) {
     if (!c->p) return false;
     const scene *cs = &c->p->s;
-    if (!c->ok || cs->sphere_count > SCENE_MAX_SPHERES - p->s.sphere_count) return false;
-    size_t total = (size_t)p->s.sphere_count + (size_t)cs->sphere_count;
-    if (total > p->sphere_capacity) {
-        sphere *grown = realloc(p->s.spheres, total * sizeof *grown);
-        if (!grown) return false;
-        p->s.spheres = grown;
-        p->sphere_capacity = total;
+    long long primitives =
+        (long long)p->s.sphere_count + p->s.triangle_count + cs->sphere_count + cs->triangle_count;
+    if (!c->ok || cs->sphere_count > SCENE_MAX_SPHERES - p->s.sphere_count ||
+        primitives > PARSER_MAX_PRIMITIVES)
+        return false;
+    void *spheres = p->s.spheres, *triangles = p->s.triangles;
+    bool ok = append_items(&spheres, &p->s.sphere_count, &p->sphere_capacity, cs->spheres,
+                           cs->sphere_count, sizeof *cs->spheres);
+    p->s.spheres = spheres;
+    /* Spheres appended without triangles would count twice when the chunk is parsed again. */
+    if (ok && !append_items(&triangles, &p->s.triangle_count, &p->triangle_capacity, cs->triangles,
+                            cs->triangle_count, sizeof *cs->triangles)) {
+        p->s.sphere_count -= cs->sphere_count;
+        ok = false;
     }
-    if (cs->sphere_count > 0) {
-        memcpy(p->s.spheres + p->s.sphere_count, cs->spheres,
-               (size_t)cs->sphere_count * sizeof *cs->spheres);
-    }
-    p->s.sphere_count += cs->sphere_count;
+    p->s.triangles = triangles;
+    if (!ok) return false;
     /* Its only possible warning is its first tiny sphere, which counts if p had none yet. */
     if (cs->warning_count > 0 && !p->tiny_warned) {
         p->tiny_warned = true;
@@ -204,7 +226,7 @@ static bool parse_chunks(parser *p, int threads) {
                          .length = p->length,
                          .filename = p->filename,
                          .line = 1,
-                         .spheres_only = true};
+                         .primitives_only = true};
     }
     chunk_list list = {.chunks = chunks, .count = count};
     atomic_init(&list.next, 1);
