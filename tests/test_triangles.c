@@ -154,7 +154,8 @@ static void tessellated_sphere_text(char *text, size_t size, int rings, const ch
         for (int b = 0; b < segments; b++) {
             int b1 = (b + 1) % segments;
             const char *p00 = corner[a * segments + b], *p01 = corner[a * segments + b1];
-            const char *p10 = corner[(a + 1) * segments + b], *p11 = corner[(a + 1) * segments + b1];
+            const char *p10 = corner[(a + 1) * segments + b],
+                       *p11 = corner[(a + 1) * segments + b1];
             size_t at = strlen(text);
             if (a > 0)
                 at += (size_t)snprintf(text + at, size - at, "triangle %s v0 %s v1 %s v2 %s\n",
@@ -222,8 +223,8 @@ static void expect_furnace(const char *name, const char *surface) {
     }
     double mean = sum / n, se = sqrt(fmax(sum2 / n - mean * mean, 0.0) / (n - 1));
     double want = (1.0 - pow(0.5, 25)) / 0.5;
-    CHECK(fabs(mean - want) <= SIGMAS * se + 1e-5 * want, "%s: %.6f +- %.6f, want %.6f", name,
-          mean, se, want);
+    CHECK(fabs(mean - want) <= SIGMAS * se + 1e-5 * want, "%s: %.6f +- %.6f, want %.6f", name, mean,
+          se, want);
     film_free(&f);
 }
 
@@ -259,7 +260,7 @@ static double square_form_factor(double x, double z, double x0, double x1, doubl
  * floor point to the square. The ratio of each pixel to its exact value averages to 1. */
 static void test_form_factor(void) {
     const char *text =
-        "camera position 0 0.5 -2 direction 0 -0.5 2 up 0 1 0\nplane width 0.5 height 0.5 "
+        "camera position 0 0.5 -2 direction 0 -1 2 up 0 1 0\nplane width 0.5 height 0.5 "
         "pixel 0.03125\nquad lambertian v0 -10 0 -10 v1 -10 0 10 v2 10 0 10 v3 10 0 -10 color "
         "0.6 0.6 0.6\nquad lambertian v0 -0.5 1 -0.5 v1 0.5 1 -0.5 v2 0.5 1 0.5 v3 -0.5 1 0.5 "
         "color 0 0 0 emission 2 2 2\nrender mode path bounces 1 samples 256\n";
@@ -274,7 +275,7 @@ static void test_form_factor(void) {
     CHECK(render_on(use_vulkan, &s, &o, &f), "form factor: render failed");
     scene_free(&s);
     if (!f.accum) return;
-    double fw[3] = {0, -0.5, 2}, n = sqrt(4.25);
+    double fw[3] = {0, -1, 2}, n = sqrt(5.0);
     for (int a = 0; a < 3; a++) fw[a] /= n;
     double r[3] = {fw[2], 0, -fw[0]}, rl = sqrt(r[0] * r[0] + r[2] * r[2]);
     r[0] /= rl, r[2] /= rl;
@@ -293,8 +294,8 @@ static void test_form_factor(void) {
         }
     }
     double mean = sum / count, se = sqrt(fmax(sum2 / count - mean * mean, 0.0) / (count - 1));
-    CHECK(fabs(mean - 1.0) <= SIGMAS * se + 1e-4, "form factor: ratio %.5f +- %.5f, want 1",
-          mean, se);
+    CHECK(fabs(mean - 1.0) <= SIGMAS * se + 1e-4, "form factor: ratio %.5f +- %.5f, want 1", mean,
+          se);
     CHECK(se < 0.01, "form factor: standard error %.4f, too noisy to tell", se);
     film_free(&f);
 }

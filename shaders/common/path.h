@@ -47,6 +47,7 @@ TZ_FN int pick_emitter(TZ_SCENE_PARAM float u) {
 TZ_STRUCT(path_vertex) {
     vec3 pos;
     vec3 n;
+    vec3 origin; /* where its rays left: offset_origin(pos, geometric normal) */
     int id;
     float bsdf_pdf;
 }
@@ -69,7 +70,7 @@ TZ_FN float light_pdf_at(TZ_SCENE_PARAM path_vertex v, int id, vec3 pos, vec3 d)
         float pick = emitter_emission_pick(TZ_SCENE_ARG slot).w;
         float area = emitter_primitive_cdf(TZ_SCENE_ARG slot).z;
         TZ_PRECISE float pdf =
-            pick * triangle_area_pdf(corners_of(TZ_SCENE_ARG id), area, v.pos, pos, d);
+            pick * triangle_area_pdf(corners_of(TZ_SCENE_ARG id), area, v.origin, pos, d);
         return v.id == id ? 0.0f : pdf;
     }
     TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG id);
@@ -100,11 +101,13 @@ TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, surface sf, vec3 n, vec3 ng, vec
     vec3 o = offset_origin(pos, ng);
     if (is_triangle(TZ_SCENE_ARG e)) {
         if (e == id) return v3(0.0f, 0.0f, 0.0f);
+        /* Aimed from the shadow ray's own origin, so that it meets the sampled point: aimed from
+         * pos, the offset ray missed faces near their edges (0.1% dark in a furnace). */
         triangle_corners k = corners_of(TZ_SCENE_ARG e);
         vec3 q = triangle_area_point(k, ua, ub);
-        TZ_PRECISE vec3 to_q = v3_sub(q, pos);
+        TZ_PRECISE vec3 to_q = v3_sub(q, o);
         wi = v3_normalize(to_q);
-        pdf = emission_pick.w * triangle_area_pdf(k, primitive_cdf.z, pos, q, wi);
+        pdf = emission_pick.w * triangle_area_pdf(k, primitive_cdf.z, o, q, wi);
         t_light = triangle_distance(k.a, k.b, k.c, o, wi, ray_eps(o), TZ_FALSE);
     } else {
         TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG e);
@@ -160,6 +163,7 @@ TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index
     path_vertex last;
     last.pos = o;
     last.n = d;
+    last.origin = o;
     last.id = -1;
     last.bsdf_pdf = 0.0f;
     for (TZ_UINT k = 1u;; k++) {
@@ -223,6 +227,7 @@ TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index
             beta = v3_mul(beta, f);
             last.pos = pos;
             last.n = n;
+            last.origin = offset_origin(pos, ng);
             last.id = id;
             last.bsdf_pdf = pdf;
             specular = TZ_FALSE;

@@ -29,14 +29,17 @@ TZ_STRUCT_END(specular_chain)
 TZ_FN specular_chain follow_specular(TZ_SCENE_PARAM vec3 o, vec3 d, int self) {
     specular_chain c;
     c.id = -1;
-    c.weight = v3(1.0f, 1.0f, 1.0f);
     c.s = surface_none();
     c.n = c.s.nout;
     c.ng = c.s.nout;
+    /* Not precise: products alone cannot be fused, and glslang's propagation of precise back
+     * through the surfaces of the loop grows without bound (past 20 GB). */
+    vec3 weight = v3(1.0f, 1.0f, 1.0f);
     for (TZ_UINT chain = 0u;; chain++) {
         float t;
         int id = integrator_nearest(TZ_SCENE_ARG o, d, self, TZ_REF(t));
         c.d = d;
+        c.weight = weight;
         if (id < 0) return c;
         surface s = surface_at(TZ_SCENE_ARG id, o, d, t);
         c.s = s;
@@ -51,8 +54,7 @@ TZ_FN specular_chain follow_specular(TZ_SCENE_PARAM vec3 o, vec3 d, int self) {
             c.id = -2;
             return c;
         }
-        TZ_PRECISE vec3 tinted = v3_mul(c.weight, xyz(s.color_ks));
-        c.weight = tinted;
+        weight = v3_mul(weight, xyz(s.color_ks));
         next_ray next =
             specular_next(s.pos, s.nout, d, material == TZ_MATERIAL_REFRACTIVE, s.params.y);
         o = next.o;

@@ -311,6 +311,7 @@ LANE_FN void lanes_emission(const packed_scene *scene, const vertex_lanes *v, co
         path_vertex last;
         last.pos = get3(&s->last_pos, k);
         last.n = get3(&s->last_n, k);
+        last.origin = last.pos; /* read for triangle emitters only, which packets never meet */
         last.id = s->last_id[k];
         last.bsdf_pdf = s->last_pdf[k];
         float w = full ? 1.0f
