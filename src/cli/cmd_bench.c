@@ -95,6 +95,53 @@ static bool scaling_scene(long count, scene *out) {
     return ok;
 }
 
+/* The corners of an icosahedron about the origin, of unit radius, and its 20 faces wound
+ * outward (counter-clockwise seen from outside). */
+static const float ico_corner[12][3] = {
+    {-0.525731f, 0.850651f, 0.0f},  {0.525731f, 0.850651f, 0.0f},   {-0.525731f, -0.850651f, 0.0f},
+    {0.525731f, -0.850651f, 0.0f},  {0.0f, -0.525731f, 0.850651f},  {0.0f, 0.525731f, 0.850651f},
+    {0.0f, -0.525731f, -0.850651f}, {0.0f, 0.525731f, -0.850651f},  {0.850651f, 0.0f, -0.525731f},
+    {0.850651f, 0.0f, 0.525731f},   {-0.850651f, 0.0f, -0.525731f}, {-0.850651f, 0.0f, 0.525731f},
+};
+static const int ico_face[20][3] = {
+    {0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+    {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+    {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1},
+};
+#define ICO_FACES 20
+
+/* The random-spheres scene of the scaling table with its small spheres as icosahedra: `count`
+ * triangles (rounded to whole icosahedra) of the spheres' materials, the ground and the three
+ * big spheres kept; false on failure. */
+static bool triangle_scene(long count, scene *out) {
+    gen_desc desc = {
+        .kind = GEN_RANDOM, .count = count / ICO_FACES > 0 ? count / ICO_FACES : 1, .seed = 1};
+    if (!scaling_scene(gen_sphere_count(&desc), out)) return false;
+    int kept = 4, balls = out->sphere_count - kept; /* the ground and three big spheres first */
+    triangle *t = calloc((size_t)balls * ICO_FACES, sizeof *t);
+    if (!t) {
+        scene_free(out);
+        return false;
+    }
+    for (int b = 0; b < balls; b++) {
+        const sphere *sp = &out->spheres[kept + b];
+        for (int f = 0; f < ICO_FACES; f++) {
+            triangle *face = &t[b * ICO_FACES + f];
+            for (int c = 0; c < 3; c++) {
+                const float *v = ico_corner[ico_face[f][c]];
+                face->v[c] = v3_add(sp->center, v3_scale(v3(v[0], v[1], v[2]), sp->radius));
+            }
+            face->material = sp->material;
+            face->color = sp->color;
+            face->ks = sp->ks, face->alpha = sp->alpha, face->ior = sp->ior;
+        }
+    }
+    out->triangles = t;
+    out->triangle_count = balls * ICO_FACES;
+    out->sphere_count = kept;
+    return true;
+}
+
 /* Renders s with the back end at the scaling table's size and `samples` spp; Msamples/s of the
  * sample passes alone (BVH build and, for Vulkan, device and pipeline set-up excluded), or -1 on
  * failure. */
@@ -155,6 +202,70 @@ typedef struct engine {
     bool wanted;
 } engine;
 
+/* Mrays/s of a timed render (its passes alone); 0 when not timed. */
+static double mrays_of(const render_stats *st) {
+    return st->render_seconds > 0.0 ? (double)st->rays / st->render_seconds * 1e-6 : 0.0;
+}
+
+/* The triangle table: the scaling table's field with its small spheres as icosahedra, against
+ * the same field of as many spheres, in Mrays/s (the rays differ: a sample of a tessellated
+ * field traces more or fewer). */
+static int bench_triangles(const engine *engines, vec3 position, vec3 direction, vec3 up) {
+    static const long counts[] = {1000, 100000, 1000000};
+    printf(
+        "\ntriangles: the field's small spheres as icosahedra of 20 faces, %dx%d, indirect "
+        "on; Mrays/s of the passes alone, triangles against as many spheres\n",
+        SCALING_SIZE, SCALING_SIZE);
+    printf("%10s %9s %7s %13s %13s %13s %13s %13s %13s\n", "triangles", "build s", "B/tri",
+           "cpu tri", "cpu sph", "ref tri", "ref sph", "vk tri", "vk sph");
+    int failures = 0;
+    for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
+        scene tri, sph;
+        if (!triangle_scene(counts[k], &tri)) {
+            printf("%10ld  could not generate the scene\n", counts[k]);
+            failures++;
+            continue;
+        }
+        if (!scaling_scene(tri.triangle_count + tri.sphere_count, &sph)) {
+            scene_free(&tri);
+            failures++;
+            continue;
+        }
+        scene *both[2] = {&tri, &sph};
+        for (int v = 0; v < 2; v++) {
+            scene *s = both[v];
+            s->camera_position = position, s->camera_direction = direction, s->camera_up = up;
+            s->plane_height = s->plane_width;
+            s->pixel_size = s->plane_width / (float)SCALING_SIZE;
+            s->width = s->height = SCALING_SIZE;
+        }
+        double rays[3][2] = {{0}};
+        render_stats first = {0};
+        for (int e = 0; e < 3; e++) {
+            if (!engines[e].wanted) continue;
+            for (int v = 0; v < 2; v++) {
+                render_stats st = {0};
+                int spp = 0;
+                double speed =
+                    time_scaling(both[v], engines[e].backend, engines[e].cpu_build, &spp, &st);
+                failures += speed < 0.0;
+                rays[e][v] = speed > 0.0 ? mrays_of(&st) : 0.0;
+                if (v == 0 && first.bvh_seconds == 0.0) first = st;
+            }
+        }
+        printf("%10d %9.3f %7.1f", tri.triangle_count, first.bvh_seconds,
+               (double)first.scene_bytes / (tri.triangle_count + tri.sphere_count));
+        for (int e = 0; e < 3; e++)
+            for (int v = 0; v < 2; v++)
+                print_figure(13, rays[e][v], engines[e].wanted && rays[e][v] > 0.0, "");
+        printf("\n");
+        fflush(stdout);
+        scene_free(&tri);
+        scene_free(&sph);
+    }
+    return failures;
+}
+
 /* The scaling table: cost per sample against the sphere count, for the CPU back end, the
  * one-sample C reference integrator and the Vulkan back end. */
 static int bench_scaling(bool want_cpu, bool want_vk) {
@@ -213,6 +324,7 @@ static int bench_scaling(bool want_cpu, bool want_vk) {
         fflush(stdout);
         scene_free(&s);
     }
+    failures += bench_triangles(engines, position, direction, up);
     return failures;
 }
 
@@ -236,8 +348,9 @@ static const opt_command bench_command = {
     .name = "bench",
     .synopsis = "usage: trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n",
     .about =
-        "Times fixed workloads, then a scaling table from 10 to 1,000,000 spheres whose rows "
-        "are each timed\nfor about " CLI_AS_TEXT(SCALING_SECONDS) " s.\n",
+        "Times fixed workloads, then a scaling table from 10 to 1,000,000 spheres and one of "
+        "1,000 to\n1,000,000 triangles against as many spheres, whose rows are each timed for "
+        "about " CLI_AS_TEXT(SCALING_SECONDS) " s.\n",
     .specs = bench_specs,
     .spec_count = OPT_COUNT(bench_specs),
 };
