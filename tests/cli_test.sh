@@ -369,4 +369,21 @@ for scene in "$src"/scenes/*.scene; do
     run "$(basename "$scene")" 0 "$tz" render "$scene" --backend cpu --spp 1 --width 40 -q -o s.png
 done
 
+# A camera direction and up of any nonzero finite length give the image of unit vectors.
+camera_scene() { # camera_scene DIRECTION UP
+    printf 'camera position 0 0 -5 direction %s up %s\nplane width 2 height 2 pixel 0.05\n' "$1" "$2"
+    printf 'light position 2 3 -4 power 50\nsphere phong center 0 0 0 radius 1 color 0.5 0.2 0.1\n'
+    printf 'render samples 4\n'
+}
+camera_scene "0 0 1" "0 1 0" >unit-camera.scene
+camera_scene "0 0 1e-19" "0 1e-19 0" >tiny-camera.scene
+camera_scene "0 0 3e30" "0 -7e-40 0" >odd-camera.scene
+for c in unit tiny odd; do
+    run "$c-camera" 0 "$tz" render "$c-camera.scene" --backend cpu -o "$c-camera.pfm" --quiet
+done
+if cmp -s unit-camera.pfm tiny-camera.pfm; then ok; else bad "tiny-camera: differs from unit vectors"; fi
+camera_scene "0 0 1" "0 -1 0" >flipped-camera.scene
+"$tz" render flipped-camera.scene --backend cpu -o flipped-camera.pfm --quiet
+if cmp -s flipped-camera.pfm odd-camera.pfm; then ok; else bad "odd-camera: differs from unit vectors"; fi
+
 check_summary cli_test

@@ -508,20 +508,6 @@ static const invalid_case invalid_cases[] = {
      "camera direction must not be zero"},
     {"zero camera up", BYTES("camera position 0 0 0 up 0 0 0\n"), 1, 23,
      "camera up must not be zero"},
-    {"tiny camera direction", BYTES("camera position 0 0 0 direction 1e-30 0 0\n"), 1, 23,
-     "camera direction is too small or too large to normalize"},
-    /* Their squares are float denormals: normalized they came out about 0.8 long. */
-    {"denormal camera direction", BYTES("camera position 0 0 0 direction 0 0 3e-23\n"), 1, 23,
-     "camera direction is too small or too large to normalize"},
-    {"denormal camera up", BYTES("camera position 0 0 0 up 0 3e-23 0\n"), 1, 23,
-     "camera up is too small or too large to normalize"},
-    /* up x direction is what gets normalized: small up and a small angle underflow together. */
-    {"camera up small and nearly parallel",
-     BYTES("camera position 0 0 0 direction 0 1 1e-3 up 0 1e-17 0\n"), 1, 42,
-     "camera up is too small or too large to normalize"},
-    /* Its square overflows to infinity, and normalized it was the zero vector. */
-    {"huge camera direction", BYTES("camera position 0 0 0 direction 0 0 1e20\n"), 1, 23,
-     "camera direction is too small or too large to normalize"},
     {"up parallel to direction", BYTES("camera position 0 0 0 up 0 0 -2\n"), 1, 23,
      "camera up (0 0 -2) is parallel to direction (0 0 1)"},
     {"direction parallel to default up", BYTES("camera position 0 0 0 direction 0 3 0\n"), 1, 23,

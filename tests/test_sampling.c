@@ -1,10 +1,12 @@
 /* test_sampling.c: path mode's sampling routines (cosine, Phong lobe, sphere cone, sphere area)
  * against their pdfs by a chi-square test over bins of (cos theta, phi), as Mitsuba's sampling
- * tests do; and the test's own power: a wrong pdf is rejected. */
+ * tests do, and the triangle's area sample over equal sub-triangles; and the test's own power: a
+ * wrong pdf is rejected. */
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "check.h"
 #include "common/rng.h"
@@ -130,6 +132,42 @@ static void expect_fit(const char *name, sampler s, pdf_fn pdf, const lobe_ctx *
     CHECK(fits ? z < 4.0 : z > 10.0, "%s: chi-square z score %.2f", name, z);
 }
 
+/* The chi-square z score of triangle_area_point on the triangle (0,0,0) (1,0,0) (0,1,0), or with
+ * wrong_warp the warp without its square root, over its n^2 congruent sub-triangles (equal areas:
+ * each expects SAMPLES / n^2). */
+static double triangle_chi_square_z(bool wrong_warp) {
+    enum { N = 20 };
+    static double observed[N][N][2];
+    memset(observed, 0, sizeof observed);
+    uint32_t rng = rng_seed(11, 0, 0);
+    for (int k = 0; k < SAMPLES; k++) {
+        float ua = rng_next(&rng), ub = rng_next(&rng);
+        if (wrong_warp) ua *= ua;
+        vec3 q = triangle_area_point(v3(0, 0, 0), v3(1, 0, 0), v3(0, 1, 0), ua, ub);
+        double x = q.x * N, y = q.y * N;
+        int i = (int)x, j = (int)y;
+        i = i < 0 ? 0 : i >= N ? N - 1 : i;
+        j = j < 0 ? 0 : j >= N ? N - 1 : j;
+        int down = (x - i) + (y - j) >= 1.0 || i + j >= N;
+        if (i + j >= N) i = N - 1 - j; /* rounding past the hypotenuse */
+        observed[i][j][down]++;
+    }
+    double chi2 = 0.0, expected = (double)SAMPLES / (N * N);
+    int cells = 0;
+    for (int i = 0; i < N; i++) {
+        for (int j = 0; i + j < N; j++) {
+            for (int down = 0; down < 2; down++) {
+                if (down && i + j == N - 1) continue; /* the diagonal row has up cells only */
+                double diff = observed[i][j][down] - expected;
+                chi2 += diff * diff / expected;
+                cells++;
+            }
+        }
+    }
+    double k = cells - 1;
+    return (cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / sqrt(2.0 / (9.0 * k));
+}
+
 int main(void) {
     vec3 tilted = v3_normalize(v3(0.3f, -0.5f, 0.8f)), down = v3(0, 0, -1);
     lobe_ctx up = {v3(0, 0, 1), 0, 0, -1.0}, tilt = {tilted, 0, 0, -1.0};
@@ -157,6 +195,9 @@ int main(void) {
         expect_fit(name, sample_cone, pdf_cone, &c, true);
     }
     expect_fit("sphere area", sample_area, pdf_uniform_sphere, &up, true);
+    double tz = triangle_chi_square_z(false), wrong = triangle_chi_square_z(true);
+    CHECK(tz < 4.0, "triangle area: chi-square z score %.2f", tz);
+    CHECK(wrong > 10.0, "power: a triangle warp without its square root: z score %.2f", wrong);
     /* the test rejects what is wrong: cosine samples against a uniform pdf, a lobe against
      * another exponent */
     expect_fit("power: cosine is not uniform", sample_cosine, pdf_uniform_sphere, &up, false);

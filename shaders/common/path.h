@@ -104,7 +104,7 @@ TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, surface sf, vec3 n, vec3 ng, vec
         /* Aimed from the shadow ray's own origin, so that it meets the sampled point: aimed from
          * pos, the offset ray missed faces near their edges (0.1% dark in a furnace). */
         triangle_corners k = corners_of(TZ_SCENE_ARG e);
-        vec3 q = triangle_area_point(k, ua, ub);
+        vec3 q = triangle_area_point(k.a, k.b, k.c, ua, ub);
         TZ_PRECISE vec3 to_q = v3_sub(q, o);
         wi = v3_normalize(to_q);
         pdf = emission_pick.w * triangle_area_pdf(k, primitive_cdf.z, o, q, wi);

@@ -131,13 +131,4 @@ TZ_FN int emitter_of(TZ_SCENE_PARAM int id) {
     return TZ_INT(sphere_params(TZ_SCENE_ARG id).w) - 1;
 }
 
-/* A point of triangle k uniform by area, from two uniform numbers (the square-root warp). */
-TZ_FN vec3 triangle_area_point(triangle_corners k, float ua, float ub) {
-    TZ_PRECISE float su = TZ_SQRT(ua);
-    TZ_PRECISE float b0 = 1.0f - su, b1 = ub * su;
-    TZ_PRECISE float b2 = 1.0f - b0 - b1;
-    TZ_PRECISE vec3 q = v3_add(v3_add(v3_scale(k.a, b0), v3_scale(k.b, b1)), v3_scale(k.c, b2));
-    return q;
-}
-
 #endif

@@ -80,6 +80,16 @@ TZ_FN vec3 sphere_area_direction(float u1, float u2) {
     return d;
 }
 
+/* A point of the triangle (a, b, c) uniform by area from two uniform numbers: the square-root
+ * warp, weights 1 - sqrt(ua), ub sqrt(ua) and the rest. */
+TZ_FN vec3 triangle_area_point(vec3 a, vec3 b, vec3 c, float ua, float ub) {
+    TZ_PRECISE float su = TZ_SQRT(ua);
+    TZ_PRECISE float b0 = 1.0f - su, b1 = ub * su;
+    TZ_PRECISE float b2 = 1.0f - b0 - b1;
+    TZ_PRECISE vec3 q = v3_add(v3_add(v3_scale(a, b0), v3_scale(b, b1)), v3_scale(c, b2));
+    return q;
+}
+
 /* The solid-angle pdf of area sampling a sphere of radius r at a point dist2 away whose normal
  * makes cosine cos_l with the direction: dist2 / (4 pi r^2 |cos_l|). */
 TZ_FN float area_pdf(float r, float dist2, float cos_l) {

@@ -227,12 +227,24 @@ static bool check_camera_square(parser *p, const key_values *kv, int key, vec3 v
     return true;
 }
 
-static bool check_camera_vector(parser *p, const key_values *kv, int key, vec3 v) {
-    if (v.x == 0.0f && v.y == 0.0f && v.z == 0.0f) {
+/* v normalized in double, which holds the square of any float. */
+static vec3 unit_in_double(vec3 v) {
+    double x = v.x, y = v.y, z = v.z, l = sqrt(x * x + y * y + z * z);
+    return v3((float)(x / l), (float)(y / l), (float)(z / l));
+}
+
+/* Refuses a zero camera vector. One whose square float cannot hold (a length under about
+ * 1.1e-19 or over 1.8e19) becomes its unit vector (unit_in_double), so that any nonzero finite
+ * length gives the image of the unit vector; others stay as given (the renderer normalizes them,
+ * as it always has, so their images keep their bits). */
+static bool check_camera_vector(parser *p, const key_values *kv, int key, vec3 *v) {
+    if (v->x == 0.0f && v->y == 0.0f && v->z == 0.0f) {
         return parser_fail(p, p->tokens[kv->key_token[key]].col, "camera %s must not be zero",
                            camera_keys[key].name);
     }
-    return check_camera_square(p, kv, key, v);
+    float square = v3_dot(*v, *v);
+    if (!(square >= FLT_MIN && square <= FLT_MAX)) *v = unit_in_double(*v);
+    return check_camera_square(p, kv, key, *v);
 }
 
 static bool parse_camera(parser *p) {
@@ -262,8 +274,9 @@ static bool parse_camera(parser *p) {
         }
         direction = v3((float)(dx / m), (float)(dy / m), (float)(dz / m));
     }
-    if (!check_camera_vector(p, &kv, CAMERA_DIRECTION, direction) ||
-        !check_camera_vector(p, &kv, CAMERA_UP, up)) {
+    vec3 given_direction = direction, given_up = up; /* as written, for the messages */
+    if (!check_camera_vector(p, &kv, CAMERA_DIRECTION, &direction) ||
+        !check_camera_vector(p, &kv, CAMERA_UP, &up)) {
         return false;
     }
     /* Double precision on unit vectors, so the test cannot itself overflow or underflow. */
@@ -277,10 +290,15 @@ static bool parse_camera(parser *p) {
                                                     : CAMERA_DIRECTION;
     if (sqrt(cx * cx + cy * cy + cz * cz) < CAMERA_MIN_SINE) {
         return parser_fail(p, p->tokens[kv.key_token[up_key]].col,
-                           "camera up (%g %g %g) is parallel to direction (%g %g %g)", up.x, up.y,
-                           up.z, direction.x, direction.y, direction.z);
+                           "camera up (%g %g %g) is parallel to direction (%g %g %g)", given_up.x,
+                           given_up.y, given_up.z, given_direction.x, given_direction.y,
+                           given_direction.z);
     }
-    /* The right vector, up x forward, is normalized too: a small up at a small angle. */
+    /* The right vector, up x forward, is normalized too: a small up at a small angle underflows
+     * there unless up is a unit vector. */
+    float right_square =
+        v3_dot(v3_cross(up, v3_normalize(direction)), v3_cross(up, v3_normalize(direction)));
+    if (!(right_square >= FLT_MIN)) up = unit_in_double(up);
     if (!check_camera_square(p, &kv, up_key, v3_cross(up, v3_normalize(direction)))) return false;
     p->s.camera_position = position;
     p->s.camera_fov = (float)parser_value_or(&kv, CAMERA_FOV, 0.0);
