@@ -399,7 +399,7 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
         snprintf(refusal, RENDER_REASON_SIZE,
                  "%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
                  "allows (its shaders stop loops silently past %u in all)",
-                 overflowed, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+                 overflowed, ctx->loop_limit);
     return ok;
 }
 
@@ -413,8 +413,8 @@ static pass_plan plan_passes(const vk_context *ctx, const part *p, uint64_t samp
                       .spp = p->meta.spp};
     uint64_t tile_pixels = (uint64_t)TILE_SIZE * TILE_SIZE;
     uint64_t per_dispatch = DISPATCH_BUDGET / (tile_pixels * sample_iterations);
-    if (vk_context_is_lavapipe(ctx)) {
-        uint64_t fit = (VK_PROBE_LAVAPIPE_SAFE_ITERATIONS - 1u) / sample_iterations;
+    if (ctx->loop_limit) {
+        uint64_t fit = (vk_probe_safe_iterations(ctx->loop_limit) - 1u) / sample_iterations;
         if (fit < per_dispatch) per_dispatch = fit;
     }
     /* A pass over the whole image stays within a submission, so that big images show progress
