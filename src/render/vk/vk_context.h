@@ -165,6 +165,10 @@ typedef struct vk_buffer {
 /* Creates a buffer with its own memory; false (logged) on failure, with nothing left behind. */
 bool vk_buffer_create(vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usage,
                       vk_memory_use use, vk_buffer *out);
+/* False (logged) when the driver keeps device memory in a memfd (lavapipe of Mesa 25) that the
+ * file-size limit (RLIMIT_FSIZE, `ulimit -f`) leaves too small for `bytes` more and the driver's
+ * own allocations: the driver would die of SIGBUS. True without such a file or limit. */
+bool vk_memory_file_fits(uint64_t bytes);
 /* Gives the buffer a view of the whole of it in `format`; false (logged) on failure. */
 bool vk_buffer_create_view(vk_context *ctx, vk_buffer *b, VkFormat format);
 /* Destroys the buffer (and its view) and frees its memory; safe on a zeroed vk_buffer. */
