@@ -6,35 +6,13 @@
 # apt runs on a private list and cache in DIR (the machine's apt state is not touched), on the
 # URIs of the machine's own Debian source. Needs apt-get, dpkg-deb and the network; not root.
 set -eu
-cd "$(dirname "$0")/.."
-dir=${1:-build/mesa25}
+dir=${1:-$(dirname "$0")/../build/mesa25}
 mkdir -p "$dir"
 dir=$(cd "$dir" && pwd)
+cd "$(dirname "$0")/.."
 suite=bookworm-backports
 
-# The machine's Debian URIs: deb822 stanzas (.sources) whose suites include bookworm, or the
-# one-line form of sources.list. The first one is used.
-uri=""
-for f in /etc/apt/sources.list.d/*.sources; do
-    [ -r "$f" ] || continue
-    uri=$(awk 'BEGIN { RS = ""; FS = "\n" }
-        /(^|\n)Suites:[^\n]*[ \t]bookworm([ \t]|\n|$)/ && /(^|\n)Types:[^\n]*deb([ \t]|\n|$)/ {
-            for (i = 1; i <= NF; i++) if ($i ~ /^URIs:/) { sub(/^URIs:[ \t]*/, "", $i);
-                split($i, u, /[ \t]+/); print u[1]; exit } }' "$f")
-    [ -n "$uri" ] && break
-done
-if [ -z "$uri" ]; then
-    for f in /etc/apt/sources.list /etc/apt/sources.list.d/*.list; do
-        [ -r "$f" ] || continue
-        uri=$(awk '$1 == "deb" { i = 2; if ($2 ~ /^\[/) while ($i !~ /\]$/) i++;
-            if ($2 ~ /^\[/) i++; if ($(i + 1) == "bookworm") { print $i; exit } }' "$f")
-        [ -n "$uri" ] && break
-    done
-fi
-if [ -z "$uri" ]; then
-    echo "tools/mesa25.sh: no Debian bookworm source in /etc/apt to take the URIs from" >&2
-    exit 1
-fi
+uri=$(tools/debian_uri.sh)
 
 apt="$dir/apt"
 mkdir -p "$apt/lists/partial" "$apt/cache/archives/partial" "$dir/deb"
@@ -82,7 +60,7 @@ EOF
 # mesa-vulkan-drivers brings the same libraries: LLVM 15, xcb, wayland, zstd).
 missing=$(LD_LIBRARY_PATH=$lib ldd "$lvp" | awk '/not found/ { print $1 }')
 if [ -n "$missing" ]; then
-    echo "tools/mesa25.sh: $lvp needs libraries this machine lacks:" $missing >&2
+    echo "tools/mesa25.sh: $lvp needs libraries this machine lacks: $missing" >&2
     exit 1
 fi
 version=$(dpkg-deb -f "$(ls "$dir"/deb/mesa-vulkan-drivers_*.deb)" Version)
