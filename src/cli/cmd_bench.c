@@ -33,9 +33,9 @@ static const workload workloads[] = {
 static const long scaling_counts[] = {10, 1000, 100000, 1000000};
 #define SCALING_SIZE 256
 /* Each row is rendered first at SCALING_WARMUP_SAMPLES (lavapipe compiles its shader into Mesa's
- * disk cache, caches and pages warm up), then timed at the power of two of samples, at most SCALING_MAX_SAMPLES, that
- * makes its passes last SCALING_SECONDS or a little more: a small row at the warm-up's samples is
- * over too fast to time (docs/PERF.md, "Command line"). */
+ * disk cache, caches and pages warm up), then timed at the power of two of samples, at most
+ * SCALING_MAX_SAMPLES, that makes its passes last SCALING_SECONDS or a little more: a small row at
+ * the warm-up's samples is over too fast to time (docs/PERF.md, "Command line"). */
 #define SCALING_WARMUP_SAMPLES 4
 #define SCALING_MAX_SAMPLES 256
 #define SCALING_SECONDS 0.5

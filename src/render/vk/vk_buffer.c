@@ -49,10 +49,11 @@ bool vk_memory_file_fits(uint64_t bytes) {
     uint64_t pages = (bytes + 4095u) / 4096u * 4096u;
     if (held < 0 || (uint64_t)held + pages + MEMORY_FILE_HEADROOM <= (uint64_t)limit.rlim_cur)
         return true;
-    log_error("lavapipe keeps device memory in a memfd, which the file-size limit (ulimit -f) "
-              "caps at %" PRIu64 " bytes: it holds %" PRId64 " and would need %" PRIu64
-              " more, past which the driver crashes (SIGBUS); raise the limit" VK_CONTEXT_USE_CPU,
-              (uint64_t)limit.rlim_cur, held, pages + MEMORY_FILE_HEADROOM);
+    log_error(
+        "lavapipe keeps device memory in a memfd, which the file-size limit (ulimit -f) "
+        "caps at %" PRIu64 " bytes: it holds %" PRId64 " and would need %" PRIu64
+        " more, past which the driver crashes (SIGBUS); raise the limit" VK_CONTEXT_USE_CPU,
+        (uint64_t)limit.rlim_cur, held, pages + MEMORY_FILE_HEADROOM);
     return false;
 #else
     (void)bytes;

@@ -99,7 +99,7 @@ typedef struct vk_context {
     VkPhysicalDeviceMemoryProperties memory;
     VkDriverId driver_id; /* 0 when the device cannot tell (Vulkan 1.1 without the extension) */
     char driver_name[VK_MAX_DRIVER_NAME_SIZE];
-    char driver_info[VK_MAX_DRIVER_INFO_SIZE]; /* the version string, e.g. "Mesa 25.0.7" */
+    char driver_info[VK_MAX_DRIVER_INFO_SIZE];   /* the version string, e.g. "Mesa 25.0.7" */
     VkPhysicalDeviceSubgroupProperties subgroup; /* size, operations and stages (Vulkan 1.1) */
     uint32_t loop_limit; /* loop passes an invocation completes before the driver stops its loops
                             silently (lavapipe 22.3: 65,535); 0 where they run to the end

@@ -50,7 +50,8 @@ bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts 
     /* One sample an invocation: its passes and the sample loop's exit pass. */
     if (loop_limit && !use_bvh && sample_iterations + 1u > vk_probe_safe_iterations(loop_limit)) {
         snprintf(reason, RENDER_REASON_SIZE,
-                 "this scene needs up to %" PRIu64 " loop passes per sample, past lavapipe's safe "
+                 "this scene needs up to %" PRIu64
+                 " loop passes per sample, past lavapipe's safe "
                  "limit of %" PRIu64 " (its shaders stop loops silently after %u%s)",
                  sample_iterations + 1u, vk_probe_safe_iterations(loop_limit), loop_limit,
                  opts->no_bvh ? "; --no-bvh tests every sphere for every ray" : "");
