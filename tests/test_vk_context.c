@@ -197,7 +197,9 @@ static void test_file_limit(void) {
     int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     CHECK(code == 0 || code == 3, "under ulimit -f 16 the child exited %d", code);
     printf("test_vk_context: under ulimit -f 16 the render %s\n",
-           code == 0 ? "worked" : code == 3 ? "was refused (lavapipe's memfd)" : "failed");
+           code == 0   ? "worked"
+           : code == 3 ? "was refused (lavapipe's memfd)"
+                       : "failed");
 }
 
 /* No driver manifest: no device, the one-line error, render_vk false. Runs last: it leaves the
