@@ -144,13 +144,15 @@ static void format_driver_version(const VkPhysicalDeviceProperties *p, char *out
 }
 
 /* The second line of a device in the listing: driver version, the ray tracing extensions a ray
- * query walk would use, and the loop budget a context on it was probed to have. */
+ * query walk would use, the BVH walks trazador has that it offers (TRAZADOR_VK_WALK), and the
+ * loop budget a context on it was probed to have. */
 static void print_device_details(VkPhysicalDevice device, const device_info *info, int index) {
     char version[48];
     format_driver_version(&info->properties, version, sizeof version);
     bool query = has_device_extension(device, VK_KHR_RAY_QUERY_EXTENSION_NAME);
     bool structure = has_device_extension(device, VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME);
     char loops[96] = "not probed (unusable)";
+    const char *walks = "none (unusable)";
     if (info->usable) {
         /* The loop probe needs a device of its own; its errors would only repeat the listing's. */
         vk_context ctx;
@@ -164,11 +166,14 @@ static void print_device_details(VkPhysicalDevice device, const device_info *inf
             snprintf(loops, sizeof loops, "stop silently after %u passes", ctx.loop_limit);
         else
             snprintf(loops, sizeof loops, "run to the end");
+        walks = !opened                              ? "unknown"
+                : vk_context_has_subgroup_walk(&ctx) ? "invocation, cooperative"
+                                                     : "invocation";
         vk_context_destroy(&ctx);
     }
-    printf("    driverVersion %s, %s %s, %s %s, loops %s\n", version,
+    printf("    driverVersion %s; %s %s; %s %s; BVH walks: %s; loops %s\n", version,
            VK_KHR_RAY_QUERY_EXTENSION_NAME, query ? "yes" : "no",
-           VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, structure ? "yes" : "no", loops);
+           VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, structure ? "yes" : "no", walks, loops);
 }
 
 bool vk_context_print_devices(void) {
