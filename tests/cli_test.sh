@@ -59,6 +59,10 @@ if "$tz" devices >/dev/null 2>&1; then
     run huge-on-vulkan 1 "$tz" render --backend vulkan --spp 1 huge.scene -o huge.pfm
     has huge-on-vulkan err "a 16384 x 16384 region with 1 chunk-tree blocks a pixel needs 4294967296 bytes"
 fi
+# Whether the default device's driver stops loops silently (lavapipe 22.3; `devices` says what
+# the probe found): the Vulkan back end then refuses scenes that could reach the limit.
+cuts_loops=false
+"$tz" devices 2>/dev/null | grep -A1 '^\*' | grep -q "loops stop silently" && cuts_loops=true
 if "$tz" devices 2>/dev/null | grep -q llvmpipe; then
     # With lavapipe the only device, auto renders seed mode with the CPU back end, faster there
     # (README), and says why under --verbose.
@@ -74,6 +78,8 @@ if "$tz" devices 2>/dev/null | grep -q llvmpipe; then
         has auto-path-small err "the CPU back end: path mode, where the CPU back end measured faster"
         has auto-path-small err "cpu back end"
     fi
+fi
+if $cuts_loops; then
     # Naming the device asks for Vulkan: its refusal is the verdict.
     run lavapipe-refusal-device 1 "$tz" render --no-bvh --width 8 --spp 1 --device 0 crowd.scene \
         -o crowd-device.png
@@ -239,13 +245,16 @@ cmp -s nj.ppm q.ppm && bad "no-jitter no-indirect: same bytes as the default" ||
 } > lights.scene
 run many-lights-auto 0 "$tz" render lights.scene --spp 1 --verbose -o lights.png
 [ -s lights.png ] && ok || bad "many-lights-auto: no image"
-# Where auto tries lavapipe for it (no 16-lane CPU path build), lavapipe refuses the 4096 lights.
-if "$tz" devices 2>/dev/null | grep -q llvmpipe && grep -qF "the Vulkan back end" "$tmp/err"; then
+# Where auto tries lavapipe 22.3 for it (no 16-lane CPU path build), lavapipe refuses the 4096
+# lights; lavapipe of Mesa 25 runs loops to the end and renders them.
+if $cuts_loops && grep -qF "the Vulkan back end" "$tmp/err"; then
     has many-lights-auto err "rendering with the CPU back end instead"
 fi
-run many-lights-vulkan 1 "$tz" render lights.scene --spp 1 --backend vulkan -o lights-vk.png
-if "$tz" devices 2>/dev/null | grep -q llvmpipe; then
+if $cuts_loops; then
+    run many-lights-vulkan 1 "$tz" render lights.scene --spp 1 --backend vulkan -o lights-vk.png
     has many-lights-vulkan err "loop passes per sample, past lavapipe's safe limit"
+elif "$tz" devices >/dev/null 2>&1; then
+    run many-lights-vulkan 0 "$tz" render lights.scene --spp 1 --backend vulkan -o lights-vk.png
 fi
 # The BVH changes no pixel of a scene big enough to walk it (the example scenes are small
 # enough to test every sphere).

@@ -1,10 +1,15 @@
 /* test_vk_context.c: the Vulkan context around the renderer: device listing and choice, the
  * validation messenger (an error must fail the run), a missing or unloadable validation layer,
- * lavapipe's thread count, no driver at all (the one-line error, render_vk false), and, run as
- * `test_vk_context no-loader`, no loader at all. Exits 77 only when no Vulkan device exists. */
+ * lavapipe's thread count, a file-size limit (a render under `ulimit -f 16` ends, never by a
+ * signal: lavapipe of Mesa 25 keeps device memory in a memfd the limit caps), no driver at all
+ * (the one-line error, render_vk false), and, run as `test_vk_context no-loader`, no loader at
+ * all. Exits 77 only when no Vulkan device exists. */
 #include <dirent.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "check.h"
@@ -161,6 +166,42 @@ static int test_no_loader(void) {
     return check_summary("test_vk_context no-loader");
 }
 
+/* `test_vk_context file-limit`, run by test_file_limit under the limit: 0 when the tiny render
+ * worked, 3 when it was refused for the memfd, 4 when it failed otherwise. */
+static int file_limit_child(void) {
+    log_hold_errors();
+    bool ok = render_tiny(-1);
+    const char *errors = log_release_errors();
+    if (ok) return 0;
+    fprintf(stderr, "test_vk_context file-limit: %s\n", errors);
+    return strstr(errors, "memfd") ? 3 : 4;
+}
+
+/* A file-size limit of 16 KiB (SIGXFSZ ignored, as a shell script standing for a full disk
+ * does): the render either works (Mesa 22.3, whose memory is no file) or is refused with the
+ * memfd message (Mesa 25); it must not die of SIGBUS. */
+static void test_file_limit(void) {
+    fflush(NULL);
+    pid_t child = fork();
+    if (child == 0) {
+        struct rlimit limit = {16384, 16384};
+        signal(SIGXFSZ, SIG_IGN);
+        if (setrlimit(RLIMIT_FSIZE, &limit) == 0)
+            execl("/proc/self/exe", "test_vk_context", "file-limit", (char *)NULL);
+        _exit(5);
+    }
+    int status = 0;
+    CHECK(child > 0 && waitpid(child, &status, 0) == child, "fork or wait failed");
+    CHECK(WIFEXITED(status), "under ulimit -f 16 the render died of signal %d",
+          WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    CHECK(code == 0 || code == 3, "under ulimit -f 16 the child exited %d", code);
+    printf("test_vk_context: under ulimit -f 16 the render %s\n",
+           code == 0   ? "worked"
+           : code == 3 ? "was refused (lavapipe's memfd)"
+                       : "failed");
+}
+
 /* No driver manifest: no device, the one-line error, render_vk false. Runs last: it leaves the
  * loader without drivers. */
 static void test_no_driver(void) {
@@ -173,6 +214,7 @@ static void test_no_driver(void) {
 
 int main(int argc, char **argv) {
     if (argc > 1 && !strcmp(argv[1], "no-loader")) return test_no_loader();
+    if (argc > 1 && !strcmp(argv[1], "file-limit")) return file_limit_child();
     if (!tmp_dir_make("test_vk_context")) {
         perror("test_vk_context: mkdtemp");
         return 1;
@@ -187,6 +229,7 @@ int main(int argc, char **argv) {
     test_missing_layer();
     test_unloadable_layer();
     test_threads();
+    test_file_limit();
     test_no_driver();
     rmdir(tmpdir);
     return check_summary("test_vk_context");

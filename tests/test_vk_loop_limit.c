@@ -1,8 +1,10 @@
 /* test_vk_loop_limit.c: the loop budget the renderer's guard relies on (DESIGN section 5). On
- * lavapipe one invocation completes exactly VK_PROBE_LAVAPIPE_LOOP_LIMIT loop iterations, all
- * loops together, and then every loop stops silently; elsewhere every iteration runs. Also checks
- * the per-sample bound and that the renderer refuses a scene past the safe limit on lavapipe.
- * Validation is on; exits 77 only when no Vulkan device exists. */
+ * lavapipe of Mesa 22.3 one invocation completes exactly 65,535 loop iterations, all loops
+ * together, and then every loop stops silently; Mesa 25 and other drivers run every iteration.
+ * The context's probed limit (vk_probe_loop_limit) must be that budget, pinned by the driver's
+ * version where it is known, and predict every probe case; the renderer must refuse a scene past
+ * the safe share of it and render the same scene where loops run to the end. Says which driver it
+ * ran on. Validation is on; exits 77 only when no Vulkan device exists. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,18 +14,17 @@
 #include "render/vk/vk_context.h"
 #include "render/vk/vk_probe.h"
 #include "test_scenes.h"
-#include "vk_loop_probe.h"
 
-/* What one invocation should complete of loops of n[0] then n[1] iterations: on lavapipe a
- * budget of VK_PROBE_LAVAPIPE_LOOP_LIMIT passes, one spent at the end of every pass of either
- * loop (the pass that finds the loop done included), a loop stopping when none is left. */
-static void expected(bool lavapipe, const uint32_t n[2], uint32_t want[2]) {
-    if (!lavapipe) {
+/* What one invocation should complete of loops of n[0] then n[1] iterations: under a limit a
+ * budget of `limit` passes, one spent at the end of every pass of either loop (the pass that
+ * finds the loop done included), a loop stopping when none is left; without one (0), all. */
+static void expected(uint32_t limit, const uint32_t n[2], uint32_t want[2]) {
+    if (!limit) {
         want[0] = n[0];
         want[1] = n[1];
         return;
     }
-    int64_t budget = VK_PROBE_LAVAPIPE_LOOP_LIMIT;
+    int64_t budget = limit;
     for (int loop = 0; loop < 2; loop++) {
         uint32_t done = 0;
         for (;;) {
@@ -35,8 +36,35 @@ static void expected(bool lavapipe, const uint32_t n[2], uint32_t want[2]) {
     }
 }
 
+/* The limit the context was probed to have, against what the driver's version says: lavapipe of
+ * Mesa 22 and before cuts loops at 65,535 passes (LP_MAX_TGSI_LOOP_ITERATIONS), that of Mesa 25
+ * does not, and no other driver cuts them. lavapipe's driverVersion is 1 whatever its release:
+ * the release is read from driverInfo ("Mesa 22.3.6 (LLVM 15.0.6)"). */
+static void test_limit(const vk_context *ctx) {
+    unsigned mesa = 0, minor = 0;
+    const char *release = strstr(ctx->driver_info, "Mesa ");
+    if (release && sscanf(release, "Mesa %u.%u", &mesa, &minor) != 2) mesa = 0;
+    if (ctx->loop_limit)
+        printf("test_vk_loop_limit: ran on %s, driver %s %s: loops stop silently after %u passes\n",
+               ctx->properties.deviceName, ctx->driver_name, ctx->driver_info, ctx->loop_limit);
+    else
+        printf("test_vk_loop_limit: ran on %s, driver %s %s: loops run to the end\n",
+               ctx->properties.deviceName, ctx->driver_name, ctx->driver_info);
+    if (!vk_context_is_lavapipe(ctx))
+        CHECK(ctx->loop_limit == 0, "a limit of %u found off lavapipe", ctx->loop_limit);
+    else if (mesa == 0)
+        CHECK(0, "lavapipe's driverInfo names no Mesa release: \"%s\"", ctx->driver_info);
+    else if (mesa <= 22)
+        CHECK(ctx->loop_limit == 65535u, "lavapipe of Mesa %u: a limit of %u, want 65535", mesa,
+              ctx->loop_limit);
+    else if (mesa >= 25)
+        CHECK(ctx->loop_limit == 0, "lavapipe of Mesa %u: a limit of %u, want none", mesa,
+              ctx->loop_limit);
+    CHECK(vk_probe_safe_iterations(65535u) == 60000u, "the safe share of 65,535 moved");
+    CHECK(vk_probe_safe_iterations(0u) == UINT64_MAX, "no limit has a safe share");
+}
+
 static void test_probe(vk_context *ctx) {
-    bool lavapipe = vk_context_is_lavapipe(ctx);
     const uint32_t cases[][2] = {
         {1000, 0},      {65535, 0}, {65536, 0}, {200000, 0}, /* one loop */
         {40000, 40000}, {65534, 5}, {65535, 1}, {65535, 2},  /* the budget is shared */
@@ -44,8 +72,8 @@ static void test_probe(vk_context *ctx) {
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         uint32_t least[2] = {0, 0}, most[2] = {0, 0}, want[2];
-        expected(lavapipe, cases[k], want);
-        CHECK(vk_loop_probe_run(ctx, cases[k], least, most), "probe (%u, %u) failed", cases[k][0],
+        expected(ctx->loop_limit, cases[k], want);
+        CHECK(vk_probe_loops(ctx, cases[k], least, most), "probe (%u, %u) failed", cases[k][0],
               cases[k][1]);
         /* Every invocation of every workgroup and subgroup has a budget of its own. */
         CHECK(least[0] == most[0] && least[1] == most[1],
@@ -93,8 +121,9 @@ static double film_difference(const film *a, const film *b) {
     return worst;
 }
 
-/* Brute force (--no-bvh) past the safe limit is refused on lavapipe (false, no film); through the
- * BVH the same scene renders and matches the C renderer. */
+/* Brute force (--no-bvh) past the safe limit is refused where loops are cut (false, no film) and
+ * rendered where they run to the end; through the BVH the same scene renders and matches the C
+ * renderer. */
 static void test_guard(vk_context *ctx) {
     enum { BIG = 4500 }; /* 2 x (7 x 4502 + 1) + 1 = 63031 passes a sample: past 60000 */
     sphere *spheres = calloc(BIG, sizeof *spheres);
@@ -107,11 +136,11 @@ static void test_guard(vk_context *ctx) {
     opts.no_bvh = true;
     film f = {0}, reference = {0};
     bool rendered = render_vk(&big, &opts, &f);
-    if (vk_context_is_lavapipe(ctx))
-        CHECK(!rendered && !f.accum, "lavapipe rendered a scene of %llu iterations per sample",
-              (unsigned long long)vk_probe_sample_iterations(BIG, 1, 5, true));
+    if (ctx->loop_limit)
+        CHECK(!rendered && !f.accum, "%s rendered a scene of %llu iterations per sample",
+              ctx->driver_name, (unsigned long long)vk_probe_sample_iterations(BIG, 1, 5, true));
     else
-        CHECK(rendered, "a %d-sphere scene failed off lavapipe", BIG);
+        CHECK(rendered, "a %d-sphere scene failed where loops run to the end", BIG);
     film_free(&f);
     CHECK(render_vk(&small, &opts, &f), "a %d-sphere scene failed", BIG / 2);
     film_free(&f);
@@ -136,8 +165,9 @@ static scene pile_of_spheres(int n, sphere *spheres, light *l) {
 }
 
 /* With the BVH walk TRAZADOR_VK_WALK names (cooperative: the lone lane is the subgroup): a pile
- * of 70,000 spheres is a walk longer than any loop budget, which lavapipe must refuse (the
- * shader runs out of its budget and says so) rather than cut short; other devices render it. A
+ * of 70,000 spheres is a walk longer than any loop budget, which a driver that cuts loops must
+ * refuse (the shader runs out of its budget and says so) rather than cut short; others render
+ * it. A
  * pile of `near` spheres, a walk just inside the budget (8,569 passes a ray here, 4,284 a loop
  * cooperatively: about 1.1-1.4 passes a sphere), renders and matches the C renderer. */
 static void test_walk_budget(vk_context *ctx, const char *walk, int near_count) {
@@ -152,11 +182,12 @@ static void test_walk_budget(vk_context *ctx, const char *walk, int near_count) 
     opts.no_jitter = true; /* the ray down the axis */
     film f = {0}, reference = {0};
     bool rendered = render_vk(&pile, &opts, &f);
-    if (vk_context_is_lavapipe(ctx))
-        CHECK(!rendered && !f.accum, "%s walk: lavapipe rendered a walk past its loop budget",
-              walk);
+    if (ctx->loop_limit)
+        CHECK(!rendered && !f.accum, "%s walk: %s rendered a walk past its loop budget", walk,
+              ctx->driver_name);
     else
-        CHECK(rendered, "%s walk: a pile of %d spheres failed off lavapipe", walk, PILE);
+        CHECK(rendered, "%s walk: a pile of %d spheres failed where loops run to the end", walk,
+              PILE);
     film_free(&f);
     scene near = pile_of_spheres(near_count, spheres, &l);
     CHECK(render_vk(&near, &opts, &f), "%s walk: a pile of %d spheres failed", walk, near_count);
@@ -178,6 +209,7 @@ int main(void) {
     vk_context_desc desc = {.device = -1, .validate = true};
     CHECK(vk_context_init(&ctx, &desc), "context creation failed");
     if (ctx.device) {
+        test_limit(&ctx);
         test_probe(&ctx);
         test_guard(&ctx);
         test_walk_budget(&ctx, "invocation", 6000);

@@ -413,8 +413,26 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
         snprintf(refusal, RENDER_REASON_SIZE,
                  "%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
                  "allows (its shaders stop loops silently past %u in all)",
-                 overflowed, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+                 overflowed, ctx->loop_limit);
     return ok;
+}
+
+/* Runs the pipeline once on a pass of no pixels (every invocation returns at once): llvmpipe
+ * (lavapipe) compiles a shader to machine code at its first dispatch, not in
+ * vkCreateComputePipelines, which without a warm shader cache made the first pass of a render
+ * seconds slower than the rest (docs/PERF.md, "First dispatch"). Done here, the compilation
+ * counts as set-up, not as rendering. False (logged) on a Vulkan failure. */
+static bool warm_up_pipeline(vk_render *r) {
+    if (!vk_commands_begin(&r->ctx, &r->cmd)) return false;
+    vkCmdBindPipeline(r->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.pipeline);
+    const uint32_t offsets[] = {0u, 0u, 0u}; /* sums, compensation, stacks */
+    vkCmdBindDescriptorSets(r->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.layout, 0, 1,
+                            &r->kernel.set, 3, offsets);
+    struct gpu_pass push = {.group_stride = workgroup_stride(1u), .chunk_count = 1u};
+    vkCmdPushConstants(r->cmd, r->kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push,
+                       &push);
+    vkCmdDispatch(r->cmd, 1, 1, 1);
+    return vk_commands_submit_wait(&r->ctx, r->cmd, r->fence);
 }
 
 /* Samples per dispatch (at most a chunk) and passes per submission, from the per-sample worst
@@ -427,8 +445,8 @@ static pass_plan plan_passes(const vk_context *ctx, const part *p, uint64_t samp
                       .spp = p->meta.spp};
     uint64_t tile_pixels = (uint64_t)TILE_SIZE * TILE_SIZE;
     uint64_t per_dispatch = DISPATCH_BUDGET / (tile_pixels * sample_iterations);
-    if (vk_context_is_lavapipe(ctx)) {
-        uint64_t fit = (VK_PROBE_LAVAPIPE_SAFE_ITERATIONS - 1u) / sample_iterations;
+    if (ctx->loop_limit) {
+        uint64_t fit = (vk_probe_safe_iterations(ctx->loop_limit) - 1u) / sample_iterations;
         if (fit < per_dispatch) per_dispatch = fit;
     }
     /* A pass over the whole image stays within a submission, so that big images show progress
@@ -698,7 +716,7 @@ render_status render_vk_part_try(const scene *s, const render_opts *opts, part *
     double t_upload = clock_seconds();
     log_debug("vulkan: buffers and upload in %.1f ms (%s)", (t_upload - t_buffers) * 1e3,
               r.accum.mapped ? "mapped device memory" : "staging copies");
-    if (!create_kernel(&r, &packed, &st, width, depth)) goto done;
+    if (!create_kernel(&r, &packed, &st, width, depth) || !warm_up_pipeline(&r)) goto done;
     double t_pipeline = clock_seconds();
     log_debug("vulkan: pipeline in %.1f ms", (t_pipeline - t_upload) * 1e3);
 

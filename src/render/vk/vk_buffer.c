@@ -1,8 +1,65 @@
-/* vk_buffer.c: buffers with their own memory, placed by how they are used, and their views. */
+/* vk_buffer.c: buffers with their own memory, placed by how they are used, and their views; and
+ * the file-size limit check of drivers that keep device memory in a file. */
 #include <inttypes.h>
+#include <stdio.h>
+#include <string.h>
 
 #include "render/vk/vk_context.h"
 #include "util/log.h"
+
+#ifdef __linux__
+#include <dirent.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* Room left in the file for the driver's own allocations after a buffer (command buffers,
+ * descriptor sets: a page each). */
+#define MEMORY_FILE_HEADROOM (1u << 20)
+
+/* Bytes of the largest memfd lavapipe keeps device memory in (Mesa 25's llvmpipe names it
+ * "allocation fd"; Mesa 22.3 has none): -1 when the process has none. */
+static int64_t memory_file_bytes(void) {
+    DIR *dir = opendir("/proc/self/fd");
+    if (!dir) return -1;
+    int64_t largest = -1;
+    for (struct dirent *e; (e = readdir(dir)) != NULL;) {
+        char path[300], target[64];
+        snprintf(path, sizeof path, "/proc/self/fd/%s", e->d_name);
+        ssize_t n = readlink(path, target, sizeof target - 1);
+        if (n <= 0) continue;
+        target[n] = '\0';
+        struct stat st;
+        if (strncmp(target, "/memfd:allocation fd", 20) == 0 && stat(path, &st) == 0 &&
+            (int64_t)st.st_size > largest)
+            largest = (int64_t)st.st_size;
+    }
+    closedir(dir);
+    return largest;
+}
+#endif
+
+bool vk_memory_file_fits(uint64_t bytes) {
+#ifdef __linux__
+    /* The limit caps memfds as it caps files; the driver ignores the ftruncate that fails
+     * (EFBIG), maps past the file's end anyway and dies with SIGBUS on the first touch. */
+    struct rlimit limit;
+    if (getrlimit(RLIMIT_FSIZE, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return true;
+    int64_t held = memory_file_bytes();
+    uint64_t pages = (bytes + 4095u) / 4096u * 4096u;
+    if (held < 0 || (uint64_t)held + pages + MEMORY_FILE_HEADROOM <= (uint64_t)limit.rlim_cur)
+        return true;
+    log_error(
+        "lavapipe keeps device memory in a memfd, which the file-size limit (ulimit -f) "
+        "caps at %" PRIu64 " bytes: it holds %" PRId64 " and would need %" PRIu64
+        " more, past which the driver crashes (SIGBUS); raise the limit" VK_CONTEXT_USE_CPU,
+        (uint64_t)limit.rlim_cur, held, pages + MEMORY_FILE_HEADROOM);
+    return false;
+#else
+    (void)bytes;
+    return true;
+#endif
+}
 
 /* First memory type allowed by type_bits with all of `required`, preferring `preferred` too;
  * -1 when none. */
@@ -48,7 +105,8 @@ bool vk_buffer_create(vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usa
         .allocationSize = req.size,
         .memoryTypeIndex = (uint32_t)type,
     };
-    if (!VK_CHECK(vkAllocateMemory(ctx->device, &alloc, NULL, &out->memory)) ||
+    if (!vk_memory_file_fits(req.size) ||
+        !VK_CHECK(vkAllocateMemory(ctx->device, &alloc, NULL, &out->memory)) ||
         !VK_CHECK(vkBindBufferMemory(ctx->device, out->buffer, out->memory, 0))) {
         vk_buffer_destroy(ctx, out);
         return false;

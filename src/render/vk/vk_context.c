@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "render/vk/vk_internal.h"
+#include "render/vk/vk_probe.h"
 #include "util/log.h"
 
 /* TRAZADOR_VALIDATE=1 (or any value but "" and "0") forces validation on. */
@@ -57,7 +58,8 @@ static bool open_context(vk_context *ctx, const vk_context_desc *desc) {
         }
         if (!VK_CHECK(create(ctx->instance, &messenger, NULL, &ctx->messenger))) goto fail;
     }
-    if (!vk_device_open(ctx, desc->device)) goto fail;
+    if (!vk_device_open(ctx, desc->device) || !vk_memory_file_fits(0) || !vk_probe_loop_limit(ctx))
+        goto fail;
     return true;
 fail:
     vk_context_destroy(ctx);

@@ -99,7 +99,11 @@ typedef struct vk_context {
     VkPhysicalDeviceMemoryProperties memory;
     VkDriverId driver_id; /* 0 when the device cannot tell (Vulkan 1.1 without the extension) */
     char driver_name[VK_MAX_DRIVER_NAME_SIZE];
+    char driver_info[VK_MAX_DRIVER_INFO_SIZE];   /* the version string, e.g. "Mesa 25.0.7" */
     VkPhysicalDeviceSubgroupProperties subgroup; /* size, operations and stages (Vulkan 1.1) */
+    uint32_t loop_limit; /* loop passes an invocation completes before the driver stops its loops
+                            silently (lavapipe 22.3: 65,535); 0 where they run to the end
+                            (vk_probe_loop_limit) */
     int device_index;
     VkDevice device;
     uint32_t queue_family;
@@ -120,8 +124,8 @@ bool vk_context_init(vk_context *ctx, const vk_context_desc *desc);
 bool vk_context_destroy(vk_context *ctx);
 /* Number of validation errors reported so far; never fails. */
 unsigned vk_context_validation_errors(vk_context *ctx);
-/* True when the device is Mesa's lavapipe (llvmpipe), whose loops have an iteration budget;
- * never fails. */
+/* True when the device is Mesa's lavapipe (llvmpipe), whose loops had an iteration budget up to
+ * Mesa 22.3 (ctx->loop_limit says whether this one has); never fails. */
 bool vk_context_is_lavapipe(const vk_context *ctx);
 
 /* True when compute shaders on the device have the subgroup operations the cooperative BVH walk
@@ -140,7 +144,9 @@ int vk_context_device_count(void);
 #define VK_CONTEXT_NO_DEVICE_MESSAGE                                                     \
     "no Vulkan device found (VK_LOADER_DEBUG=all shows why): install lavapipe (Debian: " \
     "apt-get install mesa-vulkan-drivers) or use --backend cpu"
-/* Prints every device (index, name, type, driver), marking the default; false when none. */
+/* Prints every device (index, name, type, driver and its version, whether it offers
+ * VK_KHR_ray_query and VK_KHR_acceleration_structure, its probed loop budget), marking the
+ * default; false when none. */
 bool vk_context_print_devices(void);
 
 /* Where a buffer lives: DEVICE is read and written by shaders (mapped as well when that memory
@@ -159,6 +165,10 @@ typedef struct vk_buffer {
 /* Creates a buffer with its own memory; false (logged) on failure, with nothing left behind. */
 bool vk_buffer_create(vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usage,
                       vk_memory_use use, vk_buffer *out);
+/* False (logged) when the driver keeps device memory in a memfd (lavapipe of Mesa 25) that the
+ * file-size limit (RLIMIT_FSIZE, `ulimit -f`) leaves too small for `bytes` more and the driver's
+ * own allocations: the driver would die of SIGBUS. True without such a file or limit. */
+bool vk_memory_file_fits(uint64_t bytes);
 /* Gives the buffer a view of the whole of it in `format`; false (logged) on failure. */
 bool vk_buffer_create_view(vk_context *ctx, vk_buffer *b, VkFormat format);
 /* Destroys the buffer (and its view) and frees its memory; safe on a zeroed vk_buffer. */

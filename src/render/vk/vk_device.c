@@ -132,6 +132,50 @@ static const char *device_type_name(VkPhysicalDeviceType type) {
     }
 }
 
+/* The driver's own version: NVIDIA packs it 10.8.8.6 bits, the others (Mesa among them) as
+ * VK_MAKE_VERSION; lavapipe always says 0.0.1, its release is in driverInfo. */
+static void format_driver_version(const VkPhysicalDeviceProperties *p, char *out, size_t size) {
+    uint32_t v = p->driverVersion;
+    if (p->vendorID == 0x10DEu)
+        snprintf(out, size, "%u.%u.%u.%u", v >> 22, (v >> 14) & 0xffu, (v >> 6) & 0xffu, v & 0x3fu);
+    else
+        snprintf(out, size, "%u.%u.%u", VK_VERSION_MAJOR(v), VK_VERSION_MINOR(v),
+                 VK_VERSION_PATCH(v));
+}
+
+/* The second line of a device in the listing: driver version, the ray tracing extensions a ray
+ * query walk would use, the BVH walks trazador has that it offers (TRAZADOR_VK_WALK), and the
+ * loop budget a context on it was probed to have. */
+static void print_device_details(VkPhysicalDevice device, const device_info *info, int index) {
+    char version[48];
+    format_driver_version(&info->properties, version, sizeof version);
+    bool query = has_device_extension(device, VK_KHR_RAY_QUERY_EXTENSION_NAME);
+    bool structure = has_device_extension(device, VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME);
+    char loops[96] = "not probed (unusable)";
+    const char *walks = "none (unusable)";
+    if (info->usable) {
+        /* The loop probe needs a device of its own; its errors would only repeat the listing's. */
+        vk_context ctx;
+        vk_context_desc desc = {.device = index};
+        log_hold_errors();
+        bool opened = vk_context_init(&ctx, &desc);
+        log_release_errors();
+        if (!opened)
+            snprintf(loops, sizeof loops, "not probed (the device does not open)");
+        else if (ctx.loop_limit)
+            snprintf(loops, sizeof loops, "stop silently after %u passes", ctx.loop_limit);
+        else
+            snprintf(loops, sizeof loops, "run to the end");
+        walks = !opened                              ? "unknown"
+                : vk_context_has_subgroup_walk(&ctx) ? "invocation, cooperative"
+                                                     : "invocation";
+        vk_context_destroy(&ctx);
+    }
+    printf("    driverVersion %s; %s %s; %s %s; BVH walks: %s; loops %s\n", version,
+           VK_KHR_RAY_QUERY_EXTENSION_NAME, query ? "yes" : "no",
+           VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, structure ? "yes" : "no", walks, loops);
+}
+
 bool vk_context_print_devices(void) {
     VkInstance instance = open_listing_instance();
     VkPhysicalDevice *devices = NULL;
@@ -155,6 +199,7 @@ bool vk_context_print_devices(void) {
                info.driver_info, VK_API_VERSION_MAJOR(v), VK_API_VERSION_MINOR(v),
                VK_API_VERSION_PATCH(v),
                info.usable ? "" : " (unusable: needs Vulkan 1.1 and a compute queue)");
+        print_device_details(devices[k], &info, (int)k);
     }
     if (chosen >= 0) printf("(* marks the device used when --device is not given)\n");
     free(devices);
@@ -198,6 +243,7 @@ bool vk_device_open(vk_context *ctx, int requested) {
     ctx->driver_id = info.driver_id;
     ctx->subgroup = info.subgroup;
     memcpy(ctx->driver_name, info.driver_name, sizeof ctx->driver_name);
+    memcpy(ctx->driver_info, info.driver_info, sizeof ctx->driver_info);
     ctx->queue_family = info.compute_family;
     vkGetPhysicalDeviceMemoryProperties(ctx->physical, &ctx->memory);
 

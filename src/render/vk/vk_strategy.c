@@ -1,5 +1,5 @@
 /* vk_strategy.c: the Vulkan back end's intersection strategy for a scene and its refusals
- * (vk_strategy.h), on lavapipe's loop budget model (vk_probe.h). */
+ * (vk_strategy.h), on the loop budget the driver was probed to have (vk_probe.h). */
 #include "render/vk/vk_strategy.h"
 
 #include <inttypes.h>
@@ -10,7 +10,8 @@
 #include "render/vk/vk_probe.h"
 #include "shared_layout.h"
 
-/* Loop passes a ray's BVH walk must be allowed at least on lavapipe for a scene to be tried. */
+/* Loop passes a ray's BVH walk must be allowed at least, where loops are cut, for a scene to be
+ * tried. */
 #define MIN_WALK_BUDGET 256u
 
 /* Whether the subgroup walks the BVH together: only where TRAZADOR_VK_WALK=cooperative asks for
@@ -31,28 +32,28 @@ uint32_t vk_strategy_walk_loop(const vk_strategy *st) {
 }
 
 /* Refuses what the device could not render right: scene or accumulation buffers past its limits,
- * and on lavapipe a sample whose worst-case loop work could reach the silent loop limit; false
- * with the reason in `reason` (RENDER_REASON_SIZE bytes), nothing logged. */
+ * and where the driver cuts loops (lavapipe 22.3) a sample whose worst-case loop work could
+ * reach that limit; false with the reason in `reason` (RENDER_REASON_SIZE bytes), nothing
+ * logged. */
 bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts *opts,
                        const vk_strategy *st, int width, int height, uint32_t depth, char *reason) {
     bool use_bvh = st->use_bvh;
     uint64_t sample_iterations = st->sample_iterations;
-    if (vk_context_is_lavapipe(ctx) && use_bvh && vk_strategy_walk_loop(st) < MIN_WALK_BUDGET) {
+    uint32_t loop_limit = ctx->loop_limit;
+    if (loop_limit && use_bvh && vk_strategy_walk_loop(st) < MIN_WALK_BUDGET) {
         snprintf(reason, RENDER_REASON_SIZE,
                  "with %d lights and this bounce limit a ray could walk the BVH only %u loop "
                  "passes on lavapipe (its shaders stop loops silently after %u)",
-                 s->light_count, vk_strategy_walk_loop(st), VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+                 s->light_count, vk_strategy_walk_loop(st), loop_limit);
         return false;
     }
     /* One sample an invocation: its passes and the sample loop's exit pass. */
-    if (vk_context_is_lavapipe(ctx) && !use_bvh &&
-        sample_iterations + 1u > VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
+    if (loop_limit && !use_bvh && sample_iterations + 1u > vk_probe_safe_iterations(loop_limit)) {
         snprintf(reason, RENDER_REASON_SIZE,
                  "this scene needs up to %" PRIu64
-                 " loop passes per sample, past lavapipe's safe limit of %u (its shaders stop "
-                 "loops silently after %u%s)",
-                 sample_iterations + 1u, VK_PROBE_LAVAPIPE_SAFE_ITERATIONS,
-                 VK_PROBE_LAVAPIPE_LOOP_LIMIT,
+                 " loop passes per sample, past lavapipe's safe "
+                 "limit of %" PRIu64 " (its shaders stop loops silently after %u%s)",
+                 sample_iterations + 1u, vk_probe_safe_iterations(loop_limit), loop_limit,
                  opts->no_bvh ? "; --no-bvh tests every sphere for every ray" : "");
         return false;
     }
@@ -106,18 +107,22 @@ static uint64_t sample_iterations(const scene *s, const render_opts *opts, uint3
     return vk_probe_path_iterations(spheres, lights, bounces, emitters);
 }
 
-/* The most passes one ray's BVH walk may take on lavapipe so that a sample, every ray walking
- * that far, stays within the safe limit; 0 when even walks of no length do not fit. */
-static uint32_t walk_budget(const scene *s, const render_opts *opts, uint32_t emitters) {
+/* The most passes one ray's BVH walk may take under a loop limit of `limit` so that a sample,
+ * every ray walking that far, stays within the safe share of it; 0 when even walks of no length
+ * do not fit. */
+static uint32_t walk_budget(const scene *s, const render_opts *opts, uint32_t emitters,
+                            uint32_t limit) {
+    uint64_t safe = vk_probe_safe_iterations(limit);
     uint64_t fixed = sample_iterations(s, opts, emitters, 0u);
     uint64_t rays = sample_iterations(s, opts, emitters, 1u) - fixed;
-    if (fixed + 1u >= VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) return 0u;
-    return (uint32_t)((VK_PROBE_LAVAPIPE_SAFE_ITERATIONS - 1u - fixed) / rays);
+    if (fixed + 1u >= safe) return 0u;
+    uint64_t walk = (safe - 1u - fixed) / rays;
+    return walk < UINT32_MAX ? (uint32_t)walk : UINT32_MAX;
 }
 
-/* Small scenes test every sphere in unrolled loops; bigger ones walk the BVH, each walk bounded on
- * lavapipe by TZ_SPEC_WALK_BUDGET passes as if it tested that many spheres (a guess of 64 sizes
- * the dispatches elsewhere). */
+/* Small scenes test every sphere in unrolled loops; bigger ones walk the BVH, each walk bounded
+ * where the driver cuts loops by TZ_SPEC_WALK_BUDGET passes as if it tested that many spheres (a
+ * guess of 64 sizes the dispatches elsewhere). */
 vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const render_opts *opts) {
     /* A ray tests spheres and triangles alike: one loop pass a primitive. */
     uint32_t spheres = (uint32_t)s->sphere_count + (uint32_t)s->triangle_count, emitters = 0;
@@ -130,18 +135,19 @@ vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const rend
     vk_strategy st = {.unrolled_spheres = unroll ? spheres : 0u};
     st.use_bvh = !opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u;
     st.cooperative = st.use_bvh && cooperative_walk(ctx);
-    bool lavapipe = vk_context_is_lavapipe(ctx);
-    st.walk = st.use_bvh && lavapipe ? walk_budget(s, opts, emitters) : 0u;
+    uint32_t limit = ctx->loop_limit;
+    bool cut = limit != 0u; /* the driver stops loops silently */
+    st.walk = st.use_bvh && cut ? walk_budget(s, opts, emitters, limit) : 0u;
     /* Unrolled sphere tests are no loop: a ray then costs only its own loop passes. */
     uint64_t every_sphere =
         sample_iterations(s, opts, emitters, st.unrolled_spheres ? 0u : spheres);
     /* Many lights leave each walk too few passes; testing every sphere may still fit. */
-    if (st.use_bvh && lavapipe && vk_strategy_walk_loop(&st) < MIN_WALK_BUDGET &&
-        every_sphere < VK_PROBE_LAVAPIPE_SAFE_ITERATIONS) {
+    if (st.use_bvh && cut && vk_strategy_walk_loop(&st) < MIN_WALK_BUDGET &&
+        every_sphere < vk_probe_safe_iterations(limit)) {
         st.use_bvh = st.cooperative = false;
         st.walk = 0u;
     }
     st.sample_iterations =
-        st.use_bvh ? sample_iterations(s, opts, emitters, lavapipe ? st.walk : 64u) : every_sphere;
+        st.use_bvh ? sample_iterations(s, opts, emitters, cut ? st.walk : 64u) : every_sphere;
     return st;
 }

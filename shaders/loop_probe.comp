@@ -1,7 +1,8 @@
 /* loop_probe.comp: measures how many loop iterations an invocation really completes. Each of the
  * 64 invocations of a workgroup (eight lavapipe subgroups) runs two counting loops one after the
  * other, N1 then N2 iterations (push constants), and writes how many of each ran: lavapipe stops
- * loops silently past a budget, and tests/vk_loop_probe.c turns this into a self-test. */
+ * loops silently past a budget: src/render/vk/vk_probe.c measures it for the renderer's guard,
+ * and tests/test_vk_loop_limit.c proves the guard with it. */
 #version 450
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
