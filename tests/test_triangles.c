@@ -168,19 +168,27 @@ static void tessellated_sphere_text(char *text, size_t size, int rings, const ch
     free(corner);
 }
 
+/* Renders the surface's text seen from inside it, after the settings `header` (plane pixel
+ * size, background and render line), into f; false on failure. */
+static bool render_inside(const char *header, const char *surface, film *f) {
+    size_t size = strlen(surface) + 512;
+    char *text = malloc(size);
+    snprintf(text, size,
+             "camera position 0.1 0.05 -0.2 direction 0.3 0.2 1\nplane width 2 height 2 %s\n%s",
+             header, surface);
+    bool ok = render_text(text, f);
+    free(text);
+    return ok;
+}
+
 /* Inside a closed surface of black faces with a white background and no light, every pixel is
  * exactly 0: a ray that slipped between two faces would see the background. Jittered rays, many
  * through edges and corners. */
 static void expect_closed(const char *name, const char *surface) {
-    size_t size = strlen(surface) + 512;
-    char *text = malloc(size);
-    snprintf(text, size,
-             "camera position 0.1 0.05 -0.2 direction 0.3 0.2 1\nplane width 2 height 2 pixel "
-             "0.015625\nbackground 1 1 1\nrender samples 4 indirect off\n%s",
-             surface);
     film f = {0};
-    CHECK(render_text(text, &f), "%s: render failed", name);
-    free(text);
+    CHECK(render_inside("pixel 0.015625\nbackground 1 1 1\nrender samples 4 indirect off", surface,
+                        &f),
+          "%s: render failed", name);
     if (!f.accum) return;
     int leaks = 0;
     for (int j = 0; j < f.height; j++)
@@ -203,15 +211,11 @@ static void test_watertight(void) {
 /* Path mode inside a closed surface whose faces all emit Le = 1 with albedo a = 0.5: every
  * pixel sees 1 + a + ... + a^B, B = 24, roulette off. */
 static void expect_furnace(const char *name, const char *surface) {
-    size_t size = strlen(surface) + 512;
-    char *text = malloc(size);
-    snprintf(text, size,
-             "camera position 0.1 0.05 -0.2 direction 0.3 0.2 1\nplane width 2 height 2 pixel "
-             "0.0625\nbackground 5 5 5\nrender mode path bounces 24 roulette off samples 32\n%s",
-             surface);
     film f = {0};
-    CHECK(render_text(text, &f), "%s: render failed", name);
-    free(text);
+    CHECK(render_inside("pixel 0.0625\nbackground 5 5 5\nrender mode path bounces 24 roulette "
+                        "off samples 32",
+                        surface, &f),
+          "%s: render failed", name);
     if (!f.accum) return;
     double sum = 0.0, sum2 = 0.0;
     int n = f.width * f.height;

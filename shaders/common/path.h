@@ -8,6 +8,7 @@
 #ifndef TRAZADOR_COMMON_PATH_H
 #define TRAZADOR_COMMON_PATH_H
 
+#include "camera.h"
 #include "dialect.h"
 #include "lights.h"
 #include "primitive.h"
@@ -152,11 +153,8 @@ TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, surface sf, vec3 n, vec3 ng, vec
 TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index) {
     TZ_UINT flags = TZ_FRAME.flags;
     TZ_UINT rng = rng_seed(TZ_FRAME.seed, j * TZ_FRAME.width + i, sample_index);
-    float u = rng_next(TZ_REF(rng)), v = rng_next(TZ_REF(rng));
-    if ((flags & TZ_FLAG_JITTER) == 0u) u = v = 0.5f;
-    vec3 d = camera_direction(TZ_FRAME.right, TZ_FRAME.up, TZ_FRAME.forward, TZ_FRAME.origin.w, i,
-                              j, u, v);
-    vec3 o = camera_origin(TZ_FRAME.origin, TZ_FRAME.near_distance, d);
+    next_ray camera = camera_ray(TZ_SCENE_ARG i, j, TZ_REF(rng));
+    vec3 o = camera.o, d = camera.d;
     TZ_PRECISE vec3 beta = v3(1.0f, 1.0f, 1.0f), radiance = v3(0.0f, 0.0f, 0.0f);
     int self = -1;
     TZ_BOOL specular = TZ_TRUE;

@@ -5,6 +5,7 @@
 #ifndef TRAZADOR_COMMON_REPORT_H
 #define TRAZADOR_COMMON_REPORT_H
 
+#include "camera.h"
 #include "dialect.h"
 #include "lights.h"
 #include "primitive.h"
@@ -94,13 +95,8 @@ TZ_FN vec3 indirect_light(TZ_SCENE_PARAM specular_chain c, vec3 wo, float y1, fl
 /* Radiance of report-mode sample `sample_index` of pixel (i, j), i to the right, j down. */
 TZ_FN vec3 report_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index) {
     TZ_UINT rng = rng_seed(TZ_FRAME.seed, j * TZ_FRAME.width + i, sample_index);
-    /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag. */
-    float u = rng_next(TZ_REF(rng)), v = rng_next(TZ_REF(rng));
-    if ((TZ_FLAGS & TZ_FLAG_JITTER) == 0u) u = v = 0.5f;
-    vec3 d = camera_direction(TZ_FRAME.right, TZ_FRAME.up, TZ_FRAME.forward, TZ_FRAME.origin.w, i,
-                              j, u, v);
-    vec3 o = camera_origin(TZ_FRAME.origin, TZ_FRAME.near_distance, d);
-    specular_chain c = follow_specular(TZ_SCENE_ARG o, d, -1);
+    next_ray camera = camera_ray(TZ_SCENE_ARG i, j, TZ_REF(rng));
+    specular_chain c = follow_specular(TZ_SCENE_ARG camera.o, camera.d, -1);
     TZ_PRECISE vec3 radiance = chain_direct(TZ_SCENE_ARG c);
     if (c.id >= 0 && (TZ_FLAGS & TZ_FLAG_INDIRECT) != 0u) {
         float y1 = rng_next(TZ_REF(rng));

@@ -272,7 +272,8 @@ static int bench_scaling(bool want_cpu, bool want_vk) {
     printf(
         "\nscaling: random spheres, %dx%d, indirect on; Msamples/s of the passes alone (spp "
         "timed), the fastest of %d runs at a count sized to last %.2f s or more, after a %d-spp "
-        "warm-up; ref: the one-sample C reference integrator (src/render/cpu/integrator.c) on "
+        "warm-up; ref: the one-sample C reference integrator (src/render/cpu/integrator_sample.c) "
+        "on "
         "the CPU back end's threads\n",
         SCALING_SIZE, SCALING_SIZE, SCALING_REPEATS, SCALING_MIN_SECONDS, SCALING_WARMUP_SAMPLES);
     printf("%10s %9s %7s %6s %14s %14s %14s %10s %10s %10s %7s %7s\n", "spheres", "build s",
