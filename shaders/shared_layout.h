@@ -150,9 +150,9 @@ struct gpu_frame {
     TZ_UINT width, height; /* of the image, in pixels */
     TZ_UINT sphere_count, light_count;
     TZ_UINT seed, bounces;
-    TZ_UINT flags;         /* TZ_FLAG_* */
-    TZ_UINT node_count;    /* of the BVH, 0 without one */
-    float near_distance;   /* camera rays start this far along their direction (`near`) */
+    TZ_UINT flags;          /* TZ_FLAG_* */
+    TZ_UINT node_count;     /* of the BVH, 0 without one */
+    float near_distance;    /* camera rays start this far along their direction (`near`) */
     TZ_UINT emitter_count;  /* path mode's emissive spheres and triangles */
     TZ_UINT triangle_count; /* primitives sphere_count to sphere_count + triangle_count - 1 */
     TZ_UINT pad0;           /* 0 */

@@ -98,7 +98,7 @@ bvec3 finite_parts(vec3 v) {
 bool finite3(vec3 v) { return all(finite_parts(v)); }
 
 /* Adds value to the sums whose lost low-order parts are comp (Kahan): film_sum_add() of
- * src/film_sum.h, the same operations; past the float range the compensation stops. */
+ * src/render/film_sum.h, the same operations; past the float range the compensation stops. */
 void film_sum_add(inout vec3 sum, inout vec3 comp, vec3 value) {
     precise vec3 y = value - comp;
     precise vec3 t = sum + y;

@@ -1,5 +1,5 @@
-/* test_decimal.c: the parser's fast decimal conversion (src/decimal.h) against strtod, bit for
- * bit: fixed edge cases, then a million random decimals of every shape the scene syntax allows;
+/* test_decimal.c: the parser's fast decimal conversion (src/scene/decimal.h) against strtod, bit
+ * for bit: fixed edge cases, then a million random decimals of every shape the scene syntax allows;
  * and the fast path must take the short decimals that scene files are made of. */
 #include <stdio.h>
 #include <stdlib.h>

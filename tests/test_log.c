@@ -1,4 +1,4 @@
-/* test_log.c: the message sink's held errors (src/log.c): every line kept whole and in order,
+/* test_log.c: the message sink's held errors (src/util/log.c): every line kept whole and in order,
  * however long, and nothing held once released. */
 #include <string.h>
 
