@@ -188,6 +188,22 @@ printf 'camera position 0 0 -5\nplane width 1 height 4 pixel 0.01\n' > tall.scen
 run width-too-tall 2 "$tz" render --backend cpu --width 8000 tall.scene
 has width-too-tall err "gives a height of 32000 pixels for a 1 x 4 plane; the height must be 1 to 16384"
 
+# --mode path enables emission in a scene without 'render mode path' (issue 24, defect 1), in
+# either spelling and on either back end; --mode seed refuses it at the emission's line:col.
+printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nsphere lambertian center 0 0 0 radius 1 emission 1 1 1\n' >glow.scene
+run mode-path-emission 0 "$tz" render glow.scene --backend cpu --spp 1 --mode path -q -o glow.pfm
+[ -s glow.pfm ] && ok || bad "mode-path-emission: no image"
+run mode-path-equals 0 "$tz" render glow.scene --backend cpu --spp 1 --mode=path -q -o glow2.pfm
+if "$tz" devices >/dev/null 2>&1; then
+    run mode-path-vulkan 0 "$tz" render glow.scene --backend vulkan --spp 1 --mode path -q -o glow3.pfm
+fi
+run mode-seed-emission 2 "$tz" render glow.scene --backend cpu --spp 1 -o glow4.pfm
+has mode-seed-emission err "glow.scene:3:41: emission needs path mode: add 'render mode path'"
+printf 'render mode path\n' >>glow.scene
+run mode-seed-flag-emission 2 "$tz" render glow.scene --backend cpu --spp 1 --mode seed -o glow4.pfm
+has mode-seed-flag-emission err "glow.scene:3:41: emission needs path mode, and the render was asked for in seed mode (--mode seed)"
+[ ! -e glow4.pfm ] && ok || bad "mode-seed-emission wrote glow4.pfm"
+
 # Scene errors: file:line:col, exit 2, nothing written, nothing overwritten.
 printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.1\nsphere lambertian center 0 0 0 radius -1\n' > bad.scene
 run bad-scene 2 "$tz" render bad.scene --backend cpu -o new.png

@@ -273,21 +273,6 @@ static void apply_overrides(const render_args *a, const scene *s, render_opts *o
     o->progress = !a->quiet && isatty(STDERR_FILENO);
 }
 
-/* --mode seed on a scene with emission: seed mode has no emitted light. False (said) then. */
-static bool check_mode(int mode, const scene *s) {
-    if (mode != RENDER_MODE_SEED) return true;
-    for (int k = 0; k < s->sphere_count; k++) {
-        if (sphere_emits(&s->spheres[k])) {
-            fprintf(stderr,
-                    "trazador: render --mode seed: sphere %d of the scene has emission, which "
-                    "needs path mode (the scene's own mode, or --mode path)\n",
-                    k + 1);
-            return false;
-        }
-    }
-    return true;
-}
-
 /* Naming a device asks for Vulkan: none at all is the usual runtime failure (1), a number past
  * the devices a mistake on the command line (2); neither falls back to the CPU. 0 to go on. */
 static int check_device(long long device) {
@@ -461,9 +446,11 @@ int cmd_render(int argc, char **argv) {
     scene s;
     scene_error err;
     double parse_start = clock_seconds();
-    bool parsed = scene_path ? scene_parse_file(scene_path, &s, &err)
-                             : scene_parse_string(default_scene_text, strlen(default_scene_text),
-                                                  "scenes/cornell.scene (embedded)", &s, &err);
+    /* --mode decides whether emission is allowed, so the parser is told it. */
+    bool parsed = scene_path ? scene_parse_file_in_mode(scene_path, a.mode, &s, &err)
+                             : scene_parse_string_in_mode(
+                                   default_scene_text, strlen(default_scene_text),
+                                   "scenes/cornell.scene (embedded)", a.mode, &s, &err);
     if (!parsed) {
         scene_error_print(&err);
         return err.out_of_memory ? 1 : 2;
@@ -475,7 +462,6 @@ int cmd_render(int argc, char **argv) {
     }
     /* An output that cannot be written is said before the render, not after it. */
     int rc = !apply_width(a.width, &s)                     ? 2
-             : !check_mode(a.mode, &s)                     ? 2
              : output_is_scene(a.output, scene_path)       ? 2
              : !atomic_file_check_force(a.output, a.force) ? 1
                                                            : check_device(a.device);

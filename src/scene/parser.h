@@ -60,6 +60,7 @@ typedef struct parser {
     int camera_col; /* of the camera position, for the near-clip warning */
     bool tiny_warned;
     int emission_line, emission_col; /* the first sphere's emission, an error in seed mode */
+    int mode_given;                  /* the render's mode from the command line; -1: the scene's */
     bool spheres_only;               /* a chunk parsed ahead: any directive but sphere stops it */
     char number[SCENE_MAX_LINE + 1]; /* a token NUL-terminated for strtod */
     char quoted[2][MAX_QUOTED_CHARS + 4]; /* two, so one message can quote two tokens */

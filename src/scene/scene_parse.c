@@ -237,7 +237,14 @@ static bool parse_text(parser *p, int threads) {
     /* Whole-scene errors are reported at the end of the file: the line after the last '\n'. */
     if (!p->camera_line) return parser_fail(p, 1, "missing 'camera' directive");
     if (!p->plane_line) return parser_fail(p, 1, "missing 'plane' directive");
-    if (p->emission_line && p->s.mode == RENDER_MODE_SEED) {
+    /* The mode the render will use decides, not the scene's own: --mode path enables emission. */
+    if (p->emission_line && p->mode_given == RENDER_MODE_SEED) {
+        p->line = p->emission_line;
+        return parser_fail(p, p->emission_col,
+                           "emission needs path mode, and the render was asked for in seed mode "
+                           "(--mode seed)");
+    }
+    if (p->emission_line && p->mode_given < 0 && p->s.mode == RENDER_MODE_SEED) {
         p->line = p->emission_line;
         return parser_fail(p, p->emission_col,
                            "emission needs path mode: add 'render mode path' (or render with "
@@ -247,8 +254,9 @@ static bool parse_text(parser *p, int threads) {
     return true;
 }
 
-bool scene_parse_string_threads(const char *text, size_t length, const char *filename, int threads,
-                                scene *out, scene_error *err) {
+/* Parses text on up to threads threads for a render in mode (-1: the scene's own mode). */
+static bool parse_string(const char *text, size_t length, const char *filename, int threads,
+                         int mode, scene *out, scene_error *err) {
     if (err) err->out_of_memory = false;
     parser *p = calloc(1, sizeof *p);
     if (!p) {
@@ -260,6 +268,7 @@ bool scene_parse_string_threads(const char *text, size_t length, const char *fil
     p->filename = filename ? filename : "<string>";
     p->err = err;
     p->line = 1;
+    p->mode_given = mode;
     p->s = (scene){
         .camera_direction = v3(0, 0, 1),
         .camera_up = v3(0, 1, 0),
@@ -288,9 +297,19 @@ bool scene_parse_string_threads(const char *text, size_t length, const char *fil
     return ok;
 }
 
+bool scene_parse_string_threads(const char *text, size_t length, const char *filename, int threads,
+                                scene *out, scene_error *err) {
+    return parse_string(text, length, filename, threads, -1, out, err);
+}
+
 bool scene_parse_string(const char *text, size_t length, const char *filename, scene *out,
                         scene_error *err) {
-    return scene_parse_string_threads(text, length, filename, 0, out, err);
+    return parse_string(text, length, filename, 0, -1, out, err);
+}
+
+bool scene_parse_string_in_mode(const char *text, size_t length, const char *filename, int mode,
+                                scene *out, scene_error *err) {
+    return parse_string(text, length, filename, 0, mode, out, err);
 }
 
 /* A file-level error has no position: line and col are 0. */
@@ -363,6 +382,10 @@ static bool read_all(int fd, const char *path, char **data, size_t *length, scen
 }
 
 bool scene_parse_file(const char *path, scene *out, scene_error *err) {
+    return scene_parse_file_in_mode(path, -1, out, err);
+}
+
+bool scene_parse_file_in_mode(const char *path, int mode, scene *out, scene_error *err) {
     if (err) err->out_of_memory = false;
     /* "-" is standard input, named as the tools name it. */
     bool is_stdin = !strcmp(path, "-");
@@ -373,7 +396,7 @@ bool scene_parse_file(const char *path, scene *out, scene_error *err) {
     size_t length = 0;
     bool ok = read_all(fd, path, &data, &length, err);
     close(fd);
-    if (ok) ok = scene_parse_string(data, length, path, out, err);
+    if (ok) ok = parse_string(data, length, path, 0, mode, out, err);
     free(data);
     return ok;
 }
