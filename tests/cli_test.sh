@@ -325,6 +325,33 @@ if strace -o /dev/null true 2>/dev/null; then
     dirfd=$(grep -E 'openat\(.*O_DIRECTORY' trace.txt | tail -1 | sed 's/.*= //')
     [ -n "$dirfd" ] && grep -qE "fsync\($dirfd\) += 0" trace.txt && ok || bad "no fsync of the folder: $(grep -E 'fsync|O_DIRECTORY' trace.txt)"
 fi
+# A checkpoint is checked as the output is, before the render (issue 24, defect 2): not the
+# scene, not write-protected without --force, a folder that exists, a name that fits, an EXR name,
+# not the output.
+ck="--backend cpu --spp 1 --width 8 -o ck-out.png"
+cp same.scene scene.exr
+run checkpoint-is-scene 2 "$tz" render scene.exr $ck --checkpoint ./scene.exr
+has checkpoint-is-scene err "--checkpoint './scene.exr' is the scene being rendered (scene.exr)"
+cmp -s scene.exr same.scene && ok || bad "checkpoint-is-scene: the scene was changed"
+run checkpoint-not-exr 2 "$tz" render same.scene $ck --checkpoint same.scene
+has checkpoint-not-exr err "--checkpoint 'same.scene' must end in .exr: a checkpoint is an EXR part"
+cmp -s same.scene "$src/scenes/shadows.scene" && ok || bad "checkpoint-not-exr: the scene was changed"
+run checkpoint-png 2 "$tz" render $ck --checkpoint ck.png
+has checkpoint-png err "must end in .exr"
+echo precious >ro.exr
+chmod 0444 ro.exr
+run checkpoint-write-protected 1 "$tz" render $ck --checkpoint ro.exr
+has checkpoint-write-protected err "ro.exr: the file is write-protected (mode 444): --force replaces it"
+[ "$(cat ro.exr)" = precious ] && ok || bad "checkpoint-write-protected: ro.exr was replaced"
+run checkpoint-missing-folder 1 "$tz" render $ck --verbose --checkpoint no/such/ck.exr
+has checkpoint-missing-folder err "no/such/ck.exr: cannot write in no/such: No such file or directory"
+grep -q "rendering in" "$tmp/err" && bad "checkpoint-missing-folder: rendered first" || ok
+run checkpoint-too-long 1 "$tz" render $ck --checkpoint "n${long%.png}.exr"
+has checkpoint-too-long err "the file name is 256 bytes long"
+run checkpoint-is-output 2 "$tz" render --backend cpu --spp 1 --width 8 --part -o ck-out.exr \
+    --checkpoint ./ck-out.exr
+has checkpoint-is-output err "--checkpoint './ck-out.exr' is the output 'ck-out.exr'"
+[ ! -e ck-out.png ] && [ ! -e ck-out.exr ] && ok || bad "a refused checkpoint rendered"
 # Conventions (issue 17): --flag=value, -- ends the options, choices in any case.
 "$tz" render --backend cpu --spp 1 --width 20 -q -o plain.pfm
 run flag-equals 0 "$tz" render --backend=cpu --spp=1 --width=20 -q --output=equals.pfm

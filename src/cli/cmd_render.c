@@ -97,8 +97,8 @@ static const opt_spec render_specs[] = {
              "multiples of 16, or B the samples per pixel (default: all)"),
     OPT_TEXT("--checkpoint", NULL, ARG(checkpoint), "FILE", "a file name",
              "write the part so far to FILE (an EXR part, atomically) every --checkpoint-every "
-             "seconds and on SIGUSR1, SIGINT or SIGTERM (the last two then stop the render) "
-             "(default: none)"),
+             "seconds and on SIGUSR1, SIGINT or SIGTERM (the last two then stop the render); "
+             "checked as the output is, before the render, and named .exr (default: none)"),
     OPT_DECIMAL("--checkpoint-every", ARG(checkpoint_every), 0.001, 1e9, "SECONDS",
                 "seconds between checkpoints (default 60)"),
     OPT_TEXT("--resume", NULL, ARG(resume), "FILE", "a file name",
@@ -174,6 +174,13 @@ static opt_result parse_render_args(int argc, char **argv, render_args *a,
         return opt_usage_error(&render_command,
                                "--region, --samples and --part write an EXR part: give -o "
                                "NAME.exr (and `trazador merge` the parts)");
+    /* A checkpoint is an EXR part whatever its name says: a name of another format would hide
+     * it (and a later render could read it as that format). */
+    const char *ck_format = a->checkpoint ? image_path_format(a->checkpoint) : NULL;
+    if (a->checkpoint && (!ck_format || strcmp(ck_format, "exr")))
+        return opt_usage_error(&render_command,
+                               "--checkpoint '%s' must end in .exr: a checkpoint is an EXR part",
+                               a->checkpoint);
     if (a->device >= 0 && a->backend == BACKEND_CPU)
         return opt_usage_error(&render_command,
                                "--device names a Vulkan device: it cannot go with --backend cpu");
@@ -210,18 +217,34 @@ static bool apply_width(long long width, scene *s) {
     return true;
 }
 
-/* True (logged) when the output is the scene file itself, the same file on the same device
- * (through another name or a link): writing it would replace the scene with the image. */
-static bool output_is_scene(const char *output, const char *scene_path) {
+/* True (logged) when the file `what` names (the output, the checkpoint) is the scene file
+ * itself, the same file on the same device (through another name or a link): writing it would
+ * replace the scene. */
+static bool is_scene(const char *what, const char *path, const char *scene_path) {
     struct stat out, in;
-    if (!scene_path || stat(output, &out) != 0 || !S_ISREG(out.st_mode)) return false;
+    if (!scene_path || stat(path, &out) != 0 || !S_ISREG(out.st_mode)) return false;
     bool is_stdin = !strcmp(scene_path, "-");
     if ((is_stdin ? fstat(STDIN_FILENO, &in) : stat(scene_path, &in)) != 0) return false;
     if (in.st_dev != out.st_dev || in.st_ino != out.st_ino) return false;
-    fprintf(stderr,
-            "trazador: render: output '%s' is the scene being rendered (%s): give another\n",
-            output, is_stdin ? "<stdin>" : scene_path);
+    fprintf(stderr, "trazador: render: %s '%s' is the scene being rendered (%s): give another\n",
+            what, path, is_stdin ? "<stdin>" : scene_path);
     return true;
+}
+
+/* The checks the output gets, for the checkpoint, before rendering (a checkpoint that cannot be
+ * written would otherwise fail the run only at the first checkpoint, its work lost): 0 to go
+ * on, else the exit code (said). The checkpoint may be the file resumed, not the output. */
+static int check_checkpoint(const render_args *a, const char *scene_path) {
+    if (!a->checkpoint) return 0;
+    if (is_scene("--checkpoint", a->checkpoint, scene_path)) return 2;
+    if (atomic_file_same(a->checkpoint, a->output)) {
+        fprintf(stderr,
+                "trazador: render: --checkpoint '%s' is the output '%s': give another (the "
+                "output would replace the checkpoint)\n",
+                a->checkpoint, a->output);
+        return 2;
+    }
+    return atomic_file_check_force(a->checkpoint, a->force) ? 0 : 1;
 }
 
 /* Warns about what the film cannot show as rendered: samples dropped as non-finite (and the
@@ -462,9 +485,10 @@ int cmd_render(int argc, char **argv) {
     }
     /* An output that cannot be written is said before the render, not after it. */
     int rc = !apply_width(a.width, &s)                     ? 2
-             : output_is_scene(a.output, scene_path)       ? 2
+             : is_scene("output", a.output, scene_path)    ? 2
              : !atomic_file_check_force(a.output, a.force) ? 1
-                                                           : check_device(a.device);
+                                                           : check_checkpoint(&a, scene_path);
+    if (rc == 0) rc = check_device(a.device);
     if (rc == 0) rc = render_and_write(&a, &s);
     scene_free(&s);
     return rc;
