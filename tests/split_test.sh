@@ -81,6 +81,22 @@ has "region outside" "0 <= X0 < X1 <= 40"
 run "region as png" 2 $tz render $scene --region 0,20,0,40 -o x.png
 has "region as png" "write an EXR part"
 run "merge nothing" 2 $tz merge -o x.pfm
+# -o - is standard output, with --format, as for render (issue 24, defect 4).
+$tz merge region_*.exr -o - --format pfm >stdout.pfm 2>/dev/null
+same "merge -o -" stdout.pfm whole.pfm
+[ ! -e ./- ] && ok || bad "merge -o - wrote a file named -"
+run "merge -o - without --format" 2 $tz merge region_*.exr -o -
+has "merge -o - without --format" "-o - (standard output) needs --format"
+# The output may not be one of the parts, under its name or a hard link (issue 24, defect 3).
+cp region_0.exr region_0.keep
+cp region_1.exr region_1.keep
+ln region_1.exr region_1.link
+run "merge over a part" 2 $tz merge region_0.exr region_1.exr region_2.exr region_3.exr -o region_0.exr
+has "merge over a part" "output 'region_0.exr' is the part 'region_0.exr' being merged"
+run "merge over a link" 2 $tz merge region_*.exr -o region_1.link --format exr
+has "merge over a link" "is the part 'region_1.exr' being merged"
+same "merge over a part leaves it" region_0.exr region_0.keep
+same "merge over a link leaves it" region_1.exr region_1.keep
 cd .. || exit 1
 
 # Checkpoints. The render is stopped (SIGSTOP) once its handlers are in place (its -v line
