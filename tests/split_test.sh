@@ -143,6 +143,22 @@ for backend in cpu vulkan; do
     has "$backend resume other" "cannot resume this render from it: it holds another scene or other settings"
 done
 
+# Parts and checkpoints of the two back ends differ by rounding: a merge or a resume that mixes
+# them is refused naming both; auto resumes on the checkpoint's own back end (issue 24, defect 5).
+run "merge of two back ends" 1 $tz merge cpu/region_0.exr vulkan/region_1.exr cpu/region_2.exr \
+    cpu/region_3.exr -o mixed.pfm
+has "merge of two back ends" "cpu/region_0.exr and vulkan/region_1.exr are parts of different renders: back end cpu against vulkan: "
+[ ! -e mixed.pfm ] && ok || bad "merge of two back ends wrote its output"
+run "resume on the other back end" 1 $tz render $long --backend cpu --resume ck.exr -o other.pfm
+has "resume on the other back end" "ck.exr: cannot resume this render from it: it was rendered by the vulkan: "
+has "resume on the other back end" "and --backend cpu asks for the other: the two differ by rounding"
+run "resume on auto" 0 $tz render $long --resume ck.exr -o auto.pfm
+same "resume on auto" auto.pfm long_whole.pfm
+$tz render $long --backend cpu --samples 0:16 -o cpu_ck.exr
+run "resume cpu on vulkan" 1 $tz render $long --backend vulkan --resume cpu_ck.exr -o other.pfm
+has "resume cpu on vulkan" "it was rendered by the cpu back end, and --backend vulkan asks for the other"
+[ ! -e other.pfm ] && ok || bad "a refused resume wrote its output"
+
 # A checkpoint that cannot be written (a file size limit standing for a full disk: SIGXFSZ
 # ignored, so writes fail with EFBIG) fails the run and leaves the previous checkpoint intact.
 cp ck.exr ck_before.exr

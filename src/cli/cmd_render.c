@@ -354,11 +354,32 @@ static bool parse_samples(const char *text, part_meta *m, uint32_t *end) {
     return true;
 }
 
+/* The back end asked for that cannot go on from a part of the back end `had` ("cpu" or
+ * "vulkan: ..."): the other one; NULL for auto, which takes the part's (render_choose_part). */
+static const char *other_backend(int backend, const char *had) {
+    bool cpu = !strcmp(had, "cpu");
+    return backend == BACKEND_CPU && !cpu     ? "cpu"
+           : backend == BACKEND_VULKAN && cpu ? "vulkan"
+                                              : NULL;
+}
+
 /* Reads the checkpoint to resume into p; false (said) unless it is a part of this very render
- * (scene, settings, region and first sample) that ends at or before `end`. */
-static bool load_resume(const char *path, const part_meta *want, uint32_t end, part *p) {
+ * (scene, settings, region and first sample) that ends at or before `end`, of the back end
+ * asked for. */
+static bool load_resume(const char *path, const part_meta *want, uint32_t end, int backend,
+                        part *p) {
     if (!part_read(path, p)) return false;
     const part_meta *m = &p->meta;
+    const char *asked = other_backend(backend, m->backend);
+    if (asked) {
+        log_error(
+            "%s: cannot resume this render from it: it was rendered by the %s back end, and "
+            "--backend %s asks for the other: the two differ by rounding, so their samples do "
+            "not mix (resume it with --backend %s)",
+            path, m->backend, asked, strcmp(asked, "cpu") ? "cpu" : "vulkan");
+        part_free(p);
+        return false;
+    }
     const char *why =
         strcmp(m->digest, want->digest)     ? "another scene or other settings"
         : strcmp(m->version, want->version) ? "another trazador version"
@@ -398,7 +419,8 @@ static int render_and_write(const render_args *a, const scene *s) {
     uint32_t end;
     if (!parse_region(a->region, &meta) || !parse_samples(a->samples, &meta, &end)) return 2;
     part p = {0};
-    if (a->resume ? !load_resume(a->resume, &meta, end, &p) : !part_init(&p, &meta)) return 1;
+    if (a->resume ? !load_resume(a->resume, &meta, end, a->backend, &p) : !part_init(&p, &meta))
+        return 1;
     uint32_t begin = p.meta.sample_end;
     render_pacer pacer = {
         .checkpoint = a->checkpoint, .every = a->checkpoint_every, .time_limit = a->time_limit};

@@ -19,6 +19,10 @@ typedef struct part_meta {
     char digest[PART_TEXT_MAX + 1];  /* the scene and every setting that changes a sample */
     char mode[PART_TEXT_MAX + 1];    /* integrator mode, "seed" */
     char version[PART_TEXT_MAX + 1]; /* trazador's version (TRAZADOR_VERSION) */
+    /* The back end that rendered it, "cpu" or "vulkan: DEVICE, driver NAME, version N"; "" while
+     * nothing is rendered. The two back ends (and two Vulkan drivers) differ by rounding, so
+     * their parts do not mix. */
+    char backend[PART_TEXT_MAX + 1];
     uint32_t seed;
     uint32_t spp;                      /* samples per pixel of the whole render, N */
     uint32_t sample_begin, sample_end; /* the samples summed here: sample_begin to sample_end - 1 */

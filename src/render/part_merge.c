@@ -28,6 +28,11 @@ static void meta_difference(const part_meta *a, const part_meta *b, char *why, s
         snprintf(why, size, "image %dx%d against %dx%d", a->width, a->height, b->width, b->height);
     else if (a->chunk != b->chunk)
         snprintf(why, size, "chunk size %" PRIu32 " against %" PRIu32, a->chunk, b->chunk);
+    else if (strcmp(a->backend, b->backend))
+        snprintf(why, size,
+                 "back end %s against %s (back ends and Vulkan drivers differ by rounding: "
+                 "render every part on one)",
+                 a->backend, b->backend);
 }
 
 /* Whether two parts hold a sample of the same pixel. */
@@ -167,7 +172,7 @@ static bool merge_covers(const part *parts, int n, const merge_grid *g) {
 
 /* Whether the parts can merge: one render, whole chunks, no overlap; false (logged) if not. */
 static bool merge_check(const part *parts, const char *const *names, int n) {
-    char why[2 * PART_TEXT_MAX + 64];
+    char why[2 * PART_TEXT_MAX + 128];
     for (int i = 1; i < n; i++) {
         meta_difference(&parts[0].meta, &parts[i].meta, why, sizeof why);
         if (why[0]) {

@@ -7,6 +7,7 @@
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -190,6 +191,15 @@ static bool plan_pass(cpu_job *job, chunk_stack *shape, uint32_t chunks, int *to
 }
 
 bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t sample_end) {
+    /* Samples of another back end differ by rounding: going on from them would mix the two. */
+    if (p->meta.backend[0] && strcmp(p->meta.backend, "cpu")) {
+        log_error(
+            "the part to go on from was rendered by the %s back end, and this render by the cpu "
+            "back end: the two differ by rounding, so their samples do not mix",
+            p->meta.backend);
+        return false;
+    }
+    snprintf(p->meta.backend, sizeof p->meta.backend, "cpu");
     packed_scene packed;
     double start = clock_seconds();
     if (!scene_pack(s, opts, &packed)) return false;
