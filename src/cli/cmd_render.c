@@ -438,7 +438,8 @@ static int render_and_write(const render_args *a, const scene *s) {
     if (clear_on_signal) interrupts_catch(clear_progress, &saved);
     bool ok = render_choose_part(s, &opts, (backend_choice)a->backend, &p, end, &used);
     if (clear_on_signal) interrupts_restore(&saved);
-    if (!render_pacer_stop(&pacer)) ok = false; /* a checkpoint could not be written */
+    /* a checkpoint could not be written */
+    if (!render_pacer_stop(&pacer, ok ? &p : NULL)) ok = false;
     double elapsed = clock_seconds() - start;
     if (ok && pacer.checkpoints)
         log_debug("checkpoints: %d written in %.3f s in all", pacer.checkpoints,

@@ -129,8 +129,19 @@ void render_pacer_start(render_pacer *pc, render_control *control) {
     *control = (render_control){.next_pass = next_pass, .synced = synced, .user = pc};
 }
 
-bool render_pacer_stop(render_pacer *pc) {
-    bool ok = join_writer(pc);
+bool render_pacer_stop(render_pacer *pc, const part *done) {
+    int sig = pc->catching ? signal_seen : 0;
+    bool ok = true;
+    if (sig && done && !pc->stopped_by) {
+        signal_seen = 0;
+        log_debug("%s came during the last pass: checkpointing the finished part",
+                  sig == SIGINT    ? "SIGINT"
+                  : sig == SIGTERM ? "SIGTERM"
+                                   : "SIGUSR1");
+        ok = synced(pc, done);
+        if (sig != SIGUSR1) pc->stopped_by = sig;
+    }
+    ok = join_writer(pc) && ok;
     if (pc->catching) {
         for (int k = 0; k < 3; k++) sigaction(caught[k], &pc->old[k], NULL);
         pc->catching = false;
