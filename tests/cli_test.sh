@@ -204,6 +204,18 @@ run mode-seed-flag-emission 2 "$tz" render glow.scene --backend cpu --spp 1 --mo
 has mode-seed-flag-emission err "glow.scene:3:41: emission needs path mode, and the render was asked for in seed mode (--mode seed)"
 [ ! -e glow4.pfm ] && ok || bad "mode-seed-emission wrote glow4.pfm"
 
+# A fov so small that the plane lies past single precision's reach is an error at the fov,
+# naming the smallest that works (issue 24, defect 7: it rendered only the background); a
+# small one that works renders the sphere, not the background.
+fov_scene() { printf 'camera position 0 0 -5 fov %s\nplane width 4 height 4 pixel 4\nlight position 0 0 -5 power 50\nsphere lambertian center 0 0 0 radius 1\n' "$1"; }
+fov_scene 1e-17 >tiny-fov.scene
+run tiny-fov 2 "$tz" render tiny-fov.scene --backend cpu --spp 1 -o tiny-fov.ppm
+has tiny-fov err "tiny-fov.scene:1:28: fov 1e-17 puts the image plane of a plane 4 wide past 1e+19 away, where single precision overflows: give a fov of at least 2.3e-17"
+[ ! -e tiny-fov.ppm ] && ok || bad "tiny-fov wrote an image"
+fov_scene 1e-15 >small-fov.scene
+run small-fov 0 "$tz" render small-fov.scene --backend cpu --spp 1 --no-jitter -q -o small-fov.ppm
+[ "$(tail -c 3 small-fov.ppm | od -An -tu1 | tr -d ' ')" != 000 ] && ok || bad "small-fov: the pixel is the background"
+
 # Scene errors: file:line:col, exit 2, nothing written, nothing overwritten.
 printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.1\nsphere lambertian center 0 0 0 radius -1\n' > bad.scene
 run bad-scene 2 "$tz" render bad.scene --backend cpu -o new.png

@@ -57,7 +57,8 @@ typedef struct parser {
     size_t sphere_capacity, light_capacity;
     /* line of the first camera, plane, background and render directive; 0 while unseen */
     int camera_line, plane_line, background_line, render_line;
-    int camera_col; /* of the camera position, for the near-clip warning */
+    int camera_col;        /* of the camera position, for the near-clip warning */
+    int fov_line, fov_col; /* of the camera's fov, 0 without one */
     bool tiny_warned;
     int emission_line, emission_col; /* the first sphere's emission, an error in seed mode */
     int mode_given;                  /* the render's mode from the command line; -1: the scene's */

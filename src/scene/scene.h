@@ -25,6 +25,9 @@
  * single precision cannot place it there. */
 #define SCENE_PRECISION_STEPS 4.0
 #define SCENE_MAX_WARNINGS 2
+/* Farthest image plane a fov may ask for: camera rays square their direction in single
+ * precision, which overflows past about 1.8e19 (every pixel then the background). */
+#define SCENE_MAX_PLANE_DISTANCE 1e19
 
 typedef enum material_kind {
     MATERIAL_LAMBERTIAN = 0,

@@ -232,11 +232,36 @@ static bool parse_chunks(parser *p, int threads) {
     return ok;
 }
 
+/* A fov so small that the image plane lies past SCENE_MAX_PLANE_DISTANCE for the plane's width
+ * is an error at the fov, naming the smallest that works: it rendered only the background. */
+static bool fov_reaches(double fov, double half_width) {
+    return half_width / tan(0.5 * (double)(float)fov * (3.14159265358979323846 / 180.0)) <=
+           SCENE_MAX_PLANE_DISTANCE;
+}
+
+static bool check_fov(parser *p) {
+    double half_width = 0.5 * p->s.plane_width;
+    if (!p->fov_line || fov_reaches(p->s.camera_fov, half_width)) return true;
+    /* The smallest fov of three significant digits that works, as the parser reads it. */
+    double least =
+        2.0 * atan(half_width / SCENE_MAX_PLANE_DISTANCE) * (180.0 / 3.14159265358979323846);
+    double step = pow(10.0, floor(log10(least)) - 2.0);
+    least = ceil(least / step) * step;
+    while (!fov_reaches(least, half_width)) least += step;
+    double fov = p->s.camera_fov;
+    p->line = p->fov_line;
+    return parser_fail(p, p->fov_col,
+                       "fov %g puts the image plane of a plane %g wide past %g away, where single "
+                       "precision overflows: give a fov of at least %.3g",
+                       fov, p->s.plane_width, SCENE_MAX_PLANE_DISTANCE, least);
+}
+
 static bool parse_text(parser *p, int threads) {
     if (!parse_chunks(p, threads)) return false;
     /* Whole-scene errors are reported at the end of the file: the line after the last '\n'. */
     if (!p->camera_line) return parser_fail(p, 1, "missing 'camera' directive");
     if (!p->plane_line) return parser_fail(p, 1, "missing 'plane' directive");
+    if (!check_fov(p)) return false;
     /* The mode the render will use decides, not the scene's own: --mode path enables emission. */
     if (p->emission_line && p->mode_given == RENDER_MODE_SEED) {
         p->line = p->emission_line;
