@@ -68,6 +68,13 @@ has "gap in samples" "samples 16:32"
 $tz render $scene --backend cpu --seed 7 --region 0,17,0,11 -o seed7.exr
 run "other seed" 1 $tz merge seed7.exr region_1.exr region_2.exr region_3.exr -o x.pfm
 has "other seed" "seed7.exr and region_1.exr are parts of different renders"
+has "other seed" "different renders: seed 7 against 1" # not the digest, which covers it
+$tz render --width 40 --spp 48 --quiet --backend cpu --region 0,17,0,11 -o spp48.exr
+run "other spp" 1 $tz merge region_1.exr spp48.exr region_2.exr region_3.exr -o x.pfm
+has "other spp" "are parts of different renders: 40 against 48 samples per pixel"
+$tz render --width 20 --spp 40 --quiet --backend cpu --region 0,17,0,11 -o width20.exr
+run "other width" 1 $tz merge region_1.exr width20.exr region_2.exr region_3.exr -o x.pfm
+has "other width" "are parts of different renders: image 40x40 against 20x20"
 $tz render $scene --backend cpu --bounces 2 --region 0,17,0,11 -o bounces.exr
 run "other settings" 1 $tz merge region_1.exr bounces.exr region_2.exr region_3.exr -o x.pfm
 has "other settings" "are parts of different renders: scene digest"

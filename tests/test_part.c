@@ -259,6 +259,15 @@ static void other_seed(part_meta *m) { m->seed = 8; }
 static void other_digest(part_meta *m) { m->digest[0] = 'X'; }
 static void other_mode(part_meta *m) { snprintf(m->mode, sizeof m->mode, "path"); }
 static void other_version(part_meta *m) { snprintf(m->version, sizeof m->version, "0.0.9"); }
+/* As a real render of another seed: the digest covers the seed, and the seed is named. */
+static void other_seed_digest(part_meta *m) {
+    m->seed = 8;
+    m->digest[0] = 'X';
+}
+static void other_spp_digest(part_meta *m) {
+    m->spp = 180;
+    m->digest[0] = 'X';
+}
 
 static void test_refusals(void) {
     piece two[] = {{0, W, 0, H, 0, 64}, {0, W, 0, H, 64, SPP}};
@@ -269,6 +278,10 @@ static void test_refusals(void) {
           why);
     why = refusal(two, 2, other_mode);
     CHECK(strstr(why, "mode seed against path"), "%s", why);
+    why = refusal(two, 2, other_seed_digest);
+    CHECK(strstr(why, "seed 7 against 8"), "%s", why);
+    why = refusal(two, 2, other_spp_digest);
+    CHECK(strstr(why, "170 against 180 samples per pixel"), "%s", why);
     why = refusal(two, 2, other_version);
     CHECK(strstr(why, "version " TRAZADOR_VERSION " against 0.0.9"), "%s", why);
     piece overlap[] = {{0, W, 0, H, 0, 64}, {0, 4, 2, 5, 48, SPP}, {0, W, 0, H, 64, SPP}};

@@ -11,17 +11,16 @@
 /* Most missing pieces a refused merge lists. */
 #define MISSING_LISTED 16
 
-/* What differs between two parts' renders ("" if nothing) into why. */
+/* What differs between two parts' renders ("" if nothing) into why: the fields the digest covers
+ * first, by name, and the digest (the scene and the other settings) only when they agree. */
 static void meta_difference(const part_meta *a, const part_meta *b, char *why, size_t size) {
     why[0] = '\0';
-    if (strcmp(a->digest, b->digest))
-        snprintf(why, size, "scene digest %s against %s", a->digest, b->digest);
+    if (strcmp(a->version, b->version))
+        snprintf(why, size, "trazador version %s against %s", a->version, b->version);
     else if (a->seed != b->seed)
         snprintf(why, size, "seed %" PRIu32 " against %" PRIu32, a->seed, b->seed);
     else if (strcmp(a->mode, b->mode))
         snprintf(why, size, "mode %s against %s", a->mode, b->mode);
-    else if (strcmp(a->version, b->version))
-        snprintf(why, size, "trazador version %s against %s", a->version, b->version);
     else if (a->spp != b->spp)
         snprintf(why, size, "%" PRIu32 " against %" PRIu32 " samples per pixel", a->spp, b->spp);
     else if (a->width != b->width || a->height != b->height)
@@ -33,6 +32,11 @@ static void meta_difference(const part_meta *a, const part_meta *b, char *why, s
                  "back end %s against %s (back ends and Vulkan drivers differ by rounding: "
                  "render every part on one)",
                  a->backend, b->backend);
+    else if (strcmp(a->digest, b->digest))
+        snprintf(why, size,
+                 "scene digest %s against %s (the scene or a setting that changes "
+                 "samples: bounces, indirect, jitter, roulette)",
+                 a->digest, b->digest);
 }
 
 /* Whether two parts hold a sample of the same pixel. */
