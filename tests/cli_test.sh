@@ -253,6 +253,10 @@ has diff-same out "psnr inf dB"
 run diff-other 1 "$tz" diff a.pfm c.pfm --min-psnr 100
 has diff-other out "FAIL"
 run diff-usage 2 "$tz" diff a.pfm
+# Without thresholds any difference exits 1, as cmp does (issue 24, defect 9).
+run diff-no-threshold 1 "$tz" diff a.pfm c.pfm
+has diff-no-threshold out "FAIL: the images differ"
+run diff-no-threshold-same 0 "$tz" diff a.pfm b.pfm
 run tonemap-linear 0 "$tz" render --backend cpu --spp 1 --width 40 -q -o lin.ppm --tonemap linear
 cmp -s lin.ppm q.ppm && bad "tonemap linear: same bytes as srgb" || ok
 run no-jitter 0 "$tz" render --backend cpu --spp 1 --width 40 -q -o nj.ppm --no-jitter --no-indirect
