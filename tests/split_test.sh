@@ -39,6 +39,17 @@ for backend in cpu vulkan; do
     run "$backend merge as part" 0 $tz merge samples_*.exr --part -o merged_part.exr
     run "$backend merge of a merge" 0 $tz merge merged_part.exr -o merged.pfm
     same "$backend merge of a merge" merged.pfm whole.pfm
+    # Staged merges (issue 24, defect 10): a --part merge of some parts is a bigger part, of
+    # the smallest box holding them, which merges on; a box they do not fill is refused.
+    run "$backend stage samples" 0 $tz merge samples_2.exr samples_1.exr --part -o s12.exr
+    run "$backend stage samples on" 0 $tz merge s12.exr samples_0.exr -o merged.pfm
+    same "$backend staged samples" merged.pfm whole.pfm
+    run "$backend stage regions" 0 $tz merge region_0.exr region_1.exr --part -o top.exr
+    run "$backend stage regions on" 0 $tz merge top.exr region_3.exr region_2.exr -o merged.pfm
+    same "$backend staged regions" merged.pfm whole.pfm
+    run "$backend stage with a gap" 1 $tz merge region_0.exr region_3.exr --part -o gap.exr
+    has "$backend stage with a gap" "region 17,40,0,11 samples 0:40"
+    [ ! -e gap.exr ] && ok || bad "$backend: a refused staged merge wrote its output"
     mkdir -p "$backend"
     cp whole.pfm region_*.exr samples_*.exr "$backend/"
 done

@@ -151,7 +151,7 @@ static bool merge_pieces(const piece *pieces, int n, part *merged) {
              part_write(names[i], &p);
         part_free(&p);
     }
-    ok = ok && part_merge_files(paths, n, merged);
+    ok = ok && part_merge_files(paths, n, true, merged);
     for (int i = 0; names && i < n; i++) unlink(names[i]);
     free(names);
     free(paths);
@@ -302,7 +302,7 @@ static void test_merge_files(void) {
     const char *paths[] = {tmp_path("missing.exr")};
     part merged;
     log_hold_errors();
-    EXPECT(!part_merge_files(paths, 1, &merged));
+    EXPECT(!part_merge_files(paths, 1, true, &merged));
     EXPECT(strstr(log_release_errors(), "missing.exr: No such file"));
 }
 

@@ -34,8 +34,9 @@ static const opt_spec merge_specs[] = {
     OPT_ONE_OF("--exr-type", ARG(exr_type), "half|float",
                "an EXR image's channels (default half; a part is always float)"),
     OPT_SET("--part", NULL, ARG(part), 1,
-            "write the merged render as an EXR part file, which merges and resumes again "
-            "(default: an image)"),
+            "write the merged parts as an EXR part file, which merges and resumes again; it may "
+            "be partial: the parts must fill the smallest region and sample range holding them "
+            "(default: the whole render's image)"),
     OPT_ONE_OF("--tonemap", ARG(tm), "srgb|linear",
                "8-bit encoding: sRGB or a plain clamp (default srgb; .pfm and .exr are linear)"),
     OPT_SET("--force", NULL, ARG(force), 1,
@@ -114,7 +115,7 @@ int cmd_merge(int argc, char **argv) {
             double t0 = clock_seconds();
             part merged;
             film f = {0};
-            bool merged_ok = part_merge_files(paths, n, &merged);
+            bool merged_ok = part_merge_files(paths, n, !a.part, &merged);
             double t1 = clock_seconds();
             bool ok = merged_ok &&
                       (a.part ? part_write(a.output, &merged)
