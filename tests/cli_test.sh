@@ -11,6 +11,8 @@ has() { # has NAME FILE TEXT
 
 run help 0 "$tz" --help
 has help out "usage: trazador render"
+has help out "[--mode seed|path]" # issue 24: the synopsis lacked it
+grep -qF -- "[--mode seed|path]" "$src/README.md" && ok || bad "README's synopsis lacks --mode"
 run version 0 "$tz" --version
 has version out "trazador 0."
 run verbose 0 "$tz" render --backend cpu --width 32 --spp 1 --verbose -o verbose.png
@@ -221,6 +223,19 @@ has tiny-fov err "tiny-fov.scene:1:28: fov 1e-17 puts the image plane of a plane
 fov_scene 1e-15 >small-fov.scene
 run small-fov 0 "$tz" render small-fov.scene --backend cpu --spp 1 --no-jitter -q -o small-fov.ppm
 [ "$(tail -c 3 small-fov.ppm | od -An -tu1 | tr -d ' ')" != 000 ] && ok || bad "small-fov: the pixel is the background"
+
+# --region and --samples take digits and separators only, as --spp takes digits only (issue 24).
+run region-space 2 "$tz" render --backend cpu --spp 1 --width 8 --region '0, 8,0,8' -o sp.exr
+has region-space err "--region '0, 8,0,8' must be X0,X1,Y0,Y1"
+run samples-space 2 "$tz" render --backend cpu --spp 16 --width 8 --samples ' 0:16' -o sp.exr
+has samples-space err "--samples ' 0:16' must be A:B"
+run samples-sign 2 "$tz" render --backend cpu --spp 16 --width 8 --samples '+0:16' -o sp.exr
+# Singular forms (issue 24): one sample, one pixel, one part.
+run nonfinite-one 0 "$tz" render inf.scene --backend cpu --no-jitter --spp 1 -o inf1.pfm
+has nonfinite-one err "1 sample had non-finite radiance and was not accumulated; 1 pixel kept no sample and is black"
+"$tz" render --backend cpu --spp 1 --width 8 --part -q -o one.exr
+run merge-one 0 "$tz" merge one.exr -o one.pfm
+has merge-one err "one.pfm: 1 part of 8x8"
 
 # Scene errors: file:line:col, exit 2, nothing written, nothing overwritten.
 printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.1\nsphere lambertian center 0 0 0 radius -1\n' > bad.scene

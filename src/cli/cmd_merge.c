@@ -122,9 +122,9 @@ int cmd_merge(int argc, char **argv) {
                               : part_film(&merged, &f) &&
                                     image_write_film(a.output, format, &f, a.tm, a.exr_type == 0));
             if (ok && !a.quiet)
-                log_info("%s: %d parts of %dx%d, %u spp merged in %.3f s, written in %.3f s",
-                         a.output, n, merged.meta.width, merged.meta.height, merged.meta.spp,
-                         t1 - t0, clock_seconds() - t1);
+                log_info("%s: %d part%s of %dx%d, %u spp merged in %.3f s, written in %.3f s",
+                         a.output, n, n == 1 ? "" : "s", merged.meta.width, merged.meta.height,
+                         merged.meta.spp, t1 - t0, clock_seconds() - t1);
             if (merged_ok) part_free(&merged);
             film_free(&f);
             status = ok ? 0 : 1;

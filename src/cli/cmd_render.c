@@ -262,14 +262,16 @@ static void warn_film_problems(const film *f) {
         if (empty)
             snprintf(black, sizeof black, "; %zu pixel%s kept no sample and %s black", empty,
                      empty == 1 ? "" : "s", empty == 1 ? "is" : "are");
-        log_warn("%llu samples had non-finite radiance and were not accumulated%s",
-                 (unsigned long long)f->nonfinite, black);
+        log_warn("%llu sample%s had non-finite radiance and %s not accumulated%s",
+                 (unsigned long long)f->nonfinite, f->nonfinite == 1 ? "" : "s",
+                 f->nonfinite == 1 ? "was" : "were", black);
     }
     if (overflowed)
         log_warn(
-            "%zu pixels summed their samples past the float range (radiance near 3.4e38): "
-            "they are infinite in PFM and white in 8-bit images",
-            overflowed);
+            "%zu pixel%s summed %s samples past the float range (radiance near 3.4e38): "
+            "%s infinite in PFM and white in 8-bit images",
+            overflowed, overflowed == 1 ? "" : "s", overflowed == 1 ? "its" : "their",
+            overflowed == 1 ? "it is" : "they are");
 }
 
 /* An interrupted render clears its progress line, so the shell's prompt starts a clean line. */
@@ -318,7 +320,9 @@ static bool parse_region(const char *text, part_meta *m) {
     long long v[4];
     char rest[2];
     if (text) {
-        if (sscanf(text, "%lld,%lld,%lld,%lld%1s", &v[0], &v[1], &v[2], &v[3], rest) != 4 ||
+        /* Digits and commas only, as --spp takes digits only: no spaces, no signs. */
+        if (strspn(text, "0123456789,") != strlen(text) ||
+            sscanf(text, "%lld,%lld,%lld,%lld%1s", &v[0], &v[1], &v[2], &v[3], rest) != 4 ||
             v[0] < 0 || v[0] >= v[1] || v[1] > m->width || v[2] < 0 || v[2] >= v[3] ||
             v[3] > m->height) {
             fprintf(stderr,
@@ -339,7 +343,8 @@ static bool parse_samples(const char *text, part_meta *m, uint32_t *end) {
     if (!text) return true;
     long long v[2];
     char rest[2];
-    if (sscanf(text, "%lld:%lld%1s", &v[0], &v[1], rest) != 2 || v[0] < 0 || v[0] >= v[1] ||
+    if (strspn(text, "0123456789:") != strlen(text) ||
+        sscanf(text, "%lld:%lld%1s", &v[0], &v[1], rest) != 2 || v[0] < 0 || v[0] >= v[1] ||
         v[1] > m->spp || v[0] % CHUNK_SAMPLES != 0 ||
         (v[1] % CHUNK_SAMPLES != 0 && v[1] != m->spp)) {
         fprintf(stderr,

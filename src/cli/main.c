@@ -8,12 +8,12 @@
 
 static const char usage_text[] =
     "usage: trazador render [SCENE] [-o OUT] [--backend auto|vulkan|cpu] [--spp N] [--seed N]\n"
-    "                       [--no-jitter] [--no-indirect] [--indirect] [--bounces N]\n"
-    "                       [--threads N] [--device N] [--validate] [--quiet] [--verbose]\n"
-    "                       [--tonemap srgb|linear] [--width N] [--no-bvh] [--format F]\n"
-    "                       [--force] [--region X0,X1,Y0,Y1] [--samples A:B] [--part]\n"
-    "                       [--checkpoint FILE] [--checkpoint-every S] [--resume FILE]\n"
-    "                       [--time-limit S] [--exr-type half|float]\n"
+    "                       [--mode seed|path] [--no-jitter] [--no-indirect] [--indirect]\n"
+    "                       [--bounces N] [--threads N] [--device N] [--validate] [--quiet]\n"
+    "                       [--verbose] [--tonemap srgb|linear] [--width N] [--no-bvh]\n"
+    "                       [--format F] [--force] [--region X0,X1,Y0,Y1] [--samples A:B]\n"
+    "                       [--part] [--checkpoint FILE] [--checkpoint-every S]\n"
+    "                       [--resume FILE] [--time-limit S] [--exr-type half|float]\n"
     "       trazador merge PARTS... -o OUT [--part] [--exr-type half|float] [--format F]\n"
     "       trazador diff A B [--max-rmse X] [--min-psnr DB] [--max-diff-share FRACTION]\n"
     "       trazador devices\n"

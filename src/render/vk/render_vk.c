@@ -397,9 +397,9 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
     }
     if (overflowed > 0)
         snprintf(refusal, RENDER_REASON_SIZE,
-                 "%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
+                 "%u sample%s had a ray whose BVH walk needed more loop passes than lavapipe "
                  "allows (its shaders stop loops silently past %u in all)",
-                 overflowed, VK_PROBE_LAVAPIPE_LOOP_LIMIT);
+                 overflowed, overflowed == 1 ? "" : "s", VK_PROBE_LAVAPIPE_LOOP_LIMIT);
     return ok;
 }
 
