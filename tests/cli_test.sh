@@ -237,6 +237,20 @@ has nonfinite-one err "1 sample had non-finite radiance and was not accumulated;
 run merge-one 0 "$tz" merge one.exr -o one.pfm
 has merge-one err "one.pfm: 1 part of 8x8"
 
+# SIGUSR1 without --checkpoint is ignored, and -v says why (issue 24: it killed the render, 138).
+# The render is stopped once the line is out, signalled and continued, so the signal lands
+# mid-render.
+rm -f usr1.pfm
+"$tz" render --backend cpu --spp 1024 --width 64 -v -o usr1.pfm 2>usr1.err &
+pid=$!
+for _ in $(seq 1000); do grep -q "SIGUSR1: ignored" usr1.err 2>/dev/null && break; sleep 0.01; done
+kill -STOP $pid; kill -USR1 $pid; kill -CONT $pid
+wait $pid
+rc=$?
+[ $rc = 0 ] && [ -s usr1.pfm ] && ok || bad "SIGUSR1 without --checkpoint: exit $rc: $(tail -n 2 usr1.err)"
+grep -q "SIGUSR1: ignored, as it asks for a checkpoint and there is no --checkpoint" usr1.err && ok \
+    || bad "SIGUSR1 without --checkpoint: -v did not say it is ignored"
+
 # Scene errors: file:line:col, exit 2, nothing written, nothing overwritten.
 printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.1\nsphere lambertian center 0 0 0 radius -1\n' > bad.scene
 run bad-scene 2 "$tz" render bad.scene --backend cpu -o new.png

@@ -2,6 +2,7 @@
  * be written and is not the scene), the render (a whole image or a part: a region, a range of
  * samples, resumed from a checkpoint) and its summary line. */
 #include <math.h>
+#include <signal.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
@@ -441,7 +442,16 @@ static int render_and_write(const render_args *a, const scene *s) {
     interrupts_saved saved;
     bool clear_on_signal = opts.progress && !a->checkpoint;
     if (clear_on_signal) interrupts_catch(clear_progress, &saved);
+    /* SIGUSR1 asks for a checkpoint (tools/slurm sends it before a time limit); without one its
+     * default action would kill the render. */
+    struct sigaction ignore = {.sa_handler = SIG_IGN}, usr1_before;
+    if (!a->checkpoint) {
+        sigemptyset(&ignore.sa_mask);
+        sigaction(SIGUSR1, &ignore, &usr1_before);
+        log_debug("SIGUSR1: ignored, as it asks for a checkpoint and there is no --checkpoint");
+    }
     bool ok = render_choose_part(s, &opts, (backend_choice)a->backend, &p, end, &used);
+    if (!a->checkpoint) sigaction(SIGUSR1, &usr1_before, NULL);
     if (clear_on_signal) interrupts_restore(&saved);
     /* a checkpoint could not be written */
     if (!render_pacer_stop(&pacer, ok ? &p : NULL)) ok = false;
