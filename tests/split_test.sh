@@ -125,7 +125,8 @@ long="--width 64 --spp 4096"
 # signal_render BACKEND SIGNAL OUT: starts the render, signals it mid-render; its exit code.
 signal_render() {
     rm -f ck.exr ck.err
-    $tz render $long --backend "$1" --checkpoint ck.exr --checkpoint-every 1000 -v -o "$3" 2>ck.err &
+    $tz render $long --backend "$1" --checkpoint ck.exr --keep-checkpoint --checkpoint-every 1000 \
+        -v -o "$3" 2>ck.err &
     local pid=$!
     for _ in $(seq 1000); do grep -q "checkpoints: to ck.exr" ck.err 2>/dev/null && break; sleep 0.01; done
     kill -STOP $pid
@@ -176,6 +177,23 @@ $tz render $long --backend cpu --samples 0:16 -o cpu_ck.exr
 run "resume cpu on vulkan" 1 $tz render $long --backend vulkan --resume cpu_ck.exr -o other.pfm
 has "resume cpu on vulkan" "it was rendered by the cpu back end, and --backend vulkan asks for the other"
 [ ! -e other.pfm ] && ok || bad "a refused resume wrote its output"
+
+# A finished render removes its checkpoint once the output is written, unless asked to keep it;
+# one cut short by a time limit keeps it (issue 24, Also).
+$tz render $scene --backend cpu --samples 0:16 -o removed.exr
+cp removed.exr kept.exr
+run "checkpoint removed" 0 $tz render $scene --backend cpu --resume removed.exr \
+    --checkpoint removed.exr -o removed.pfm
+[ ! -e removed.exr ] && [ -s removed.pfm ] && ok || bad "a finished render left its checkpoint"
+same "checkpoint removed, the image whole" removed.pfm cpu/whole.pfm
+run "checkpoint kept" 0 $tz render $scene --backend cpu --resume kept.exr --checkpoint kept.exr \
+    --keep-checkpoint -o kept.pfm
+[ -s kept.exr ] && ok || bad "--keep-checkpoint: the checkpoint was removed"
+tl_ck="render --width 32 --spp 1048576 --backend cpu --quiet"
+$tz $tl_ck --samples 0:16 -o tl_ck.exr
+run "checkpoint of a time limit" 0 $tz $tl_ck --time-limit 0.3 --resume tl_ck.exr \
+    --checkpoint tl_ck.exr -o tl_ck.pfm
+[ -s tl_ck.exr ] && ok || bad "a render cut short by its time limit removed its checkpoint"
 
 # A checkpoint that cannot be written (a file size limit standing for a full disk: SIGXFSZ
 # ignored, so writes fail with EFBIG) fails the run and leaves the previous checkpoint intact.

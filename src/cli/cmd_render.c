@@ -1,6 +1,7 @@
 /* cmd_render.c: `trazador render`: its options, the checks made before rendering (the output can
  * be written and is not the scene), the render (a whole image or a part: a region, a range of
  * samples, resumed from a checkpoint) and its summary line. */
+#include <errno.h>
 #include <math.h>
 #include <signal.h>
 #include <stddef.h>
@@ -37,6 +38,7 @@ typedef struct render_args {
     double time_limit;               /* seconds; -1: none */
     int exr_type;                    /* 0 half, 1 float */
     int part;                        /* an EXR output is a part file */
+    int keep_checkpoint;             /* keep the checkpoint of a finished render */
 } render_args;
 
 #define FORMATS "png|ppm|pfm|exr"
@@ -100,6 +102,9 @@ static const opt_spec render_specs[] = {
              "write the part so far to FILE (an EXR part, atomically) every --checkpoint-every "
              "seconds and on SIGUSR1, SIGINT or SIGTERM (the last two then stop the render); "
              "checked as the output is, before the render, and named .exr (default: none)"),
+    OPT_SET("--keep-checkpoint", NULL, ARG(keep_checkpoint), 1,
+            "keep the checkpoint once the render is complete and its output written (default: "
+            "it is removed then; a render stopped or cut short by --time-limit keeps it)"),
     OPT_DECIMAL("--checkpoint-every", ARG(checkpoint_every), 0.001, 1e9, "SECONDS",
                 "seconds between checkpoints (default 60)"),
     OPT_TEXT("--resume", NULL, ARG(resume), "FILE", "a file name",
@@ -407,6 +412,16 @@ static bool load_resume(const char *path, const part_meta *want, uint32_t end, i
     return true;
 }
 
+/* Removes the checkpoint of a render whose output holds all it had; a failure only warns, as the
+ * output is written. */
+static void remove_checkpoint(const char *path) {
+    if (unlink(path) == 0) {
+        log_debug("checkpoint: %s removed, the render being complete", path);
+    } else if (errno != ENOENT) {
+        log_warn("%s: cannot remove the finished render's checkpoint: %s", path, strerror(errno));
+    }
+}
+
 /* Writes a whole-image film as the output image; false (logged) on failure. */
 static bool write_image(const render_args *a, const film *f) {
     const char *format = a->format >= 0 ? format_names[a->format] : NULL;
@@ -477,6 +492,8 @@ static int render_and_write(const render_args *a, const scene *s) {
         ok = ok && write_image(a, &f);
     }
     if (ok) log_debug("output: written in %.1f ms", (clock_seconds() - write_start) * 1e3);
+    if (ok && a->checkpoint && !a->keep_checkpoint && p.meta.sample_end == end)
+        remove_checkpoint(a->checkpoint);
     if (ok && pacer.time_up)
         log_info("time limit: every pixel got samples %u:%u (%u of %u)", p.meta.sample_begin,
                  p.meta.sample_end, p.meta.sample_end - p.meta.sample_begin, end);
