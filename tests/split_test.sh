@@ -159,7 +159,13 @@ for backend in cpu vulkan; do
     # A checkpoint of other settings is refused.
     run "$backend resume other" 1 $tz render --width 64 --spp 1024 --backend $backend \
         --resume ck.exr -o other.pfm
-    has "$backend resume other" "cannot resume this render from it: it holds another scene or other settings"
+    has "$backend resume other" "cannot resume this render from it: it holds other samples per pixel: 4096, this render 1024"
+    run "$backend resume other seed" 1 $tz render $long --seed 9 --backend $backend \
+        --resume ck.exr -o other.pfm
+    has "$backend resume other seed" "it holds another seed: 1, this render 9"
+    run "$backend resume other bounces" 1 $tz render $long --bounces 2 --backend $backend \
+        --resume ck.exr -o other.pfm
+    has "$backend resume other bounces" "it holds another scene or other settings: digest"
 done
 
 # Parts and checkpoints of the two back ends differ by rounding: a merge or a resume that mixes

@@ -365,6 +365,39 @@ static bool parse_samples(const char *text, part_meta *m, uint32_t *end) {
     return true;
 }
 
+/* What keeps checkpoint m from going on to this render (want, to sample end) into why, naming
+ * both sides: the fields the digest covers first, the digest (the scene, other settings) last;
+ * "" when nothing does. */
+static void resume_difference(const part_meta *m, const part_meta *want, uint32_t end, bool open,
+                              char *why, size_t size) {
+    why[0] = '\0';
+    if (strcmp(m->version, want->version))
+        snprintf(why, size, "another trazador version: %s, this one %s", m->version, want->version);
+    else if (m->seed != want->seed)
+        snprintf(why, size, "another seed: %u, this render %u", m->seed, want->seed);
+    else if (strcmp(m->mode, want->mode))
+        snprintf(why, size, "another mode: %s, this render %s", m->mode, want->mode);
+    else if (m->spp != want->spp)
+        snprintf(why, size, "other samples per pixel: %u, this render %u", m->spp, want->spp);
+    else if (m->width != want->width || m->height != want->height)
+        snprintf(why, size, "another image size: %dx%d, this render %dx%d", m->width, m->height,
+                 want->width, want->height);
+    else if (strcmp(m->digest, want->digest))
+        snprintf(why, size,
+                 "another scene or other settings: digest %s, this render %s (the scene, bounces, "
+                 "indirect, jitter or roulette)",
+                 m->digest, want->digest);
+    else if (m->x0 != want->x0 || m->x1 != want->x1 || m->y0 != want->y0 || m->y1 != want->y1)
+        snprintf(why, size, "another region: this render %d,%d,%d,%d", want->x0, want->x1, want->y0,
+                 want->y1);
+    else if (m->sample_begin != want->sample_begin)
+        snprintf(why, size, "another first sample: this render starts at %u", want->sample_begin);
+    else if (m->sample_end > end)
+        snprintf(why, size, "samples past this render's end, %u", end);
+    else if (open)
+        snprintf(why, size, "a chunk left open");
+}
+
 /* The back end asked for that cannot go on from a part of the back end `had` ("cpu" or
  * "vulkan: ..."): the other one; NULL for auto, which takes the part's (render_choose_part). */
 static const char *other_backend(int backend, const char *had) {
@@ -391,16 +424,9 @@ static bool load_resume(const char *path, const part_meta *want, uint32_t end, i
         part_free(p);
         return false;
     }
-    const char *why =
-        strcmp(m->digest, want->digest)     ? "another scene or other settings"
-        : strcmp(m->version, want->version) ? "another trazador version"
-        : m->x0 != want->x0 || m->x1 != want->x1 || m->y0 != want->y0 || m->y1 != want->y1
-            ? "another region"
-        : m->sample_begin != want->sample_begin ? "another first sample"
-        : m->sample_end > end                   ? "samples past this render's end"
-        : p->open                               ? "a chunk left open"
-                                                : NULL;
-    if (why) {
+    char why[2 * PART_TEXT_MAX + 160];
+    resume_difference(m, want, end, p->open != NULL, why, sizeof why);
+    if (why[0]) {
         log_error(
             "%s: cannot resume this render from it: it holds %s (region %d,%d,%d,%d, "
             "samples %u:%u, digest %s)",
