@@ -251,6 +251,23 @@ rc=$?
 grep -q "SIGUSR1: ignored, as it asks for a checkpoint and there is no --checkpoint" usr1.err && ok \
     || bad "SIGUSR1 without --checkpoint: -v did not say it is ignored"
 
+# Flags that do nothing for the output or the mode are said once (issue 24, Also).
+run exr-type-png 0 "$tz" render --backend cpu --spp 1 --width 8 --exr-type float -o unused.png
+has exr-type-png err "--exr-type does nothing for an output that is no EXR"
+run tonemap-pfm 0 "$tz" render --backend cpu --spp 1 --width 8 --tonemap linear -o unused.pfm
+has tonemap-pfm err "--tonemap does nothing for a pfm output: it sets 8-bit encoding (PNG, PPM), and PFM is linear"
+run exr-type-part 0 "$tz" render --backend cpu --spp 1 --width 8 --exr-type half --part -o unused.exr
+has exr-type-part err "--exr-type does nothing for a part: it sets an EXR image's channels (parts are always float)"
+run merge-tonemap-exr 0 "$tz" merge unused.exr --tonemap srgb -o unused2.exr
+has merge-tonemap-exr err "--tonemap does nothing for an exr output"
+run tonemap-png 0 "$tz" render --backend cpu --spp 1 --width 8 --tonemap linear -q -o used.png
+[ -s "$tmp/err" ] && bad "tonemap-png: warned: $(cat "$tmp/err")" || ok
+printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nrender roulette off\n' >roulette.scene
+run roulette-seed 0 "$tz" render roulette.scene --backend cpu --spp 1 -q -o roulette.png
+has roulette-seed err "roulette.scene:3:8: roulette does nothing in seed mode: it is path mode's Russian roulette"
+run roulette-path 0 "$tz" render roulette.scene --backend cpu --spp 1 -q --mode path -o roulette.png
+[ -s "$tmp/err" ] && bad "roulette-path: warned: $(cat "$tmp/err")" || ok
+
 # Scene errors: file:line:col, exit 2, nothing written, nothing overwritten.
 printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.1\nsphere lambertian center 0 0 0 radius -1\n' > bad.scene
 run bad-scene 2 "$tz" render bad.scene --backend cpu -o new.png

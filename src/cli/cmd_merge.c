@@ -76,7 +76,7 @@ static bool output_is_part(const char *output, const char *const *paths, int n) 
 }
 
 int cmd_merge(int argc, char **argv) {
-    merge_args a = {.format = -1};
+    merge_args a = {.format = -1, .tm = -1, .exr_type = -1};
     const char **paths = calloc((size_t)argc + 1, sizeof *paths);
     if (!paths) {
         log_error("merge: out of memory");
@@ -109,6 +109,7 @@ int cmd_merge(int argc, char **argv) {
             status = opt_usage_error(&merge_command, "--part writes an EXR: give -o NAME.exr");
         if (a.verbose) log_set_level(LOG_DEBUG);
         if (a.quiet) log_set_level(LOG_WARN);
+        if (status == 0) cli_warn_unused(format, a.part, &a.tm, &a.exr_type);
         if (status == 0 && output_is_part(a.output, paths, n)) status = 2;
         if (status == 0 && !atomic_file_check_force(a.output, a.force)) status = 1;
         if (status == 0) {

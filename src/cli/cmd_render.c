@@ -145,6 +145,8 @@ static const opt_command render_command = {
 static opt_result parse_render_args(int argc, char **argv, render_args *a,
                                     const char **scene_path) {
     *a = (render_args){.format = -1,
+                       .tm = -1,
+                       .exr_type = -1,
                        .spp = -1,
                        .seed = -1,
                        .bounces = -1,
@@ -176,6 +178,8 @@ static opt_result parse_render_args(int argc, char **argv, render_args *a,
                                "output '%s' must end in .png, .ppm, .pfm or .exr, or take --format",
                                a->output);
     bool exr = !strcmp(format ? format : named, "exr");
+    cli_warn_unused(format ? format : named, a->region || a->samples || a->part, &a->tm,
+                    &a->exr_type);
     if ((a->region || a->samples || a->part) && !exr)
         return opt_usage_error(&render_command,
                                "--region, --samples and --part write an EXR part: give -o "

@@ -59,6 +59,7 @@ typedef struct parser {
     int camera_line, plane_line, background_line, render_line;
     int camera_col;        /* of the camera position, for the near-clip warning */
     int fov_line, fov_col; /* of the camera's fov, 0 without one */
+    int roulette_col;      /* of render's roulette key, 0 without one (on render_line) */
     bool tiny_warned;
     int emission_line, emission_col; /* the first sphere's emission, an error in seed mode */
     int mode_given;                  /* the render's mode from the command line; -1: the scene's */

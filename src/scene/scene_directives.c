@@ -460,6 +460,8 @@ static bool parse_render(parser *p) {
     p->s.bounces = (int)parser_value_or(&kv, RENDER_BOUNCES, scene_default_bounces(p->s.mode));
     p->s.seed = (uint32_t)parser_value_or(&kv, RENDER_SEED, 1);
     p->s.roulette = parser_value_or(&kv, RENDER_ROULETTE, 1) != 0;
+    if (kv.given & BIT(RENDER_ROULETTE))
+        p->roulette_col = p->tokens[kv.key_token[RENDER_ROULETTE]].col;
     return true;
 }
 

@@ -275,6 +275,11 @@ static bool parse_text(parser *p, int threads) {
                            "emission needs path mode: add 'render mode path' (or render with "
                            "--mode path)");
     }
+    /* A setting the render's mode has no use for is said once, not ignored silently. */
+    render_mode mode = p->mode_given >= 0 ? (render_mode)p->mode_given : p->s.mode;
+    if (p->roulette_col && mode == RENDER_MODE_SEED)
+        parser_warn(p, p->render_line, p->roulette_col,
+                    "roulette does nothing in seed mode: it is path mode's Russian roulette");
     warn_near_surfaces(p);
     return true;
 }
