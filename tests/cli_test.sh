@@ -160,6 +160,13 @@ grep -q "cannot write to standard output" full.err && ok || bad "diff into /dev/
 # A stream that never ends is refused at once, not read to the size limit.
 run endless-stream 2 timeout 20 "$tz" render --backend cpu /dev/zero
 has endless-stream err "/dev/zero:1:1: unexpected NUL byte"
+# ... and so is an endless stream of bad lines, at its first bad line (issue 24: it was read to
+# the 2 GiB limit); a good stream is read whole (the stdin tests above).
+yes | run endless-bad-lines 2 timeout 20 "$tz" render --backend cpu -
+has endless-bad-lines err "<stdin>:1:1: unknown directive 'y'"
+{ printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\n'; yes 'sphere lambertian center 0 0 0 radius 1 bogus 1'; } \
+    | run endless-bad-spheres 2 timeout 20 "$tz" render --backend cpu -
+has endless-bad-spheres err "<stdin>:3:41: unknown key 'bogus' for sphere lambertian"
 # Far from the origin the ray offset is a near clip (10 units at 1e5): a sphere that close warns.
 printf 'camera position 1e5 0 0\nplane width 1 height 1 pixel 0.25\nsphere lambertian center 1e5 0 60 radius 55\n' > far.scene
 run far-camera 0 "$tz" render --backend cpu --quiet far.scene -o far.png

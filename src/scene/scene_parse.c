@@ -284,6 +284,20 @@ static bool parse_text(parser *p, int threads) {
     return true;
 }
 
+/* A scene before its first directive. */
+static scene scene_defaults(void) {
+    return (scene){
+        .camera_direction = v3(0, 0, 1),
+        .camera_up = v3(0, 1, 0),
+        .samples = 64,
+        .indirect = true,
+        .bounces = 5,
+        .seed = 1,
+        .mode = RENDER_MODE_SEED,
+        .roulette = true,
+    };
+}
+
 /* Parses text on up to threads threads for a render in mode (-1: the scene's own mode). */
 static bool parse_string(const char *text, size_t length, const char *filename, int threads,
                          int mode, scene *out, scene_error *err) {
@@ -299,16 +313,7 @@ static bool parse_string(const char *text, size_t length, const char *filename, 
     p->err = err;
     p->line = 1;
     p->mode_given = mode;
-    p->s = (scene){
-        .camera_direction = v3(0, 0, 1),
-        .camera_up = v3(0, 1, 0),
-        .samples = 64,
-        .indirect = true,
-        .bounces = 5,
-        .seed = 1,
-        .mode = RENDER_MODE_SEED,
-        .roulette = true,
-    };
+    p->s = scene_defaults();
     bool ok;
     if (length > MAX_TEXT_BYTES) {
         p->line = 0;
@@ -358,8 +363,51 @@ static bool fail_file(const char *path, scene_error *err, const char *fmt, ...) 
     return false;
 }
 
+/* A line of each read of a stream parsed as it arrives (the first new one; spheres dropped: the
+ * whole text is parsed again, on every core, once read), so that a stream of bad lines that
+ * never ends is refused at once rather than read to the size limit, at no cost worth naming
+ * to a good one. Lines left out can only hide errors from it (what it parsed is a subset of
+ * what the full parse sees), never make up one, so it never stops a good stream. */
+typedef struct stream_check {
+    parser *p; /* NULL: not checked (no memory: the parse after the read still reports) */
+    size_t checked;
+} stream_check;
+
+static void stream_check_init(stream_check *c, const char *path) {
+    c->checked = 0;
+    c->p = calloc(1, sizeof *c->p);
+    if (!c->p) return;
+    c->p->filename = path;
+    c->p->line = 1;
+    c->p->mode_given = -1;
+    c->p->s = scene_defaults();
+}
+
+static void stream_check_free(stream_check *c) {
+    if (c->p) scene_free(&c->p->s);
+    free(c->p);
+}
+
+/* Whether the first complete line of data[checked, used) parses, and the unfinished last one
+ * is not already too long; false on an error, which the parse after the read reports as usual
+ * (at the first bad line). */
+static bool stream_check_lines(stream_check *c, const char *data, size_t used) {
+    if (!c->p) return true;
+    const char *text = data + c->checked, *end = data + used;
+    const char *newline = memchr(text, '\n', (size_t)(end - text));
+    if (!newline) return (size_t)(end - text) <= SCENE_MAX_LINE + 1; /* + 1: a CR */
+    if (!parse_line(c->p, text, (size_t)(newline - text))) return false;
+    c->p->s.sphere_count = 0;
+    const char *last = newline;
+    for (const char *q; (q = memchr(last + 1, '\n', (size_t)(end - last - 1)));) last = q;
+    c->checked = (size_t)(last + 1 - data);
+    return (size_t)(end - last - 1) <= SCENE_MAX_LINE + 1;
+}
+
 /* Reads all of fd into a malloc'd buffer; sizes a regular file from fstat, grows for pipes. */
-static bool read_all(int fd, const char *path, char **data, size_t *length, scene_error *err) {
+static bool read_all(int fd, const char *path, char **data, size_t *length, bool *cut,
+                     scene_error *err) {
+    *cut = false;
     struct stat st;
     if (fstat(fd, &st) != 0) return fail_file(path, err, "cannot stat: %s", strerror(errno));
     if (S_ISDIR(st.st_mode)) return fail_file(path, err, "is a directory");
@@ -377,16 +425,20 @@ static bool read_all(int fd, const char *path, char **data, size_t *length, scen
         return fail_file(path, err, "out of memory reading %zu bytes", capacity);
     }
     size_t used = 0;
+    stream_check check = {0};
+    if (!S_ISREG(st.st_mode)) stream_check_init(&check, path);
     for (;;) {
         if (used == capacity) {
             if (capacity > MAX_TEXT_BYTES) {
                 free(buffer);
+                stream_check_free(&check);
                 return fail_file(path, err, "file is too large (the limit is %zu bytes)",
                                  MAX_TEXT_BYTES);
             }
             char *grown = realloc(buffer, capacity * 2);
             if (!grown) {
                 free(buffer);
+                stream_check_free(&check);
                 if (err) err->out_of_memory = true;
                 return fail_file(path, err, "out of memory reading %zu bytes", capacity * 2);
             }
@@ -398,14 +450,19 @@ static bool read_all(int fd, const char *path, char **data, size_t *length, scen
         if (n < 0) {
             int error = errno;
             free(buffer);
+            stream_check_free(&check);
             return fail_file(path, err, "cannot read: %s", strerror(error));
         }
         if (n == 0) break;
         used += (size_t)n;
         /* A NUL byte is an error wherever it is: stop reading a stream (/dev/zero never ends)
          * and let the parser report it at its line and column. */
-        if (!S_ISREG(st.st_mode) && memchr(buffer + used - n, '\0', (size_t)n)) break;
+        *cut = !S_ISREG(st.st_mode) && (memchr(buffer + used - n, '\0', (size_t)n) ||
+                                        /* a bad line stops a stream too */
+                                        !stream_check_lines(&check, buffer, used));
+        if (*cut) break;
     }
+    stream_check_free(&check);
     *data = buffer;
     *length = used;
     return true;
@@ -424,9 +481,14 @@ bool scene_parse_file_in_mode(const char *path, int mode, scene *out, scene_erro
     if (fd < 0) return fail_file(path, err, "cannot open: %s", strerror(errno));
     char *data = NULL;
     size_t length = 0;
-    bool ok = read_all(fd, path, &data, &length, err);
+    bool cut;
+    bool ok = read_all(fd, path, &data, &length, &cut, err);
     close(fd);
     if (ok) ok = parse_string(data, length, path, 0, mode, out, err);
+    if (ok && cut) { /* never a scene cut short: the parse must report what stopped the read */
+        scene_free(out);
+        ok = fail_file(path, err, "stopped reading at a line the parser then accepted");
+    }
     free(data);
     return ok;
 }
