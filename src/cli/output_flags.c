@@ -11,12 +11,11 @@ void cli_warn_unused(const char *format, bool part, int *tm, int *exr_type) {
          eight_bit = format && !exr && strcmp(format, "pfm");
     if (*tm >= 0 && !eight_bit)
         log_warn(
-            "--tonemap does nothing for a%s %s output: it sets 8-bit encoding (PNG, PPM), "
-            "and %s is linear",
-            exr ? "n" : "",
-            part     ? "part"
-            : format ? format
-                     : "",
+            "--tonemap does nothing for %s: it sets 8-bit encoding (PNG, PPM), and %s is "
+            "linear",
+            part  ? "a part"
+            : exr ? "an exr output"
+                  : "a pfm output",
             exr ? "EXR" : "PFM");
     if (*exr_type >= 0 && (!exr || part))
         log_warn("--exr-type does nothing for %s: it sets an EXR image's channels%s",
