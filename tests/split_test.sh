@@ -182,6 +182,8 @@ same "resume on auto" auto.pfm long_whole.pfm
 $tz render $long --backend cpu --samples 0:16 -o cpu_ck.exr
 run "resume cpu on vulkan" 1 $tz render $long --backend vulkan --resume cpu_ck.exr -o other.pfm
 has "resume cpu on vulkan" "it was rendered by the cpu back end, and --backend vulkan asks for the other"
+run "resume cpu on a device" 1 $tz render $long --device 0 --resume cpu_ck.exr -o other.pfm
+has "resume cpu on a device" "it was rendered by the cpu back end, and --backend vulkan asks for the other"
 [ ! -e other.pfm ] && ok || bad "a refused resume wrote its output"
 
 # A finished render removes its checkpoint once the output is written, unless asked to keep it;

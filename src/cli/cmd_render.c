@@ -470,7 +470,10 @@ static int render_and_write(const render_args *a, const scene *s) {
     uint32_t end;
     if (!parse_region(a->region, &meta) || !parse_samples(a->samples, &meta, &end)) return 2;
     part p = {0};
-    if (a->resume ? !load_resume(a->resume, &meta, end, a->backend, &p) : !part_init(&p, &meta))
+    /* --device and --validate ask for Vulkan as --backend vulkan does. */
+    int backend =
+        a->backend == BACKEND_AUTO && (a->device >= 0 || a->validate) ? BACKEND_VULKAN : a->backend;
+    if (a->resume ? !load_resume(a->resume, &meta, end, backend, &p) : !part_init(&p, &meta))
         return 1;
     uint32_t begin = p.meta.sample_end;
     render_pacer pacer = {
