@@ -329,6 +329,22 @@ static void test_bad_files(void) {
     held = log_release_errors();
     CHECK(strstr(held, "pixel (1, 0) counts 33 samples of 32"), "%s", held);
     part_free(&q);
+    /* A part that does not say its back end (written before trazador.backend): refused so. */
+    EXPECT(render_part(0, 3, 0, 2, 16, 48, &q));
+    EXPECT(part_write(path, &q));
+    part_free(&q);
+    size_t old_len = 0;
+    unsigned char *old = tmp_file_read(path, &old_len);
+    unsigned char *name = old ? memmem(old, old_len, "trazador.backend", 16) : NULL;
+    EXPECT(name != NULL);
+    if (name) name[15] = 'X'; /* another attribute of the same size */
+    if (old) tmp_file_write(path, old, old_len);
+    free(old);
+    log_hold_errors();
+    EXPECT(!part_read(path, &p));
+    held = log_release_errors();
+    CHECK(strstr(held, "that does not say its back end (CPU or Vulkan, which differ by rounding)"),
+          "%s", held);
     /* An attribute edited in place, and bytes flipped anywhere: refused, or read unchanged. */
     EXPECT(render_part(0, 5, 0, 4, 32, 96, &q));
     EXPECT(part_write(path, &q));

@@ -185,7 +185,14 @@ static bool read_meta(const char *path, const exr_file *f, part_meta *m) {
     const char *value[ATTRS];
     for (int k = 0; k < ATTRS; k++)
         if (!(value[k] = exr_file_attr(f, attr_names[k]))) {
-            log_error("%s: not a trazador part: no '%s' attribute", path, attr_names[k]);
+            /* Parts before the back end was recorded: their samples cannot be told apart. */
+            if (k == 8 && value[0])
+                log_error(
+                    "%s: a part of trazador %s that does not say its back end (CPU or "
+                    "Vulkan, which differ by rounding): render it again",
+                    path, value[0]);
+            else
+                log_error("%s: not a trazador part: no '%s' attribute", path, attr_names[k]);
             return false;
         }
     *m = (part_meta){.width = f->display_width,
