@@ -11,6 +11,8 @@ has() { # has NAME FILE TEXT
 
 run help 0 "$tz" --help
 has help out "usage: trazador render"
+has help out "[--mode seed|path]" # issue 24: the synopsis lacked it
+grep -qF -- "[--mode seed|path]" "$src/README.md" && ok || bad "README's synopsis lacks --mode"
 run version 0 "$tz" --version
 has version out "trazador 0."
 run verbose 0 "$tz" render --backend cpu --width 32 --spp 1 --verbose -o verbose.png
@@ -164,6 +166,13 @@ grep -q "cannot write to standard output" full.err && ok || bad "diff into /dev/
 # A stream that never ends is refused at once, not read to the size limit.
 run endless-stream 2 timeout 20 "$tz" render --backend cpu /dev/zero
 has endless-stream err "/dev/zero:1:1: unexpected NUL byte"
+# ... and so is an endless stream of bad lines, at its first bad line (issue 24: it was read to
+# the 2 GiB limit); a good stream is read whole (the stdin tests above).
+yes | run endless-bad-lines 2 timeout 20 "$tz" render --backend cpu -
+has endless-bad-lines err "<stdin>:1:1: unknown directive 'y'"
+{ printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\n'; yes 'sphere lambertian center 0 0 0 radius 1 bogus 1'; } \
+    | run endless-bad-spheres 2 timeout 20 "$tz" render --backend cpu -
+has endless-bad-spheres err "<stdin>:3:41: unknown key 'bogus' for sphere lambertian"
 # Far from the origin the ray offset is a near clip (10 units at 1e5): a sphere that close warns.
 printf 'camera position 1e5 0 0\nplane width 1 height 1 pixel 0.25\nsphere lambertian center 1e5 0 60 radius 55\n' > far.scene
 run far-camera 0 "$tz" render --backend cpu --quiet far.scene -o far.png
@@ -189,10 +198,88 @@ has overflow-floor err "overflow-floor.scene:3:28: center must be in [-1e+18, 1e
 printf 'camera position 0 0 0\nplane width 1 height 1 pixel 0.5\nbackground 3e38 1e38 1\n' > bright.scene
 run overflow 0 "$tz" render --backend cpu --quiet bright.scene -o bright.pfm
 has overflow err "4 pixels summed their samples past the float range"
+# Half-float EXR overflow is reported as PFM's is (issue 24, defect 11); float EXR keeps it.
+printf 'camera position 0 0 0\nplane width 1 height 1 pixel 0.5\nbackground 1e5 1 1\n' > half.scene
+run half-overflow 0 "$tz" render --backend cpu --quiet half.scene -o half.exr
+has half-overflow err "half.exr: 4 pixels past 65504, the largest half float, are infinite in this half EXR (--exr-type float keeps them)"
+run float-no-overflow 0 "$tz" render --backend cpu --quiet half.scene --exr-type float -o float.exr
+[ -s "$tmp/err" ] && bad "float-no-overflow: warned: $(cat "$tmp/err")" || ok
 # A whole height over the limit names the limit, not wholeness.
 printf 'camera position 0 0 -5\nplane width 1 height 4 pixel 0.01\n' > tall.scene
 run width-too-tall 2 "$tz" render --backend cpu --width 8000 tall.scene
 has width-too-tall err "gives a height of 32000 pixels for a 1 x 4 plane; the height must be 1 to 16384"
+
+# --mode path enables emission in a scene without 'render mode path' (issue 24, defect 1), in
+# either spelling and on either back end; --mode seed refuses it at the emission's line:col.
+printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nsphere lambertian center 0 0 0 radius 1 emission 1 1 1\n' >glow.scene
+run mode-path-emission 0 "$tz" render glow.scene --backend cpu --spp 1 --mode path -q -o glow.pfm
+[ -s glow.pfm ] && ok || bad "mode-path-emission: no image"
+run mode-path-equals 0 "$tz" render glow.scene --backend cpu --spp 1 --mode=path -q -o glow2.pfm
+if "$tz" devices >/dev/null 2>&1; then
+    run mode-path-vulkan 0 "$tz" render glow.scene --backend vulkan --spp 1 --mode path -q -o glow3.pfm
+fi
+run mode-seed-emission 2 "$tz" render glow.scene --backend cpu --spp 1 -o glow4.pfm
+has mode-seed-emission err "glow.scene:3:41: emission needs path mode: add 'render mode path'"
+printf 'render mode path\n' >>glow.scene
+run mode-seed-flag-emission 2 "$tz" render glow.scene --backend cpu --spp 1 --mode seed -o glow4.pfm
+has mode-seed-flag-emission err "glow.scene:3:41: emission needs path mode, and the render was asked for in seed mode (--mode seed)"
+[ ! -e glow4.pfm ] && ok || bad "mode-seed-emission wrote glow4.pfm"
+
+# A fov so small that the plane lies past single precision's reach is an error at the fov,
+# naming the smallest that works (issue 24, defect 7: it rendered only the background); a
+# small one that works renders the sphere, not the background.
+fov_scene() { printf 'camera position 0 0 -5 fov %s\nplane width 4 height 4 pixel 4\nlight position 0 0 -5 power 50\nsphere lambertian center 0 0 0 radius 1\n' "$1"; }
+fov_scene 1e-17 >tiny-fov.scene
+run tiny-fov 2 "$tz" render tiny-fov.scene --backend cpu --spp 1 -o tiny-fov.ppm
+has tiny-fov err "tiny-fov.scene:1:28: fov 1e-17 puts the image plane of a plane 4 wide past 1e+19 away, where single precision overflows: give a fov of at least 2.3e-17"
+[ ! -e tiny-fov.ppm ] && ok || bad "tiny-fov wrote an image"
+fov_scene 1e-15 >small-fov.scene
+run small-fov 0 "$tz" render small-fov.scene --backend cpu --spp 1 --no-jitter -q -o small-fov.ppm
+[ "$(tail -c 3 small-fov.ppm | od -An -tu1 | tr -d ' ')" != 000 ] && ok || bad "small-fov: the pixel is the background"
+
+# --region and --samples take digits and separators only, as --spp takes digits only (issue 24).
+run region-space 2 "$tz" render --backend cpu --spp 1 --width 8 --region '0, 8,0,8' -o sp.exr
+has region-space err "--region '0, 8,0,8' must be X0,X1,Y0,Y1"
+run samples-space 2 "$tz" render --backend cpu --spp 16 --width 8 --samples ' 0:16' -o sp.exr
+has samples-space err "--samples ' 0:16' must be A:B"
+run samples-sign 2 "$tz" render --backend cpu --spp 16 --width 8 --samples '+0:16' -o sp.exr
+# Singular forms (issue 24): one sample, one pixel, one part.
+run nonfinite-one 0 "$tz" render inf.scene --backend cpu --no-jitter --spp 1 -o inf1.pfm
+has nonfinite-one err "1 sample had non-finite radiance and was not accumulated; 1 pixel kept no sample and is black"
+"$tz" render --backend cpu --spp 1 --width 8 --part -q -o one.exr
+run merge-one 0 "$tz" merge one.exr -o one.pfm
+has merge-one err "one.pfm: 1 part of 8x8"
+
+# SIGUSR1 without --checkpoint is ignored, and -v says why (issue 24: it killed the render, 138).
+# The render is stopped once the line is out, signalled and continued, so the signal lands
+# mid-render.
+rm -f usr1.pfm
+"$tz" render --backend cpu --spp 1024 --width 64 -v -o usr1.pfm 2>usr1.err &
+pid=$!
+for _ in $(seq 1000); do grep -q "SIGUSR1: ignored" usr1.err 2>/dev/null && break; sleep 0.01; done
+kill -STOP $pid; kill -USR1 $pid; kill -CONT $pid
+wait $pid
+rc=$?
+[ $rc = 0 ] && [ -s usr1.pfm ] && ok || bad "SIGUSR1 without --checkpoint: exit $rc: $(tail -n 2 usr1.err)"
+grep -q "SIGUSR1: ignored, as it asks for a checkpoint and there is no --checkpoint" usr1.err && ok \
+    || bad "SIGUSR1 without --checkpoint: -v did not say it is ignored"
+
+# Flags that do nothing for the output or the mode are said once (issue 24, Also).
+run exr-type-png 0 "$tz" render --backend cpu --spp 1 --width 8 --exr-type float -o unused.png
+has exr-type-png err "--exr-type does nothing for an output that is no EXR"
+run tonemap-pfm 0 "$tz" render --backend cpu --spp 1 --width 8 --tonemap linear -o unused.pfm
+has tonemap-pfm err "--tonemap does nothing for a pfm output: it sets 8-bit encoding (PNG, PPM), and PFM is linear"
+run exr-type-part 0 "$tz" render --backend cpu --spp 1 --width 8 --exr-type half --part -o unused.exr
+has exr-type-part err "--exr-type does nothing for a part: it sets an EXR image's channels (parts are always float)"
+run merge-tonemap-exr 0 "$tz" merge unused.exr --tonemap srgb -o unused2.exr
+has merge-tonemap-exr err "--tonemap does nothing for an exr output"
+run tonemap-png 0 "$tz" render --backend cpu --spp 1 --width 8 --tonemap linear -q -o used.png
+[ -s "$tmp/err" ] && bad "tonemap-png: warned: $(cat "$tmp/err")" || ok
+printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nrender roulette off\n' >roulette.scene
+run roulette-seed 0 "$tz" render roulette.scene --backend cpu --spp 1 -q -o roulette.png
+has roulette-seed err "roulette.scene:3:8: roulette does nothing in seed mode: it is path mode's Russian roulette"
+run roulette-path 0 "$tz" render roulette.scene --backend cpu --spp 1 -q --mode path -o roulette.png
+[ -s "$tmp/err" ] && bad "roulette-path: warned: $(cat "$tmp/err")" || ok
 
 # Scene errors: file:line:col, exit 2, nothing written, nothing overwritten.
 printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.1\nsphere lambertian center 0 0 0 radius -1\n' > bad.scene
@@ -231,6 +318,10 @@ has diff-same out "psnr inf dB"
 run diff-other 1 "$tz" diff a.pfm c.pfm --min-psnr 100
 has diff-other out "FAIL"
 run diff-usage 2 "$tz" diff a.pfm
+# Without thresholds any difference exits 1, as cmp does (issue 24, defect 9).
+run diff-no-threshold 1 "$tz" diff a.pfm c.pfm
+has diff-no-threshold out "FAIL: the images differ"
+run diff-no-threshold-same 0 "$tz" diff a.pfm b.pfm
 run tonemap-linear 0 "$tz" render --backend cpu --spp 1 --width 40 -q -o lin.ppm --tonemap linear
 cmp -s lin.ppm q.ppm && bad "tonemap linear: same bytes as srgb" || ok
 run no-jitter 0 "$tz" render --backend cpu --spp 1 --width 40 -q -o nj.ppm --no-jitter --no-indirect
@@ -318,6 +409,33 @@ if strace -o /dev/null true 2>/dev/null; then
     dirfd=$(grep -E 'openat\(.*O_DIRECTORY' trace.txt | tail -1 | sed 's/.*= //')
     [ -n "$dirfd" ] && grep -qE "fsync\($dirfd\) += 0" trace.txt && ok || bad "no fsync of the folder: $(grep -E 'fsync|O_DIRECTORY' trace.txt)"
 fi
+# A checkpoint is checked as the output is, before the render (issue 24, defect 2): not the
+# scene, not write-protected without --force, a folder that exists, a name that fits, an EXR name,
+# not the output.
+ck="--backend cpu --spp 1 --width 8 -o ck-out.png"
+cp same.scene scene.exr
+run checkpoint-is-scene 2 "$tz" render scene.exr $ck --checkpoint ./scene.exr
+has checkpoint-is-scene err "--checkpoint './scene.exr' is the scene being rendered (scene.exr)"
+cmp -s scene.exr same.scene && ok || bad "checkpoint-is-scene: the scene was changed"
+run checkpoint-not-exr 2 "$tz" render same.scene $ck --checkpoint same.scene
+has checkpoint-not-exr err "--checkpoint 'same.scene' must end in .exr: a checkpoint is an EXR part"
+cmp -s same.scene "$src/scenes/shadows.scene" && ok || bad "checkpoint-not-exr: the scene was changed"
+run checkpoint-png 2 "$tz" render $ck --checkpoint ck.png
+has checkpoint-png err "must end in .exr"
+echo precious >ro.exr
+chmod 0444 ro.exr
+run checkpoint-write-protected 1 "$tz" render $ck --checkpoint ro.exr
+has checkpoint-write-protected err "ro.exr: the file is write-protected (mode 444): --force replaces it"
+[ "$(cat ro.exr)" = precious ] && ok || bad "checkpoint-write-protected: ro.exr was replaced"
+run checkpoint-missing-folder 1 "$tz" render $ck --verbose --checkpoint no/such/ck.exr
+has checkpoint-missing-folder err "no/such/ck.exr: cannot write in no/such: No such file or directory"
+grep -q "rendering in" "$tmp/err" && bad "checkpoint-missing-folder: rendered first" || ok
+run checkpoint-too-long 1 "$tz" render $ck --checkpoint "n${long%.png}.exr"
+has checkpoint-too-long err "the file name is 256 bytes long"
+run checkpoint-is-output 2 "$tz" render --backend cpu --spp 1 --width 8 --part -o ck-out.exr \
+    --checkpoint ./ck-out.exr
+has checkpoint-is-output err "--checkpoint './ck-out.exr' is the output 'ck-out.exr'"
+[ ! -e ck-out.png ] && [ ! -e ck-out.exr ] && ok || bad "a refused checkpoint rendered"
 # Conventions (issue 17): --flag=value, -- ends the options, choices in any case.
 "$tz" render --backend cpu --spp 1 --width 20 -q -o plain.pfm
 run flag-equals 0 "$tz" render --backend=cpu --spp=1 --width=20 -q --output=equals.pfm

@@ -39,6 +39,17 @@ for backend in cpu vulkan; do
     run "$backend merge as part" 0 $tz merge samples_*.exr --part -o merged_part.exr
     run "$backend merge of a merge" 0 $tz merge merged_part.exr -o merged.pfm
     same "$backend merge of a merge" merged.pfm whole.pfm
+    # Staged merges (issue 24, defect 10): a --part merge of some parts is a bigger part, of
+    # the smallest box holding them, which merges on; a box they do not fill is refused.
+    run "$backend stage samples" 0 $tz merge samples_2.exr samples_1.exr --part -o s12.exr
+    run "$backend stage samples on" 0 $tz merge s12.exr samples_0.exr -o merged.pfm
+    same "$backend staged samples" merged.pfm whole.pfm
+    run "$backend stage regions" 0 $tz merge region_0.exr region_1.exr --part -o top.exr
+    run "$backend stage regions on" 0 $tz merge top.exr region_3.exr region_2.exr -o merged.pfm
+    same "$backend staged regions" merged.pfm whole.pfm
+    run "$backend stage with a gap" 1 $tz merge region_0.exr region_3.exr --part -o gap.exr
+    has "$backend stage with a gap" "region 17,40,0,11 samples 0:40"
+    [ ! -e gap.exr ] && ok || bad "$backend: a refused staged merge wrote its output"
     mkdir -p "$backend"
     cp whole.pfm region_*.exr samples_*.exr "$backend/"
 done
@@ -68,6 +79,13 @@ has "gap in samples" "samples 16:32"
 $tz render $scene --backend cpu --seed 7 --region 0,17,0,11 -o seed7.exr
 run "other seed" 1 $tz merge seed7.exr region_1.exr region_2.exr region_3.exr -o x.pfm
 has "other seed" "seed7.exr and region_1.exr are parts of different renders"
+has "other seed" "different renders: seed 7 against 1" # not the digest, which covers it
+$tz render --width 40 --spp 48 --quiet --backend cpu --region 0,17,0,11 -o spp48.exr
+run "other spp" 1 $tz merge region_1.exr spp48.exr region_2.exr region_3.exr -o x.pfm
+has "other spp" "are parts of different renders: 40 against 48 samples per pixel"
+$tz render --width 20 --spp 40 --quiet --backend cpu --region 0,17,0,11 -o width20.exr
+run "other width" 1 $tz merge region_1.exr width20.exr region_2.exr region_3.exr -o x.pfm
+has "other width" "are parts of different renders: image 40x40 against 20x20"
 $tz render $scene --backend cpu --bounces 2 --region 0,17,0,11 -o bounces.exr
 run "other settings" 1 $tz merge region_1.exr bounces.exr region_2.exr region_3.exr -o x.pfm
 has "other settings" "are parts of different renders: scene digest"
@@ -81,6 +99,22 @@ has "region outside" "0 <= X0 < X1 <= 40"
 run "region as png" 2 $tz render $scene --region 0,20,0,40 -o x.png
 has "region as png" "write an EXR part"
 run "merge nothing" 2 $tz merge -o x.pfm
+# -o - is standard output, with --format, as for render (issue 24, defect 4).
+$tz merge region_*.exr -o - --format pfm >stdout.pfm 2>/dev/null
+same "merge -o -" stdout.pfm whole.pfm
+[ ! -e ./- ] && ok || bad "merge -o - wrote a file named -"
+run "merge -o - without --format" 2 $tz merge region_*.exr -o -
+has "merge -o - without --format" "-o - (standard output) needs --format"
+# The output may not be one of the parts, under its name or a hard link (issue 24, defect 3).
+cp region_0.exr region_0.keep
+cp region_1.exr region_1.keep
+ln region_1.exr region_1.link
+run "merge over a part" 2 $tz merge region_0.exr region_1.exr region_2.exr region_3.exr -o region_0.exr
+has "merge over a part" "output 'region_0.exr' is the part 'region_0.exr' being merged"
+run "merge over a link" 2 $tz merge region_*.exr -o region_1.link --format exr
+has "merge over a link" "is the part 'region_1.exr' being merged"
+same "merge over a part leaves it" region_0.exr region_0.keep
+same "merge over a link leaves it" region_1.exr region_1.keep
 cd .. || exit 1
 
 # Checkpoints. The render is stopped (SIGSTOP) once its handlers are in place (its -v line
@@ -91,7 +125,8 @@ long="--width 64 --spp 4096"
 # signal_render BACKEND SIGNAL OUT: starts the render, signals it mid-render; its exit code.
 signal_render() {
     rm -f ck.exr ck.err
-    $tz render $long --backend "$1" --checkpoint ck.exr --checkpoint-every 1000 -v -o "$3" 2>ck.err &
+    $tz render $long --backend "$1" --checkpoint ck.exr --keep-checkpoint --checkpoint-every 1000 \
+        -v -o "$3" 2>ck.err &
     local pid=$!
     for _ in $(seq 1000); do grep -q "checkpoints: to ck.exr" ck.err 2>/dev/null && break; sleep 0.01; done
     kill -STOP $pid
@@ -124,8 +159,49 @@ for backend in cpu vulkan; do
     # A checkpoint of other settings is refused.
     run "$backend resume other" 1 $tz render --width 64 --spp 1024 --backend $backend \
         --resume ck.exr -o other.pfm
-    has "$backend resume other" "cannot resume this render from it: it holds another scene or other settings"
+    has "$backend resume other" "cannot resume this render from it: it holds other samples per pixel: 4096, this render 1024"
+    run "$backend resume other seed" 1 $tz render $long --seed 9 --backend $backend \
+        --resume ck.exr -o other.pfm
+    has "$backend resume other seed" "it holds another seed: 1, this render 9"
+    run "$backend resume other bounces" 1 $tz render $long --bounces 2 --backend $backend \
+        --resume ck.exr -o other.pfm
+    has "$backend resume other bounces" "it holds another scene or other settings: digest"
 done
+
+# Parts and checkpoints of the two back ends differ by rounding: a merge or a resume that mixes
+# them is refused naming both; auto resumes on the checkpoint's own back end (issue 24, defect 5).
+run "merge of two back ends" 1 $tz merge cpu/region_0.exr vulkan/region_1.exr cpu/region_2.exr \
+    cpu/region_3.exr -o mixed.pfm
+has "merge of two back ends" "cpu/region_0.exr and vulkan/region_1.exr are parts of different renders: back end cpu against vulkan: "
+[ ! -e mixed.pfm ] && ok || bad "merge of two back ends wrote its output"
+run "resume on the other back end" 1 $tz render $long --backend cpu --resume ck.exr -o other.pfm
+has "resume on the other back end" "ck.exr: cannot resume this render from it: it was rendered by the vulkan: "
+has "resume on the other back end" "and --backend cpu asks for the other: the two differ by rounding"
+run "resume on auto" 0 $tz render $long --resume ck.exr -o auto.pfm
+same "resume on auto" auto.pfm long_whole.pfm
+$tz render $long --backend cpu --samples 0:16 -o cpu_ck.exr
+run "resume cpu on vulkan" 1 $tz render $long --backend vulkan --resume cpu_ck.exr -o other.pfm
+has "resume cpu on vulkan" "it was rendered by the cpu back end, and --backend vulkan asks for the other"
+run "resume cpu on a device" 1 $tz render $long --device 0 --resume cpu_ck.exr -o other.pfm
+has "resume cpu on a device" "it was rendered by the cpu back end, and --backend vulkan asks for the other"
+[ ! -e other.pfm ] && ok || bad "a refused resume wrote its output"
+
+# A finished render removes its checkpoint once the output is written, unless asked to keep it;
+# one cut short by a time limit keeps it (issue 24, Also).
+$tz render $scene --backend cpu --samples 0:16 -o removed.exr
+cp removed.exr kept.exr
+run "checkpoint removed" 0 $tz render $scene --backend cpu --resume removed.exr \
+    --checkpoint removed.exr -o removed.pfm
+[ ! -e removed.exr ] && [ -s removed.pfm ] && ok || bad "a finished render left its checkpoint"
+same "checkpoint removed, the image whole" removed.pfm cpu/whole.pfm
+run "checkpoint kept" 0 $tz render $scene --backend cpu --resume kept.exr --checkpoint kept.exr \
+    --keep-checkpoint -o kept.pfm
+[ -s kept.exr ] && ok || bad "--keep-checkpoint: the checkpoint was removed"
+tl_ck="render --width 32 --spp 1048576 --backend cpu --quiet"
+$tz $tl_ck --samples 0:16 -o tl_ck.exr
+run "checkpoint of a time limit" 0 $tz $tl_ck --time-limit 0.3 --resume tl_ck.exr \
+    --checkpoint tl_ck.exr -o tl_ck.pfm
+[ -s tl_ck.exr ] && ok || bad "a render cut short by its time limit removed its checkpoint"
 
 # A checkpoint that cannot be written (a file size limit standing for a full disk: SIGXFSZ
 # ignored, so writes fail with EFBIG) fails the run and leaves the previous checkpoint intact.

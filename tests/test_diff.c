@@ -228,9 +228,14 @@ static void test_command_metrics(void) {
     /* the 8-bit files hold exactly the same linear values */
     EXPECT(run_diff(a, ppm, "--min-psnr", "inf", "--max-rmse", "0", NULL) == 0);
     EXPECT(run_diff(png, a, "--min-psnr", "inf", "--max-diff-share", "0", NULL) == 0);
-    EXPECT(run_diff(a, tmp_path("pixel.pfm"), NULL) == 0);
+    /* Without a threshold any difference fails, as cmp (issue 24, defect 9: it exited 0). */
+    EXPECT(run_diff(a, tmp_path("pixel.pfm"), NULL) == 1);
     EXPECT(strstr(cmd_out, "differ 3.3333% (1 of 30 pixels)\n") != NULL);
     EXPECT(strstr(cmd_out, "max_diff 0.2") != NULL);
+    EXPECT(strstr(cmd_out, "FAIL: the images differ (max_diff 0.2") != NULL);
+    EXPECT(run_diff(a, tmp_path("offset.pfm"), NULL) == 1);
+    /* A threshold the difference is within passes. */
+    EXPECT(run_diff(a, tmp_path("pixel.pfm"), "--max-diff-share", "0.05", NULL) == 0);
     EXPECT(strstr(cmd_out, "FAIL") == NULL);
 }
 

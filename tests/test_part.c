@@ -154,7 +154,7 @@ static bool merge_pieces(const piece *pieces, int n, part *merged) {
              part_write(names[i], &p);
         part_free(&p);
     }
-    ok = ok && part_merge_files(paths, n, merged);
+    ok = ok && part_merge_files(paths, n, true, merged);
     for (int i = 0; names && i < n; i++) unlink(names[i]);
     free(names);
     free(paths);
@@ -262,6 +262,15 @@ static void other_seed(part_meta *m) { m->seed = 8; }
 static void other_digest(part_meta *m) { m->digest[0] = 'X'; }
 static void other_mode(part_meta *m) { snprintf(m->mode, sizeof m->mode, "path"); }
 static void other_version(part_meta *m) { snprintf(m->version, sizeof m->version, "0.0.9"); }
+/* As a real render of another seed: the digest covers the seed, and the seed is named. */
+static void other_seed_digest(part_meta *m) {
+    m->seed = 8;
+    m->digest[0] = 'X';
+}
+static void other_spp_digest(part_meta *m) {
+    m->spp = 180;
+    m->digest[0] = 'X';
+}
 
 static void test_refusals(void) {
     piece two[] = {{0, W, 0, H, 0, 64}, {0, W, 0, H, 64, SPP}};
@@ -272,6 +281,10 @@ static void test_refusals(void) {
           why);
     why = refusal(two, 2, other_mode);
     CHECK(strstr(why, "mode seed against path"), "%s", why);
+    why = refusal(two, 2, other_seed_digest);
+    CHECK(strstr(why, "seed 7 against 8"), "%s", why);
+    why = refusal(two, 2, other_spp_digest);
+    CHECK(strstr(why, "170 against 180 samples per pixel"), "%s", why);
     why = refusal(two, 2, other_version);
     CHECK(strstr(why, "version " TRAZADOR_VERSION " against 0.0.9"), "%s", why);
     piece overlap[] = {{0, W, 0, H, 0, 64}, {0, 4, 2, 5, 48, SPP}, {0, W, 0, H, 64, SPP}};
@@ -292,7 +305,7 @@ static void test_merge_files(void) {
     const char *paths[] = {tmp_path("missing.exr")};
     part merged;
     log_hold_errors();
-    EXPECT(!part_merge_files(paths, 1, &merged));
+    EXPECT(!part_merge_files(paths, 1, true, &merged));
     EXPECT(strstr(log_release_errors(), "missing.exr: No such file"));
 }
 
@@ -319,6 +332,22 @@ static void test_bad_files(void) {
     held = log_release_errors();
     CHECK(strstr(held, "pixel (1, 0) counts 33 samples of 32"), "%s", held);
     part_free(&q);
+    /* A part that does not say its back end (written before trazador.backend): refused so. */
+    EXPECT(render_part(0, 3, 0, 2, 16, 48, &q));
+    EXPECT(part_write(path, &q));
+    part_free(&q);
+    size_t old_len = 0;
+    unsigned char *old = tmp_file_read(path, &old_len);
+    unsigned char *name = old ? memmem(old, old_len, "trazador.backend", 16) : NULL;
+    EXPECT(name != NULL);
+    if (name) name[15] = 'X'; /* another attribute of the same size */
+    if (old) tmp_file_write(path, old, old_len);
+    free(old);
+    log_hold_errors();
+    EXPECT(!part_read(path, &p));
+    held = log_release_errors();
+    CHECK(strstr(held, "that does not say its back end (CPU or Vulkan, which differ by rounding)"),
+          "%s", held);
     /* An attribute edited in place, and bytes flipped anywhere: refused, or read unchanged. */
     EXPECT(render_part(0, 5, 0, 4, 32, 96, &q));
     EXPECT(part_write(path, &q));

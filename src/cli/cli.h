@@ -4,10 +4,16 @@
 #ifndef TRAZADOR_CLI_H
 #define TRAZADOR_CLI_H
 
+#include <stdbool.h>
+
 /* A macro's value as a string literal, so that messages state limits from their macros. */
 #define CLI_AS_TEXT(x) CLI_AS_TEXT_(x)
 #define CLI_AS_TEXT_(x) #x
 
+/* Warns once about --tonemap (*tm) or --exr-type (*exr_type), -1 when not given, given for an
+ * output of `format` ("png", ..., "exr"; part: an EXR part) that has no use for it, then sets
+ * the ones not given to their defaults (sRGB, half); never fails. */
+void cli_warn_unused(const char *format, bool part, int *tm, int *exr_type);
 /* `trazador render`: renders a scene into an image. */
 int cmd_render(int argc, char **argv);
 /* `trazador merge PARTS... -o OUT`: merges render parts into the whole render. */

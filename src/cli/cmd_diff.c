@@ -1,7 +1,8 @@
 /* cmd_diff.c: `trazador diff A B`: prints the metrics of diff.h and checks them against the
- * thresholds given. Exits as cmp does: 0 within every threshold, 1 past one, 2 when the images
- * cannot be read or compared (or on a usage error), so a script tells a regression from a broken
- * file. */
+ * thresholds given. Exits as cmp does: 0 when identical (or, with thresholds, within every one),
+ * 1 when they differ (past a threshold given), 2 when the images cannot be read or compared (or
+ * on a usage error), so `diff a b && echo same` holds and a script tells a regression from a
+ * broken file. */
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -33,8 +34,9 @@ static const opt_command diff_command = {
     .synopsis =
         "usage: trazador diff A B [--max-rmse X] [--min-psnr DB] [--max-diff-share FRACTION]\n",
     .about =
-        "Exits 0 within every threshold, 1 past one, 2 when A and B cannot be read or "
-        "compared.\n",
+        "Exits 0 when A and B are identical, or with thresholds when they are within every\n"
+        "one given; 1 when any value differs (past a threshold given); 2 when A and B\n"
+        "cannot be read or compared (as cmp does).\n",
     .specs = diff_specs,
     .spec_count = OPT_COUNT(diff_specs),
     .max_positional = 2,
@@ -86,6 +88,13 @@ int cmd_diff(int argc, char **argv) {
     }
     if (!isnan(limits.max_share) && !(s.differ_share <= limits.max_share)) {
         printf("FAIL: differ %.4f%% > %g%%\n", 100.0 * s.differ_share, 100.0 * limits.max_share);
+        result = 1;
+    }
+    /* Without a tolerance any difference is one, as for cmp. */
+    bool tolerant = !isnan(limits.max_rmse) || !isnan(limits.min_psnr) || !isnan(limits.max_share);
+    if (!tolerant && !(s.max_diff == 0.0)) {
+        printf("FAIL: the images differ (max_diff %.6g; give a threshold to allow some)\n",
+               s.max_diff);
         result = 1;
     }
     fflush(stdout);

@@ -2,6 +2,7 @@
  * they are of one render and cover it exactly once (render/part.h), and writes the whole
  * render's image, byte-identical to a single render's, or the merged part. */
 #include <stddef.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -26,14 +27,16 @@ static const char *const format_names[] = {"png", "ppm", "pfm", "exr"};
 #define ARG(field) offsetof(merge_args, field)
 static const opt_spec merge_specs[] = {
     OPT_TEXT("--output", "-o", ARG(output), "FILE", "a file name",
-             "the image to write, its format from the extension (required)"),
+             "the image to write, its format from the extension (required); - is standard "
+             "output, with --format"),
     OPT_ONE_OF("--format", ARG(format), "png|ppm|pfm|exr",
                "the output's format, for any name (default: from the extension)"),
     OPT_ONE_OF("--exr-type", ARG(exr_type), "half|float",
                "an EXR image's channels (default half; a part is always float)"),
     OPT_SET("--part", NULL, ARG(part), 1,
-            "write the merged render as an EXR part file, which merges and resumes again "
-            "(default: an image)"),
+            "write the merged parts as an EXR part file, which merges and resumes again; it may "
+            "be partial: the parts must fill the smallest region and sample range holding them "
+            "(default: the whole render's image)"),
     OPT_ONE_OF("--tonemap", ARG(tm), "srgb|linear",
                "8-bit encoding: sRGB or a plain clamp (default srgb; .pfm and .exr are linear)"),
     OPT_SET("--force", NULL, ARG(force), 1,
@@ -58,8 +61,22 @@ static const opt_command merge_command = {
     .max_positional = 1 << 20,
 };
 
+/* True (said) when the output is one of the parts (through any name or link): writing it would
+ * replace a part with the image. */
+static bool output_is_part(const char *output, const char *const *paths, int n) {
+    for (int k = 0; k < n; k++) {
+        if (atomic_file_same(output, paths[k])) {
+            fprintf(stderr,
+                    "trazador: merge: output '%s' is the part '%s' being merged: give another\n",
+                    output, paths[k]);
+            return true;
+        }
+    }
+    return false;
+}
+
 int cmd_merge(int argc, char **argv) {
-    merge_args a = {.format = -1};
+    merge_args a = {.format = -1, .tm = -1, .exr_type = -1};
     const char **paths = calloc((size_t)argc + 1, sizeof *paths);
     if (!paths) {
         log_error("merge: out of memory");
@@ -68,6 +85,9 @@ int cmd_merge(int argc, char **argv) {
     int n = 0;
     opt_result rc = opt_parse(&merge_command, argc, argv, &a, paths, &n);
     int status = rc == OPT_HELP ? 0 : rc;
+    /* - is standard output, as for render; it needs --format, there being no extension. */
+    bool to_stdout = rc == OPT_OK && a.output && !strcmp(a.output, "-");
+    if (to_stdout) a.output = "/dev/stdout";
     if (rc == OPT_OK) {
         const char *format = a.format >= 0 ? format_names[a.format]
                              : a.output    ? image_path_format(a.output)
@@ -77,6 +97,9 @@ int cmd_merge(int argc, char **argv) {
             status = opt_usage_error(&merge_command, "no parts given");
         else if (!a.output)
             status = opt_usage_error(&merge_command, "-o OUT is required");
+        else if (to_stdout && a.format < 0)
+            status = opt_usage_error(&merge_command,
+                                     "-o - (standard output) needs --format png|ppm|pfm|exr");
         else if (!format)
             status = opt_usage_error(&merge_command,
                                      "output '%s' must end in .png, .ppm, .pfm or .exr, or take "
@@ -86,21 +109,23 @@ int cmd_merge(int argc, char **argv) {
             status = opt_usage_error(&merge_command, "--part writes an EXR: give -o NAME.exr");
         if (a.verbose) log_set_level(LOG_DEBUG);
         if (a.quiet) log_set_level(LOG_WARN);
+        if (status == 0) cli_warn_unused(format, a.part, &a.tm, &a.exr_type);
+        if (status == 0 && output_is_part(a.output, paths, n)) status = 2;
         if (status == 0 && !atomic_file_check_force(a.output, a.force)) status = 1;
         if (status == 0) {
             double t0 = clock_seconds();
             part merged;
             film f = {0};
-            bool merged_ok = part_merge_files(paths, n, &merged);
+            bool merged_ok = part_merge_files(paths, n, !a.part, &merged);
             double t1 = clock_seconds();
             bool ok = merged_ok &&
                       (a.part ? part_write(a.output, &merged)
                               : part_film(&merged, &f) &&
                                     image_write_film(a.output, format, &f, a.tm, a.exr_type == 0));
             if (ok && !a.quiet)
-                log_info("%s: %d parts of %dx%d, %u spp merged in %.3f s, written in %.3f s",
-                         a.output, n, merged.meta.width, merged.meta.height, merged.meta.spp,
-                         t1 - t0, clock_seconds() - t1);
+                log_info("%s: %d part%s of %dx%d, %u spp merged in %.3f s, written in %.3f s",
+                         a.output, n, n == 1 ? "" : "s", merged.meta.width, merged.meta.height,
+                         merged.meta.spp, t1 - t0, clock_seconds() - t1);
             if (merged_ok) part_free(&merged);
             film_free(&f);
             status = ok ? 0 : 1;

@@ -1,7 +1,9 @@
 /* cmd_render.c: `trazador render`: its options, the checks made before rendering (the output can
  * be written and is not the scene), the render (a whole image or a part: a region, a range of
  * samples, resumed from a checkpoint) and its summary line. */
+#include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
@@ -36,6 +38,7 @@ typedef struct render_args {
     double time_limit;               /* seconds; -1: none */
     int exr_type;                    /* 0 half, 1 float */
     int part;                        /* an EXR output is a part file */
+    int keep_checkpoint;             /* keep the checkpoint of a finished render */
 } render_args;
 
 #define FORMATS "png|ppm|pfm|exr"
@@ -97,8 +100,11 @@ static const opt_spec render_specs[] = {
              "multiples of 16, or B the samples per pixel (default: all)"),
     OPT_TEXT("--checkpoint", NULL, ARG(checkpoint), "FILE", "a file name",
              "write the part so far to FILE (an EXR part, atomically) every --checkpoint-every "
-             "seconds and on SIGUSR1, SIGINT or SIGTERM (the last two then stop the render) "
-             "(default: none)"),
+             "seconds and on SIGUSR1, SIGINT or SIGTERM (the last two then stop the render); "
+             "checked as the output is, before the render, and named .exr (default: none)"),
+    OPT_SET("--keep-checkpoint", NULL, ARG(keep_checkpoint), 1,
+            "keep the checkpoint once the render is complete and its output written (default: "
+            "it is removed then; a render stopped or cut short by --time-limit keeps it)"),
     OPT_DECIMAL("--checkpoint-every", ARG(checkpoint_every), 0.001, 1e9, "SECONDS",
                 "seconds between checkpoints (default 60)"),
     OPT_TEXT("--resume", NULL, ARG(resume), "FILE", "a file name",
@@ -139,6 +145,8 @@ static const opt_command render_command = {
 static opt_result parse_render_args(int argc, char **argv, render_args *a,
                                     const char **scene_path) {
     *a = (render_args){.format = -1,
+                       .tm = -1,
+                       .exr_type = -1,
                        .spp = -1,
                        .seed = -1,
                        .bounces = -1,
@@ -170,10 +178,19 @@ static opt_result parse_render_args(int argc, char **argv, render_args *a,
                                "output '%s' must end in .png, .ppm, .pfm or .exr, or take --format",
                                a->output);
     bool exr = !strcmp(format ? format : named, "exr");
+    cli_warn_unused(format ? format : named, a->region || a->samples || a->part, &a->tm,
+                    &a->exr_type);
     if ((a->region || a->samples || a->part) && !exr)
         return opt_usage_error(&render_command,
                                "--region, --samples and --part write an EXR part: give -o "
                                "NAME.exr (and `trazador merge` the parts)");
+    /* A checkpoint is an EXR part whatever its name says: a name of another format would hide
+     * it (and a later render could read it as that format). */
+    const char *ck_format = a->checkpoint ? image_path_format(a->checkpoint) : NULL;
+    if (a->checkpoint && (!ck_format || strcmp(ck_format, "exr")))
+        return opt_usage_error(&render_command,
+                               "--checkpoint '%s' must end in .exr: a checkpoint is an EXR part",
+                               a->checkpoint);
     if (a->device >= 0 && a->backend == BACKEND_CPU)
         return opt_usage_error(&render_command,
                                "--device names a Vulkan device: it cannot go with --backend cpu");
@@ -210,18 +227,34 @@ static bool apply_width(long long width, scene *s) {
     return true;
 }
 
-/* True (logged) when the output is the scene file itself, the same file on the same device
- * (through another name or a link): writing it would replace the scene with the image. */
-static bool output_is_scene(const char *output, const char *scene_path) {
+/* True (logged) when the file `what` names (the output, the checkpoint) is the scene file
+ * itself, the same file on the same device (through another name or a link): writing it would
+ * replace the scene. */
+static bool is_scene(const char *what, const char *path, const char *scene_path) {
     struct stat out, in;
-    if (!scene_path || stat(output, &out) != 0 || !S_ISREG(out.st_mode)) return false;
+    if (!scene_path || stat(path, &out) != 0 || !S_ISREG(out.st_mode)) return false;
     bool is_stdin = !strcmp(scene_path, "-");
     if ((is_stdin ? fstat(STDIN_FILENO, &in) : stat(scene_path, &in)) != 0) return false;
     if (in.st_dev != out.st_dev || in.st_ino != out.st_ino) return false;
-    fprintf(stderr,
-            "trazador: render: output '%s' is the scene being rendered (%s): give another\n",
-            output, is_stdin ? "<stdin>" : scene_path);
+    fprintf(stderr, "trazador: render: %s '%s' is the scene being rendered (%s): give another\n",
+            what, path, is_stdin ? "<stdin>" : scene_path);
     return true;
+}
+
+/* The checks the output gets, for the checkpoint, before rendering (a checkpoint that cannot be
+ * written would otherwise fail the run only at the first checkpoint, its work lost): 0 to go
+ * on, else the exit code (said). The checkpoint may be the file resumed, not the output. */
+static int check_checkpoint(const render_args *a, const char *scene_path) {
+    if (!a->checkpoint) return 0;
+    if (is_scene("--checkpoint", a->checkpoint, scene_path)) return 2;
+    if (atomic_file_same(a->checkpoint, a->output)) {
+        fprintf(stderr,
+                "trazador: render: --checkpoint '%s' is the output '%s': give another (the "
+                "output would replace the checkpoint)\n",
+                a->checkpoint, a->output);
+        return 2;
+    }
+    return atomic_file_check_force(a->checkpoint, a->force) ? 0 : 1;
 }
 
 /* Warns about what the film cannot show as rendered: samples dropped as non-finite (and the
@@ -239,14 +272,16 @@ static void warn_film_problems(const film *f) {
         if (empty)
             snprintf(black, sizeof black, "; %zu pixel%s kept no sample and %s black", empty,
                      empty == 1 ? "" : "s", empty == 1 ? "is" : "are");
-        log_warn("%llu samples had non-finite radiance and were not accumulated%s",
-                 (unsigned long long)f->nonfinite, black);
+        log_warn("%llu sample%s had non-finite radiance and %s not accumulated%s",
+                 (unsigned long long)f->nonfinite, f->nonfinite == 1 ? "" : "s",
+                 f->nonfinite == 1 ? "was" : "were", black);
     }
     if (overflowed)
         log_warn(
-            "%zu pixels summed their samples past the float range (radiance near 3.4e38): "
-            "they are infinite in PFM and white in 8-bit images",
-            overflowed);
+            "%zu pixel%s summed %s samples past the float range (radiance near 3.4e38): "
+            "%s infinite in PFM and white in 8-bit images",
+            overflowed, overflowed == 1 ? "" : "s", overflowed == 1 ? "its" : "their",
+            overflowed == 1 ? "it is" : "they are");
 }
 
 /* An interrupted render clears its progress line, so the shell's prompt starts a clean line. */
@@ -273,21 +308,6 @@ static void apply_overrides(const render_args *a, const scene *s, render_opts *o
     o->progress = !a->quiet && isatty(STDERR_FILENO);
 }
 
-/* --mode seed on a scene with emission: seed mode has no emitted light. False (said) then. */
-static bool check_mode(int mode, const scene *s) {
-    if (mode != RENDER_MODE_SEED) return true;
-    for (int k = 0; k < s->sphere_count; k++) {
-        if (sphere_emits(&s->spheres[k])) {
-            fprintf(stderr,
-                    "trazador: render --mode seed: sphere %d of the scene has emission, which "
-                    "needs path mode (the scene's own mode, or --mode path)\n",
-                    k + 1);
-            return false;
-        }
-    }
-    return true;
-}
-
 /* Naming a device asks for Vulkan: none at all is the usual runtime failure (1), a number past
  * the devices a mistake on the command line (2); neither falls back to the CPU. 0 to go on. */
 static int check_device(long long device) {
@@ -310,7 +330,9 @@ static bool parse_region(const char *text, part_meta *m) {
     long long v[4];
     char rest[2];
     if (text) {
-        if (sscanf(text, "%lld,%lld,%lld,%lld%1s", &v[0], &v[1], &v[2], &v[3], rest) != 4 ||
+        /* Digits and commas only, as --spp takes digits only: no spaces, no signs. */
+        if (strspn(text, "0123456789,") != strlen(text) ||
+            sscanf(text, "%lld,%lld,%lld,%lld%1s", &v[0], &v[1], &v[2], &v[3], rest) != 4 ||
             v[0] < 0 || v[0] >= v[1] || v[1] > m->width || v[2] < 0 || v[2] >= v[3] ||
             v[3] > m->height) {
             fprintf(stderr,
@@ -331,7 +353,8 @@ static bool parse_samples(const char *text, part_meta *m, uint32_t *end) {
     if (!text) return true;
     long long v[2];
     char rest[2];
-    if (sscanf(text, "%lld:%lld%1s", &v[0], &v[1], rest) != 2 || v[0] < 0 || v[0] >= v[1] ||
+    if (strspn(text, "0123456789:") != strlen(text) ||
+        sscanf(text, "%lld:%lld%1s", &v[0], &v[1], rest) != 2 || v[0] < 0 || v[0] >= v[1] ||
         v[1] > m->spp || v[0] % CHUNK_SAMPLES != 0 ||
         (v[1] % CHUNK_SAMPLES != 0 && v[1] != m->spp)) {
         fprintf(stderr,
@@ -346,21 +369,68 @@ static bool parse_samples(const char *text, part_meta *m, uint32_t *end) {
     return true;
 }
 
+/* What keeps checkpoint m from going on to this render (want, to sample end) into why, naming
+ * both sides: the fields the digest covers first, the digest (the scene, other settings) last;
+ * "" when nothing does. */
+static void resume_difference(const part_meta *m, const part_meta *want, uint32_t end, bool open,
+                              char *why, size_t size) {
+    why[0] = '\0';
+    if (strcmp(m->version, want->version))
+        snprintf(why, size, "another trazador version: %s, this one %s", m->version, want->version);
+    else if (m->seed != want->seed)
+        snprintf(why, size, "another seed: %u, this render %u", m->seed, want->seed);
+    else if (strcmp(m->mode, want->mode))
+        snprintf(why, size, "another mode: %s, this render %s", m->mode, want->mode);
+    else if (m->spp != want->spp)
+        snprintf(why, size, "other samples per pixel: %u, this render %u", m->spp, want->spp);
+    else if (m->width != want->width || m->height != want->height)
+        snprintf(why, size, "another image size: %dx%d, this render %dx%d", m->width, m->height,
+                 want->width, want->height);
+    else if (strcmp(m->digest, want->digest))
+        snprintf(why, size,
+                 "another scene or other settings: digest %s, this render %s (the scene, bounces, "
+                 "indirect, jitter or roulette)",
+                 m->digest, want->digest);
+    else if (m->x0 != want->x0 || m->x1 != want->x1 || m->y0 != want->y0 || m->y1 != want->y1)
+        snprintf(why, size, "another region: this render %d,%d,%d,%d", want->x0, want->x1, want->y0,
+                 want->y1);
+    else if (m->sample_begin != want->sample_begin)
+        snprintf(why, size, "another first sample: this render starts at %u", want->sample_begin);
+    else if (m->sample_end > end)
+        snprintf(why, size, "samples past this render's end, %u", end);
+    else if (open)
+        snprintf(why, size, "a chunk left open");
+}
+
+/* The back end asked for that cannot go on from a part of the back end `had` ("cpu" or
+ * "vulkan: ..."): the other one; NULL for auto, which takes the part's (render_choose_part). */
+static const char *other_backend(int backend, const char *had) {
+    bool cpu = !strcmp(had, "cpu");
+    return backend == BACKEND_CPU && !cpu     ? "cpu"
+           : backend == BACKEND_VULKAN && cpu ? "vulkan"
+                                              : NULL;
+}
+
 /* Reads the checkpoint to resume into p; false (said) unless it is a part of this very render
- * (scene, settings, region and first sample) that ends at or before `end`. */
-static bool load_resume(const char *path, const part_meta *want, uint32_t end, part *p) {
+ * (scene, settings, region and first sample) that ends at or before `end`, of the back end
+ * asked for. */
+static bool load_resume(const char *path, const part_meta *want, uint32_t end, int backend,
+                        part *p) {
     if (!part_read(path, p)) return false;
     const part_meta *m = &p->meta;
-    const char *why =
-        strcmp(m->digest, want->digest)     ? "another scene or other settings"
-        : strcmp(m->version, want->version) ? "another trazador version"
-        : m->x0 != want->x0 || m->x1 != want->x1 || m->y0 != want->y0 || m->y1 != want->y1
-            ? "another region"
-        : m->sample_begin != want->sample_begin ? "another first sample"
-        : m->sample_end > end                   ? "samples past this render's end"
-        : p->open                               ? "a chunk left open"
-                                                : NULL;
-    if (why) {
+    const char *asked = other_backend(backend, m->backend);
+    if (asked) {
+        log_error(
+            "%s: cannot resume this render from it: it was rendered by the %s back end, and "
+            "--backend %s asks for the other: the two differ by rounding, so their samples do "
+            "not mix (resume it with --backend %s)",
+            path, m->backend, asked, strcmp(asked, "cpu") ? "cpu" : "vulkan");
+        part_free(p);
+        return false;
+    }
+    char why[2 * PART_TEXT_MAX + 160];
+    resume_difference(m, want, end, p->open != NULL, why, sizeof why);
+    if (why[0]) {
         log_error(
             "%s: cannot resume this render from it: it holds %s (region %d,%d,%d,%d, "
             "samples %u:%u, digest %s)",
@@ -370,6 +440,16 @@ static bool load_resume(const char *path, const part_meta *want, uint32_t end, p
     }
     log_info("%s: resuming at sample %u of %u", path, m->sample_end, end);
     return true;
+}
+
+/* Removes the checkpoint of a render whose output holds all it had; a failure only warns, as the
+ * output is written. */
+static void remove_checkpoint(const char *path) {
+    if (unlink(path) == 0) {
+        log_debug("checkpoint: %s removed, the render being complete", path);
+    } else if (errno != ENOENT) {
+        log_warn("%s: cannot remove the finished render's checkpoint: %s", path, strerror(errno));
+    }
 }
 
 /* Writes a whole-image film as the output image; false (logged) on failure. */
@@ -390,7 +470,11 @@ static int render_and_write(const render_args *a, const scene *s) {
     uint32_t end;
     if (!parse_region(a->region, &meta) || !parse_samples(a->samples, &meta, &end)) return 2;
     part p = {0};
-    if (a->resume ? !load_resume(a->resume, &meta, end, &p) : !part_init(&p, &meta)) return 1;
+    /* --device and --validate ask for Vulkan as --backend vulkan does. */
+    int backend =
+        a->backend == BACKEND_AUTO && (a->device >= 0 || a->validate) ? BACKEND_VULKAN : a->backend;
+    if (a->resume ? !load_resume(a->resume, &meta, end, backend, &p) : !part_init(&p, &meta))
+        return 1;
     uint32_t begin = p.meta.sample_end;
     render_pacer pacer = {
         .checkpoint = a->checkpoint, .every = a->checkpoint_every, .time_limit = a->time_limit};
@@ -406,9 +490,19 @@ static int render_and_write(const render_args *a, const scene *s) {
     interrupts_saved saved;
     bool clear_on_signal = opts.progress && !a->checkpoint;
     if (clear_on_signal) interrupts_catch(clear_progress, &saved);
+    /* SIGUSR1 asks for a checkpoint (tools/slurm sends it before a time limit); without one its
+     * default action would kill the render. */
+    struct sigaction ignore = {.sa_handler = SIG_IGN}, usr1_before;
+    if (!a->checkpoint) {
+        sigemptyset(&ignore.sa_mask);
+        sigaction(SIGUSR1, &ignore, &usr1_before);
+        log_debug("SIGUSR1: ignored, as it asks for a checkpoint and there is no --checkpoint");
+    }
     bool ok = render_choose_part(s, &opts, (backend_choice)a->backend, &p, end, &used);
+    if (!a->checkpoint) sigaction(SIGUSR1, &usr1_before, NULL);
     if (clear_on_signal) interrupts_restore(&saved);
-    if (!render_pacer_stop(&pacer)) ok = false; /* a checkpoint could not be written */
+    /* a checkpoint could not be written */
+    if (!render_pacer_stop(&pacer, ok ? &p : NULL)) ok = false;
     double elapsed = clock_seconds() - start;
     if (ok && pacer.checkpoints)
         log_debug("checkpoints: %d written in %.3f s in all", pacer.checkpoints,
@@ -431,6 +525,8 @@ static int render_and_write(const render_args *a, const scene *s) {
         ok = ok && write_image(a, &f);
     }
     if (ok) log_debug("output: written in %.1f ms", (clock_seconds() - write_start) * 1e3);
+    if (ok && a->checkpoint && !a->keep_checkpoint && p.meta.sample_end == end)
+        remove_checkpoint(a->checkpoint);
     if (ok && pacer.time_up)
         log_info("time limit: every pixel got samples %u:%u (%u of %u)", p.meta.sample_begin,
                  p.meta.sample_end, p.meta.sample_end - p.meta.sample_begin, end);
@@ -461,9 +557,11 @@ int cmd_render(int argc, char **argv) {
     scene s;
     scene_error err;
     double parse_start = clock_seconds();
-    bool parsed = scene_path ? scene_parse_file(scene_path, &s, &err)
-                             : scene_parse_string(default_scene_text, strlen(default_scene_text),
-                                                  "scenes/cornell.scene (embedded)", &s, &err);
+    /* --mode decides whether emission is allowed, so the parser is told it. */
+    bool parsed = scene_path ? scene_parse_file_in_mode(scene_path, a.mode, &s, &err)
+                             : scene_parse_string_in_mode(
+                                   default_scene_text, strlen(default_scene_text),
+                                   "scenes/cornell.scene (embedded)", a.mode, &s, &err);
     if (!parsed) {
         scene_error_print(&err);
         return err.out_of_memory ? 1 : 2;
@@ -475,10 +573,10 @@ int cmd_render(int argc, char **argv) {
     }
     /* An output that cannot be written is said before the render, not after it. */
     int rc = !apply_width(a.width, &s)                     ? 2
-             : !check_mode(a.mode, &s)                     ? 2
-             : output_is_scene(a.output, scene_path)       ? 2
+             : is_scene("output", a.output, scene_path)    ? 2
              : !atomic_file_check_force(a.output, a.force) ? 1
-                                                           : check_device(a.device);
+                                                           : check_checkpoint(&a, scene_path);
+    if (rc == 0) rc = check_device(a.device);
     if (rc == 0) rc = render_and_write(&a, &s);
     scene_free(&s);
     return rc;

@@ -15,11 +15,15 @@
 #define PASS_SECONDS 0.5
 
 static volatile sig_atomic_t signal_seen;
+/* The SIGINT or SIGTERM that came, 0 before one: kept (signal_seen is taken by next_pass), so a
+ * pass abandoned for it always ends the render. */
+static volatile sig_atomic_t stop_seen;
 static const int caught[3] = {SIGINT, SIGTERM, SIGUSR1};
 
 static void on_signal(int sig) {
     /* SIGINT and SIGTERM outrank SIGUSR1: they also stop the render. */
     if (signal_seen == 0 || signal_seen == SIGUSR1) signal_seen = sig;
+    if (sig != SIGUSR1) stop_seen = sig;
 }
 
 /* The chunks of the next pass, 0 to stop; *sync asks for a checkpoint. */
@@ -30,6 +34,7 @@ static uint32_t next_pass(void *user, uint32_t done, bool *sync) {
         pc->sample_seconds = (now - pc->pass_start) / (double)(done - pc->pass_from);
     int sig = signal_seen;
     if (sig) signal_seen = 0;
+    if (stop_seen && sig != SIGINT && sig != SIGTERM) sig = stop_seen;
     *sync = pc->checkpoint && (sig != 0 || now - pc->last_checkpoint >= pc->every);
     if (sig == SIGINT || sig == SIGTERM) {
         pc->stopped_by = sig;
@@ -116,6 +121,7 @@ void render_pacer_start(render_pacer *pc, render_control *control) {
     pc->start = clock_seconds();
     pc->last_checkpoint = pc->start;
     signal_seen = 0;
+    stop_seen = 0;
     if (pc->checkpoint) {
         struct sigaction act = {0};
         act.sa_handler = on_signal;
@@ -126,11 +132,25 @@ void render_pacer_start(render_pacer *pc, render_control *control) {
         log_debug("checkpoints: to %s every %g s and on SIGUSR1, SIGINT and SIGTERM",
                   pc->checkpoint, pc->every);
     }
-    *control = (render_control){.next_pass = next_pass, .synced = synced, .user = pc};
+    *control = (render_control){.next_pass = next_pass,
+                                .synced = synced,
+                                .user = pc,
+                                .stop = pc->checkpoint ? &stop_seen : NULL};
 }
 
-bool render_pacer_stop(render_pacer *pc) {
-    bool ok = join_writer(pc);
+bool render_pacer_stop(render_pacer *pc, const part *done) {
+    int sig = pc->catching ? (stop_seen ? stop_seen : signal_seen) : 0;
+    bool ok = true;
+    if (sig && done && !pc->stopped_by) {
+        signal_seen = 0;
+        log_debug("%s came during the last pass: checkpointing the finished part",
+                  sig == SIGINT    ? "SIGINT"
+                  : sig == SIGTERM ? "SIGTERM"
+                                   : "SIGUSR1");
+        ok = synced(pc, done);
+        if (sig != SIGUSR1) pc->stopped_by = sig;
+    }
+    ok = join_writer(pc) && ok;
     if (pc->catching) {
         for (int k = 0; k < 3; k++) sigaction(caught[k], &pc->old[k], NULL);
         pc->catching = false;

@@ -40,9 +40,11 @@ typedef struct render_pacer {
 /* Starts the pacer (clock and, with a checkpoint, the signal handlers) and points control at it;
  * never fails. */
 void render_pacer_start(render_pacer *pc, render_control *control);
-/* Waits for the checkpoint being written and puts back the signal handlers; false (logged) when
- * a checkpoint could not be written. */
-bool render_pacer_stop(render_pacer *pc);
+/* Obeys a signal that came during the last pass, which no next pass saw, as between passes: a
+ * checkpoint of done (the finished part; NULL when the render failed), and SIGINT or SIGTERM set
+ * stopped_by. Then waits for the checkpoint being written and puts back the signal handlers;
+ * false (logged) when a checkpoint could not be written. */
+bool render_pacer_stop(render_pacer *pc, const part *done);
 /* clock_seconds() when the time limit ends, 0 without one. */
 double render_pacer_deadline(const render_pacer *pc);
 

@@ -447,14 +447,21 @@ bool exr_write_image(const char *path, const image *img, bool half) {
         if (!channels[c].data) ok = false;
     }
     if (!ok) log_error("%s: out of memory for a %dx%d image", path, img->width, img->height);
-    for (size_t i = 0; ok && i < n; i++)
+    size_t overflowed = 0; /* pixels with a finite value that half float makes infinite */
+    for (size_t i = 0; ok && i < n; i++) {
+        bool over = false;
         for (int c = 0; c < 3; c++) {
             float v = img->rgb[3 * i + (size_t)(2 - c)]; /* channels are B, G, R */
-            if (half)
-                ((uint16_t *)channels[c].data)[i] = exr_half_from_float(v);
-            else
+            if (half) {
+                uint16_t h = exr_half_from_float(v);
+                ((uint16_t *)channels[c].data)[i] = h;
+                over = over || (isfinite(v) && (h & 0x7fffu) == 0x7c00u);
+            } else {
                 ((float *)channels[c].data)[i] = v;
+            }
         }
+        overflowed += over;
+    }
     exr_file f = {.display_width = img->width,
                   .display_height = img->height,
                   .width = img->width,
@@ -462,6 +469,12 @@ bool exr_write_image(const char *path, const image *img, bool half) {
                   .channel_count = 3,
                   .channels = channels};
     ok = ok && exr_file_write(path, &f);
+    if (ok && overflowed)
+        log_warn(
+            "%s: %zu pixel%s past 65504, the largest half float, %s infinite in this half "
+            "EXR (--exr-type float keeps %s)",
+            path, overflowed, overflowed == 1 ? "" : "s", overflowed == 1 ? "is" : "are",
+            overflowed == 1 ? "it" : "them");
     for (int c = 0; c < 3; c++) free(channels[c].data);
     return ok;
 }

@@ -19,6 +19,10 @@ typedef struct part_meta {
     char digest[PART_TEXT_MAX + 1];  /* the scene and every setting that changes a sample */
     char mode[PART_TEXT_MAX + 1];    /* integrator mode, "seed" */
     char version[PART_TEXT_MAX + 1]; /* trazador's version (TRAZADOR_VERSION) */
+    /* The back end that rendered it, "cpu" or "vulkan: DEVICE, driver NAME, version N"; "" while
+     * nothing is rendered. The two back ends (and two Vulkan drivers) differ by rounding, so
+     * their parts do not mix. */
+    char backend[PART_TEXT_MAX + 1];
     uint32_t seed;
     uint32_t spp;                      /* samples per pixel of the whole render, N */
     uint32_t sample_begin, sample_end; /* the samples summed here: sample_begin to sample_end - 1 */
@@ -68,8 +72,13 @@ bool part_read(const char *path, part *out);
  * (logged) when two parts differ in scene, seed, mode, version or settings, when two parts hold a
  * sample of the same pixel, when samples of some pixels are missing (listed), or out of memory. */
 bool part_merge(const part *parts, const char *const *names, int n, part *out);
-/* Reads the n part files (part_read) and merges them (part_merge, each named by its path) into
- * out; false (logged) on an unreadable file, a refused merge or out of memory. */
-bool part_merge_files(const char *const *paths, int n, part *out);
+/* part_merge into a part that may be partial (a merged part is a bigger part): the smallest
+ * region and sample range holding every part, which they must fill (gaps inside it are refused,
+ * listed). */
+bool part_merge_box(const part *parts, const char *const *names, int n, part *out);
+/* Reads the n part files (part_read) and merges them (part_merge, or part_merge_box when whole
+ * is false; each named by its path) into out; false (logged) on an unreadable file, a refused
+ * merge or out of memory. */
+bool part_merge_files(const char *const *paths, int n, bool whole, part *out);
 
 #endif

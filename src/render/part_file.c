@@ -43,18 +43,22 @@ static void name_channels(const part *p, part_channels *pc) {
     for (int c = 0; c < 3; c++) add_channel(pc, EXR_SAMPLE_FLOAT, "open.comp", rgb[c]);
 }
 
-/* The file's string attributes. */
+/* The file's string attributes, the checksum last. */
+#define ATTRS 10
+#define CHECKSUM (ATTRS - 1)
 typedef struct part_attrs {
-    exr_attr a[9];
+    exr_attr a[ATTRS];
 } part_attrs;
 
 /* The last, trazador.checksum, covers the others, the windows and every channel. */
-static const char *const attr_names[9] = {
-    "trazador.version", "trazador.digest", "trazador.mode",      "trazador.seed",    "trazador.spp",
-    "trazador.samples", "trazador.chunk",  "trazador.nonfinite", "trazador.checksum"};
+static const char *const attr_names[ATTRS] = {
+    "trazador.version", "trazador.digest",  "trazador.mode",  "trazador.seed",
+    "trazador.spp",     "trazador.samples", "trazador.chunk", "trazador.nonfinite",
+    "trazador.backend", "trazador.checksum"};
 
 static void fill_attrs(const part_meta *m, part_attrs *pa) {
-    for (int k = 0; k < 9; k++) snprintf(pa->a[k].name, sizeof pa->a[k].name, "%s", attr_names[k]);
+    for (int k = 0; k < ATTRS; k++)
+        snprintf(pa->a[k].name, sizeof pa->a[k].name, "%s", attr_names[k]);
     snprintf(pa->a[0].value, sizeof pa->a[0].value, "%s", m->version);
     snprintf(pa->a[1].value, sizeof pa->a[1].value, "%s", m->digest);
     snprintf(pa->a[2].value, sizeof pa->a[2].value, "%s", m->mode);
@@ -64,6 +68,7 @@ static void fill_attrs(const part_meta *m, part_attrs *pa) {
              m->sample_end);
     snprintf(pa->a[6].value, sizeof pa->a[6].value, "%" PRIu32, m->chunk);
     snprintf(pa->a[7].value, sizeof pa->a[7].value, "%" PRIu64, m->nonfinite);
+    snprintf(pa->a[8].value, sizeof pa->a[8].value, "%s", m->backend);
 }
 
 /* FNV-1a over 8-byte words in four interleaved lanes (fast, and any flipped bit changes it),
@@ -88,7 +93,7 @@ static void part_checksum(const exr_file *f, const char *const *attrs, const par
     uint64_t h[4] = {0xcbf29ce484222325u, 1, 2, 3};
     int windows[6] = {f->display_width, f->display_height, f->x0, f->y0, f->width, f->height};
     hash_bytes(h, windows, sizeof windows);
-    for (int k = 0; k < 8; k++) hash_bytes(h, attrs[k], strlen(attrs[k]) + 1);
+    for (int k = 0; k < CHECKSUM; k++) hash_bytes(h, attrs[k], strlen(attrs[k]) + 1);
     size_t n = (size_t)f->width * (size_t)f->height;
     for (int c = 0; c < pc->count; c++) {
         const exr_channel *ch = exr_file_channel(f, pc->ch[c].name);
@@ -147,15 +152,15 @@ bool part_write(const char *path, const part *p) {
                   .height = m->y1 - m->y0,
                   .channel_count = pc.count,
                   .channels = pc.ch,
-                  .attr_count = 9,
+                  .attr_count = ATTRS,
                   .attrs = pa.a,
                   /* ZIP shrinks the float sums of a render by a third only, for 3.6 to 6 times the
                    * write (1024 x 1024 pixels, two blocks: 0.9 s at zlib's default level, 0.54 s
                    * at its fastest, 0.15 s as is). */
                   .uncompressed = true};
-    const char *values[8];
-    for (int k = 0; k < 8; k++) values[k] = pa.a[k].value;
-    if (ok) part_checksum(&f, values, &pc, pa.a[8].value);
+    const char *values[CHECKSUM];
+    for (int k = 0; k < CHECKSUM; k++) values[k] = pa.a[k].value;
+    if (ok) part_checksum(&f, values, &pc, pa.a[CHECKSUM].value);
     ok = ok && exr_file_write(path, &f);
     free(mean);
     free(planes);
@@ -177,10 +182,17 @@ static bool parse_u64(const char *s, uint64_t max, uint64_t *out) {
 
 /* Fills m from the file's attributes and windows; false (logged) on a missing or bad one. */
 static bool read_meta(const char *path, const exr_file *f, part_meta *m) {
-    const char *value[9];
-    for (int k = 0; k < 9; k++)
+    const char *value[ATTRS];
+    for (int k = 0; k < ATTRS; k++)
         if (!(value[k] = exr_file_attr(f, attr_names[k]))) {
-            log_error("%s: not a trazador part: no '%s' attribute", path, attr_names[k]);
+            /* Parts before the back end was recorded: their samples cannot be told apart. */
+            if (k == 8 && value[0])
+                log_error(
+                    "%s: a part of trazador %s that does not say its back end (CPU or "
+                    "Vulkan, which differ by rounding): render it again",
+                    path, value[0]);
+            else
+                log_error("%s: not a trazador part: no '%s' attribute", path, attr_names[k]);
             return false;
         }
     *m = (part_meta){.width = f->display_width,
@@ -192,6 +204,7 @@ static bool read_meta(const char *path, const exr_file *f, part_meta *m) {
     snprintf(m->version, sizeof m->version, "%s", value[0]);
     snprintf(m->digest, sizeof m->digest, "%s", value[1]);
     snprintf(m->mode, sizeof m->mode, "%s", value[2]);
+    snprintf(m->backend, sizeof m->backend, "%s", value[8]);
     uint64_t seed, spp, begin, end, chunk;
     char begin_text[16] = "", end_text[16] = "";
     const char *colon = strchr(value[5], ':');
@@ -281,11 +294,11 @@ bool part_read(const char *path, part *out) {
     for (int c = 0; ok && c < 3; c++)
         ok = need_channel(path, &f, pc.ch[c].name, EXR_SAMPLE_FLOAT) != NULL;
     if (ok) {
-        const char *values[8];
+        const char *values[CHECKSUM];
         char sum[17];
-        for (int k = 0; k < 8; k++) values[k] = exr_file_attr(&f, attr_names[k]);
+        for (int k = 0; k < CHECKSUM; k++) values[k] = exr_file_attr(&f, attr_names[k]);
         part_checksum(&f, values, &pc, sum);
-        if (strcmp(sum, exr_file_attr(&f, attr_names[8]))) {
+        if (strcmp(sum, exr_file_attr(&f, attr_names[CHECKSUM]))) {
             log_error("%s: damaged trazador part: its content does not match its checksum", path);
             ok = false;
         }

@@ -11,23 +11,32 @@
 /* Most missing pieces a refused merge lists. */
 #define MISSING_LISTED 16
 
-/* What differs between two parts' renders ("" if nothing) into why. */
+/* What differs between two parts' renders ("" if nothing) into why: the fields the digest covers
+ * first, by name, and the digest (the scene and the other settings) only when they agree. */
 static void meta_difference(const part_meta *a, const part_meta *b, char *why, size_t size) {
     why[0] = '\0';
-    if (strcmp(a->digest, b->digest))
-        snprintf(why, size, "scene digest %s against %s", a->digest, b->digest);
+    if (strcmp(a->version, b->version))
+        snprintf(why, size, "trazador version %s against %s", a->version, b->version);
     else if (a->seed != b->seed)
         snprintf(why, size, "seed %" PRIu32 " against %" PRIu32, a->seed, b->seed);
     else if (strcmp(a->mode, b->mode))
         snprintf(why, size, "mode %s against %s", a->mode, b->mode);
-    else if (strcmp(a->version, b->version))
-        snprintf(why, size, "trazador version %s against %s", a->version, b->version);
     else if (a->spp != b->spp)
         snprintf(why, size, "%" PRIu32 " against %" PRIu32 " samples per pixel", a->spp, b->spp);
     else if (a->width != b->width || a->height != b->height)
         snprintf(why, size, "image %dx%d against %dx%d", a->width, a->height, b->width, b->height);
     else if (a->chunk != b->chunk)
         snprintf(why, size, "chunk size %" PRIu32 " against %" PRIu32, a->chunk, b->chunk);
+    else if (strcmp(a->backend, b->backend))
+        snprintf(why, size,
+                 "back end %s against %s (back ends and Vulkan drivers differ by rounding: "
+                 "render every part on one)",
+                 a->backend, b->backend);
+    else if (strcmp(a->digest, b->digest))
+        snprintf(why, size,
+                 "scene digest %s against %s (the scene or a setting that changes "
+                 "samples: bounces, indirect, jitter, roulette)",
+                 a->digest, b->digest);
 }
 
 /* Whether two parts hold a sample of the same pixel. */
@@ -69,16 +78,15 @@ typedef struct merge_grid {
     int64_t *xs, *ys, *ss;
 } merge_grid;
 
-static bool grid_init(merge_grid *g, const part *parts, int n) {
+static bool grid_init(merge_grid *g, const part *parts, int n, const part_meta *box) {
     *g = (merge_grid){0};
     size_t len = 2 * (size_t)n + 2;
     g->xs = malloc(len * sizeof *g->xs);
     g->ys = malloc(len * sizeof *g->ys);
     g->ss = malloc(len * sizeof *g->ss);
     if (!g->xs || !g->ys || !g->ss) return false;
-    const part_meta *m0 = &parts[0].meta;
-    g->xs[0] = 0, g->xs[1] = m0->width, g->ys[0] = 0, g->ys[1] = m0->height;
-    g->ss[0] = 0, g->ss[1] = m0->spp;
+    g->xs[0] = box->x0, g->xs[1] = box->x1, g->ys[0] = box->y0, g->ys[1] = box->y1;
+    g->ss[0] = box->sample_begin, g->ss[1] = box->sample_end;
     for (int i = 0; i < n; i++) {
         const part_meta *m = &parts[i].meta;
         g->xs[2 + 2 * i] = m->x0, g->xs[3 + 2 * i] = m->x1;
@@ -167,7 +175,7 @@ static bool merge_covers(const part *parts, int n, const merge_grid *g) {
 
 /* Whether the parts can merge: one render, whole chunks, no overlap; false (logged) if not. */
 static bool merge_check(const part *parts, const char *const *names, int n) {
-    char why[2 * PART_TEXT_MAX + 64];
+    char why[2 * PART_TEXT_MAX + 128];
     for (int i = 1; i < n; i++) {
         meta_difference(&parts[0].meta, &parts[i].meta, why, sizeof why);
         if (why[0]) {
@@ -203,7 +211,7 @@ static bool merge_check(const part *parts, const char *const *names, int n) {
  * pushing their blocks as the single render pushed its chunks; false if the blocks do not
  * continue one another (which merge_check rules out). */
 static bool merge_pixel(const part *parts, const int *order, int held, int x, int y, part *out) {
-    chunk_stack s = chunk_stack_at(0);
+    chunk_stack s = chunk_stack_at(out->stack.first);
     float value[CHUNK_STACK_MAX][3];
     uint32_t count = 0;
     for (int h = 0; h < held; h++) {
@@ -218,7 +226,8 @@ static bool merge_pixel(const part *parts, const int *order, int held, int x, in
         count += q->count[i];
     }
     if (s.count != out->stack.count) return false;
-    size_t o = (size_t)y * (size_t)out->meta.width + (size_t)x;
+    const part_meta *m = &out->meta;
+    size_t o = (size_t)(y - m->y0) * (size_t)(m->x1 - m->x0) + (size_t)(x - m->x0);
     for (int k = 0; k < s.count; k++) memcpy(&out->block[k][3 * o], value[k], sizeof value[k]);
     out->count[o] = count;
     return true;
@@ -255,28 +264,48 @@ static bool merge_sums(const part *parts, int n, const merge_grid *g, part *out)
     return ok;
 }
 
-bool part_merge(const part *parts, const char *const *names, int n, part *out) {
+/* What the merge makes: the whole render, or (whole false) the smallest box of pixels and samples
+ * that holds every part. */
+static part_meta merge_box(const part *parts, int n, bool whole) {
+    part_meta m = parts[0].meta;
+    m.nonfinite = 0;
+    for (int i = 0; i < n; i++) {
+        const part_meta *q = &parts[i].meta;
+        m.nonfinite += q->nonfinite;
+        if (i == 0) continue;
+        m.x0 = q->x0 < m.x0 ? q->x0 : m.x0, m.x1 = q->x1 > m.x1 ? q->x1 : m.x1;
+        m.y0 = q->y0 < m.y0 ? q->y0 : m.y0, m.y1 = q->y1 > m.y1 ? q->y1 : m.y1;
+        if (q->sample_begin < m.sample_begin) m.sample_begin = q->sample_begin;
+        if (q->sample_end > m.sample_end) m.sample_end = q->sample_end;
+    }
+    if (whole) m.x0 = 0, m.x1 = m.width, m.y0 = 0, m.y1 = m.height;
+    if (whole) m.sample_begin = 0, m.sample_end = m.spp;
+    return m;
+}
+
+/* part_merge into the whole render, or (whole false) the box of merge_box, which the parts must
+ * fill. */
+static bool merge_parts(const part *parts, const char *const *names, int n, bool whole, part *out) {
     *out = (part){0};
     if (n < 1) {
         log_error("merge: no parts");
         return false;
     }
     if (!merge_check(parts, names, n)) return false;
+    part_meta m = merge_box(parts, n, whole);
     merge_grid g;
-    bool ok = grid_init(&g, parts, n);
+    bool ok = grid_init(&g, parts, n, &m);
     if (!ok) log_error("merge: out of memory");
     ok = ok && merge_covers(parts, n, &g);
-    part_meta m = parts[0].meta;
-    m.x0 = 0, m.x1 = m.width, m.y0 = 0, m.y1 = m.height, m.sample_begin = 0, m.nonfinite = 0;
-    for (int i = 0; i < n; i++) m.nonfinite += parts[i].meta.nonfinite;
+    uint32_t end = m.sample_end;
     ok = ok && part_init(out, &m);
     if (ok) {
-        out->meta.sample_end = m.spp;
-        chunk_stack_of(0, chunk_count(m.spp), &out->stack);
+        out->meta.sample_end = end;
+        chunk_stack_of(chunk_at(&m, m.sample_begin), chunk_at(&m, end), &out->stack);
         size_t pixels = region_pixels(&m);
         for (int k = 0; ok && k < out->stack.count; k++)
             ok = (out->block[k] = malloc(pixels * 3 * sizeof(float))) != NULL;
-        if (!ok) log_error("merge: out of memory for a %dx%d image", m.width, m.height);
+        if (!ok) log_error("merge: out of memory for a %dx%d image", m.x1 - m.x0, m.y1 - m.y0);
     }
     ok = ok && merge_sums(parts, n, &g, out);
     grid_free(&g);
@@ -284,7 +313,15 @@ bool part_merge(const part *parts, const char *const *names, int n, part *out) {
     return ok;
 }
 
-bool part_merge_files(const char *const *paths, int n, part *out) {
+bool part_merge(const part *parts, const char *const *names, int n, part *out) {
+    return merge_parts(parts, names, n, true, out);
+}
+
+bool part_merge_box(const part *parts, const char *const *names, int n, part *out) {
+    return merge_parts(parts, names, n, false, out);
+}
+
+bool part_merge_files(const char *const *paths, int n, bool whole, part *out) {
     *out = (part){0};
     part *parts = calloc(n > 0 ? (size_t)n : 1, sizeof *parts);
     if (!parts) {
@@ -293,7 +330,7 @@ bool part_merge_files(const char *const *paths, int n, part *out) {
     }
     bool ok = true;
     for (int i = 0; ok && i < n; i++) ok = part_read(paths[i], &parts[i]);
-    ok = ok && part_merge(parts, paths, n, out);
+    ok = ok && merge_parts(parts, paths, n, whole, out);
     for (int i = 0; i < n; i++) part_free(&parts[i]);
     free(parts);
     return ok;

@@ -1,6 +1,8 @@
 /* render_choose.c: choosing the back end of a render: the one asked for, or with auto Vulkan
  * when it can render the scene and else the CPU back end, with one line saying why; where every
  * Vulkan device is a CPU, auto takes the engine measured faster for the scene. */
+#include <string.h>
+
 #include "render/cpu/integrator.h"
 #include "render/part.h"
 #include "render/render.h"
@@ -42,9 +44,35 @@ bool render_choose(const scene *s, const render_opts *opts, backend_choice backe
     return ok;
 }
 
+/* Forgets what a failed Vulkan render of a fresh part did (its samples, its back end), so that
+ * the CPU back end starts it again rather than mixing its samples with Vulkan's; false (logged)
+ * on out of memory. A resumed part is never handed from one back end to the other. */
+static bool restart_part(part *p, uint32_t begin) {
+    if (p->meta.sample_end == begin) { /* nothing rendered */
+        p->meta.backend[0] = '\0';
+        return true;
+    }
+    if (begin != p->meta.sample_begin) {
+        log_error(
+            "the Vulkan back end failed after rendering samples %u:%u of a resumed part: "
+            "the CPU back end cannot go on from them",
+            begin, p->meta.sample_end);
+        return false;
+    }
+    part_meta m = p->meta;
+    m.backend[0] = '\0';
+    m.nonfinite = 0;
+    part_free(p);
+    return part_init(p, &m);
+}
+
 bool render_choose_part(const scene *s, const render_opts *opts, backend_choice backend, part *p,
                         uint32_t sample_end, const char **used) {
+    /* auto goes on from a part on the back end that began it: the two do not mix. */
+    if (backend == BACKEND_AUTO && p->meta.backend[0])
+        backend = strcmp(p->meta.backend, "cpu") ? BACKEND_VULKAN : BACKEND_CPU;
     *used = backend == BACKEND_VULKAN ? "vulkan" : "cpu";
+    uint32_t begin = p->meta.sample_end;
     if (backend == BACKEND_CPU) return render_cpu_part(s, opts, p, sample_end);
     char reason[RENDER_REASON_SIZE];
     if (backend == BACKEND_VULKAN || opts->validate || opts->device >= 0) {
@@ -77,5 +105,5 @@ bool render_choose_part(const scene *s, const render_opts *opts, backend_choice 
         log_info(
             "the Vulkan back end failed (said above); rendering with the CPU back end instead");
     *used = "cpu";
-    return render_cpu_part(s, opts, p, sample_end); /* from what Vulkan last synced */
+    return restart_part(p, begin) && render_cpu_part(s, opts, p, sample_end);
 }

@@ -247,8 +247,8 @@ static void sphereflake_write(out *o, int depth, uint32_t seed) {
     char line[OUT_LINE_MAX];
     snprintf(line, sizeof line,
              "# trazador gen sphereflake --depth %d --seed %lu: Eric Haines' sphereflake (SPD "
-             "\"balls\"),\n# %ld spheres and the ground sphere\n",
-             depth, (unsigned long)seed, flake_count(depth));
+             "\"balls\"),\n# %ld sphere%s and the ground sphere\n",
+             depth, (unsigned long)seed, flake_count(depth), flake_count(depth) == 1 ? "" : "s");
     out_line(o);
     out_str(o, line);
     /* The SPD's view, lights and sky, turned y-up and scaled to a root of radius 1 (the SPD's is

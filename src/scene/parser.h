@@ -63,12 +63,15 @@ typedef struct parser {
     size_t sphere_capacity, triangle_capacity, light_capacity;
     /* line of the first camera, plane, background and render directive; 0 while unseen */
     int camera_line, plane_line, background_line, render_line;
-    int camera_col; /* of the camera position, for the near-clip warning */
+    int camera_col;        /* of the camera position, for the near-clip warning */
+    int fov_line, fov_col; /* of the camera's fov, 0 without one */
+    int roulette_col;      /* of render's roulette key, 0 without one (on render_line) */
     bool tiny_warned;
     int emission_line, emission_col; /* the first emission (sphere or face): seed mode refuses */
+    int mode_given;                  /* the render's mode from the command line; -1: the scene's */
     /* A chunk parsed ahead: any directive but sphere, triangle and quad stops it. */
     bool primitives_only;
-    char number[SCENE_MAX_LINE + 1];      /* a token NUL-terminated for strtod */
+    char number[SCENE_MAX_LINE + 1]; /* a token NUL-terminated for strtod */
     char quoted[2][MAX_QUOTED_CHARS + 4]; /* two, so one message can quote two tokens */
     int quoted_next;
 } parser;

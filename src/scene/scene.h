@@ -38,6 +38,9 @@
  * single precision cannot place it there. */
 #define SCENE_PRECISION_STEPS 4.0
 #define SCENE_MAX_WARNINGS 2
+/* Farthest image plane a fov may ask for: camera rays square their direction in single
+ * precision, which overflows past about 1.8e19 (every pixel then the background). */
+#define SCENE_MAX_PLANE_DISTANCE 1e19
 
 typedef enum material_kind {
     MATERIAL_LAMBERTIAN = 0,
@@ -128,6 +131,11 @@ bool scene_parse_string_threads(const char *text, size_t length, const char *fil
 /* Reads and parses a file ("-": standard input, named <stdin>); false with *err filled on a
  * read or parse error. */
 bool scene_parse_file(const char *path, scene *out, scene_error *err);
+/* scene_parse_string and scene_parse_file for a render in mode, a render_mode, whatever the
+ * scene's own (-1: the scene's own): emission is an error only where that mode is seed. */
+bool scene_parse_string_in_mode(const char *text, size_t length, const char *filename, int mode,
+                                scene *out, scene_error *err);
+bool scene_parse_file_in_mode(const char *path, int mode, scene *out, scene_error *err);
 /* Prints err to stderr as "file:line:col: message" ("file: message" for errors about the file
  * itself, which have line 0); never fails. */
 void scene_error_print(const scene_error *err);

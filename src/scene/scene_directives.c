@@ -302,6 +302,10 @@ static bool parse_camera(parser *p) {
     if (!check_camera_square(p, &kv, up_key, v3_cross(up, v3_normalize(direction)))) return false;
     p->s.camera_position = position;
     p->s.camera_fov = (float)parser_value_or(&kv, CAMERA_FOV, 0.0);
+    if (kv.given & BIT(CAMERA_FOV)) {
+        p->fov_line = p->line;
+        p->fov_col = p->tokens[kv.value_token[CAMERA_FOV][0]].col;
+    }
     p->s.camera_near = (float)parser_value_or(&kv, CAMERA_NEAR, 0.0);
     p->camera_col = p->tokens[kv.value_token[CAMERA_POSITION][0]].col;
     p->s.camera_direction = direction;
@@ -759,6 +763,8 @@ static bool parse_render(parser *p) {
     p->s.bounces = (int)parser_value_or(&kv, RENDER_BOUNCES, scene_default_bounces(p->s.mode));
     p->s.seed = (uint32_t)parser_value_or(&kv, RENDER_SEED, 1);
     p->s.roulette = parser_value_or(&kv, RENDER_ROULETTE, 1) != 0;
+    if (kv.given & BIT(RENDER_ROULETTE))
+        p->roulette_col = p->tokens[kv.key_token[RENDER_ROULETTE]].col;
     return true;
 }
 

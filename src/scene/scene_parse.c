@@ -254,23 +254,75 @@ static bool parse_chunks(parser *p, int threads) {
     return ok;
 }
 
+/* A fov so small that the image plane lies past SCENE_MAX_PLANE_DISTANCE for the plane's width
+ * is an error at the fov, naming the smallest that works: it rendered only the background. */
+static bool fov_reaches(double fov, double half_width) {
+    return half_width / tan(0.5 * (double)(float)fov * (3.14159265358979323846 / 180.0)) <=
+           SCENE_MAX_PLANE_DISTANCE;
+}
+
+static bool check_fov(parser *p) {
+    double half_width = 0.5 * p->s.plane_width;
+    if (!p->fov_line || fov_reaches(p->s.camera_fov, half_width)) return true;
+    /* The smallest fov of three significant digits that works, as the parser reads it. */
+    double least =
+        2.0 * atan(half_width / SCENE_MAX_PLANE_DISTANCE) * (180.0 / 3.14159265358979323846);
+    double step = pow(10.0, floor(log10(least)) - 2.0);
+    least = ceil(least / step) * step;
+    while (!fov_reaches(least, half_width)) least += step;
+    double fov = p->s.camera_fov;
+    p->line = p->fov_line;
+    return parser_fail(p, p->fov_col,
+                       "fov %g puts the image plane of a plane %g wide past %g away, where single "
+                       "precision overflows: give a fov of at least %.3g",
+                       fov, p->s.plane_width, SCENE_MAX_PLANE_DISTANCE, least);
+}
+
 static bool parse_text(parser *p, int threads) {
     if (!parse_chunks(p, threads)) return false;
     /* Whole-scene errors are reported at the end of the file: the line after the last '\n'. */
     if (!p->camera_line) return parser_fail(p, 1, "missing 'camera' directive");
     if (!p->plane_line) return parser_fail(p, 1, "missing 'plane' directive");
-    if (p->emission_line && p->s.mode == RENDER_MODE_SEED) {
+    if (!check_fov(p)) return false;
+    /* The mode the render will use decides, not the scene's own: --mode path enables emission. */
+    if (p->emission_line && p->mode_given == RENDER_MODE_SEED) {
+        p->line = p->emission_line;
+        return parser_fail(p, p->emission_col,
+                           "emission needs path mode, and the render was asked for in seed mode "
+                           "(--mode seed)");
+    }
+    if (p->emission_line && p->mode_given < 0 && p->s.mode == RENDER_MODE_SEED) {
         p->line = p->emission_line;
         return parser_fail(p, p->emission_col,
                            "emission needs path mode: add 'render mode path' (or render with "
                            "--mode path)");
     }
+    /* A setting the render's mode has no use for is said once, not ignored silently. */
+    render_mode mode = p->mode_given >= 0 ? (render_mode)p->mode_given : p->s.mode;
+    if (p->roulette_col && mode == RENDER_MODE_SEED)
+        parser_warn(p, p->render_line, p->roulette_col,
+                    "roulette does nothing in seed mode: it is path mode's Russian roulette");
     warn_near_surfaces(p);
     return true;
 }
 
-bool scene_parse_string_threads(const char *text, size_t length, const char *filename, int threads,
-                                scene *out, scene_error *err) {
+/* A scene before its first directive. */
+static scene scene_defaults(void) {
+    return (scene){
+        .camera_direction = v3(0, 0, 1),
+        .camera_up = v3(0, 1, 0),
+        .samples = 64,
+        .indirect = true,
+        .bounces = 5,
+        .seed = 1,
+        .mode = RENDER_MODE_SEED,
+        .roulette = true,
+    };
+}
+
+/* Parses text on up to threads threads for a render in mode (-1: the scene's own mode). */
+static bool parse_string(const char *text, size_t length, const char *filename, int threads,
+                         int mode, scene *out, scene_error *err) {
     if (err) err->out_of_memory = false;
     parser *p = calloc(1, sizeof *p);
     if (!p) {
@@ -282,16 +334,8 @@ bool scene_parse_string_threads(const char *text, size_t length, const char *fil
     p->filename = filename ? filename : "<string>";
     p->err = err;
     p->line = 1;
-    p->s = (scene){
-        .camera_direction = v3(0, 0, 1),
-        .camera_up = v3(0, 1, 0),
-        .samples = 64,
-        .indirect = true,
-        .bounces = 5,
-        .seed = 1,
-        .mode = RENDER_MODE_SEED,
-        .roulette = true,
-    };
+    p->mode_given = mode;
+    p->s = scene_defaults();
     bool ok;
     if (length > MAX_TEXT_BYTES) {
         p->line = 0;
@@ -310,9 +354,19 @@ bool scene_parse_string_threads(const char *text, size_t length, const char *fil
     return ok;
 }
 
+bool scene_parse_string_threads(const char *text, size_t length, const char *filename, int threads,
+                                scene *out, scene_error *err) {
+    return parse_string(text, length, filename, threads, -1, out, err);
+}
+
 bool scene_parse_string(const char *text, size_t length, const char *filename, scene *out,
                         scene_error *err) {
-    return scene_parse_string_threads(text, length, filename, 0, out, err);
+    return parse_string(text, length, filename, 0, -1, out, err);
+}
+
+bool scene_parse_string_in_mode(const char *text, size_t length, const char *filename, int mode,
+                                scene *out, scene_error *err) {
+    return parse_string(text, length, filename, 0, mode, out, err);
 }
 
 /* A file-level error has no position: line and col are 0. */
@@ -331,8 +385,51 @@ static bool fail_file(const char *path, scene_error *err, const char *fmt, ...) 
     return false;
 }
 
+/* A line of each read of a stream parsed as it arrives (the first new one; spheres dropped: the
+ * whole text is parsed again, on every core, once read), so that a stream of bad lines that
+ * never ends is refused at once rather than read to the size limit, at no cost worth naming
+ * to a good one. Lines left out can only hide errors from it (what it parsed is a subset of
+ * what the full parse sees), never make up one, so it never stops a good stream. */
+typedef struct stream_check {
+    parser *p; /* NULL: not checked (no memory: the parse after the read still reports) */
+    size_t checked;
+} stream_check;
+
+static void stream_check_init(stream_check *c, const char *path) {
+    c->checked = 0;
+    c->p = calloc(1, sizeof *c->p);
+    if (!c->p) return;
+    c->p->filename = path;
+    c->p->line = 1;
+    c->p->mode_given = -1;
+    c->p->s = scene_defaults();
+}
+
+static void stream_check_free(stream_check *c) {
+    if (c->p) scene_free(&c->p->s);
+    free(c->p);
+}
+
+/* Whether the first complete line of data[checked, used) parses, and the unfinished last one
+ * is not already too long; false on an error, which the parse after the read reports as usual
+ * (at the first bad line). */
+static bool stream_check_lines(stream_check *c, const char *data, size_t used) {
+    if (!c->p) return true;
+    const char *text = data + c->checked, *end = data + used;
+    const char *newline = memchr(text, '\n', (size_t)(end - text));
+    if (!newline) return (size_t)(end - text) <= SCENE_MAX_LINE + 1; /* + 1: a CR */
+    if (!parse_line(c->p, text, (size_t)(newline - text))) return false;
+    c->p->s.sphere_count = 0;
+    const char *last = newline;
+    for (const char *q; (q = memchr(last + 1, '\n', (size_t)(end - last - 1)));) last = q;
+    c->checked = (size_t)(last + 1 - data);
+    return (size_t)(end - last - 1) <= SCENE_MAX_LINE + 1;
+}
+
 /* Reads all of fd into a malloc'd buffer; sizes a regular file from fstat, grows for pipes. */
-static bool read_all(int fd, const char *path, char **data, size_t *length, scene_error *err) {
+static bool read_all(int fd, const char *path, char **data, size_t *length, bool *cut,
+                     scene_error *err) {
+    *cut = false;
     struct stat st;
     if (fstat(fd, &st) != 0) return fail_file(path, err, "cannot stat: %s", strerror(errno));
     if (S_ISDIR(st.st_mode)) return fail_file(path, err, "is a directory");
@@ -350,16 +447,20 @@ static bool read_all(int fd, const char *path, char **data, size_t *length, scen
         return fail_file(path, err, "out of memory reading %zu bytes", capacity);
     }
     size_t used = 0;
+    stream_check check = {0};
+    if (!S_ISREG(st.st_mode)) stream_check_init(&check, path);
     for (;;) {
         if (used == capacity) {
             if (capacity > MAX_TEXT_BYTES) {
                 free(buffer);
+                stream_check_free(&check);
                 return fail_file(path, err, "file is too large (the limit is %zu bytes)",
                                  MAX_TEXT_BYTES);
             }
             char *grown = realloc(buffer, capacity * 2);
             if (!grown) {
                 free(buffer);
+                stream_check_free(&check);
                 if (err) err->out_of_memory = true;
                 return fail_file(path, err, "out of memory reading %zu bytes", capacity * 2);
             }
@@ -371,20 +472,29 @@ static bool read_all(int fd, const char *path, char **data, size_t *length, scen
         if (n < 0) {
             int error = errno;
             free(buffer);
+            stream_check_free(&check);
             return fail_file(path, err, "cannot read: %s", strerror(error));
         }
         if (n == 0) break;
         used += (size_t)n;
         /* A NUL byte is an error wherever it is: stop reading a stream (/dev/zero never ends)
          * and let the parser report it at its line and column. */
-        if (!S_ISREG(st.st_mode) && memchr(buffer + used - n, '\0', (size_t)n)) break;
+        *cut = !S_ISREG(st.st_mode) && (memchr(buffer + used - n, '\0', (size_t)n) ||
+                                        /* a bad line stops a stream too */
+                                        !stream_check_lines(&check, buffer, used));
+        if (*cut) break;
     }
+    stream_check_free(&check);
     *data = buffer;
     *length = used;
     return true;
 }
 
 bool scene_parse_file(const char *path, scene *out, scene_error *err) {
+    return scene_parse_file_in_mode(path, -1, out, err);
+}
+
+bool scene_parse_file_in_mode(const char *path, int mode, scene *out, scene_error *err) {
     if (err) err->out_of_memory = false;
     /* "-" is standard input, named as the tools name it. */
     bool is_stdin = !strcmp(path, "-");
@@ -393,9 +503,14 @@ bool scene_parse_file(const char *path, scene *out, scene_error *err) {
     if (fd < 0) return fail_file(path, err, "cannot open: %s", strerror(errno));
     char *data = NULL;
     size_t length = 0;
-    bool ok = read_all(fd, path, &data, &length, err);
+    bool cut;
+    bool ok = read_all(fd, path, &data, &length, &cut, err);
     close(fd);
-    if (ok) ok = scene_parse_string(data, length, path, out, err);
+    if (ok) ok = parse_string(data, length, path, 0, mode, out, err);
+    if (ok && cut) { /* never a scene cut short: the parse must report what stopped the read */
+        scene_free(out);
+        ok = fail_file(path, err, "stopped reading at a line the parser then accepted");
+    }
     free(data);
     return ok;
 }

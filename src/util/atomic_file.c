@@ -309,3 +309,22 @@ bool atomic_file_check_force(const char *path, bool force) {
 }
 
 bool atomic_file_check(const char *path) { return atomic_file_check_force(path, false); }
+
+/* The device and inode of path's folder; false when it cannot be read. */
+static bool folder_id(const char *path, struct stat *st) {
+    size_t n = folder_length(path);
+    char *folder = n > 1 ? strndup(path, n - 1) : strdup(n ? "/" : ".");
+    bool ok = folder && stat(folder, st) == 0;
+    free(folder);
+    return ok;
+}
+
+bool atomic_file_same(const char *a, const char *b) {
+    struct stat sa, sb;
+    bool has_a = stat(a, &sa) == 0, has_b = stat(b, &sb) == 0;
+    if (has_a || has_b) return has_a && has_b && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    /* Neither exists: one file once written if the names match in one folder. */
+    if (strcmp(a + folder_length(a), b + folder_length(b))) return false;
+    return folder_id(a, &sa) && folder_id(b, &sb) && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}

@@ -22,5 +22,8 @@ bool atomic_file_write(const char *path, atomic_file_fill fill, const void *cont
 bool atomic_file_check_force(const char *path, bool force);
 /* atomic_file_check_force without force: a write-protected file is refused. */
 bool atomic_file_check(const char *path);
+/* Whether a and b name one file: the same device and inode (through any name, hard or symbolic
+ * link), or, where neither exists yet, the same name in the same folder; never fails. */
+bool atomic_file_same(const char *a, const char *b);
 
 #endif

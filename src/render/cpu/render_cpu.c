@@ -7,6 +7,7 @@
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -33,6 +34,13 @@ typedef struct cpu_job {
     uint32_t first_chunk, chunks;
     const int *top, *merges;
     int old_count, new_count;
+    /* Where the pass writes: the part itself, or (with a stop flag, so that a pass can be
+     * abandoned with the part as before it) planes of its own, swapped in once it is done. */
+    float *out_block[CHUNK_STACK_MAX];
+    uint32_t *out_count;
+    float *spare[CHUNK_STACK_MAX];
+    uint32_t *spare_count;
+    volatile sig_atomic_t *stop; /* NULL: never */
     int tiles_x, tile_count;
     /* Written by every thread after every tile: on lines of their own, so that the fields above,
      * which every thread reads all the time, are not taken from it by each write. */
@@ -88,8 +96,8 @@ static unsigned long long render_lanes(cpu_job *job, int i, int j, uint32_t lane
     }
     for (uint32_t k = 0; k < lanes; k++) {
         for (int b = 0; b < job->new_count; b++)
-            for (int c = 0; c < 3; c++) p->block[b][3 * (at + k) + c] = value[k][b][c];
-        p->count[at + k] += counted[k];
+            for (int c = 0; c < 3; c++) job->out_block[b][3 * (at + k) + c] = value[k][b][c];
+        job->out_count[at + k] = p->count[at + k] + counted[k];
     }
     return dropped;
 }
@@ -110,14 +118,14 @@ static void *worker(void *arg) {
     cpu_job *job = arg;
     uint64_t rays_before = integrator_rays_traced();
     for (;;) {
+        if (job->stop && *job->stop) break; /* the pass is abandoned */
         int tile = atomic_fetch_add(&job->next_tile, 1);
-        if (tile >= job->tile_count) {
-            atomic_fetch_add(&job->rays, integrator_rays_traced() - rays_before);
-            return NULL;
-        }
+        if (tile >= job->tile_count) break;
         render_tile(job, tile);
         atomic_fetch_add(&job->tiles_done, 1);
     }
+    atomic_fetch_add(&job->rays, integrator_rays_traced() - rays_before);
+    return NULL;
 }
 
 static int thread_count(int requested) {
@@ -136,7 +144,7 @@ typedef struct cpu_progress {
 static void report_progress(cpu_job *job, const cpu_progress *pr) {
     struct timespec pause = {0, 5 * 1000 * 1000};
     double next_print = 0.0;
-    while (atomic_load(&job->tiles_done) < job->tile_count) {
+    while (atomic_load(&job->tiles_done) < job->tile_count && !(job->stop && *job->stop)) {
         double now = clock_seconds();
         if (now >= next_print) {
             double done =
@@ -186,10 +194,48 @@ static bool plan_pass(cpu_job *job, chunk_stack *shape, uint32_t chunks, int *to
             log_error("out of memory for a part of %zu pixels", n);
             return false;
         }
+    for (int b = 0; b < shape->count; b++) job->out_block[b] = p->block[b];
+    job->out_count = p->count;
+    if (!job->stop) return true;
+    for (int b = 0; b < shape->count; b++)
+        if (!job->spare[b] && !(job->spare[b] = malloc(n * 3 * sizeof(float)))) {
+            log_error("out of memory for a part of %zu pixels", n);
+            return false;
+        }
+    if (!job->spare_count && !(job->spare_count = malloc(n * sizeof *job->spare_count))) {
+        log_error("out of memory for a part of %zu pixels", n);
+        return false;
+    }
+    for (int b = 0; b < shape->count; b++) job->out_block[b] = job->spare[b];
+    job->out_count = job->spare_count;
     return true;
 }
 
+/* Makes a finished pass's planes the part's (the part's old ones the spares); nothing to do
+ * when the pass wrote the part itself. */
+static void swap_in(cpu_job *job) {
+    part *p = job->part;
+    if (!job->stop) return;
+    for (int b = 0; b < job->new_count; b++) {
+        float *old = p->block[b];
+        p->block[b] = job->spare[b];
+        job->spare[b] = old;
+    }
+    uint32_t *old = p->count;
+    p->count = job->spare_count;
+    job->spare_count = old;
+}
+
 bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t sample_end) {
+    /* Samples of another back end differ by rounding: going on from them would mix the two. */
+    if (p->meta.backend[0] && strcmp(p->meta.backend, "cpu")) {
+        log_error(
+            "the part to go on from was rendered by the %s back end, and this render by the cpu "
+            "back end: the two differ by rounding, so their samples do not mix",
+            p->meta.backend);
+        return false;
+    }
+    snprintf(p->meta.backend, sizeof p->meta.backend, "cpu");
     packed_scene packed;
     double start = clock_seconds();
     if (!scene_pack(s, opts, &packed)) return false;
@@ -225,6 +271,7 @@ bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t 
                        .pixels = (double)job.width * job.height,
                        .deadline = opts->deadline};
     const render_control *control = opts->control;
+    job.stop = control ? control->stop : NULL;
     bool sync = false;
     uint32_t next =
         control ? control->next_pass(control->user, p->meta.sample_end, &sync) : end_chunk - begin;
@@ -238,6 +285,21 @@ bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t 
         pr.done = (double)(sample_of(p, job.first_chunk) - sample_of(p, begin));
         pr.pass = (double)(sample_of(p, job.first_chunk + chunks) - sample_of(p, job.first_chunk));
         ran = run_pass(&job, n, opts->progress, &pr);
+        if (atomic_load(&job.tiles_done) < job.tile_count) { /* abandoned: the part as it was */
+            atomic_store(&job.nonfinite, 0);
+            for (int b = p->stack.count; b < CHUNK_STACK_MAX; b++) {
+                free(p->block[b]);
+                p->block[b] = NULL;
+            }
+            next = control->next_pass(control->user, p->meta.sample_end, &sync);
+            if (sync) ok = control->synced(control->user, p);
+            if (ok && next > 0) {
+                log_error("cpu back end: a pass was abandoned, yet the render was not stopped");
+                ok = false;
+            }
+            break;
+        }
+        swap_in(&job);
         for (int b = shape.count; b < CHUNK_STACK_MAX; b++) {
             free(p->block[b]);
             p->block[b] = NULL;
@@ -260,6 +322,8 @@ bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t 
     }
     free(top);
     free(merges);
+    for (int b = 0; b < CHUNK_STACK_MAX; b++) free(job.spare[b]);
+    free(job.spare_count);
     scene_pack_free(&packed);
     return ok;
 }

@@ -411,9 +411,9 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
     }
     if (overflowed > 0)
         snprintf(refusal, RENDER_REASON_SIZE,
-                 "%u samples had a ray whose BVH walk needed more loop passes than lavapipe "
+                 "%u sample%s had a ray whose BVH walk needed more loop passes than lavapipe "
                  "allows (its shaders stop loops silently past %u in all)",
-                 overflowed, ctx->loop_limit);
+                 overflowed, overflowed == 1 ? "" : "s", ctx->loop_limit);
     return ok;
 }
 
@@ -682,6 +682,24 @@ static bool render_chunks(vk_render *r, pass_plan *plan, const render_opts *opts
     return ok;
 }
 
+/* Names this device and driver as the part's back end; false (the reason said) when the part
+ * was begun by another back end or driver, whose samples differ by rounding. */
+static bool claim_part(const vk_context *ctx, part *p, char *reason) {
+    char mine[sizeof p->meta.backend];
+    snprintf(mine, sizeof mine, "vulkan: %.160s, driver %.64s, version %" PRIu32,
+             ctx->properties.deviceName, ctx->driver_name[0] ? ctx->driver_name : "(unnamed)",
+             ctx->properties.driverVersion);
+    if (p->meta.backend[0] && strcmp(p->meta.backend, mine)) {
+        snprintf(reason, RENDER_REASON_SIZE,
+                 "the part to go on from was rendered by the %.150s back end, and this render by "
+                 "the %.150s back end: the two differ by rounding, so their samples do not mix",
+                 p->meta.backend, mine);
+        return false;
+    }
+    snprintf(p->meta.backend, sizeof p->meta.backend, "%s", mine);
+    return true;
+}
+
 render_status render_vk_part_try(const scene *s, const render_opts *opts, part *p,
                                  uint32_t sample_end, char *reason) {
     reason[0] = '\0';
@@ -695,6 +713,7 @@ render_status render_vk_part_try(const scene *s, const render_opts *opts, part *
     double t_init = clock_seconds();
     log_debug("vulkan: device %d, %s (%s), instance and device in %.1f ms", r.ctx.device_index,
               r.ctx.properties.deviceName, r.ctx.driver_name, (t_init - t0) * 1e3);
+    if (!claim_part(&r.ctx, p, reason)) goto done;
     vk_strategy st = vk_strategy_choose(&r.ctx, s, opts);
     if (st.use_bvh)
         log_debug("vulkan: BVH walk %s",
