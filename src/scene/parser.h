@@ -71,7 +71,7 @@ typedef struct parser {
     int mode_given;                  /* the render's mode from the command line; -1: the scene's */
     /* A chunk parsed ahead: any directive but sphere, triangle and quad stops it. */
     bool primitives_only;
-    char number[SCENE_MAX_LINE + 1]; /* a token NUL-terminated for strtod */
+    char number[SCENE_MAX_LINE + 1];      /* a token NUL-terminated for strtod */
     char quoted[2][MAX_QUOTED_CHARS + 4]; /* two, so one message can quote two tokens */
     int quoted_next;
 } parser;
