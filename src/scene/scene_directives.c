@@ -845,7 +845,8 @@ static bool read_mesh_keys(parser *p, const material_spec *m, int next, key_valu
             return parser_fail(p, t->col, "unknown key '%s' for mesh%s%s (expected one of: %s)",
                                parser_quote(p, t), m ? " " : "", m ? m->word : "", list);
         }
-        if (kv->given & BIT(key)) return parser_fail(p, t->col, "'%s' given twice", t->text);
+        if (kv->given & BIT(key))
+            return parser_fail(p, t->col, "'%s' given twice", mesh_keys[key].name);
         kv->given |= BIT(key);
         kv->key_token[key] = next - 1;
         if (key == MESH_FILE) {
