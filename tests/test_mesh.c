@@ -266,6 +266,32 @@ static void test_errors(void) {
     }
 }
 
+/* What trazador cannot show is named once in a warning: textures, whatever their count. */
+static void test_unsupported(void) {
+    write_text("textured.mtl",
+               "newmtl a\nKd 0.5 0.5 0.5\nmap_Kd a.png\nmap_bump b.png\n"
+               "newmtl b\nKd 0.5 0.5 0.5\nmap_Kd c.png\n");
+    write_text("textured.obj",
+               "mtllib textured.mtl\nv 0 0 5\nv 1 0 5\nv 0 1 5\nv 1 1 5\n"
+               "usemtl a\nf 1 2 3\nusemtl b\nf 2 4 3\n");
+    scene s;
+    scene_error err;
+    bool ok = parse(HEADER "mesh file textured.obj\n", 1, &s, &err);
+    CHECK(ok, "textured: %s", err.message);
+    if (!ok) return;
+    const char *w = s.warning_count == 1 ? s.warnings[0].message : "";
+    const char *first = strstr(w, "diffuse texture");
+    CHECK(first && !strstr(first + 1, "diffuse texture") && strstr(w, "bump texture") &&
+              s.warnings[0].line == 6 && s.warnings[0].col == 11,
+          "textured: %d warnings: %s", s.warning_count, w);
+    scene_free(&s);
+    /* with a material of its own, the file's materials are not used: no warning */
+    ok = parse(HEADER "mesh lambertian file textured.obj\n", 1, &s, &err);
+    CHECK(ok && s.warning_count == 0, "textured with a material: %d warnings",
+          ok ? s.warning_count : -1);
+    if (ok) scene_free(&s);
+}
+
 /* The digest of a part covers the model's content: moving one vertex of the file changes it. */
 static void test_digest(void) {
     struct part_meta before, after;
@@ -409,6 +435,7 @@ int main(void) {
     CHECK_CASE(test_cube);
     CHECK_CASE(test_mtl);
     CHECK_CASE(test_errors);
+    CHECK_CASE(test_unsupported);
     CHECK_CASE(test_digest);
     CHECK_CASE(test_hostile);
     CHECK_CASE(test_threads);
