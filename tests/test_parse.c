@@ -304,7 +304,7 @@ typedef struct invalid_case {
 static const invalid_case invalid_cases[] = {
     {"unknown directive", BYTES(BASE "spere lambertian"), 3, 1,
      "unknown directive 'spere' (expected one of: camera plane light sphere triangle quad "
-     "background render)"},
+     "mesh background render)"},
     {"unknown key", BYTES(BASE "sphere lambertian center 0 0 0 radiu 1"), 3, 32,
      "unknown key 'radiu' for sphere lambertian (expected one of: center radius color emission)"},
     {"ior on lambertian", BYTES(BASE "sphere lambertian center 0 0 0 radius 1 ior 1.5"), 3, 41,
@@ -569,8 +569,8 @@ static const invalid_case invalid_cases[] = {
      "lambertiana espejo)"},
     {"refractive triangle", BYTES(BASE "triangle refractive v0 0 0 0 v1 1 0 0 v2 0 1 0 ior 1.5"), 3,
      10,
-     "a triangle cannot be 'refractive': glass needs a closed mesh, which the coming 'mesh' "
-     "directive will accept"},
+     "a triangle cannot be 'refractive': glass needs a closed mesh (load one with the 'mesh' "
+     "directive)"},
     {"refractada quad", BYTES(BASE "quad refractada v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 0"), 3, 6,
      "a quad cannot be 'refractada': glass needs a closed mesh"},
     {"n0 on a quad", BYTES(BASE "quad lambertian v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 0 n0 0 0 1"), 3,

@@ -2,12 +2,14 @@
  * parsed from a tokenized line into the scene: its keys, ranges, defaults and the errors that
  * need more than one value (a camera frame, a plane's pixels). */
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "scene/mesh_load.h"
 #include "scene/parser.h"
 #include "shared_layout.h"
 
@@ -113,6 +115,27 @@ static const key_spec quad_keys[QUAD_KEY_COUNT] = {
     MATERIAL_KEY_SPECS,
 };
 
+/* A mesh's own keys (file, scale and rotate are read by parse_mesh: a path, 1 or 3 numbers, 4
+ * numbers), then the material keys. */
+enum {
+    MESH_FILE,
+    MESH_SCALE,
+    MESH_ROTATE,
+    MESH_TRANSLATE,
+    MESH_SMOOTH,
+    MESH_MATERIAL,
+    MESH_KEY_COUNT = MESH_MATERIAL + MAT_KEY_COUNT
+};
+static const key_spec mesh_keys[MESH_KEY_COUNT] = {
+    {"file", NULL, VALUE_WORD, NO_RANGE},
+    {"scale", NULL, VALUE_NUMBER, COORD_RANGE},
+    {"rotate", NULL, VALUE_NUMBER, NO_RANGE},
+    {"translate", "x y z", VALUE_NUMBER, COORD_RANGE},
+    {"smooth", NULL, VALUE_SWITCH, 0.0, 1.0, false},
+    MATERIAL_KEY_SPECS,
+};
+_Static_assert(MESH_KEY_COUNT <= MAX_KEYS, "raise MAX_KEYS");
+
 /* A shape directive (sphere, triangle, quad) as the shared readers (read_shape, read_surface)
  * see it. */
 typedef struct shape_spec {
@@ -150,6 +173,16 @@ static const shape_spec quad_shape = {
     .material_first = QUAD_MATERIAL,
     .own_keys = LOW_BITS(QUAD_MATERIAL),
     .required = LOW_BITS(QUAD_MATERIAL), /* v0 v1 v2 v3 */
+};
+
+static const shape_spec mesh_shape = {
+    .word = "mesh",
+    .keys = mesh_keys,
+    .key_count = MESH_KEY_COUNT,
+    .material_first = MESH_MATERIAL,
+    .own_keys = LOW_BITS(MESH_MATERIAL),
+    .required = BIT(MESH_FILE),
+    .glass = true, /* when the mesh is closed (parse_mesh checks) */
 };
 
 #define MATERIAL_COMMON_KEYS (BIT(MAT_COLOR) | BIT(MAT_EMISSION))
@@ -526,8 +559,8 @@ static bool read_shape(parser *p, const shape_spec *shape, const material_spec *
     }
     if (m->kind == MATERIAL_REFRACTIVE && !shape->glass) {
         return parser_fail(p, word->col,
-                           "a %s cannot be '%s': glass needs a closed mesh, which the coming "
-                           "'mesh' directive will accept",
+                           "a %s cannot be '%s': glass needs a closed mesh (load one with the "
+                           "'mesh' directive)",
                            shape->word, m->word);
     }
     *material = m;
@@ -605,35 +638,45 @@ static dvec3 d3_cross(dvec3 a, dvec3 b) {
 static double d3_dot(dvec3 a, dvec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 static double d3_length(dvec3 a) { return sqrt(d3_dot(a, a)); }
 
-/* False (reported at the directive word) unless face a b c is one the renderer can normalize in
- * single precision: not degenerate (SCENE_FACE_MIN_SHAPE) and twice its area within
+/* True, with the reason in why, unless face a b c is one the renderer can normalize in single
+ * precision: not degenerate (SCENE_FACE_MIN_SHAPE) and twice its area within
  * [SCENE_FACE_MIN_CROSS, SCENE_FACE_MAX_CROSS]. `what` names the face ("triangle", "quad half
  * v0 v1 v2"). */
-static bool check_face(parser *p, vec3 a, vec3 b, vec3 c, const char *what) {
+static bool face_problem(vec3 a, vec3 b, vec3 c, const char *what, char *why, size_t size) {
     dvec3 ab = d3_sub(b, a), ac = d3_sub(c, a), bc = d3_sub(c, b);
     double cross = d3_length(d3_cross(ab, ac));
     double longest = fmax(d3_dot(ab, ab), fmax(d3_dot(ac, ac), d3_dot(bc, bc)));
-    int col = p->tokens[0].col;
     if (cross == 0.0) {
         double shortest = fmin(d3_dot(ab, ab), fmin(d3_dot(ac, ac), d3_dot(bc, bc)));
-        return parser_fail(p, col, "%s is degenerate: %s (zero area)", what,
-                           longest == 0.0    ? "its corners are one point"
-                           : shortest == 0.0 ? "two of its corners are the same point"
-                                             : "its corners are on a line");
+        snprintf(why, size, "%s is degenerate: %s (zero area)", what,
+                 longest == 0.0    ? "its corners are one point"
+                 : shortest == 0.0 ? "two of its corners are the same point"
+                                   : "its corners are on a line");
+        return true;
     }
     if (cross < SCENE_FACE_MIN_SHAPE * longest) {
-        return parser_fail(p, col,
-                           "%s is degenerate: its height is %.6g of its longest edge, under the "
-                           "%g that single precision needs for its normal",
-                           what, cross / longest, SCENE_FACE_MIN_SHAPE);
+        snprintf(why, size,
+                 "%s is degenerate: its height is %.6g of its longest edge, under the %g that "
+                 "single precision needs for its normal",
+                 what, cross / longest, SCENE_FACE_MIN_SHAPE);
+        return true;
     }
     if (cross < SCENE_FACE_MIN_CROSS || cross > SCENE_FACE_MAX_CROSS) {
-        return parser_fail(p, col,
-                           "%s is too %s for single precision: twice its area (the length of "
-                           "the cross product of two edges) is %g, and must be from %g to %g",
-                           what, cross < SCENE_FACE_MIN_CROSS ? "small" : "large", cross,
-                           SCENE_FACE_MIN_CROSS, SCENE_FACE_MAX_CROSS);
+        snprintf(why, size,
+                 "%s is too %s for single precision: twice its area (the length of the cross "
+                 "product of two edges) is %g, and must be from %g to %g",
+                 what, cross < SCENE_FACE_MIN_CROSS ? "small" : "large", cross,
+                 SCENE_FACE_MIN_CROSS, SCENE_FACE_MAX_CROSS);
+        return true;
     }
+    return false;
+}
+
+/* face_problem reported at the directive word. */
+static bool check_face(parser *p, vec3 a, vec3 b, vec3 c, const char *what) {
+    char why[256];
+    if (face_problem(a, b, c, what, why, sizeof why))
+        return parser_fail(p, p->tokens[0].col, "%s", why);
     return true;
 }
 
@@ -737,6 +780,270 @@ static bool parse_quad(parser *p) {
     return true;
 }
 
+/* Whether the token can start a number (scale's second value or the next key). */
+static bool looks_numeric(const token *t) {
+    char c = t->text[0];
+    return (c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.';
+}
+
+/* The mesh file's path: absolute as given, else relative to the scene file's folder (the working
+ * folder for text that is not a file: standard input, strings). False when it does not fit. */
+static bool mesh_path(const parser *p, const token *t, char *out, size_t size) {
+    const char *slash = strrchr(p->filename, '/');
+    int dir =
+        t->text[0] == '/' || p->filename[0] == '<' || !slash ? 0 : (int)(slash - p->filename) + 1;
+    int n = snprintf(out, size, "%.*s%.*s", dir, p->filename, t->length, t->text);
+    return n >= 0 && (size_t)n < size;
+}
+
+/* A mesh line's transform: scale, then rotation about a unit axis, then translation. */
+typedef struct mesh_transform {
+    double scale[3], r[3][3], translate[3];
+} mesh_transform;
+
+static mesh_transform make_transform(const double scale[3], const double rotate[4],
+                                     const double translate[3]) {
+    mesh_transform m;
+    double length = sqrt(rotate[0] * rotate[0] + rotate[1] * rotate[1] + rotate[2] * rotate[2]);
+    double u[3] = {rotate[0] / length, rotate[1] / length, rotate[2] / length};
+    double angle = rotate[3] * 3.14159265358979323846 / 180.0, c = cos(angle), s = sin(angle);
+    /* Rodrigues: c I + s [u]x + (1 - c) u u^T (right-handed). */
+    double cross[3][3] = {{0, -u[2], u[1]}, {u[2], 0, -u[0]}, {-u[1], u[0], 0}};
+    for (int i = 0; i < 3; i++) {
+        m.scale[i] = scale[i];
+        m.translate[i] = translate[i];
+        for (int j = 0; j < 3; j++)
+            m.r[i][j] = (i == j ? c : 0.0) + s * cross[i][j] + (1.0 - c) * u[i] * u[j];
+    }
+    return m;
+}
+
+/* A corner moved by the transform; false when it leaves the coordinate range. */
+static bool transform_point(const mesh_transform *m, vec3 v, vec3 *out) {
+    double in[3] = {(double)v.x * m->scale[0], (double)v.y * m->scale[1],
+                    (double)v.z * m->scale[2]};
+    float o[3];
+    for (int i = 0; i < 3; i++) {
+        double x = m->r[i][0] * in[0] + m->r[i][1] * in[1] + m->r[i][2] * in[2] + m->translate[i];
+        if (!(fabs(x) <= 1e18)) return false;
+        o[i] = (float)x;
+    }
+    *out = v3(o[0], o[1], o[2]);
+    return true;
+}
+
+/* A normal by the inverse transpose, R S^-1, renormalized; false when it is zero. */
+static bool transform_normal(const mesh_transform *m, vec3 n, vec3 *out) {
+    double in[3] = {n.x / m->scale[0], n.y / m->scale[1], n.z / m->scale[2]}, o[3];
+    for (int i = 0; i < 3; i++) o[i] = m->r[i][0] * in[0] + m->r[i][1] * in[1] + m->r[i][2] * in[2];
+    double length = sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
+    if (!(length > 0.0) || !isfinite(length)) return false;
+    *out = v3((float)(o[0] / length), (float)(o[1] / length), (float)(o[2] / length));
+    return true;
+}
+
+/* Reads a mesh line's keys after the optional material word (in any order; scale takes 1 or 3
+ * numbers, rotate 4). False (reported) on a bad key or value. */
+static bool read_mesh_keys(parser *p, const material_spec *m, int next, key_values *kv,
+                           double scale[3], double rotate[4]) {
+    unsigned accepted = mesh_shape.own_keys | (m ? m->keys << MESH_MATERIAL : 0u);
+    memset(kv, 0, sizeof *kv);
+    while (next < p->token_count) {
+        const token *t = &p->tokens[next++];
+        int key = 0;
+        while (key < MESH_KEY_COUNT && !parser_token_is(t, mesh_keys[key].name)) key++;
+        if (key < MESH_KEY_COUNT && key >= MESH_MATERIAL && !m) {
+            return parser_fail(p, t->col,
+                               "mesh '%s' needs a material word (mesh lambertian file ... %s ...): "
+                               "without one every face takes the file's own material",
+                               parser_quote(p, t), mesh_keys[key].name);
+        }
+        if (key == MESH_KEY_COUNT || !(accepted & BIT(key))) {
+            char list[128] = "";
+            for (int k = 0; k < MESH_KEY_COUNT; k++) {
+                if (accepted & BIT(k))
+                    append(list, sizeof list, "%s%s", list[0] ? " " : "", mesh_keys[k].name);
+            }
+            return parser_fail(p, t->col, "unknown key '%s' for mesh%s%s (expected one of: %s)",
+                               parser_quote(p, t), m ? " " : "", m ? m->word : "", list);
+        }
+        if (kv->given & BIT(key))
+            return parser_fail(p, t->col, "'%s' given twice", mesh_keys[key].name);
+        kv->given |= BIT(key);
+        kv->key_token[key] = next - 1;
+        if (key == MESH_FILE) {
+            if (next >= p->token_count)
+                return parser_fail(p, parser_end_col(p), "expected a path after 'file'");
+            kv->value_token[key][0] = next++;
+        } else if (key == MESH_SCALE || key == MESH_ROTATE) {
+            int count = key == MESH_ROTATE ? 4 : 3;
+            double *out = key == MESH_ROTATE ? rotate : scale;
+            for (int c = 0; c < count; c++) {
+                if (key == MESH_SCALE && c == 1 &&
+                    (next >= p->token_count || !looks_numeric(&p->tokens[next]))) {
+                    out[1] = out[2] = out[0];
+                    break;
+                }
+                double value[3];
+                int value_token[3];
+                if (!parser_values(p, &mesh_keys[key], &next, value, value_token)) return false;
+                out[c] = value[0];
+            }
+        } else if (!parser_values(p, &mesh_keys[key], &next, kv->value[key],
+                                  kv->value_token[key])) {
+            return false;
+        }
+    }
+    if (!parser_require_keys(p, "mesh", mesh_keys, MESH_KEY_COUNT, mesh_shape.required, kv))
+        return false;
+    if (scale[0] == 0.0 || scale[1] == 0.0 || scale[2] == 0.0) {
+        return parser_fail(p, p->tokens[kv->key_token[MESH_SCALE]].col,
+                           "mesh scale must not be zero (it would flatten every face)");
+    }
+    if (rotate[0] == 0.0 && rotate[1] == 0.0 && rotate[2] == 0.0) {
+        return parser_fail(p, p->tokens[kv->key_token[MESH_ROTATE]].col,
+                           "mesh rotate axis must not be zero");
+    }
+    return true;
+}
+
+/* The surface of a mapped file material (a lambertian grey when the face has none). */
+static surface mapped_surface(const mesh *me, int material) {
+    if (material < 0 || material >= me->material_count) {
+        return (surface){.material = MATERIAL_LAMBERTIAN, .color = v3(0.8f, 0.8f, 0.8f), .ior = 1};
+    }
+    const mesh_material *mm = &me->materials[material];
+    return (surface){.material = mm->kind,
+                     .color = mm->color,
+                     .ks = mm->ks,
+                     .alpha = mm->alpha,
+                     .ior = mm->ior,
+                     .emission = mm->emission};
+}
+
+/* A mesh from a model file (mesh_load.c): transformed, its degenerate faces dropped (one
+ * warning), glass only when it is closed. */
+static bool parse_mesh(parser *p) {
+    const material_spec *m = NULL;
+    int next = 1;
+    if (p->token_count > 1 && !parser_token_is(&p->tokens[1], "file")) {
+        const token *word = &p->tokens[1];
+        for (size_t i = 0; i < sizeof materials / sizeof materials[0] && !m; i++) {
+            if (parser_token_is(word, materials[i].word)) m = &materials[i];
+        }
+        if (!m) {
+            char list[128];
+            material_list(list, sizeof list, &mesh_shape, " ", true);
+            return parser_fail(p, word->col,
+                               "unknown material '%s' for mesh (expected 'file' or one of: %s)",
+                               parser_quote(p, word), list);
+        }
+        next = 2;
+    }
+    key_values kv;
+    double scale[3] = {1, 1, 1}, rotate[4] = {0, 0, 1, 0};
+    if (!read_mesh_keys(p, m, next, &kv, scale, rotate)) return false;
+    const token *file = &p->tokens[kv.value_token[MESH_FILE][0]];
+    char path[PATH_MAX];
+    if (!mesh_path(p, file, path, sizeof path))
+        return parser_fail(p, file->col, "mesh path is too long");
+    bool smooth = parser_value_or(&kv, MESH_SMOOTH, 0) != 0;
+    mesh me;
+    char error[512];
+    if (!mesh_load(path, smooth, &me, error, sizeof error))
+        return parser_fail(p, file->col, "mesh '%s': %s", path, error);
+    double translate[3] = {0, 0, 0};
+    for (int k = 0; k < 3 && (kv.given & BIT(MESH_TRANSLATE)); k++)
+        translate[k] = kv.value[MESH_TRANSLATE][k];
+    mesh_transform xf = make_transform(scale, rotate, translate);
+    surface given = {0};
+    if (m) given = read_surface(p, &mesh_shape, m, &kv);
+    bool glass = m && m->kind == MATERIAL_REFRACTIVE, emits = false;
+    for (int k = 0; !m && k < me.material_count; k++)
+        glass |= me.materials[k].kind == MATERIAL_REFRACTIVE;
+    if (glass && !mesh_closed(&me)) {
+        mesh_free(&me);
+        return parser_fail(p, file->col,
+                           "mesh '%s' is refractive but not closed (an edge is not shared by "
+                           "exactly two faces wound the opposite ways): glass needs a surface "
+                           "that bounds its inside",
+                           path);
+    }
+    /* Transformed in place; kept faces first. */
+    size_t kept = 0, dropped = 0;
+    char first_drop[320] = "";
+    for (size_t f = 0; f < me.face_count; f++) {
+        mesh_face face = me.faces[f];
+        for (int k = 0; k < 3; k++) {
+            if (!transform_point(&xf, me.faces[f].v[k], &face.v[k])) {
+                mesh_free(&me);
+                return parser_fail(p, file->col,
+                                   "mesh '%s': face %zu leaves the coordinate range (1e18) once "
+                                   "transformed",
+                                   path, f + 1);
+            }
+        }
+        char why[256];
+        if (face_problem(face.v[0], face.v[1], face.v[2], "face", why, sizeof why)) {
+            if (!dropped++) snprintf(first_drop, sizeof first_drop, "%zu: %s", f + 1, why);
+            continue;
+        }
+        bool normals = smooth;
+        for (int k = 0; k < 3 && normals; k++)
+            normals = transform_normal(&xf, me.faces[f].n[k], &face.n[k]);
+        for (int k = 0; k < 3 && !normals; k++) face.n[k] = v3(0, 0, 0); /* flat */
+        me.faces[kept++] = face;
+    }
+    if (kept == 0) {
+        mesh_free(&me);
+        return parser_fail(p, file->col, "mesh '%s': every face is degenerate (face %s)", path,
+                           first_drop);
+    }
+    /* Glass tells entering from leaving by the geometric normal: wind the faces outward (a
+     * positive signed volume). */
+    double volume = 0.0;
+    for (size_t f = 0; glass && f < kept; f++) {
+        const mesh_face *face = &me.faces[f];
+        dvec3 a = d3_sub(face->v[0], v3(0, 0, 0)), b = d3_sub(face->v[1], v3(0, 0, 0)),
+              c = d3_sub(face->v[2], v3(0, 0, 0));
+        volume += d3_dot(a, d3_cross(b, c));
+    }
+    for (size_t f = 0; volume < 0.0 && f < kept; f++) {
+        mesh_face *face = &me.faces[f];
+        vec3 v = face->v[1], n = face->n[1];
+        face->v[1] = face->v[2], face->n[1] = face->n[2];
+        face->v[2] = v, face->n[2] = n;
+    }
+    if (!reserve_triangles(p, kept > (size_t)INT_MAX / 2 ? INT_MAX / 2 : (int)kept)) {
+        mesh_free(&me);
+        return false;
+    }
+    for (size_t f = 0; f < kept; f++) {
+        const mesh_face *face = &me.faces[f];
+        surface s = m ? given : mapped_surface(&me, face->material);
+        emits |= s.emission.x > 0.0f || s.emission.y > 0.0f || s.emission.z > 0.0f;
+        add_triangle(p, face->v[0], face->v[1], face->v[2], &s);
+        triangle *t = &p->s.triangles[p->s.triangle_count - 1];
+        t->smooth = face->n[0].x != 0.0f || face->n[0].y != 0.0f || face->n[0].z != 0.0f;
+        for (int k = 0; k < 3; k++) t->n[k] = face->n[k];
+    }
+    if (emits && !m && !p->emission_line) {
+        p->emission_line = p->line;
+        p->emission_col = file->col;
+    }
+    if (!m && me.unsupported[0]) {
+        parser_warn(p, p->line, file->col, "mesh '%s': trazador cannot show its %s (ignored)", path,
+                    me.unsupported);
+    }
+    if (dropped) {
+        parser_warn(p, p->line, file->col,
+                    "mesh '%s': %zu degenerate face%s dropped (the first, face %s)", path, dropped,
+                    dropped == 1 ? "" : "s", first_drop);
+    }
+    mesh_free(&me);
+    return true;
+}
+
 static bool parse_background(parser *p) {
     if (!claim_once(p, &p->background_line)) return false;
     double value[3];
@@ -775,10 +1082,15 @@ typedef struct directive_spec {
 } directive_spec;
 
 static const directive_spec directives[] = {
-    {"camera", parse_camera, false},         {"plane", parse_plane, false},
-    {"light", parse_light, false},           {"sphere", parse_sphere, true},
-    {"triangle", parse_triangle, true},      {"quad", parse_quad, true},
-    {"background", parse_background, false}, {"render", parse_render, false},
+    {"camera", parse_camera, false},
+    {"plane", parse_plane, false},
+    {"light", parse_light, false},
+    {"sphere", parse_sphere, true},
+    {"triangle", parse_triangle, true},
+    {"quad", parse_quad, true},
+    {"background", parse_background, false},
+    {"render", parse_render, false},
+    {"mesh", parse_mesh, false}, /* in order: it reads a file and may warn */
 };
 
 bool parser_directive(parser *p) {
@@ -790,6 +1102,6 @@ bool parser_directive(parser *p) {
     }
     return parser_fail(p, word->col,
                        "unknown directive '%s' (expected one of: camera plane light sphere "
-                       "triangle quad background render)",
+                       "triangle quad mesh background render)",
                        parser_quote(p, word));
 }

@@ -1,0 +1,410 @@
+/* mesh_load.c: model files through assimp's C API (Debian libassimp-dev): import with the
+ * post-processing trazador needs, faces gathered with their normals, and the file's materials
+ * mapped to trazador's (the table is in scenes/README.md, `mesh`). */
+#include "scene/mesh_load.h"
+
+#include <assimp/ObjMaterial.h>
+#include <assimp/cimport.h>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <errno.h>
+#include <math.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "util/clock.h"
+
+/* Normals are generated across edges whose faces meet at less than this (degrees): a cube stays
+ * flat, a tessellated sphere turns smooth. */
+#define SMOOTHING_ANGLE 60.0f
+/* The import's time limit: this, plus the file's size over the rate below. */
+#define LOAD_SECONDS 2.0
+#define LOAD_BYTES_PER_SECOND 1e6
+/* A mean specular colour at least this, over a black diffuse colour, is a mirror. */
+#define MIRROR_KS 0.95f
+/* glTF: metallic 1 and roughness under this is a mirror. */
+#define MIRROR_ROUGHNESS 0.05f
+/* The largest Phong exponent a roughness maps to (roughness 0 would be infinite). */
+#define MAX_ALPHA 10000.0f
+
+static bool fail(char *error, size_t size, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static bool fail(char *error, size_t size, const char *fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(error, size, fmt, ap);
+    va_end(ap);
+    return false;
+}
+
+static float clamp01(float x) { return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x; }
+
+static vec3 color_of(const struct aiMaterial *m, const char *key, unsigned type, unsigned index,
+                     bool *found) {
+    struct aiColor4D c;
+    *found = aiGetMaterialColor(m, key, type, index, &c) == aiReturn_SUCCESS;
+    if (!*found) return v3(0, 0, 0);
+    return v3(isfinite(c.r) ? c.r : 0.0f, isfinite(c.g) ? c.g : 0.0f, isfinite(c.b) ? c.b : 0.0f);
+}
+
+static float float_of(const struct aiMaterial *m, const char *key, unsigned type, unsigned index,
+                      float fallback, bool *found) {
+    ai_real value;
+    unsigned one = 1;
+    *found = aiGetMaterialFloatArray(m, key, type, index, &value, &one) == aiReturn_SUCCESS &&
+             one == 1 && isfinite(value);
+    return *found ? (float)value : fallback;
+}
+
+static void note(char *list, size_t size, const char *what) {
+    if (strstr(list, what)) return;
+    size_t used = strlen(list);
+    snprintf(list + used, size - used, "%s%s", used ? ", " : "", what);
+}
+
+/* The texture kinds a material uses, named into list. */
+static void note_textures(const struct aiMaterial *m, char *list, size_t size) {
+    static const struct {
+        enum aiTextureType type;
+        const char *name;
+    } kinds[] = {
+        {aiTextureType_DIFFUSE, "diffuse texture"},
+        {aiTextureType_SPECULAR, "specular texture"},
+        {aiTextureType_AMBIENT, "ambient texture"},
+        {aiTextureType_EMISSIVE, "emissive texture"},
+        {aiTextureType_HEIGHT, "bump texture"},
+        {aiTextureType_NORMALS, "normal map"},
+        {aiTextureType_SHININESS, "shininess texture"},
+        {aiTextureType_OPACITY, "opacity texture"},
+        {aiTextureType_DISPLACEMENT, "displacement texture"},
+        {aiTextureType_LIGHTMAP, "light map"},
+        {aiTextureType_REFLECTION, "reflection texture"},
+        {aiTextureType_BASE_COLOR, "base colour texture"},
+        {aiTextureType_METALNESS, "metallic texture"},
+        {aiTextureType_DIFFUSE_ROUGHNESS, "roughness texture"},
+        {aiTextureType_UNKNOWN, "other texture"},
+    };
+    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
+        if (aiGetMaterialTextureCount(m, kinds[k].type) > 0) note(list, size, kinds[k].name);
+    }
+}
+
+/* The file's material as trazador's (scenes/README.md, `mesh`, has the table). */
+static mesh_material map_material(const struct aiMaterial *m, char *unsupported, size_t size) {
+    bool has_kd, has_ks, has_ns, has_ni, has_d, has_base, has_metal, has_rough, has_trans, found;
+    vec3 kd = color_of(m, AI_MATKEY_COLOR_DIFFUSE, &has_kd);
+    vec3 base = color_of(m, AI_MATKEY_BASE_COLOR, &has_base);
+    vec3 ks = color_of(m, AI_MATKEY_COLOR_SPECULAR, &has_ks);
+    vec3 ke = color_of(m, AI_MATKEY_COLOR_EMISSIVE, &found);
+    float ns = float_of(m, AI_MATKEY_SHININESS, 0.0f, &has_ns);
+    float ni = float_of(m, AI_MATKEY_REFRACTI, 1.5f, &has_ni);
+    float d = float_of(m, AI_MATKEY_OPACITY, 1.0f, &has_d);
+    float metallic = float_of(m, AI_MATKEY_METALLIC_FACTOR, 0.0f, &has_metal);
+    float roughness = float_of(m, AI_MATKEY_ROUGHNESS_FACTOR, 1.0f, &has_rough);
+    float transmission = float_of(m, AI_MATKEY_TRANSMISSION_FACTOR, 0.0f, &has_trans);
+    int illum = 2;
+    aiGetMaterialIntegerArray(m, AI_MATKEY_OBJ_ILLUM, &illum, NULL);
+    note_textures(m, unsupported, size);
+    vec3 color = has_base ? base : has_kd ? kd : v3(0.8f, 0.8f, 0.8f);
+    color = v3(clamp01(color.x), clamp01(color.y), clamp01(color.z));
+    mesh_material out = {
+        .kind = MATERIAL_LAMBERTIAN,
+        .color = color,
+        .ior = 1.0f,
+        .emission = v3(fmaxf(ke.x, 0.0f), fmaxf(ke.y, 0.0f), fmaxf(ke.z, 0.0f)),
+    };
+    float ks_mean = clamp01((ks.x + ks.y + ks.z) / 3.0f);
+    bool glass = (has_d && d < 1.0f) || illum == 4 || illum == 6 || illum == 7 ||
+                 (has_trans && transmission > 0.0f);
+    if (glass) {
+        out.kind = MATERIAL_REFRACTIVE;
+        out.ior = has_ni && ni >= 1.0f ? ni : 1.5f;
+        if (!has_base && !has_kd) out.color = v3(1, 1, 1);
+        return out;
+    }
+    if (has_metal || has_rough) {
+        /* glTF's metallic-roughness model. */
+        if (metallic >= 1.0f && roughness < MIRROR_ROUGHNESS) {
+            out.kind = MATERIAL_MIRROR;
+            return out;
+        }
+        /* Dielectrics reflect 4% at normal incidence, metals their colour's mean; the Phong lobe
+         * of exponent 2 / r^4 - 2 is as wide as GGX's of alpha r^2. */
+        out.kind = MATERIAL_PHONG;
+        float r = fmaxf(clamp01(roughness), 1e-3f);
+        out.ks = 0.04f + 0.96f * clamp01(metallic);
+        out.alpha = fminf(2.0f / (r * r * r * r) - 2.0f, MAX_ALPHA);
+        return out;
+    }
+    bool black = kd.x <= 0.0f && kd.y <= 0.0f && kd.z <= 0.0f;
+    if (illum == 3 || (has_ks && black && ks_mean >= MIRROR_KS)) {
+        out.kind = MATERIAL_MIRROR;
+        out.color =
+            has_ks && ks_mean > 0.0f ? v3(clamp01(ks.x), clamp01(ks.y), clamp01(ks.z)) : out.color;
+        return out;
+    }
+    if (has_ks && ks_mean > 0.0f) {
+        out.kind = MATERIAL_PHONG;
+        out.ks = ks_mean;
+        out.alpha = has_ns && ns > 0.0f ? ns : 1.0f;
+    }
+    return out;
+}
+
+/* The import itself, in the child process (mesh_load). */
+static bool import(const char *path, bool smooth, mesh *out, char *error, size_t error_size) {
+    memset(out, 0, sizeof *out);
+    unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                     aiProcess_PreTransformVertices | aiProcess_SortByPType |
+                     aiProcess_ValidateDataStructure;
+    if (smooth) flags |= aiProcess_GenSmoothNormals;
+    struct aiPropertyStore *props = aiCreatePropertyStore();
+    if (!props) return fail(error, error_size, "out of memory");
+    aiSetImportPropertyFloat(props, AI_CONFIG_PP_GSN_MAX_SMOOTHING_ANGLE, SMOOTHING_ANGLE);
+    const struct aiScene *sc = aiImportFileExWithProperties(path, flags, NULL, props);
+    aiReleasePropertyStore(props);
+    if (!sc) return fail(error, error_size, "cannot load: %s", aiGetErrorString());
+    size_t faces = 0;
+    for (unsigned i = 0; i < sc->mNumMeshes; i++) {
+        const struct aiMesh *me = sc->mMeshes[i];
+        if (me->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) faces += me->mNumFaces;
+    }
+    bool ok = true;
+    if (faces == 0) {
+        ok = fail(error, error_size, "holds no triangles (%u meshes of points or lines only)",
+                  sc->mNumMeshes);
+    }
+    if (ok) {
+        out->faces = malloc(faces * sizeof *out->faces);
+        out->materials = calloc(sc->mNumMaterials ? sc->mNumMaterials : 1, sizeof *out->materials);
+        if (!out->faces || !out->materials) ok = fail(error, error_size, "out of memory");
+    }
+    for (unsigned i = 0; ok && i < sc->mNumMaterials; i++)
+        out->materials[i] =
+            map_material(sc->mMaterials[i], out->unsupported, sizeof out->unsupported);
+    out->material_count = (int)sc->mNumMaterials;
+    for (unsigned i = 0; ok && i < sc->mNumMeshes; i++) {
+        const struct aiMesh *me = sc->mMeshes[i];
+        if (!(me->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+        if (me->mColors[0]) note(out->unsupported, sizeof out->unsupported, "vertex colours");
+        for (unsigned f = 0; ok && f < me->mNumFaces; f++) {
+            const struct aiFace *face = &me->mFaces[f];
+            if (face->mNumIndices != 3) continue;
+            mesh_face *mf = &out->faces[out->face_count];
+            mf->material = me->mMaterialIndex < sc->mNumMaterials ? (int)me->mMaterialIndex : -1;
+            for (int k = 0; k < 3; k++) {
+                unsigned index = face->mIndices[k];
+                struct aiVector3D v = me->mVertices[index];
+                if (!isfinite(v.x) || !isfinite(v.y) || !isfinite(v.z)) {
+                    ok = fail(error, error_size,
+                              "vertex %u of mesh %u has a non-finite position (%g %g %g)", index, i,
+                              (double)v.x, (double)v.y, (double)v.z);
+                    break;
+                }
+                mf->v[k] = v3(v.x, v.y, v.z);
+                struct aiVector3D n = me->mNormals ? me->mNormals[index] : (struct aiVector3D){0};
+                bool finite = isfinite(n.x) && isfinite(n.y) && isfinite(n.z);
+                mf->n[k] = finite ? v3(n.x, n.y, n.z) : v3(0, 0, 0);
+            }
+            out->face_count++;
+        }
+    }
+    if (ok && out->face_count == 0)
+        ok = fail(error, error_size, "holds no triangles (its faces are points or lines)");
+    aiReleaseImport(sc);
+    if (!ok) mesh_free(out);
+    return ok;
+}
+
+/* What the child sends first: the outcome, then materials and faces follow. */
+typedef struct reply {
+    bool ok;
+    size_t face_count;
+    int material_count;
+    char unsupported[256];
+    char error[512];
+} reply;
+
+static bool write_all(int fd, const void *data, size_t size) {
+    const char *at = data;
+    while (size > 0) {
+        ssize_t n = write(fd, at, size);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        at += n;
+        size -= (size_t)n;
+    }
+    return true;
+}
+
+/* Reads size bytes before the deadline (clock_seconds()); false on end of file or time out. */
+static bool read_all_by(int fd, void *data, size_t size, double deadline, bool *late) {
+    char *at = data;
+    while (size > 0) {
+        double left = deadline - clock_seconds();
+        struct pollfd pfd = {.fd = fd, .events = POLLIN};
+        int ready = left > 0 ? poll(&pfd, 1, (int)(left * 1000) + 1) : 0;
+        if (ready < 0 && errno == EINTR) continue;
+        if (ready == 0) {
+            *late = true;
+            return false;
+        }
+        ssize_t n = read(fd, at, size > (1u << 20) ? (1u << 20) : size);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        at += n;
+        size -= (size_t)n;
+    }
+    return true;
+}
+
+/* The child: imports and sends the result down fd. */
+static void child_run(int fd, const char *path, bool smooth) {
+    mesh m;
+    reply r = {0};
+    r.ok = import(path, smooth, &m, r.error, sizeof r.error);
+    r.face_count = m.face_count;
+    r.material_count = m.material_count;
+    memcpy(r.unsupported, m.unsupported, sizeof r.unsupported);
+    if (write_all(fd, &r, sizeof r) && r.ok &&
+        write_all(fd, m.materials, (size_t)m.material_count * sizeof *m.materials))
+        write_all(fd, m.faces, m.face_count * sizeof *m.faces);
+    _exit(0);
+}
+
+bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t error_size) {
+    memset(out, 0, sizeof *out);
+    /* Only regular files: a FIFO or a device would block assimp's reader for ever. */
+    struct stat st;
+    if (stat(path, &st) != 0) return fail(error, error_size, "cannot open: %s", strerror(errno));
+    if (!S_ISREG(st.st_mode)) return fail(error, error_size, "not a regular file");
+    const char *dot = strrchr(path, '.');
+    if (!dot || strchr(dot, '/') || !aiIsExtensionSupported(dot)) {
+        return fail(error, error_size,
+                    "unsupported format: this assimp reads no '%s' files (see `assimp listext`)",
+                    dot && !strchr(dot, '/') ? dot : "extensionless");
+    }
+    /* assimp loops for ever or crashes on some malformed files (a PLY whose vertex count is a
+     * word hangs 5.2.5): it runs in a child process, killed past its time. */
+    int fds[2];
+    if (pipe(fds) != 0) return fail(error, error_size, "cannot make a pipe: %s", strerror(errno));
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        return fail(error, error_size, "cannot fork: %s", strerror(errno));
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        child_run(fds[1], path, smooth);
+    }
+    close(fds[1]);
+    double seconds = LOAD_SECONDS + (double)st.st_size / LOAD_BYTES_PER_SECOND;
+    double deadline = clock_seconds() + seconds;
+    reply r = {0};
+    bool late = false, reported = false, ok = false;
+    bool got = read_all_by(fds[0], &r, sizeof r, deadline, &late);
+    if (got && r.ok) {
+        out->face_count = r.face_count;
+        out->material_count = r.material_count;
+        memcpy(out->unsupported, r.unsupported, sizeof r.unsupported);
+        out->unsupported[sizeof out->unsupported - 1] = '\0';
+        out->faces = malloc(r.face_count * sizeof *out->faces);
+        out->materials = calloc((size_t)r.material_count + 1, sizeof *out->materials);
+        if (!out->faces || !out->materials) {
+            fail(error, error_size, "out of memory for %zu faces", r.face_count);
+            reported = true;
+        } else {
+            ok =
+                read_all_by(fds[0], out->materials,
+                            (size_t)r.material_count * sizeof *out->materials, deadline, &late) &&
+                read_all_by(fds[0], out->faces, r.face_count * sizeof *out->faces, deadline, &late);
+        }
+    } else if (got) {
+        r.error[sizeof r.error - 1] = '\0';
+        fail(error, error_size, "%s", r.error);
+        reported = true;
+    }
+    close(fds[0]);
+    if (late) kill(pid, SIGKILL);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) continue;
+    if (!ok && !reported) {
+        if (late)
+            fail(error, error_size,
+                 "cannot load: assimp did not finish in %.0f s (a malformed file?)", seconds);
+        else if (WIFSIGNALED(status))
+            fail(error, error_size, "cannot load: assimp crashed reading it (signal %d)",
+                 WTERMSIG(status));
+        else
+            fail(error, error_size, "cannot load: assimp's process ended before its reply");
+    }
+    if (!ok) mesh_free(out);
+    return ok;
+}
+
+/* An edge by its corners' bits, the smaller corner first; reversed: its face runs b to a. */
+typedef struct edge {
+    uint32_t a[3], b[3];
+    bool reversed;
+} edge;
+
+static int corner_compare(const uint32_t *x, const uint32_t *y) {
+    for (int k = 0; k < 3; k++)
+        if (x[k] != y[k]) return x[k] < y[k] ? -1 : 1;
+    return 0;
+}
+
+static int edge_compare(const void *x, const void *y) {
+    const edge *e = x, *f = y;
+    int c = corner_compare(e->a, f->a);
+    return c ? c : corner_compare(e->b, f->b);
+}
+
+static void corner_bits(vec3 v, uint32_t out[3]) {
+    float c[3] = {v.x + 0.0f, v.y + 0.0f, v.z + 0.0f}; /* -0 and +0 are one corner */
+    memcpy(out, c, sizeof c);
+}
+
+bool mesh_closed(const mesh *m) {
+    size_t count = m->face_count * 3;
+    edge *edges = malloc(count * sizeof *edges);
+    if (!edges) return false;
+    for (size_t f = 0; f < m->face_count; f++) {
+        for (int k = 0; k < 3; k++) {
+            edge *e = &edges[f * 3 + k];
+            uint32_t p[3], q[3];
+            corner_bits(m->faces[f].v[k], p);
+            corner_bits(m->faces[f].v[(k + 1) % 3], q);
+            bool swap = corner_compare(p, q) > 0;
+            memcpy(e->a, swap ? q : p, sizeof p);
+            memcpy(e->b, swap ? p : q, sizeof q);
+            e->reversed = swap;
+        }
+    }
+    qsort(edges, count, sizeof *edges, edge_compare);
+    bool closed = true;
+    for (size_t i = 0; i < count && closed;) {
+        size_t j = i + 1;
+        while (j < count && !edge_compare(&edges[i], &edges[j])) j++;
+        closed = j - i == 2 && edges[i].reversed != edges[i + 1].reversed;
+        i = j;
+    }
+    free(edges);
+    return closed;
+}
+
+void mesh_free(mesh *m) {
+    free(m->faces);
+    free(m->materials);
+    memset(m, 0, sizeof *m);
+}

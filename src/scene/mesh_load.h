@@ -1,0 +1,48 @@
+/* mesh_load.h: a model file read through assimp (OBJ, PLY, glTF, COLLADA, ...) into faces and
+ * the file's materials mapped to trazador's (scenes/README.md, `mesh`); the `mesh` directive
+ * (scene_directives.c) transforms and checks them. */
+#ifndef TRAZADOR_MESH_LOAD_H
+#define TRAZADOR_MESH_LOAD_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "scene/scene.h"
+
+/* A material of the file as trazador renders it. */
+typedef struct mesh_material {
+    material_kind kind;
+    vec3 color;
+    float ks, alpha, ior;
+    vec3 emission;
+} mesh_material;
+
+/* One triangle of the file, node transforms applied. */
+typedef struct mesh_face {
+    vec3 v[3];
+    vec3 n[3]; /* the file's (or generated) normals; zero when the file gives none */
+    int material;
+} mesh_face;
+
+typedef struct mesh {
+    mesh_face *faces;
+    size_t face_count;
+    mesh_material *materials;
+    int material_count;
+    /* What the file holds that trazador cannot show ("textures (diffuse), vertex colours"),
+     * empty when nothing. */
+    char unsupported[256];
+} mesh;
+
+/* Loads path; smooth: generate normals (by angle) where the file has none. False with a message
+ * (assimp's own where it failed) in error on a file that cannot be read, holds no triangles or
+ * a non-finite position; *out is then empty. */
+bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t error_size);
+/* Whether every edge is shared by exactly two faces that run along it in opposite directions
+ * (corners compared by position): only a closed, consistently wound surface bounds a medium for
+ * glass. */
+bool mesh_closed(const mesh *m);
+/* Releases a loaded mesh; safe on a zeroed one. */
+void mesh_free(mesh *m);
+
+#endif

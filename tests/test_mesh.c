@@ -1,0 +1,444 @@
+/* test_mesh.c: meshes from files (src/scene/mesh_load.c, the `mesh` directive): a unit cube in
+ * OBJ and in ASCII PLY, transformed, gives the triangles and the image of six `quad` lines at
+ * the transformed corners; an OBJ with MTL materials renders like the same faces written with
+ * the mapped materials; every error gives its message at line:col; 1 and 4 parser threads agree;
+ * hostile files fail cleanly; a smooth closed mesh keeps the furnace exact. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "render/part.h"
+#include "render/render.h"
+#include "scene/scene.h"
+#include "tmp_dir.h"
+
+#define PI 3.14159265358979323846
+#define SIGMAS 4.5
+
+static const double cube[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                  {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+/* The six faces, each counter-clockwise seen from outside. */
+static const int cube_faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                     {3, 7, 6, 2}, {0, 4, 7, 3}, {1, 2, 6, 5}};
+/* scale 0.8 0.6 0.5 rotate 1 2 0.5 30 translate -0.3 -0.2 3 */
+static const double xf_scale[3] = {0.8, 0.6, 0.5}, xf_axis[3] = {1, 2, 0.5}, xf_deg = 30,
+                    xf_move[3] = {-0.3, -0.2, 3};
+#define XF "scale 0.8 0.6 0.5 rotate 1 2 0.5 30 translate -0.3 -0.2 3"
+
+static void transform(const double in[3], double out[3]) {
+    double l = sqrt(xf_axis[0] * xf_axis[0] + xf_axis[1] * xf_axis[1] + xf_axis[2] * xf_axis[2]);
+    double u[3] = {xf_axis[0] / l, xf_axis[1] / l, xf_axis[2] / l}, s[3];
+    for (int k = 0; k < 3; k++) s[k] = in[k] * xf_scale[k];
+    double a = xf_deg * PI / 180, c = cos(a), sn = sin(a),
+           d = u[0] * s[0] + u[1] * s[1] + u[2] * s[2];
+    double cr[3] = {u[1] * s[2] - u[2] * s[1], u[2] * s[0] - u[0] * s[2],
+                    u[0] * s[1] - u[1] * s[0]};
+    for (int k = 0; k < 3; k++) out[k] = s[k] * c + cr[k] * sn + u[k] * d * (1 - c) + xf_move[k];
+}
+
+static void write_text(const char *name, const char *text) {
+    tmp_file_write(tmp_path(name), text, strlen(text));
+}
+
+static void write_cube_files(void) {
+    char obj[2048] = "# unit cube\n", ply[2048];
+    for (int v = 0; v < 8; v++) {
+        size_t n = strlen(obj);
+        snprintf(obj + n, sizeof obj - n, "v %g %g %g\n", cube[v][0], cube[v][1], cube[v][2]);
+    }
+    for (int f = 0; f < 6; f++) {
+        size_t n = strlen(obj);
+        snprintf(obj + n, sizeof obj - n, "f %d %d %d %d\n", cube_faces[f][0] + 1,
+                 cube_faces[f][1] + 1, cube_faces[f][2] + 1, cube_faces[f][3] + 1);
+    }
+    write_text("cube.obj", obj);
+    snprintf(ply, sizeof ply,
+             "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
+             "property float z\nelement face 6\nproperty list uchar int vertex_indices\n"
+             "end_header\n");
+    for (int v = 0; v < 8; v++) {
+        size_t n = strlen(ply);
+        snprintf(ply + n, sizeof ply - n, "%g %g %g\n", cube[v][0], cube[v][1], cube[v][2]);
+    }
+    for (int f = 0; f < 6; f++) {
+        size_t n = strlen(ply);
+        snprintf(ply + n, sizeof ply - n, "4 %d %d %d %d\n", cube_faces[f][0], cube_faces[f][1],
+                 cube_faces[f][2], cube_faces[f][3]);
+    }
+    write_text("cube.ply", ply);
+    /* the same cube wound inward */
+    const char *in = strstr(obj, "\nf ") + 1;
+    char inward[2048];
+    snprintf(inward, sizeof inward, "%.*s", (int)(in - obj), obj);
+    for (int f = 0; f < 6; f++) {
+        size_t n = strlen(inward);
+        snprintf(inward + n, sizeof inward - n, "f %d %d %d %d\n", cube_faces[f][0] + 1,
+                 cube_faces[f][3] + 1, cube_faces[f][2] + 1, cube_faces[f][1] + 1);
+    }
+    write_text("cube_in.obj", inward);
+}
+
+#define HEADER                                                                     \
+    "camera position 0 0 0 direction 0 0 1\nplane width 2 height 2 pixel 0.0625\n" \
+    "light position -1 2 0 power 20\nbackground 0.1 0.2 0.3\nrender samples 2\n"
+
+/* Parses text as the file tmpdir/scene.scene (so that mesh paths are relative to tmpdir) on
+ * `threads` threads; false with *err filled on an error. */
+static bool parse(const char *text, int threads, scene *s, scene_error *err) {
+    return scene_parse_string_threads(text, strlen(text), tmp_path("scene.scene"), threads, s, err);
+}
+
+/* Renders the scene on the CPU back end; false on failure. */
+static bool render(const scene *s, film *f) {
+    render_opts o;
+    render_opts_from_scene(s, &o);
+    return render_cpu(s, &o, f);
+}
+
+/* Whether triangle a has the corners of b (any order) within tol. */
+static bool same_corners(const triangle *a, const triangle *b, double tol) {
+    for (int r = 0; r < 3; r++) {
+        bool all = true;
+        for (int k = 0; k < 3 && all; k++) {
+            vec3 p = a->v[k], q = b->v[(k + r) % 3];
+            all = fabs(p.x - q.x) <= tol && fabs(p.y - q.y) <= tol && fabs(p.z - q.z) <= tol;
+        }
+        if (all) return true;
+    }
+    return false;
+}
+
+/* Every triangle of a matches one of b with the same material, and the counts agree. */
+static bool same_triangles(const scene *a, const scene *b) {
+    if (a->triangle_count != b->triangle_count) return false;
+    for (int i = 0; i < a->triangle_count; i++) {
+        bool found = false;
+        for (int j = 0; j < b->triangle_count && !found; j++) {
+            const triangle *t = &a->triangles[i], *u = &b->triangles[j];
+            found = same_corners(t, u, 1e-5) && t->material == u->material &&
+                    fabsf(t->color.x - u->color.x) < 1e-6f && fabsf(t->ks - u->ks) < 1e-6f &&
+                    fabsf(t->alpha - u->alpha) < 1e-6f && fabsf(t->ior - u->ior) < 1e-6f;
+        }
+        if (!found) return false;
+    }
+    return true;
+}
+
+/* The largest difference between two films' pixel means (infinite when their sizes differ). */
+static double film_difference(const film *a, const film *b) {
+    if (a->width != b->width || a->height != b->height) return INFINITY;
+    double worst = 0;
+    for (size_t k = 0; k < (size_t)a->width * a->height; k++) {
+        for (int c = 0; c < 3; c++) {
+            double x = a->accum[k * 4 + c] / a->accum[k * 4 + 3];
+            double y = b->accum[k * 4 + c] / b->accum[k * 4 + 3];
+            worst = fmax(worst, fabs(x - y));
+        }
+    }
+    return worst;
+}
+
+/* Parses and renders both texts; checks the same triangles and pixels within 1e-4. */
+static void expect_same(const char *name, const char *mesh_text, const char *quad_text) {
+    scene a, b;
+    scene_error err;
+    bool ok_a = parse(mesh_text, 1, &a, &err);
+    if (!ok_a) scene_error_print(&err);
+    bool ok_b = parse(quad_text, 1, &b, &err);
+    if (!ok_b) scene_error_print(&err);
+    CHECK(ok_a && ok_b, "%s: parse failed", name);
+    if (!ok_a || !ok_b) return;
+    CHECK(same_triangles(&a, &b), "%s: %d and %d triangles differ", name, a.triangle_count,
+          b.triangle_count);
+    film fa = {0}, fb = {0};
+    CHECK(render(&a, &fa) && render(&b, &fb), "%s: render failed", name);
+    if (fa.accum && fb.accum) {
+        double d = film_difference(&fa, &fb);
+        CHECK(d <= 1e-4, "%s: pixels differ by %g", name, d);
+    }
+    film_free(&fa);
+    film_free(&fb);
+    scene_free(&a);
+    scene_free(&b);
+}
+
+static char quads[8192];
+
+/* Six quad lines at the transformed cube's corners, each with `material`. */
+static void cube_quads(const char *material) {
+    snprintf(quads, sizeof quads, "%s", HEADER);
+    for (int f = 0; f < 6; f++) {
+        size_t n = strlen(quads);
+        n += (size_t)snprintf(quads + n, sizeof quads - n, "quad %s", material);
+        for (int k = 0; k < 4; k++) {
+            double p[3];
+            transform(cube[cube_faces[f][k]], p);
+            n += (size_t)snprintf(quads + n, sizeof quads - n, " v%d %.9g %.9g %.9g", k,
+                                  (double)(float)p[0], (double)(float)p[1], (double)(float)p[2]);
+        }
+        snprintf(quads + n, sizeof quads - n, "\n");
+    }
+}
+
+static void test_cube(void) {
+    write_cube_files();
+    cube_quads("phong color 0.7 0.4 0.2 ks 0.3 alpha 12");
+    expect_same("obj cube",
+                HEADER "mesh phong file cube.obj " XF " color 0.7 0.4 0.2 ks 0.3 alpha 12\n",
+                quads);
+    expect_same("ply cube",
+                HEADER "mesh phong color 0.7 0.4 0.2 file cube.ply ks 0.3 " XF " alpha 12\n",
+                quads);
+    /* glass faces are wound outward whatever the file's winding */
+    expect_same("glass cube wound inward", HEADER "mesh refractive file cube_in.obj " XF "\n",
+                HEADER "mesh refractive file cube.obj " XF "\n");
+}
+
+/* Three faces with three MTL materials: a lambertian, a Phong and a mirror. */
+static void test_mtl(void) {
+    write_text("three.mtl",
+               "newmtl matte\nKd 0.2 0.5 0.7\nKs 0 0 0\n"
+               "newmtl shiny\nKd 0.5 0.4 0.3\nKs 0.3 0.2 0.1\nNs 20\n"
+               "newmtl chrome\nKd 0.9 0.9 0.9\nillum 3\n");
+    write_text("three.obj",
+               "mtllib three.mtl\n"
+               "v -2 -1 2\nv 2 -1 2\nv 2 -1 6\nv -2 -1 6\n"
+               "v -2 2 6\nv 2 2 6\nv -2 2 2\n"
+               "usemtl matte\nf 1 4 3 2\n"
+               "usemtl shiny\nf 4 5 6 3\n"
+               "usemtl chrome\nf 1 7 5 4\n");
+    expect_same("obj mtl", HEADER "mesh file three.obj\n",
+                HEADER
+                "quad lambertian v0 -2 -1 2 v1 -2 -1 6 v2 2 -1 6 v3 2 -1 2 color 0.2 0.5 0.7\n"
+                "quad phong v0 -2 -1 6 v1 -2 2 6 v2 2 2 6 v3 2 -1 6 color 0.5 0.4 0.3 ks 0.2 "
+                "alpha 20\n"
+                "quad mirror v0 -2 -1 2 v1 -2 2 2 v2 -2 2 6 v3 -2 -1 6 color 0.9 0.9 0.9\n");
+}
+
+/* text's error is at line:col and its message holds `want`. */
+static void expect_error(const char *text, int line, int col, const char *want) {
+    scene s;
+    scene_error err;
+    bool ok = parse(text, 1, &s, &err);
+    CHECK(!ok, "parsed, expected '%s'", want);
+    if (ok) {
+        scene_free(&s);
+        return;
+    }
+    CHECK(err.line == line && err.col == col && strstr(err.message, want),
+          "got %d:%d: %s, want %d:%d: %s", err.line, err.col, err.message, line, col, want);
+}
+
+static void test_errors(void) {
+    write_text("points.obj", "v 0 0 0\nv 1 0 0\np 1\np 2\n");
+    write_text("huge.obj", "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n");
+    write_text("cube.xyzq", "not a model\n");
+    write_text("garbage.ply", "ply\nformat ascii 1.0\nelement vertex banana\n");
+    write_text("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    write_text("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+    expect_error(HEADER "mesh file missing.obj\n", 6, 11, "missing.obj': cannot open");
+    expect_error(HEADER "mesh lambertian file points.obj\n", 6, 22, "holds no triangles");
+    expect_error(HEADER "mesh file huge.obj\n", 6, 11, "non-finite position");
+    expect_error(HEADER "mesh file cube.xyzq\n", 6, 11, "unsupported format");
+    expect_error(HEADER "mesh file garbage.ply\n", 6, 11, "cannot load: ");
+    expect_error(HEADER "mesh refractive file open.obj\n", 6, 22, "not closed");
+    expect_error(HEADER "mesh file flat.obj\n", 6, 11, "every face is degenerate");
+    expect_error(HEADER "mesh file cube.obj scale 0\n", 6, 20, "scale must not be zero");
+    expect_error(HEADER "mesh file cube.obj rotate 0 0 0 5\n", 6, 20, "axis must not be zero");
+    expect_error(HEADER "mesh file cube.obj color 1 1 1\n", 6, 20, "needs a material word");
+    expect_error(HEADER "mesh glass file cube.obj\n", 6, 6, "unknown material 'glass'");
+    expect_error(HEADER "mesh lambertian scale 2\n", 6, 1, "missing required key 'file'");
+    expect_error(HEADER "mesh lambertian file cube.obj emission 1 1 1\n", 6, 31,
+                 "emission needs path mode");
+    /* a degenerate face among good ones: dropped, one warning */
+    write_text("one_bad.obj", "v 0 0 5\nv 1 0 5\nv 0 1 5\nv 2 0 5\nf 1 2 3\nf 1 2 4\n");
+    scene s;
+    scene_error err;
+    bool ok = parse(HEADER "mesh file one_bad.obj\n", 1, &s, &err);
+    CHECK(ok, "one_bad: %s", err.message);
+    if (ok) {
+        CHECK(s.triangle_count == 1, "one_bad: %d triangles", s.triangle_count);
+        CHECK(s.warning_count == 1 && strstr(s.warnings[0].message, "1 degenerate face dropped"),
+              "one_bad: warnings %d", s.warning_count);
+        scene_free(&s);
+    }
+}
+
+/* What trazador cannot show is named once in a warning: textures, whatever their count. */
+static void test_unsupported(void) {
+    write_text("textured.mtl",
+               "newmtl a\nKd 0.5 0.5 0.5\nmap_Kd a.png\nmap_bump b.png\n"
+               "newmtl b\nKd 0.5 0.5 0.5\nmap_Kd c.png\n");
+    write_text("textured.obj",
+               "mtllib textured.mtl\nv 0 0 5\nv 1 0 5\nv 0 1 5\nv 1 1 5\n"
+               "usemtl a\nf 1 2 3\nusemtl b\nf 2 4 3\n");
+    scene s;
+    scene_error err;
+    bool ok = parse(HEADER "mesh file textured.obj\n", 1, &s, &err);
+    CHECK(ok, "textured: %s", err.message);
+    if (!ok) return;
+    const char *w = s.warning_count == 1 ? s.warnings[0].message : "";
+    const char *first = strstr(w, "diffuse texture");
+    CHECK(first && !strstr(first + 1, "diffuse texture") && strstr(w, "bump texture") &&
+              s.warnings[0].line == 6 && s.warnings[0].col == 11,
+          "textured: %d warnings: %s", s.warning_count, w);
+    scene_free(&s);
+    /* with a material of its own, the file's materials are not used: no warning */
+    ok = parse(HEADER "mesh lambertian file textured.obj\n", 1, &s, &err);
+    CHECK(ok && s.warning_count == 0, "textured with a material: %d warnings",
+          ok ? s.warning_count : -1);
+    if (ok) scene_free(&s);
+}
+
+/* The digest of a part covers the model's content: moving one vertex of the file changes it. */
+static void test_digest(void) {
+    struct part_meta before, after;
+    const char *text = HEADER "mesh lambertian file moved.obj\n";
+    write_text("moved.obj", "v 0 0 5\nv 1 0 5\nv 0 1 5\nf 1 2 3\n");
+    for (int k = 0; k < 2; k++) {
+        if (k) write_text("moved.obj", "v 0 0 5\nv 1 0 5\nv 0 1.001 5\nf 1 2 3\n");
+        scene s;
+        scene_error err;
+        bool ok = parse(text, 1, &s, &err);
+        CHECK(ok, "digest: %s", err.message);
+        if (!ok) return;
+        render_opts o;
+        render_opts_from_scene(&s, &o);
+        render_part_meta(&s, &o, k ? &after : &before);
+        scene_free(&s);
+    }
+    CHECK(strcmp(before.digest, after.digest) != 0, "digest unchanged: %s", before.digest);
+}
+
+/* Truncations of the cube files and byte garbage load or fail, never crash. */
+static void test_hostile(void) {
+    static const char *files[] = {"cube.obj", "cube.ply", "three.obj"};
+    for (size_t f = 0; f < sizeof files / sizeof files[0]; f++) {
+        size_t len;
+        unsigned char *data = tmp_file_read(tmp_path(files[f]), &len);
+        CHECK(data != NULL, "read %s", files[f]);
+        if (!data) continue;
+        const char *ext = strrchr(files[f], '.');
+        char name[64], text[512];
+        snprintf(name, sizeof name, "cut%s", ext);
+        snprintf(text, sizeof text, HEADER "mesh lambertian file %s\n", name);
+        for (size_t n = 0; n < len; n += 3) {
+            for (size_t k = 0; k < n; k += 7) data[k] ^= (unsigned char)(n & 0x55);
+            tmp_file_write(tmp_path(name), data, n);
+            scene s;
+            scene_error err;
+            if (parse(text, 1, &s, &err)) scene_free(&s);
+            for (size_t k = 0; k < n; k += 7) data[k] ^= (unsigned char)(n & 0x55);
+        }
+        free(data);
+    }
+    CHECK(true, "hostile files survived");
+}
+
+/* Mesh lines among enough spheres to be cut into chunks parse the same on 1 and 4 threads. */
+static void test_threads(void) {
+    size_t size = 4 << 20, used = 0;
+    char *text = malloc(size);
+    used += (size_t)snprintf(text, size, "%s", HEADER);
+    for (int k = 0; k < 40000; k++) {
+        used += (size_t)snprintf(text + used, size - used,
+                                 "sphere lambertian center %d 0 40 radius 0.25\n", k % 100);
+        if (k % 9000 == 0)
+            used += (size_t)snprintf(text + used, size - used,
+                                     "mesh file three.obj translate %d 0 0\nmesh lambertian file "
+                                     "cube.ply " XF "\n",
+                                     k / 9000);
+    }
+    scene a, b;
+    scene_error err;
+    bool ok_a = parse(text, 1, &a, &err), ok_b = parse(text, 4, &b, &err);
+    CHECK(ok_a && ok_b, "threads: parse failed: %s", err.message);
+    if (ok_a && ok_b) {
+        CHECK(
+            a.triangle_count == b.triangle_count && a.triangle_count == 5 * 18 &&
+                !memcmp(a.triangles, b.triangles, (size_t)a.triangle_count * sizeof *a.triangles) &&
+                a.sphere_count == b.sphere_count,
+            "threads: %d and %d triangles", a.triangle_count, b.triangle_count);
+    }
+    if (ok_a) scene_free(&a);
+    if (ok_b) scene_free(&b);
+    free(text);
+}
+
+/* A UV sphere of radius 1 (closed: the poles are single vertices) as an OBJ. */
+static void write_sphere(int rings, int segments) {
+    size_t size = 1 << 20, n = 0;
+    char *obj = malloc(size);
+    n += (size_t)snprintf(obj + n, size - n, "v 0 1 0\nv 0 -1 0\n");
+    for (int r = 1; r < rings; r++) {
+        for (int s = 0; s < segments; s++) {
+            double t = PI * r / rings, p = 2 * PI * s / segments;
+            n += (size_t)snprintf(obj + n, size - n, "v %.9f %.9f %.9f\n", sin(t) * cos(p), cos(t),
+                                  sin(t) * sin(p));
+        }
+    }
+#define RING(r, s) (3 + ((r)-1) * segments + ((s) % segments))
+    for (int s = 0; s < segments; s++) {
+        n += (size_t)snprintf(obj + n, size - n, "f 1 %d %d\n", RING(1, s + 1), RING(1, s));
+        n += (size_t)snprintf(obj + n, size - n, "f 2 %d %d\n", RING(rings - 1, s),
+                              RING(rings - 1, s + 1));
+        for (int r = 1; r < rings - 1; r++)
+            n += (size_t)snprintf(obj + n, size - n, "f %d %d %d %d\n", RING(r, s), RING(r, s + 1),
+                                  RING(r + 1, s + 1), RING(r + 1, s));
+    }
+#undef RING
+    tmp_file_write(tmp_path("sphere.obj"), obj, n);
+    free(obj);
+}
+
+/* Path mode inside a closed mesh whose faces all emit 1 with albedo 0.5: every pixel sees
+ * 1 + a + ... + a^24 (test_triangles.c's furnace). Flat faces: with `smooth on` the renderer ends
+ * paths whose direction, sampled about the shading normal, falls below the geometric one
+ * (DESIGN section 3.3), 0.3% of the energy on this sphere. */
+static void test_furnace(void) {
+    write_sphere(12, 16);
+    scene s;
+    scene_error err;
+    bool ok = parse(
+        "camera position 0.1 0.05 -0.2 direction 0.3 0.2 1\nplane width 2 height 2 "
+        "pixel 0.0625\nbackground 5 5 5\nrender mode path bounces 24 roulette off "
+        "samples 32\nmesh lambertian file sphere.obj scale 3 smooth off color 0.5 0.5 "
+        "0.5 emission 1 1 1\n",
+        1, &s, &err);
+    CHECK(ok, "furnace: %s", err.message);
+    if (!ok) return;
+    film f = {0};
+    CHECK(render(&s, &f), "furnace: render failed");
+    if (f.accum) {
+        double sum = 0.0, sum2 = 0.0;
+        int n = f.width * f.height;
+        for (int k = 0; k < n; k++) {
+            double v = f.accum[k * 4 + 1] / f.accum[k * 4 + 3];
+            sum += v, sum2 += v * v;
+        }
+        double mean = sum / n, se = sqrt(fmax(sum2 / n - mean * mean, 0.0) / (n - 1));
+        double want = (1.0 - pow(0.5, 25)) / 0.5;
+        CHECK(fabs(mean - want) <= SIGMAS * se + 1e-5 * want, "furnace: %.6f +- %.6f, want %.6f",
+              mean, se, want);
+    }
+    film_free(&f);
+    scene_free(&s);
+}
+
+int main(void) {
+    if (!tmp_dir_make("test_mesh")) {
+        printf("cannot make a temporary folder\n");
+        return 1;
+    }
+    CHECK_CASE(test_cube);
+    CHECK_CASE(test_mtl);
+    CHECK_CASE(test_errors);
+    CHECK_CASE(test_unsupported);
+    CHECK_CASE(test_digest);
+    CHECK_CASE(test_hostile);
+    CHECK_CASE(test_threads);
+    CHECK_CASE(test_furnace);
+    return check_summary("test_mesh");
+}
