@@ -14,10 +14,10 @@ trap 'rm -rf "$tmp"' EXIT
 cd "$tmp"
 cp "$src/scenes/cornell.scene" .
 # The README's line, at 48 pixels across so that it takes a second.
-parallel --will-cite --link "$tz" render cornell.scene --width 48 --spp 256 --quiet \
+parallel --will-cite --link "$tz" render cornell.scene --backend cpu --width 48 --spp 256 --quiet \
     --samples {1}:{2} -o part_{#}.exr ::: 0 64 128 192 ::: 64 128 192 256
 "$tz" merge part_*.exr -o merged.pfm --quiet
-"$tz" render cornell.scene --width 48 --spp 256 --quiet -o single.pfm
+"$tz" render cornell.scene --backend cpu --width 48 --spp 256 --quiet -o single.pfm
 if ! cmp -s merged.pfm single.pfm; then
     echo "parallel_test: FAIL: the merged parts are not the single render" >&2
     exit 1
