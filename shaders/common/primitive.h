@@ -77,7 +77,10 @@ TZ_FN surface triangle_surface(TZ_SCENE_PARAM int id, vec3 pos, vec3 o, vec3 d) 
     int t = id - TZ_INT(TZ_FRAME.sphere_count);
     TZ_VEC4 v0 = triangle_v0(TZ_SCENE_ARG t), v1 = triangle_v1(TZ_SCENE_ARG t);
     TZ_VEC4 v2 = triangle_v2(TZ_SCENE_ARG t);
-    triangle_corners k = corners_of(TZ_SCENE_ARG id);
+    triangle_corners k; /* corners_of's, from the fields read once */
+    k.a = xyz(v0);
+    k.b = xyz(v1);
+    k.c = xyz(v2);
     surface s;
     s.pos = pos;
     s.nout = triangle_normal(k);

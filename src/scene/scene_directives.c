@@ -329,10 +329,12 @@ static bool parse_camera(parser *p) {
     }
     /* The right vector, up x forward, is normalized too: a small up at a small angle underflows
      * there unless up is a unit vector. */
-    float right_square =
-        v3_dot(v3_cross(up, v3_normalize(direction)), v3_cross(up, v3_normalize(direction)));
-    if (!(right_square >= FLT_MIN)) up = unit_in_double(up);
-    if (!check_camera_square(p, &kv, up_key, v3_cross(up, v3_normalize(direction)))) return false;
+    vec3 forward = v3_normalize(direction), right = v3_cross(up, forward);
+    if (!(v3_dot(right, right) >= FLT_MIN)) {
+        up = unit_in_double(up);
+        right = v3_cross(up, forward);
+    }
+    if (!check_camera_square(p, &kv, up_key, right)) return false;
     p->s.camera_position = position;
     p->s.camera_fov = (float)parser_value_or(&kv, CAMERA_FOV, 0.0);
     if (kv.given & BIT(CAMERA_FOV)) {

@@ -23,22 +23,27 @@ static inline void spheres_hit(const sphere_soa *sp, int begin, int end, vec3 o,
     }
 }
 
-/* Tests spheres [begin, end) (at most SOA_LANES) and keeps the nearest hit below *best
- * (nearer_hit, the tie rule). */
-static inline void leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end, vec3 o, vec3 d,
-                            float tmin, int self, float *best, int *id) {
-    float t[SOA_LANES];
-    spheres_hit(&p->soa, (int)begin, (int)end, o, d, tmin, self, t);
+/* Keeps in *best, *id the nearest of the hit so far and the distances t[] of primitives first,
+ * first + 1, ... (nearer_hit, the tie rule). */
+static inline void keep_nearest(const float *t, int first, float *best, int *id) {
     float b = *best;
     int i = *id;
     for (int lane = 0; lane < SOA_LANES; lane++) { /* selects: which lane wins is unpredictable */
-        int k = (int)begin + lane;
+        int k = first + lane;
         int take = nearer_hit(t[lane], k, b, i);
         b = take ? t[lane] : b;
         i = take ? k : i;
     }
     *best = b;
     *id = i;
+}
+
+/* Tests spheres [begin, end) (at most SOA_LANES) and keeps the nearest hit below *best. */
+static inline void leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end, vec3 o, vec3 d,
+                            float tmin, int self, float *best, int *id) {
+    float t[SOA_LANES];
+    spheres_hit(&p->soa, (int)begin, (int)end, o, d, tmin, self, t);
+    keep_nearest(t, (int)begin, best, id);
 }
 
 /* Distances to triangles [begin, begin + SOA_LANES) (primitives sphere_count + begin on) into
@@ -62,16 +67,7 @@ static inline void triangle_leaf_hit(const packed_scene *p, uint32_t begin, uint
     float t[SOA_LANES];
     int first_id = (int)p->frame.sphere_count;
     triangles_hit(&p->triangle_soa, (int)begin, (int)end, first_id, o, d, tmin, self, t);
-    float b = *best;
-    int i = *id;
-    for (int lane = 0; lane < SOA_LANES; lane++) {
-        int k = first_id + (int)begin + lane;
-        int take = nearer_hit(t[lane], k, b, i);
-        b = take ? t[lane] : b;
-        i = take ? k : i;
-    }
-    *best = b;
-    *id = i;
+    keep_nearest(t, first_id + (int)begin, best, id);
 }
 
 /* Tests the primitives [first, first + count) of one BVH leaf (one kind). */
