@@ -32,6 +32,23 @@ static const char tangle[] =
     "sphere lambertian center 0 0 1010 radius 1000 color 0.2 0.4 0.8\n"
     "background 0.1 0.2 0.3\n";
 
+/* Few enough primitives to be tested whole: triangles of every material beside spheres, a
+ * smooth triangle whose normals lean, an emitting quad and a point light. */
+static const char facets[] =
+    "camera position 0 1 -4 direction 0 -0.2 1 up 0 1 0\n"
+    "plane width 4 height 4 pixel 0.1\n"
+    "light position 1 3 -1 power 8\n"
+    "quad lambertian v0 -3 -1 -3 v1 -3 -1 3 v2 3 -1 3 v3 3 -1 -3 color 0.7 0.7 0.7\n"
+    "quad lambertian v0 -1 2.5 -1 v1 1 2.5 -1 v2 1 2.5 1 v3 -1 2.5 1 color 0 0 0 "
+    "emission 6 6 5\n"
+    "triangle mirror v0 -2 -1 2 v1 0 2 2.5 v2 2 -1 2 color 0.9 0.9 0.9\n"
+    "triangle phong v0 -2 -1 0 v1 -1 1 0.5 v2 -0.5 -1 0 ks 0.5 alpha 20 "
+    "n0 0 0.3 -1 n1 0.4 0 -1 n2 -0.3 0.2 -1\n"
+    "sphere refractive center 1 -0.4 0 radius 0.6 ior 1.5\n"
+    "sphere lambertian center -1 -0.6 1 radius 0.4 color 0.2 0.5 0.8 emission 2 2 2\n"
+    "background 0.1 0.1 0.2\n"
+    "render mode path\n";
+
 static int bits_equal(vec3 a, vec3 b) { return memcmp(&a, &b, sizeof a) == 0; }
 
 /* The builds under test (seed or path mode) and the one-sample reference they must match. */
@@ -318,8 +335,10 @@ static void compare_path_builds(void) {
                       PACKET_REFERENCE_NAME) &&
               !strcmp(integrator_path_choose(NULL, false).name, builds[0].name),
           "the path builds: the reference last and by name only, the fastest first");
-    const char *files[] = {"cornell_path.scene", "caustic.scene", "all.scene", "refraction.scene"};
+    const char *files[] = {"cornell_path.scene", "caustic.scene",     "all.scene",
+                           "refraction.scene",   "cornell_box.scene", "mesh.scene"};
     for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) compare_file(files[k]);
+    compare_text("facets", facets, sizeof facets - 1);
     compare_text("lit", lit, sizeof lit - 1);
     compare_text("tangle", tangle, sizeof tangle - 1);
     const gen_desc random200 = {.kind = GEN_RANDOM, .count = 200, .seed = 3};

@@ -40,7 +40,7 @@ typedef struct packet_integrator {
                     uint32_t count, vec3 *out);
 } packet_integrator;
 
-/* Scenes of at most this many spheres are intersected packet against every sphere; bigger ones
+/* Scenes of at most this many primitives are intersected packet against every one; bigger ones
  * through the BVH. */
 #define PACKET_BRUTE_FORCE_MAX 16
 /* The widest packet that walks the BVH well: wider packets drag more lanes through nodes only
@@ -49,9 +49,10 @@ typedef struct packet_integrator {
 #define PACKET_WALK_LANES_MAX 8
 
 /* 1 when the packet integrators walk the BVH for this scene (it has one and more than
- * PACKET_BRUTE_FORCE_MAX spheres), 0 when they test every sphere; never fails. */
+ * PACKET_BRUTE_FORCE_MAX primitives), 0 when they test every one; never fails. */
 static inline int integrator_packet_walks(const packed_scene *p) {
-    return p->frame.node_count > 0 && p->frame.sphere_count > PACKET_BRUTE_FORCE_MAX;
+    return p->frame.node_count > 0 &&
+           p->frame.sphere_count + p->frame.triangle_count > PACKET_BRUTE_FORCE_MAX;
 }
 
 /* The packet integrators this processor runs into list, fastest first (the reference last);

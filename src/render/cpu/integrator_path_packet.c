@@ -49,14 +49,15 @@ typedef struct path_lanes {
     int job[LANES];                     /* the sample the lane runs (out's index), -1 none */
     int active[LANES], self[LANES], specular[LANES], last_id[LANES];
     float last_pdf[LANES];
-    lanes3 o, d, beta, radiance, last_pos, last_n;
+    lanes3 o, d, beta, radiance, last_pos, last_n, last_origin;
 } path_lanes;
 
-/* A vertex of the lanes' paths: the hit and the hit sphere's data (sphere 0's where none). */
+/* A vertex of the lanes' paths: the hit and the hit primitive's surface (sphere 0's where none):
+ * n and ng its shading and geometric normals facing the ray. */
 typedef struct vertex_lanes {
     int id[LANES], diffuse[LANES], specular[LANES], material[LANES], slot[LANES];
     float t[LANES], r[LANES], ks[LANES], alpha[LANES], ior[LANES], share[LANES];
-    lanes3 pos, nout, n, wo, c, kd;
+    lanes3 pos, nout, shading, n, ng, wo, c, kd;
 } vertex_lanes;
 
 /* The next number of each lane's stream where take[k], else 0 with the stream left as it is: the
@@ -91,12 +92,7 @@ LANE_FN float bsdf_pdf_of_lobe(float share, float alpha, float cos_i, float lobe
     return share * (cos_i > 0.0f ? diffuse : 0.0f) + (1.0f - share) * l;
 }
 
-/* The BRDF of sphere id at the lobe cosine x (brdf_at of lights.h). */
-static inline vec3 sphere_brdf_at(const packed_scene *p, int id, float x) {
-    return brdf_at(p->spheres[id].color_ks, p->spheres[id].params.x, x);
-}
-
-/* sphere_brdf_at of path.h for lane k of the vertex, phong_lobe(x, alpha) given as lobe. */
+/* brdf_at of lights.h for lane k of the vertex, phong_lobe(x, alpha) given as lobe. */
 LANE_FN vec3 brdf_of_lobe(const vertex_lanes *v, int k, float lobe) {
     return phong_from_lobe(get3(&v->kd, k), v->ks[k], v->alpha[k], v->ks[k] > 0.0f ? lobe : 0.0f);
 }
@@ -112,7 +108,7 @@ LANE_FN vec3 direction_about_cs(vec3 w, float cos_t, float sin_t, float cos_phi,
 LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v, lanes3 *direct) {
     lanes3 so;
     for (int k = 0; k < LANES; k++) {
-        set3(&so, k, offset_origin(get3(&v->pos, k), get3(&v->n, k)));
+        set3(&so, k, offset_origin(get3(&v->pos, k), get3(&v->ng, k)));
         set3(direct, k, v3(0.0f, 0.0f, 0.0f));
     }
     for (uint32_t l = 0; l < light_count(scene); l++) {
@@ -126,32 +122,34 @@ LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v
             set3(&wi, k, s.wi);
             set3(&rad, k, s.radiance);
             dist[k] = s.dist;
-            want[k] = v->diffuse[k] & !(s.cos_i <= 0.0f);
+            want[k] = v->diffuse[k] & !(s.cos_i <= 0.0f) & !(v3_dot(get3(&v->ng, k), s.wi) <= 0.0f);
         }
         trace_lanes(scene, &so, &wi, v->id, dist, want, 1, blocked, t);
         for (int k = 0; k < LANES; k++) {
             if (!want[k] || blocked[k] >= 0) continue;
-            vec3 f = sphere_brdf_at(scene, v->id[k],
-                                    phong_lobe_cos(get3(&v->n, k), get3(&wi, k), get3(&v->wo, k)));
+            float x = phong_lobe_cos(get3(&v->n, k), get3(&wi, k), get3(&v->wo, k));
+            vec3 f = brdf_of_lobe(v, k, phong_lobe(x, v->alpha[k]));
             set3(direct, k, v3_add(get3(direct, k), v3_mul(f, get3(&rad, k))));
         }
     }
 }
 
-/* emitter_light of path.h for the diffuse lanes, both strategies computed and one selected, the
- * shadow rays traced together, added to direct; ul, ua, ub the lanes' numbers. */
+/* emitter_light of path.h for the diffuse lanes (a sphere's strategies both computed and one
+ * selected, a triangle's point lane by lane), the shadow rays traced together, added to direct;
+ * ul, ua, ub the lanes' numbers. */
 LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *v, const float *ul,
                                  const float *ua, const float *ub, lanes3 *direct) {
-    int e[LANES], strategy[LANES], want[LANES], blocked[LANES];
+    int e[LANES], slot[LANES], triangle[LANES], strategy[LANES], want[LANES], blocked[LANES];
     float r[LANES], pick[LANES], phi[LANES], cos_phi[LANES], sin_phi[LANES];
     float pdf[LANES], cos_i[LANES], t_light[LANES], t[LANES], x[LANES], lobe[LANES];
     lanes3 c, emission, so, wi;
     int one_emitter = scene->frame.emitter_count == 1u; /* pick_emitter's 0, whatever ul */
     for (int k = 0; k < LANES; k++) {
-        int slot = v->diffuse[k] && !one_emitter ? pick_emitter(scene, ul[k]) : 0;
-        tz_vec4 emission_pick = emitter_emission_pick(scene, slot);
-        e[k] = (int)uint_bits(emitter_primitive_cdf(scene, slot).x);
-        tz_vec4 cr = sphere_center_radius(scene, e[k]);
+        slot[k] = v->diffuse[k] && !one_emitter ? pick_emitter(scene, ul[k]) : 0;
+        tz_vec4 emission_pick = emitter_emission_pick(scene, slot[k]);
+        e[k] = (int)uint_bits(emitter_primitive_cdf(scene, slot[k]).x);
+        triangle[k] = is_triangle(scene, e[k]);
+        tz_vec4 cr = sphere_center_radius(scene, triangle[k] ? 0 : e[k]);
         set3(&c, k, xyz(cr));
         r[k] = cr.w;
         set3(&emission, k, xyz(emission_pick));
@@ -168,7 +166,7 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         sin_phi[k] = need ? sinf(phi[k]) : 0.0f;
     }
     for (int k = 0; k < LANES; k++) {
-        vec3 pos = get3(&v->pos, k), n = get3(&v->n, k), ck = get3(&c, k);
+        vec3 pos = get3(&v->pos, k), n = get3(&v->n, k), ng = get3(&v->ng, k), ck = get3(&c, k);
         float rk = r[k];
         /* the cone (cone_direction) */
         vec3 to_c = v3_sub(ck, pos);
@@ -195,10 +193,29 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         vec3 w = select3(cone, cone_wi, area_wi);
         float p = cone ? cone_p : area_p;
         float ci = v3_dot(n, w);
-        int ok =
-            v->diffuse[k] & (strategy[k] != LIGHT_NONE) & (ci > 0.0f) & (p > 0.0f) & (p < INFINITY);
-        vec3 o = offset_origin(pos, n);
+        int ok = v->diffuse[k] & (strategy[k] != LIGHT_NONE) & (ci > 0.0f) &
+                 (v3_dot(ng, w) > 0.0f) & (p > 0.0f) & (p < INFINITY);
+        vec3 o = offset_origin(pos, ng);
         float tl = sphere_distance(ck.x, ck.y, ck.z, rk, o, w, ray_eps(o), e[k] == v->id[k]);
+        set3(&so, k, o);
+        set3(&wi, k, w);
+        pdf[k] = p;
+        cos_i[k] = ci;
+        t_light[k] = tl;
+        want[k] = ok & (tl < INFINITY);
+    }
+    for (int k = 0; any_lane(triangle) && k < LANES; k++) {
+        if (!(v->diffuse[k] & triangle[k])) continue;
+        vec3 n = get3(&v->n, k), ng = get3(&v->ng, k), o = offset_origin(get3(&v->pos, k), ng);
+        triangle_corners tk = corners_of(scene, e[k]);
+        vec3 q = triangle_area_point(tk.a, tk.b, tk.c, ua[k], ub[k]);
+        vec3 w = v3_normalize(v3_sub(q, o));
+        float area = emitter_primitive_cdf(scene, slot[k]).z;
+        float p = pick[k] * triangle_area_pdf(tk, area, o, q, w);
+        float tl = triangle_distance(tk.a, tk.b, tk.c, o, w, ray_eps(o), TZ_FALSE);
+        float ci = v3_dot(n, w);
+        int ok =
+            (e[k] != v->id[k]) & (ci > 0.0f) & (v3_dot(ng, w) > 0.0f) & (p > 0.0f) & (p < INFINITY);
         set3(&so, k, o);
         set3(&wi, k, w);
         pdf[k] = p;
@@ -261,16 +278,19 @@ LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float
     lobe_lanes(x, v->alpha, go, lobe);
     for (int k = 0; k < LANES; k++) {
         float pdf = bsdf_pdf_of_lobe(v->share[k], v->alpha[k], cos_i[k], lobe[k]);
-        int ok = go[k] & (cos_i[k] > 0.0f) & (pdf > 0.0f);
+        vec3 n = get3(&v->n, k), ng = get3(&v->ng, k), pos = get3(&v->pos, k);
+        /* A direction below the face (a shading normal leaning away) ends the path. */
+        int ok = go[k] & (cos_i[k] > 0.0f) & (v3_dot(ng, get3(&wi, k)) > 0.0f) & (pdf > 0.0f);
         vec3 f = v3_scale(brdf_of_lobe(v, k, lobe[k]), cos_i[k] / pdf);
-        vec3 n = get3(&v->n, k), pos = get3(&v->pos, k);
+        vec3 o = offset_origin(pos, ng);
         set3(&s->beta, k, select3(ok, v3_mul(get3(&s->beta, k), f), get3(&s->beta, k)));
         set3(&s->last_pos, k, select3(ok, pos, get3(&s->last_pos, k)));
         set3(&s->last_n, k, select3(ok, n, get3(&s->last_n, k)));
+        set3(&s->last_origin, k, select3(ok, o, get3(&s->last_origin, k)));
         s->last_id[k] = ok ? v->id[k] : s->last_id[k];
         s->last_pdf[k] = ok ? pdf : s->last_pdf[k];
         s->specular[k] = ok ? 0 : s->specular[k];
-        set3(&s->o, k, select3(ok, offset_origin(pos, n), get3(&s->o, k)));
+        set3(&s->o, k, select3(ok, o, get3(&s->o, k)));
         set3(&s->d, k, select3(ok, get3(&wi, k), get3(&s->d, k)));
         s->active[k] = v->diffuse[k] ? ok : s->active[k];
     }
@@ -311,7 +331,7 @@ LANE_FN void lanes_emission(const packed_scene *scene, const vertex_lanes *v, co
         path_vertex last;
         last.pos = get3(&s->last_pos, k);
         last.n = get3(&s->last_n, k);
-        last.origin = last.pos; /* read for triangle emitters only, which packets never meet */
+        last.origin = get3(&s->last_origin, k);
         last.id = s->last_id[k];
         last.bsdf_pdf = s->last_pdf[k];
         float w = full ? 1.0f
@@ -335,8 +355,10 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s) {
     int emit[LANES], any_emit = 0;
     for (int k = 0; k < LANES; k++) tmax[k] = INFINITY;
     trace_lanes(scene, &s->o, &s->d, s->self, tmax, s->active, 0, v.id, v.t);
+    int triangle[LANES];
     for (int k = 0; k < LANES; k++) { /* gather the hit spheres */
-        const struct gpu_sphere *g = &scene->spheres[v.id[k] >= 0 ? v.id[k] : 0];
+        triangle[k] = v.id[k] >= 0 && is_triangle(scene, v.id[k]);
+        const struct gpu_sphere *g = &scene->spheres[v.id[k] >= 0 && !triangle[k] ? v.id[k] : 0];
         set3(&v.c, k, xyz(g->center_radius));
         v.r[k] = g->center_radius.w;
         set3(&v.kd, k, xyz(g->color_ks));
@@ -346,17 +368,33 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s) {
         v.material[k] = (int)g->params.z;
         v.slot[k] = (int)g->params.w - 1;
     }
+    for (int k = 0; k < LANES; k++) { /* surface_at of a sphere */
+        vec3 pos = v3_add(get3(&s->o, k), v3_scale(get3(&s->d, k), v.t[k]));
+        vec3 nout = v3_scale(v3_sub(pos, get3(&v.c, k)), 1.0f / v.r[k]);
+        set3(&v.pos, k, pos);
+        set3(&v.nout, k, nout);
+        set3(&v.shading, k, nout);
+    }
+    for (int k = 0; any_lane(triangle) && k < LANES; k++) { /* and of a triangle */
+        if (!triangle[k]) continue;
+        surface sf =
+            triangle_surface(scene, v.id[k], get3(&v.pos, k), get3(&s->o, k), get3(&s->d, k));
+        set3(&v.nout, k, sf.nout);
+        set3(&v.shading, k, sf.shading);
+        set3(&v.kd, k, xyz(sf.color_ks));
+        v.ks[k] = sf.color_ks.w;
+        v.alpha[k] = sf.params.x;
+        v.ior[k] = sf.params.y;
+        v.material[k] = (int)sf.params.z;
+        v.slot[k] = (int)sf.params.w - 1;
+    }
     vec3 background = xyz(fr->background);
     for (int k = 0; k < LANES; k++) {
         int hit = s->active[k] & (v.id[k] >= 0), miss = s->active[k] & (v.id[k] < 0);
         vec3 radiance = get3(&s->radiance, k);
         set3(&s->radiance, k,
              select3(miss, v3_add(radiance, v3_mul(get3(&s->beta, k), background)), radiance));
-        vec3 d = get3(&s->d, k);
-        vec3 pos = v3_add(get3(&s->o, k), v3_scale(d, v.t[k]));
-        vec3 nout = v3_scale(v3_sub(pos, get3(&v.c, k)), 1.0f / v.r[k]);
-        set3(&v.pos, k, pos);
-        set3(&v.nout, k, nout);
+        vec3 d = get3(&s->d, k), nout = get3(&v.nout, k), shading = get3(&v.shading, k);
         emit[k] = hit & (v.slot[k] >= 0);
         any_emit |= emit[k];
         int go = hit & !(s->vertex[k] > fr->bounces); /* else the path ends at this hit */
@@ -364,7 +402,9 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s) {
             go & ((v.material[k] == TZ_MATERIAL_LAMBERTIAN) | (v.material[k] == TZ_MATERIAL_PHONG));
         v.diffuse[k] = diffuse;
         v.specular[k] = go & !diffuse;
-        set3(&v.n, k, facing_normal(nout, d));
+        /* facing_shading and facing_normal of primitive.h and shade.h */
+        set3(&v.n, k, select3(v3_dot(nout, d) < 0.0f, shading, v3_scale(shading, -1.0f)));
+        set3(&v.ng, k, facing_normal(nout, d));
         set3(&v.wo, k, v3_scale(d, -1.0f));
         v.share[k] = diffuse_share(get3(&v.kd, k), v.ks[k]);
         s->active[k] = go;
@@ -442,6 +482,7 @@ LANE_FN void lanes_start(const packed_scene *p, path_lanes *s, const int *start,
         set3(&s->radiance, k, select3(on, v3(0.0f, 0.0f, 0.0f), get3(&s->radiance, k)));
         set3(&s->last_pos, k, select3(on, o, get3(&s->last_pos, k)));
         set3(&s->last_n, k, select3(on, d, get3(&s->last_n, k)));
+        set3(&s->last_origin, k, select3(on, o, get3(&s->last_origin, k)));
         s->self[k] = on ? -1 : s->self[k];
         s->specular[k] = on ? 1 : s->specular[k];
         s->last_id[k] = on ? -1 : s->last_id[k];

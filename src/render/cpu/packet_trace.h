@@ -108,6 +108,24 @@ LANE_FN void packet_sphere(const packed_scene *p, uint32_t s, const lanes3 *o, c
         keep_nearer_in_order(best, id, ts, (int)s);
 }
 
+/* packet_sphere for triangle primitive s (the triangles' ids follow the spheres'). */
+LANE_FN void packet_triangle(const packed_scene *p, uint32_t s, const lanes3 *o, const lanes3 *d,
+                             const int *self, const float *tmin, int tie, float *best, int *id) {
+    const triangle_soa *tr = &p->triangle_soa;
+    uint32_t k = s - p->frame.sphere_count;
+    vec3 a = v3(tr->v[0][k], tr->v[1][k], tr->v[2][k]);
+    vec3 b = v3(tr->v[3][k], tr->v[4][k], tr->v[5][k]);
+    vec3 c = v3(tr->v[6][k], tr->v[7][k], tr->v[8][k]);
+    float ts[LANES];
+    for (int lane = 0; lane < LANES; lane++)
+        ts[lane] = triangle_distance(a, b, c, get3(o, lane), get3(d, lane), tmin[lane],
+                                     (int)s == self[lane]);
+    if (tie)
+        keep_nearer(best, id, ts, (int)s);
+    else
+        keep_nearer_in_order(best, id, ts, (int)s);
+}
+
 /* 1 when every active lane has a hit. */
 LANE_FN int all_hit(const int *id, const int *active) {
     int all = 1;
@@ -130,8 +148,12 @@ LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d
     for (;;) {
         uint32_t leaf_count = child_count(ref), first = child_index(ref);
         if (leaf_count > 0) {
-            for (uint32_t s = first; s < first + leaf_count; s++)
-                packet_sphere(p, s, o, d, self, tmin, 1, best, id);
+            if (first < p->frame.sphere_count) /* a leaf holds one kind */
+                for (uint32_t s = first; s < first + leaf_count; s++)
+                    packet_sphere(p, s, o, d, self, tmin, 1, best, id);
+            else
+                for (uint32_t s = first; s < first + leaf_count; s++)
+                    packet_triangle(p, s, o, d, self, tmin, 1, best, id);
             if (any_hit && all_hit(id, active)) return;
         } else {
             const struct gpu_bvh_node *n = &p->nodes[first];
@@ -200,9 +222,10 @@ LANE_FN void packet_trace(const packed_scene *p, const lanes3 *o, const lanes3 *
         rays += active[k];
     }
     integrator_count_rays((uint64_t)rays);
-    uint32_t count = p->frame.sphere_count;
+    uint32_t count = p->frame.sphere_count, all = count + p->frame.triangle_count;
     if (!integrator_packet_walks(p)) {
         for (uint32_t s = 0; s < count; s++) packet_sphere(p, s, o, d, self, tmin, 0, t, id);
+        for (uint32_t s = count; s < all; s++) packet_triangle(p, s, o, d, self, tmin, 0, t, id);
     } else if (rays >= (any_hit ? SHADOW_WALK_GROUP_MIN : WALK_GROUP_MIN)) {
         if (any_hit)
             packet_walk_shadow(p, o, d, self, tmin, active, t, id);
