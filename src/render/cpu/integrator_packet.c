@@ -5,6 +5,10 @@
 #include <math.h>
 #include <string.h>
 
+#include "render/cpu/scene_accessors.h"
+
+/* The shared text calls the accessors above. */
+#include "common/primitive.h"
 #include "common/ray.h"
 #include "common/rng.h"
 #include "common/shade.h"
@@ -23,12 +27,58 @@
 
 #include "render/cpu/packet_trace.h"
 
-/* A packet's rays followed through mirrors and glass (follow_specular of integrator.c, lane by
- * lane): result[k] the diffuse sphere reached, -1 on a miss, -2 past the bounce limit (-1 for
- * inactive lanes); o, d become the last rays, weight the tints, pos and n the diffuse hits. */
+/* The Phong parameters of each lane's diffuse hit, gathered once for all the BRDF evaluations
+ * there. */
+typedef struct phong_lanes {
+    lanes3 kd;
+    float ks[LANES], alpha[LANES];
+} phong_lanes;
+
+/* Where the lanes' rays meet primitives id[k] at t[k] (surface_at, sphere 0's surface where
+ * none): pos, nout, shading and the material's tint (kd), ks, alpha, ior and kind. */
+typedef struct hit_lanes {
+    lanes3 pos, nout, shading, kd;
+    float ks[LANES], alpha[LANES], ior[LANES];
+    int material[LANES];
+} hit_lanes;
+
+LANE_FN void packet_surfaces(const packed_scene *p, const lanes3 *o, const lanes3 *d, const int *id,
+                             const float *t, hit_lanes *h) {
+    int triangle[LANES];
+    for (int k = 0; k < LANES; k++) { /* spheres, in SIMD */
+        triangle[k] = id[k] >= 0 && is_triangle(p, id[k]);
+        const struct gpu_sphere *s = &p->spheres[id[k] >= 0 && !triangle[k] ? id[k] : 0];
+        vec3 pk = v3_add(get3(o, k), v3_scale(get3(d, k), t[k]));
+        vec3 nk = v3_scale(v3_sub(pk, xyz(s->center_radius)), 1.0f / s->center_radius.w);
+        set3(&h->pos, k, pk);
+        set3(&h->nout, k, nk);
+        set3(&h->shading, k, nk);
+        set3(&h->kd, k, xyz(s->color_ks));
+        h->ks[k] = s->color_ks.w;
+        h->alpha[k] = s->params.x;
+        h->ior[k] = s->params.y;
+        h->material[k] = (int)s->params.z;
+    }
+    for (int k = 0; any_lane(triangle) && k < LANES; k++) { /* triangles, lane by lane */
+        if (!triangle[k]) continue;
+        surface sf = triangle_surface(p, id[k], get3(&h->pos, k), get3(o, k), get3(d, k));
+        set3(&h->nout, k, sf.nout);
+        set3(&h->shading, k, sf.shading);
+        set3(&h->kd, k, xyz(sf.color_ks));
+        h->ks[k] = sf.color_ks.w;
+        h->alpha[k] = sf.params.x;
+        h->ior[k] = sf.params.y;
+        h->material[k] = (int)sf.params.z;
+    }
+}
+
+/* A packet's rays followed through mirrors and glass (follow_specular of report.h, lane by
+ * lane): result[k] the diffuse primitive reached, -1 on a miss, -2 past the bounce limit (-1 for
+ * inactive lanes); o, d become the last rays, weight the tints, pos the diffuse hits, n and ng
+ * their shading and geometric normals facing the ray, m their materials. */
 LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d, int *self,
                                     const int *active_in, lanes3 *weight, lanes3 *pos, lanes3 *n,
-                                    int *result) {
+                                    lanes3 *ng, phong_lanes *m, int *result) {
     uint32_t bounces = p->frame.bounces;
     int active[LANES];
     float tmax[LANES];
@@ -38,63 +88,44 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
         result[k] = -1;
         set3(pos, k, v3(0.0f, 0.0f, 0.0f));
         set3(n, k, v3(0.0f, 0.0f, 0.0f));
+        set3(ng, k, v3(0.0f, 0.0f, 0.0f));
+        set3(&m->kd, k, v3(0.0f, 0.0f, 0.0f));
+        m->ks[k] = m->alpha[k] = 0.0f;
     }
     for (uint32_t chain = 0; any_lane(active); chain++) {
-        int id[LANES], material[LANES];
-        float t[LANES], ior[LANES];
-        lanes3 center, tint;
-        float radius[LANES];
+        int id[LANES];
+        float t[LANES];
+        hit_lanes h;
         packet_trace(p, o, d, self, tmax, active, 0, id, t);
-        for (int k = 0; k < LANES; k++) { /* gather the hit spheres */
-            const struct gpu_sphere *s = &p->spheres[id[k] >= 0 ? id[k] : 0];
-            set3(&center, k, xyz(s->center_radius));
-            radius[k] = s->center_radius.w;
-            set3(&tint, k, xyz(s->color_ks));
-            material[k] = (int)s->params.z;
-            ior[k] = s->params.y;
-        }
-        lanes3 hit_pos, nout;
+        packet_surfaces(p, o, d, id, t, &h);
         int onward[LANES];
         for (int k = 0; k < LANES; k++) {
-            vec3 dk = get3(d, k), pk = v3_add(get3(o, k), v3_scale(dk, t[k]));
-            vec3 nk = v3_scale(v3_sub(pk, get3(&center, k)), 1.0f / radius[k]);
+            vec3 dk = get3(d, k), nk = get3(&h.nout, k), sk = get3(&h.shading, k);
             int hit = active[k] & (id[k] >= 0);
-            int diffuse = hit & ((material[k] == TZ_MATERIAL_LAMBERTIAN) |
-                                 (material[k] == TZ_MATERIAL_PHONG));
+            int diffuse = hit & ((h.material[k] == TZ_MATERIAL_LAMBERTIAN) |
+                                 (h.material[k] == TZ_MATERIAL_PHONG));
             onward[k] = hit & !diffuse & (chain != bounces);
             int done = active[k] & !onward[k];
             result[k] = done ? (diffuse ? id[k] : hit ? -2 : -1) : result[k];
-            set3(pos, k, select3(diffuse, pk, get3(pos, k)));
-            set3(n, k, select3(diffuse, facing_normal(nk, dk), get3(n, k)));
-            set3(&hit_pos, k, pk);
-            set3(&nout, k, nk);
+            set3(pos, k, select3(diffuse, get3(&h.pos, k), get3(pos, k)));
+            /* facing_shading of primitive.h */
+            vec3 facing = select3(v3_dot(nk, dk) < 0.0f, sk, v3_scale(sk, -1.0f));
+            set3(n, k, select3(diffuse, facing, get3(n, k)));
+            set3(ng, k, select3(diffuse, facing_normal(nk, dk), get3(ng, k)));
+            set3(&m->kd, k, select3(diffuse, get3(&h.kd, k), get3(&m->kd, k)));
+            m->ks[k] = diffuse ? h.ks[k] : m->ks[k];
+            m->alpha[k] = diffuse ? h.alpha[k] : m->alpha[k];
         }
         for (int k = 0; k < LANES; k++) { /* mirror and glass lanes go on */
-            next_ray next = specular_next(get3(&hit_pos, k), get3(&nout, k), get3(d, k),
-                                          material[k] == TZ_MATERIAL_REFRACTIVE, ior[k]);
+            next_ray next = specular_next(get3(&h.pos, k), get3(&h.nout, k), get3(d, k),
+                                          h.material[k] == TZ_MATERIAL_REFRACTIVE, h.ior[k]);
             set3(weight, k,
-                 select3(onward[k], v3_mul(get3(weight, k), get3(&tint, k)), get3(weight, k)));
+                 select3(onward[k], v3_mul(get3(weight, k), get3(&h.kd, k)), get3(weight, k)));
             set3(o, k, select3(onward[k], next.o, get3(o, k)));
             set3(d, k, select3(onward[k], next.d, get3(d, k)));
             self[k] = onward[k] ? id[k] : self[k];
             active[k] = onward[k];
         }
-    }
-}
-
-/* The Phong parameters of each lane's sphere id[k], gathered once for all the BRDF evaluations
- * at that hit. */
-typedef struct phong_lanes {
-    lanes3 kd;
-    float ks[LANES], alpha[LANES];
-} phong_lanes;
-
-LANE_FN void packet_gather_phong(const packed_scene *p, const int *id, phong_lanes *m) {
-    for (int k = 0; k < LANES; k++) {
-        const struct gpu_sphere *s = &p->spheres[id[k] >= 0 ? id[k] : 0];
-        set3(&m->kd, k, xyz(s->color_ks));
-        m->ks[k] = s->color_ks.w;
-        m->alpha[k] = s->params.x;
     }
 }
 
@@ -126,17 +157,15 @@ LANE_FN vec3 path_radiance(int id, vec3 weight, vec3 background, vec3 found) {
     return id == -2 ? v3(0.0f, 0.0f, 0.0f) : lit;
 }
 
-/* Direct light from every point light at the active lanes' diffuse hits (direct_light of
- * integrator.c, lane by lane) into sum. */
+/* Direct light from every point light at the active lanes' diffuse hits (point_lights of
+ * lights.h, lane by lane) into sum. */
 LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lanes3 *pos,
-                                 const lanes3 *n, const lanes3 *wo, const int *active,
-                                 lanes3 *sum) {
+                                 const lanes3 *n, const lanes3 *ng, const phong_lanes *m,
+                                 const lanes3 *wo, const int *active, lanes3 *sum) {
     lanes3 o;
-    phong_lanes m;
-    packet_gather_phong(p, id, &m);
     for (int k = 0; k < LANES; k++) {
         vec3 pk = get3(pos, k);
-        set3(&o, k, offset_origin(pk, get3(n, k)));
+        set3(&o, k, offset_origin(pk, get3(ng, k)));
         set3(sum, k, v3(0.0f, 0.0f, 0.0f));
     }
     for (uint32_t l = 0; l < p->frame.light_count; l++) {
@@ -150,11 +179,11 @@ LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lan
             set3(&light, k, ls.radiance);
             set3(&wi, k, ls.wi);
             dist[k] = ls.dist;
-            facing[k] = active[k] & !(ls.cos_i <= 0.0f);
+            facing[k] = active[k] & !(ls.cos_i <= 0.0f) & !(v3_dot(get3(ng, k), ls.wi) <= 0.0f);
         }
         if (!any_lane(facing)) continue;
         packet_trace(p, &o, &wi, id, dist, facing, 1, blocker, blocker_t);
-        packet_phong(&m, n, &wi, wo, facing, &f);
+        packet_phong(m, n, &wi, wo, facing, &f);
         for (int k = 0; k < LANES; k++) {
             int lit = facing[k] & (blocker[k] < 0);
             vec3 s = get3(sum, k);
@@ -166,13 +195,14 @@ LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lan
 /* Radiance arriving along the active lanes' rays (radiance_direct_only of integrator.c). */
 LANE_FN void packet_radiance_direct_only(const packed_scene *p, lanes3 *o, lanes3 *d, int *self,
                                          const int *active, lanes3 *radiance) {
-    lanes3 weight, pos, n, wo, direct;
+    lanes3 weight, pos, n, ng, wo, direct;
+    phong_lanes m;
     int id[LANES];
     for (int k = 0; k < LANES; k++) set3(&weight, k, v3(1.0f, 1.0f, 1.0f));
-    packet_follow_specular(p, o, d, self, active, &weight, &pos, &n, id);
+    packet_follow_specular(p, o, d, self, active, &weight, &pos, &n, &ng, &m, id);
     int diffuse[LANES];
     packet_diffuse_hits(active, id, d, diffuse, &wo);
-    packet_direct_light(p, id, &pos, &n, &wo, diffuse, &direct);
+    packet_direct_light(p, id, &pos, &n, &ng, &m, &wo, diffuse, &direct);
     vec3 background = xyz(p->frame.background);
     for (int k = 0; k < LANES; k++)
         set3(radiance, k, path_radiance(id[k], get3(&weight, k), background, get3(&direct, k)));
@@ -181,8 +211,9 @@ LANE_FN void packet_radiance_direct_only(const packed_scene *p, lanes3 *o, lanes
 /* One cosine-weighted bounce at the active lanes' diffuse hits (indirect_light of integrator.c),
  * added to radiance. */
 LANE_FN void packet_indirect_light(const packed_scene *p, const int *id, const lanes3 *pos,
-                                   const lanes3 *n, const lanes3 *wo, const int *active,
-                                   uint32_t *rng, lanes3 *radiance) {
+                                   const lanes3 *n, const lanes3 *ng, const phong_lanes *m,
+                                   const lanes3 *wo, const int *active_in, uint32_t *rng,
+                                   lanes3 *radiance) {
     float y1[LANES], phi[LANES], cos_phi[LANES], sin_phi[LANES], cos_t[LANES];
     for (int k = 0; k < LANES; k++) {
         y1[k] = rng_next(&rng[k]);
@@ -191,20 +222,22 @@ LANE_FN void packet_indirect_light(const packed_scene *p, const int *id, const l
         phi[k] = 2.0f * TZ_PI * y2;
     }
     for (int k = 0; k < LANES; k++) {
-        cos_phi[k] = active[k] ? cosf(phi[k]) : 1.0f;
-        sin_phi[k] = active[k] ? sinf(phi[k]) : 0.0f;
+        cos_phi[k] = active_in[k] ? cosf(phi[k]) : 1.0f;
+        sin_phi[k] = active_in[k] ? sinf(phi[k]) : 0.0f;
     }
     lanes3 o, wi, incoming, f;
-    int self[LANES];
+    int self[LANES], active[LANES];
     for (int k = 0; k < LANES; k++) {
-        vec3 nk = get3(n, k), pk = get3(pos, k);
-        set3(&wi, k, cosine_direction(nk, y1[k], cos_phi[k], sin_phi[k]));
-        set3(&o, k, offset_origin(pk, nk));
+        vec3 nk = get3(n, k), ngk = get3(ng, k), pk = get3(pos, k);
+        vec3 w = cosine_direction(nk, y1[k], cos_phi[k], sin_phi[k]);
+        set3(&wi, k, w);
+        set3(&o, k, offset_origin(pk, ngk));
         self[k] = id[k];
+        /* nothing below a triangle's face (its shading normal leaning away) */
+        int below = (id[k] >= 0 && is_triangle(p, id[k])) & !(v3_dot(ngk, w) > 0.0f);
+        active[k] = active_in[k] & !below;
     }
-    phong_lanes m;
-    packet_gather_phong(p, id, &m);
-    packet_phong(&m, n, &wi, wo, active, &f); /* before the walk below turns wi into its last ray */
+    packet_phong(m, n, &wi, wo, active, &f); /* before the walk below turns wi into its last ray */
     packet_radiance_direct_only(p, &o, &wi, self, active, &incoming);
     for (int k = 0; k < LANES; k++) {
         float pdf = cos_t[k] / TZ_PI;
@@ -223,7 +256,8 @@ void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j,
     const struct gpu_frame *fr = &p->frame;
     uint32_t rng[LANES];
     int active[LANES], self[LANES], id[LANES];
-    lanes3 o, d, weight, pos, n, wo, radiance;
+    lanes3 o, d, weight, pos, n, ng, wo, radiance;
+    phong_lanes m;
     /* Copied once, here: read through fr in the loop, gcc copied them for every lane
      * (docs/PERF.md). */
     tz_vec4 right = fr->right, up = fr->up, forward = fr->forward;
@@ -242,12 +276,12 @@ void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j,
         set3(&weight, k, v3(1.0f, 1.0f, 1.0f));
         self[k] = -1;
     }
-    packet_follow_specular(p, &o, &d, self, active, &weight, &pos, &n, id);
+    packet_follow_specular(p, &o, &d, self, active, &weight, &pos, &n, &ng, &m, id);
     int diffuse[LANES];
     packet_diffuse_hits(active, id, &d, diffuse, &wo);
-    packet_direct_light(p, id, &pos, &n, &wo, diffuse, &radiance);
+    packet_direct_light(p, id, &pos, &n, &ng, &m, &wo, diffuse, &radiance);
     if (fr->flags & TZ_FLAG_INDIRECT)
-        packet_indirect_light(p, id, &pos, &n, &wo, diffuse, rng, &radiance);
+        packet_indirect_light(p, id, &pos, &n, &ng, &m, &wo, diffuse, rng, &radiance);
     vec3 background = xyz(fr->background);
     for (int k = 0; k < LANES; k++)
         out[k] = path_radiance(id[k], get3(&weight, k), background, get3(&radiance, k));

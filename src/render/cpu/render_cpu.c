@@ -244,13 +244,10 @@ bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t 
                    .part = p,
                    .width = p->meta.x1 - p->meta.x0,
                    .height = p->meta.y1 - p->meta.y0};
-    /* Report mode's packet build shades spheres only: its triangle scenes take the one-sample
-     * text. */
-    bool path = opts->mode == RENDER_MODE_PATH;
-    const char *build =
-        !path && packed.frame.triangle_count > 0 ? PACKET_REFERENCE_NAME : opts->cpu_build;
-    job.packet = path ? integrator_path_choose(build, integrator_packet_walks(&packed))
-                      : integrator_packet_choose(build, integrator_packet_walks(&packed));
+    const char *build = opts->cpu_build;
+    job.packet = opts->mode == RENDER_MODE_PATH
+                     ? integrator_path_choose(build, integrator_packet_walks(&packed))
+                     : integrator_packet_choose(build, integrator_packet_walks(&packed));
     log_debug("cpu back end: packet integrator build %s, %u lanes", job.packet.name,
               job.packet.width);
     job.tiles_x = (job.width + TILE_SIZE - 1) / TILE_SIZE;
