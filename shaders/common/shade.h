@@ -56,8 +56,12 @@ TZ_FN float phong_lobe_cos(vec3 n, vec3 wi, vec3 wo) {
 }
 
 /* The lobe of phong_from_lobe: x^alpha for x > 0, else 0 (0^alpha taken as 0, even for alpha 0,
- * and so is x below the normal range: pow_unit). */
-TZ_FN float phong_lobe(float x, float alpha) { return pow_unit(x, alpha); }
+ * and so is x below the normal range: pow_unit). Alpha 0 (bsdf_pdf's of every Lambertian
+ * surface) skips pow_unit, whose x^0 is that very 1. */
+TZ_FN float phong_lobe(float x, float alpha) {
+    float one = x >= TZ_FLT_MIN ? 1.0f : 0.0f;
+    return alpha == 0.0f ? one : pow_unit(x, alpha);
+}
 
 /* Normalized Phong BRDF kd/pi + ks (alpha+2)/(2 pi) lobe; ks 0 is Lambertian. */
 TZ_FN vec3 phong_from_lobe(vec3 kd, float ks, float alpha, float lobe) {

@@ -29,7 +29,7 @@ TZ_STRUCT_END(cos_sin)
 TZ_FN cos_sin cos_sin_turn(float u) {
     /* 2 pi u = (pi / 4) (q + f): the octant q and the fraction f are exact, as is the angle's
      * distance to the octant's nearer axis, r pi / 4. */
-    TZ_PRECISE float t = (u < TZ_FLT_MIN ? 0.0f : u) * 8.0f;
+    TZ_PRECISE float t = u * 8.0f;
     int q = TZ_INT(t);
     TZ_PRECISE float f = t - TZ_FLOAT(q);
     TZ_PRECISE float r = (q & 1) != 0 ? 1.0f - f : f;
@@ -37,6 +37,9 @@ TZ_FN cos_sin cos_sin_turn(float u) {
     /* sin(r pi / 4) and cos(r pi / 4) for r in [0, 1]: odd and even, 1 and 0 exact at r = 0 */
     TZ_PRECISE float s =
         r * (0.785398185f + z * (-0.0807454363f + z * (0.00249000685f + z * -3.59542901e-05f)));
+    /* where a driver flushes a denormal u, s is 0: so here, rather than u flushed before (gcc
+     * then compiled a path of its own for u = 0, and the lane loops did not vectorize) */
+    s = u < TZ_FLT_MIN ? 0.0f : s;
     TZ_PRECISE float c =
         1.0f +
         z * (-0.308425128f + z * (0.0158543382f + z * (-0.000325961388f + z * 3.54195276e-06f)));
