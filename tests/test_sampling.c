@@ -88,8 +88,7 @@ typedef struct lobe_ctx {
 
 static vec3 sample_cosine(const void *ctx, float u1, float u2) {
     const lobe_ctx *c = ctx;
-    float phi = 2.0f * TZ_PI * u2;
-    return cosine_direction(c->axis, u1, cosf(phi), sinf(phi));
+    return cosine_direction(c->axis, u1, u2);
 }
 static double pdf_cosine(const void *ctx, double cos_t, double phi) {
     (void)ctx, (void)phi;

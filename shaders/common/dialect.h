@@ -27,13 +27,11 @@
 #define TZ_INFINITY uintBitsToFloat(0x7f800000u)
 #define TZ_FLOAT(x) float(x)
 #define TZ_SQRT(x) sqrt(x)
-#define TZ_POW(x, y) pow(x, y)
 #define TZ_ABS(x) abs(x)
 #define TZ_MAX(a, b) max(a, b)
 #define TZ_MIN(a, b) min(a, b)
-#define TZ_COS(x) cos(x)
-#define TZ_SIN(x) sin(x)
 #define TZ_INT(x) int(x)
+#define TZ_UINT_OF(x) uint(x)
 #define TZ_TRUE true
 #define TZ_FALSE false
 /* An argument to a TZ_INOUT parameter, from a local variable. */
@@ -60,6 +58,7 @@
 #define select3(c, a, b) ((c) ? (a) : (b))
 #define xyz(v) ((v).xyz)
 #define uint_bits(f) floatBitsToUint(f)
+#define float_from_bits(u) uintBitsToFloat(u)
 
 /* Written out so that every sum runs in the C order: GLSL's dot(), length() and normalize()
  * promise neither an order nor a rounding. */
@@ -104,14 +103,12 @@ float v3_max_abs(vec3 a) { return max(abs(a.x), max(abs(a.y), abs(a.z))); }
 #define TZ_INFINITY INFINITY
 #define TZ_FLOAT(x) ((float)(x))
 #define TZ_SQRT(x) sqrtf(x)
-#define TZ_POW(x, y) powf(x, y)
 /* Selects rather than fabsf and fmaxf: the code the C integrator was measured with. */
 #define TZ_ABS(x) ((x) < 0.0f ? -(x) : (x))
 #define TZ_MAX(a, b) ((a) > (b) ? (a) : (b))
 #define TZ_MIN(a, b) ((a) < (b) ? (a) : (b))
-#define TZ_COS(x) cosf(x)
-#define TZ_SIN(x) sinf(x)
 #define TZ_INT(x) ((int)(x))
+#define TZ_UINT_OF(x) ((uint32_t)(x))
 #define TZ_TRUE 1
 #define TZ_FALSE 0
 #define TZ_REF(x) (&(x))
@@ -141,6 +138,13 @@ static inline uint32_t uint_bits(float f) {
     uint32_t u;
     memcpy(&u, &f, sizeof u);
     return u;
+}
+
+/* The float of the bits u (transcendental.h builds powers of two from their exponent). */
+static inline float float_from_bits(uint32_t u) {
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return f;
 }
 
 #endif

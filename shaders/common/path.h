@@ -211,8 +211,7 @@ TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index
             if (share < 0.0f) break;
             vec3 wi;
             if (us < share) {
-                TZ_PRECISE float phi = 2.0f * TZ_PI * u2;
-                wi = cosine_direction(n, u1, TZ_COS(phi), TZ_SIN(phi));
+                wi = cosine_direction(n, u1, u2);
             } else {
                 TZ_PRECISE vec3 wr = v3_sub(v3_scale(n, 2.0f * v3_dot(n, wo)), wo);
                 wi = phong_lobe_direction(wr, params.x, u1, u2);

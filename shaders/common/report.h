@@ -79,10 +79,7 @@ TZ_FN vec3 chain_direct(TZ_SCENE_PARAM specular_chain c) {
  * below a triangle's face (its shading normal leans away from the geometric one). */
 TZ_FN vec3 indirect_light(TZ_SCENE_PARAM specular_chain c, vec3 wo, float y1, float y2) {
     TZ_PRECISE float cos_t = TZ_SQRT(1.0f - y1);
-    TZ_PRECISE float phi = 2.0f * TZ_PI * y2;
-    TZ_PRECISE float cos_phi = TZ_COS(phi);
-    TZ_PRECISE float sin_phi = TZ_SIN(phi);
-    vec3 wi = cosine_direction(c.n, y1, cos_phi, sin_phi);
+    vec3 wi = cosine_direction(c.n, y1, y2);
     if (is_triangle(TZ_SCENE_ARG c.id) && !(v3_dot(c.ng, wi) > 0.0f)) return v3(0.0f, 0.0f, 0.0f);
     specular_chain next = follow_specular(TZ_SCENE_ARG offset_origin(c.s.pos, c.ng), wi, c.id);
     TZ_PRECISE vec3 incoming = v3_mul(next.weight, chain_direct(TZ_SCENE_ARG next));

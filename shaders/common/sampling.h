@@ -16,19 +16,18 @@ TZ_STRUCT_END(direction_sample)
 
 /* The unit vector at polar angle theta (cosine cos_t, sine sin_t) and azimuth phi about unit
  * axis w, in the basis of the bounce direction. */
-TZ_FN vec3 direction_about(vec3 w, float cos_t, float sin_t, float phi) {
+TZ_FN vec3 direction_about(vec3 w, float cos_t, float sin_t, cos_sin phi) {
     tangent_frame f = basis(w);
-    TZ_PRECISE float c = sin_t * TZ_COS(phi), s = sin_t * TZ_SIN(phi);
+    TZ_PRECISE float c = sin_t * phi.c, s = sin_t * phi.s;
     TZ_PRECISE vec3 d = v3_add(v3_add(v3_scale(f.t, c), v3_scale(f.b, s)), v3_scale(w, cos_t));
     return d;
 }
 
 /* The Phong lobe's direction about unit wr for uniform u1, u2: cos theta = u1^(1/(alpha+1)). */
 TZ_FN vec3 phong_lobe_direction(vec3 wr, float alpha, float u1, float u2) {
-    TZ_PRECISE float cos_t = TZ_POW(u1, 1.0f / (alpha + 1.0f));
+    TZ_PRECISE float cos_t = pow_unit(u1, 1.0f / (alpha + 1.0f));
     TZ_PRECISE float sin2 = 1.0f - cos_t * cos_t;
-    TZ_PRECISE float phi = 2.0f * TZ_PI * u2;
-    return direction_about(wr, cos_t, TZ_SQRT(TZ_MAX(sin2, 0.0f)), phi);
+    return direction_about(wr, cos_t, TZ_SQRT(TZ_MAX(sin2, 0.0f)), cos_sin_turn(u2));
 }
 
 /* The share of diffuse samples of a Phong or Lambertian surface: w_d / (w_d + w_s), w_d the mean
@@ -63,10 +62,9 @@ TZ_FN float cone_one_minus_cos(float r2, float d2) {
 TZ_FN direction_sample cone_direction(vec3 w, float omc, float u1, float u2) {
     TZ_PRECISE float x = u1 * omc; /* 1 - cos theta */
     TZ_PRECISE float sin2 = x * (2.0f - x);
-    TZ_PRECISE float phi = 2.0f * TZ_PI * u2;
     TZ_PRECISE float pdf = 1.0f / (2.0f * TZ_PI * omc);
     direction_sample s;
-    s.wi = direction_about(w, 1.0f - x, TZ_SQRT(TZ_MAX(sin2, 0.0f)), phi);
+    s.wi = direction_about(w, 1.0f - x, TZ_SQRT(TZ_MAX(sin2, 0.0f)), cos_sin_turn(u2));
     s.pdf = pdf;
     return s;
 }
@@ -75,8 +73,8 @@ TZ_FN direction_sample cone_direction(vec3 w, float omc, float u1, float u2) {
 TZ_FN vec3 sphere_area_direction(float u1, float u2) {
     TZ_PRECISE float z = 1.0f - 2.0f * u1;
     TZ_PRECISE float rho = TZ_SQRT(TZ_MAX(1.0f - z * z, 0.0f));
-    TZ_PRECISE float phi = 2.0f * TZ_PI * u2;
-    TZ_PRECISE vec3 d = v3(rho * TZ_COS(phi), rho * TZ_SIN(phi), z);
+    cos_sin phi = cos_sin_turn(u2);
+    TZ_PRECISE vec3 d = v3(rho * phi.c, rho * phi.s, z);
     return d;
 }
 

@@ -5,6 +5,7 @@
 
 #include "dialect.h"
 #include "ray.h"
+#include "transcendental.h"
 
 /* Normal of an opaque (two-sided) surface facing the ray d, from the outward normal. */
 TZ_FN vec3 facing_normal(vec3 nout, vec3 d) {
@@ -55,8 +56,12 @@ TZ_FN float phong_lobe_cos(vec3 n, vec3 wi, vec3 wo) {
 }
 
 /* The lobe of phong_from_lobe: x^alpha for x > 0, else 0 (0^alpha taken as 0, even for alpha 0,
- * so that every back end agrees on it). */
-TZ_FN float phong_lobe(float x, float alpha) { return x > 0.0f ? TZ_POW(x, alpha) : 0.0f; }
+ * and so is x below the normal range: pow_unit). Alpha 0 (bsdf_pdf's of every Lambertian
+ * surface) skips pow_unit, whose x^0 is that very 1. */
+TZ_FN float phong_lobe(float x, float alpha) {
+    float one = x >= TZ_FLT_MIN ? 1.0f : 0.0f;
+    return alpha == 0.0f ? one : pow_unit(x, alpha);
+}
 
 /* Normalized Phong BRDF kd/pi + ks (alpha+2)/(2 pi) lobe; ks 0 is Lambertian. */
 TZ_FN vec3 phong_from_lobe(vec3 kd, float ks, float alpha, float lobe) {
@@ -120,15 +125,15 @@ TZ_FN tangent_frame basis(vec3 n) {
     return f;
 }
 
-/* The bounce direction: cosine-weighted around unit n for a uniform number y1 (cos theta =
- * sqrt(1 - y1)) and the cosine and sine of phi = 2 pi y2 (the caller takes them: the C packet
- * takes them only for active lanes). */
-TZ_FN vec3 cosine_direction(vec3 n, float y1, float cos_phi, float sin_phi) {
+/* The bounce direction: cosine-weighted around unit n for uniform numbers y1 (cos theta =
+ * sqrt(1 - y1)) and y2 (phi = 2 pi y2). */
+TZ_FN vec3 cosine_direction(vec3 n, float y1, float y2) {
     TZ_PRECISE float cos_t = TZ_SQRT(1.0f - y1);
     TZ_PRECISE float sin_t = TZ_SQRT(y1);
+    cos_sin phi = cos_sin_turn(y2);
     tangent_frame f = basis(n);
-    TZ_PRECISE vec3 wi = v3_add(
-        v3_add(v3_scale(f.t, sin_t * cos_phi), v3_scale(f.b, sin_t * sin_phi)), v3_scale(n, cos_t));
+    TZ_PRECISE vec3 wi = v3_add(v3_add(v3_scale(f.t, sin_t * phi.c), v3_scale(f.b, sin_t * phi.s)),
+                                v3_scale(n, cos_t));
     return wi;
 }
 

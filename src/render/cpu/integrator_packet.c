@@ -129,7 +129,7 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
     }
 }
 
-/* Normalized Phong BRDF per lane (sphere_brdf of integrator.c); powf only where a lane needs it. */
+/* Normalized Phong BRDF per lane (brdf_at of lights.h). */
 LANE_FN void packet_phong(const phong_lanes *m, const lanes3 *n, const lanes3 *wi, const lanes3 *wo,
                           const int *active, lanes3 *f) {
     float x[LANES], lobe[LANES];
@@ -214,22 +214,17 @@ LANE_FN void packet_indirect_light(const packed_scene *p, const int *id, const l
                                    const lanes3 *n, const lanes3 *ng, const phong_lanes *m,
                                    const lanes3 *wo, const int *active_in, uint32_t *rng,
                                    lanes3 *radiance) {
-    float y1[LANES], phi[LANES], cos_phi[LANES], sin_phi[LANES], cos_t[LANES];
+    float y1[LANES], y2[LANES], cos_t[LANES];
     for (int k = 0; k < LANES; k++) {
         y1[k] = rng_next(&rng[k]);
-        float y2 = rng_next(&rng[k]);
+        y2[k] = rng_next(&rng[k]);
         cos_t[k] = sqrtf(1.0f - y1[k]);
-        phi[k] = 2.0f * TZ_PI * y2;
-    }
-    for (int k = 0; k < LANES; k++) {
-        cos_phi[k] = active_in[k] ? cosf(phi[k]) : 1.0f;
-        sin_phi[k] = active_in[k] ? sinf(phi[k]) : 0.0f;
     }
     lanes3 o, wi, incoming, f;
     int self[LANES], active[LANES];
     for (int k = 0; k < LANES; k++) {
         vec3 nk = get3(n, k), ngk = get3(ng, k), pk = get3(pos, k);
-        vec3 w = cosine_direction(nk, y1[k], cos_phi[k], sin_phi[k]);
+        vec3 w = cosine_direction(nk, y1[k], y2[k]);
         set3(&wi, k, w);
         set3(&o, k, offset_origin(pk, ngk));
         self[k] = id[k];

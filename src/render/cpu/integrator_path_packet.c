@@ -71,18 +71,19 @@ LANE_FN void draw_lanes(uint32_t *rng, const int *take, float *u) {
     }
 }
 
-/* phong_lobe(x, alpha) where want[k], else 0: powf lane by lane where alpha is not 0 (powf(x, 0)
- * is 1 for every x, so Lambertian lanes need none). */
+/* phong_lobe(x, alpha) where want[k], else 0: pow_unit lane by lane where alpha is not 0 (x^0 is
+ * 1 for every normal x, so Lambertian lanes need none; pow_unit's selects keep gcc from
+ * vectorizing it). */
 LANE_FN void lobe_lanes(const float *x, const float *alpha, const int *want, float *lobe) {
     int pow_lane[LANES], any_pow = 0;
     for (int k = 0; k < LANES; k++) {
-        int positive = want[k] & (x[k] > 0.0f);
-        lobe[k] = positive ? 1.0f : 0.0f;
-        pow_lane[k] = positive & (alpha[k] != 0.0f);
+        int normal = want[k] & (x[k] >= TZ_FLT_MIN);
+        lobe[k] = normal ? 1.0f : 0.0f;
+        pow_lane[k] = normal & (alpha[k] != 0.0f);
         any_pow |= pow_lane[k];
     }
     for (int k = 0; any_pow && k < LANES; k++)
-        if (pow_lane[k]) lobe[k] = powf(x[k], alpha[k]);
+        if (pow_lane[k]) lobe[k] = pow_unit(x[k], alpha[k]);
 }
 
 /* bsdf_pdf of sampling.h with its phong_lobe(lobe_cos, alpha) given as lobe. */
@@ -95,13 +96,6 @@ LANE_FN float bsdf_pdf_of_lobe(float share, float alpha, float cos_i, float lobe
 /* brdf_at of lights.h for lane k of the vertex, phong_lobe(x, alpha) given as lobe. */
 LANE_FN vec3 brdf_of_lobe(const vertex_lanes *v, int k, float lobe) {
     return phong_from_lobe(get3(&v->kd, k), v->ks[k], v->alpha[k], v->ks[k] > 0.0f ? lobe : 0.0f);
-}
-
-/* direction_about of sampling.h with cos(phi) and sin(phi) given. */
-LANE_FN vec3 direction_about_cs(vec3 w, float cos_t, float sin_t, float cos_phi, float sin_phi) {
-    tangent_frame f = basis(w);
-    float c = sin_t * cos_phi, s = sin_t * sin_phi;
-    return v3_add(v3_add(v3_scale(f.t, c), v3_scale(f.b, s)), v3_scale(w, cos_t));
 }
 
 /* The light of the point lights at the diffuse lanes' vertices into direct (point_lights). */
@@ -140,7 +134,8 @@ LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v
 LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *v, const float *ul,
                                  const float *ua, const float *ub, lanes3 *direct) {
     int e[LANES], slot[LANES], triangle[LANES], strategy[LANES], want[LANES], blocked[LANES];
-    float r[LANES], pick[LANES], phi[LANES], cos_phi[LANES], sin_phi[LANES];
+    float r[LANES], pick[LANES];
+    cos_sin phi[LANES];
     float pdf[LANES], cos_i[LANES], t_light[LANES], t[LANES], x[LANES], lobe[LANES];
     lanes3 c, emission, so, wi;
     int one_emitter = scene->frame.emitter_count == 1u; /* pick_emitter's 0, whatever ul */
@@ -158,12 +153,7 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
     for (int k = 0; k < LANES; k++) {
         strategy[k] =
             light_strategy(get3(&v->pos, k), get3(&v->n, k), v->id[k], e[k], get3(&c, k), r[k]);
-        phi[k] = 2.0f * TZ_PI * ub[k];
-    }
-    for (int k = 0; k < LANES; k++) {
-        int need = v->diffuse[k] && strategy[k] != LIGHT_NONE;
-        cos_phi[k] = need ? cosf(phi[k]) : 0.0f;
-        sin_phi[k] = need ? sinf(phi[k]) : 0.0f;
+        phi[k] = cos_sin_turn(ub[k]);
     }
     for (int k = 0; k < LANES; k++) {
         vec3 pos = get3(&v->pos, k), n = get3(&v->n, k), ng = get3(&v->ng, k), ck = get3(&c, k);
@@ -176,13 +166,12 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         float xc = ua[k] * omc;
         float sin2 = xc * (2.0f - xc);
         float cone_pdf = 1.0f / (2.0f * TZ_PI * omc);
-        vec3 cone_wi = direction_about_cs(axis, 1.0f - xc, TZ_SQRT(TZ_MAX(sin2, 0.0f)), cos_phi[k],
-                                          sin_phi[k]);
+        vec3 cone_wi = direction_about(axis, 1.0f - xc, TZ_SQRT(TZ_MAX(sin2, 0.0f)), phi[k]);
         float cone_p = pick[k] * cone_pdf;
         /* the area (sphere_area_direction) */
         float z = 1.0f - 2.0f * ua[k];
         float rho = TZ_SQRT(TZ_MAX(1.0f - z * z, 0.0f));
-        vec3 dir = v3(rho * cos_phi[k], rho * sin_phi[k], z);
+        vec3 dir = v3(rho * phi[k].c, rho * phi[k].s, z);
         vec3 q = v3_add(ck, v3_scale(dir, rk));
         vec3 to_q = v3_sub(q, pos);
         float dist2 = v3_dot(to_q, to_q);
@@ -246,31 +235,23 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
  * lanes whose path ends here are made inactive. */
 LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float *us,
                                const float *u1, const float *u2) {
-    float phi[LANES], cos_phi[LANES], sin_phi[LANES], cos_i[LANES], x[LANES], lobe[LANES];
-    int cosine[LANES], go[LANES];
+    float cos_i[LANES], x[LANES], lobe[LANES];
+    int cosine[LANES], go[LANES], any_lobe = 0;
     lanes3 lobe_wi, wi;
     for (int k = 0; k < LANES; k++) {
-        phi[k] = 2.0f * TZ_PI * u2[k];
         go[k] = v->diffuse[k] & !(v->share[k] < 0.0f);
         cosine[k] = us[k] < v->share[k];
-    }
-    for (int k = 0; k < LANES; k++) {
-        cos_phi[k] = sin_phi[k] = 0.0f;
+        any_lobe |= go[k] & !cosine[k];
         set3(&lobe_wi, k, v3(0.0f, 0.0f, 0.0f));
-        if (!go[k]) continue;
-        if (cosine[k]) {
-            cos_phi[k] = cosf(phi[k]);
-            sin_phi[k] = sinf(phi[k]);
-        } else {
-            vec3 n = get3(&v->n, k), wo = get3(&v->wo, k);
-            vec3 wr = v3_sub(v3_scale(n, 2.0f * v3_dot(n, wo)), wo);
-            set3(&lobe_wi, k, phong_lobe_direction(wr, v->alpha[k], u1[k], u2[k]));
-        }
+    }
+    for (int k = 0; any_lobe && k < LANES; k++) {
+        vec3 n = get3(&v->n, k), wo = get3(&v->wo, k);
+        vec3 wr = v3_sub(v3_scale(n, 2.0f * v3_dot(n, wo)), wo);
+        set3(&lobe_wi, k, phong_lobe_direction(wr, v->alpha[k], u1[k], u2[k]));
     }
     for (int k = 0; k < LANES; k++) {
         vec3 n = get3(&v->n, k), wo = get3(&v->wo, k);
-        vec3 w = select3(cosine[k], cosine_direction(n, u1[k], cos_phi[k], sin_phi[k]),
-                         get3(&lobe_wi, k));
+        vec3 w = select3(cosine[k], cosine_direction(n, u1[k], u2[k]), get3(&lobe_wi, k));
         set3(&wi, k, w);
         cos_i[k] = v3_dot(n, w);
         x[k] = phong_lobe_cos(n, w, wo);
