@@ -134,8 +134,7 @@ LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v
 LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *v, const float *ul,
                                  const float *ua, const float *ub, lanes3 *direct) {
     int e[LANES], slot[LANES], triangle[LANES], strategy[LANES], want[LANES], blocked[LANES];
-    float r[LANES], pick[LANES];
-    cos_sin phi[LANES];
+    float r[LANES], pick[LANES], cos_phi[LANES], sin_phi[LANES]; /* arrays of cos_sin: scalar */
     float pdf[LANES], cos_i[LANES], t_light[LANES], t[LANES], x[LANES], lobe[LANES];
     lanes3 c, emission, so, wi;
     int one_emitter = scene->frame.emitter_count == 1u; /* pick_emitter's 0, whatever ul */
@@ -153,11 +152,16 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
     for (int k = 0; k < LANES; k++) {
         strategy[k] =
             light_strategy(get3(&v->pos, k), get3(&v->n, k), v->id[k], e[k], get3(&c, k), r[k]);
-        phi[k] = cos_sin_turn(ub[k]);
+        cos_sin phi = cos_sin_turn(ub[k]);
+        cos_phi[k] = phi.c;
+        sin_phi[k] = phi.s;
     }
     for (int k = 0; k < LANES; k++) {
         vec3 pos = get3(&v->pos, k), n = get3(&v->n, k), ng = get3(&v->ng, k), ck = get3(&c, k);
         float rk = r[k];
+        cos_sin phi;
+        phi.c = cos_phi[k];
+        phi.s = sin_phi[k];
         /* the cone (cone_direction) */
         vec3 to_c = v3_sub(ck, pos);
         float d2 = v3_dot(to_c, to_c);
@@ -166,12 +170,12 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         float xc = ua[k] * omc;
         float sin2 = xc * (2.0f - xc);
         float cone_pdf = 1.0f / (2.0f * TZ_PI * omc);
-        vec3 cone_wi = direction_about(axis, 1.0f - xc, TZ_SQRT(TZ_MAX(sin2, 0.0f)), phi[k]);
+        vec3 cone_wi = direction_about(axis, 1.0f - xc, TZ_SQRT(TZ_MAX(sin2, 0.0f)), phi);
         float cone_p = pick[k] * cone_pdf;
         /* the area (sphere_area_direction) */
         float z = 1.0f - 2.0f * ua[k];
         float rho = TZ_SQRT(TZ_MAX(1.0f - z * z, 0.0f));
-        vec3 dir = v3(rho * phi[k].c, rho * phi[k].s, z);
+        vec3 dir = v3(rho * phi.c, rho * phi.s, z);
         vec3 q = v3_add(ck, v3_scale(dir, rk));
         vec3 to_q = v3_sub(q, pos);
         float dist2 = v3_dot(to_q, to_q);
