@@ -18,14 +18,19 @@ function(embed_spirv target outdir)
   add_custom_target(${target} DEPENDS ${headers})
 endfunction()
 
-# embed_spirv_variant(TARGET OUTDIR SHADER NAME DEFINE): SHADER compiled with DEFINE set into
-# OUTDIR/NAME_spv.h (a `NAME_spv` array): a second module of the same entry point.
+# embed_spirv_variant(TARGET OUTDIR SHADER NAME DEFINE [ENV]): SHADER compiled with DEFINE set into
+# OUTDIR/NAME_spv.h (a `NAME_spv` array): a second module of the same entry point, for the
+# Vulkan version ENV (vulkan1.1 unless given).
 function(embed_spirv_variant target outdir shader name define)
+  set(env vulkan1.1)
+  if(ARGC GREATER 5)
+    set(env ${ARGV5})
+  endif()
   set(header ${outdir}/${name}_spv.h)
   add_custom_command(
     OUTPUT ${header}
     COMMAND ${CMAKE_COMMAND} -E make_directory ${outdir}
-    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -Os --quiet -D${define}
+    COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${env} -Os --quiet -D${define}
             --vn ${name}_spv --depfile ${header}.d -o ${header} ${shader}
     DEPENDS ${shader}
     DEPFILE ${header}.d

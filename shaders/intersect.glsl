@@ -3,7 +3,8 @@
  * the same names are in src/render/cpu/integrator.c (trace_bvh, integrator_nearest,
  * integrator_occluded). The including shader declares `frame`, sphere_center_radius(),
  * sphere_params(), sphere_count(), node_field(), use_bvh() and WALK_BUDGET; with TZ_SUBGROUP_WALK
- * defined (and the subgroup extensions enabled) the walk is cooperative for coherent rays. */
+ * defined (and the subgroup extensions enabled) the walk is cooperative for coherent rays; with
+ * TZ_RAY_QUERY_WALK every query goes through the device's acceleration structure scene_accel. */
 #ifndef TRAZADOR_INTERSECT_GLSL
 #define TRAZADOR_INTERSECT_GLSL
 
@@ -195,6 +196,36 @@ bool coherent_rays;
 
 #endif
 
+#ifdef TZ_RAY_QUERY_WALK
+/* The largest tmax handed to the device: ray queries take finite distances only. */
+#define RAY_QUERY_FAR 3.0e38
+
+/* trace_bvh's query through the device's acceleration structure: every AABB candidate it
+ * reports is primitive id k (vk_accel.c builds one AABB geometry in primitive order, each box
+ * padded so that rounding in the device's box tests never drops a primitive the shared test
+ * hits), tested with the shared test and kept by the tie rule, so the hit is trace_bvh's
+ * whatever order the device reports boxes in. A nearer hit is committed at its distance, which
+ * lets the device skip boxes beyond it: a box holding a hit at the same distance starts before
+ * it by the padding, so ties to a lower index still arrive. With any_hit the first committed hit
+ * ends the query (gl_RayFlagsTerminateOnFirstHitEXT). */
+int trace_ray_query(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out) {
+    float tmin = ray_eps(o), best = tmax;
+    int id = -1;
+    rayQueryEXT query;
+    uint flags = any_hit ? gl_RayFlagsTerminateOnFirstHitEXT : gl_RayFlagsNoneEXT;
+    rayQueryInitializeEXT(query, scene_accel, flags, 0xffu, o, tmin, d, min(tmax, RAY_QUERY_FAR));
+    while (rayQueryProceedEXT(query)) {
+        int k = rayQueryGetIntersectionPrimitiveIndexEXT(query, false);
+        float t = primitive_distance(k, o, d, tmin, self);
+        bool nearer = t < best;
+        keep_nearer(k, t, best, id);
+        if (nearer) rayQueryGenerateIntersectionEXT(query, t);
+    }
+    t_out = best;
+    return id;
+}
+#endif
+
 /* The walk of this module and ray: with TZ_SUBGROUP_WALK the subgroup's for coherent rays, where
  * the lanes visit much the same nodes; per invocation otherwise (a bounce's rays scatter, and the
  * union of the lanes' nodes would be many times one walk). */
@@ -210,6 +241,9 @@ int walk_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out
  * specialization constant): trace_ray of the C back end. */
 int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
     rays_traced++;
+#ifdef TZ_RAY_QUERY_WALK
+    return trace_ray_query(o, d, self, TZ_INFINITY, false, t_out);
+#else
 #ifdef TZ_SUBGROUP_WALK
     coherent_rays = self < 0;
 #endif
@@ -224,6 +258,7 @@ int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
     }
     t_out = best;
     return id;
+#endif
 }
 
 /* True when a sphere blocks o + t d for EPS < t < dist; glass blocks too, as in the seed. The
@@ -231,6 +266,9 @@ int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
 bool integrator_occluded(vec3 o, vec3 d, float dist, int self) {
     rays_traced++;
     float t;
+#ifdef TZ_RAY_QUERY_WALK
+    return trace_ray_query(o, d, self, dist, true, t) >= 0;
+#else
     if (use_bvh()) return walk_bvh(o, d, self, dist, true, t) >= 0;
     float tmin = ray_eps(o);
     [[unroll]] for (uint k = 0u; k < sphere_count();
@@ -240,6 +278,7 @@ bool integrator_occluded(vec3 o, vec3 d, float dist, int self) {
         if (triangle_distance_at(t, o, d, tmin, self) < dist) return true;
     }
     return false;
+#endif
 }
 
 #endif

@@ -83,6 +83,9 @@ typedef struct tz_uvec4 {
 /* Texels 3s..3s+2: gpu_normals s, the shading normals of the smooth triangles (one zeroed). */
 #define TZ_BINDING_NORMALS 11
 #define TZ_BINDING_COUNT 12
+/* The ray query module only: the top-level acceleration structure of the scene's primitives
+ * (AABB primitive k is primitive id k), one binding past the others. */
+#define TZ_BINDING_ACCEL 12
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
  * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.sphere_count

@@ -5,13 +5,18 @@
  * non-finite samples are counted instead. report_sample() and path_sample() are the shared texts
  * of shaders/common/report.h and path.h, which the C back end compiles too. Declares the
  * bindings and the scene accessors the included files use. */
-#version 450
+#version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
-/* TZ_SUBGROUP_WALK: the module with the cooperative BVH walk (CMakeLists.txt builds both). */
+/* TZ_SUBGROUP_WALK: the module with the cooperative BVH walk; TZ_RAY_QUERY_WALK: the module that
+ * walks the device's acceleration structure (CMakeLists.txt builds all three; GL_EXT_ray_query
+ * needs GLSL 4.60, which changes nothing else here). */
 #ifdef TZ_SUBGROUP_WALK
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#endif
+#ifdef TZ_RAY_QUERY_WALK
+#extension GL_EXT_ray_query : require
 #endif
 
 #include "shared_layout.h"
@@ -40,6 +45,10 @@ layout(std430, set = 0, binding = TZ_BINDING_STACK) buffer stack_block { float s
 layout(set = 0, binding = TZ_BINDING_TRIANGLES) uniform samplerBuffer triangle_texels;
 layout(set = 0, binding = TZ_BINDING_MATERIALS) uniform samplerBuffer material_texels;
 layout(set = 0, binding = TZ_BINDING_NORMALS) uniform samplerBuffer normals_texels;
+#ifdef TZ_RAY_QUERY_WALK
+/* The scene's primitives as one AABB geometry of one instance (src/render/vk/vk_accel.c). */
+layout(set = 0, binding = TZ_BINDING_ACCEL) uniform accelerationStructureEXT scene_accel;
+#endif
 layout(push_constant) uniform pass_block { gpu_pass pass; };
 layout(constant_id = TZ_SPEC_UNROLLED_SPHERES) const uint UNROLLED_SPHERES = 0u;
 layout(constant_id = TZ_SPEC_UNROLLED_LIGHTS) const uint UNROLLED_LIGHTS = 0u;

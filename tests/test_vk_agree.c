@@ -311,12 +311,12 @@ static bool generated_scene(const gen_desc *desc, const char *name, int width, s
     return parsed;
 }
 
-/* Renders s on Vulkan with the BVH walk TRAZADOR_VK_WALK names; false when it failed. */
-static bool render_walk(const scene *s, const render_opts *opts, const char *walk, film *f) {
-    setenv("TRAZADOR_VK_WALK", walk, 1);
-    bool ok = render_vk(s, opts, f);
-    unsetenv("TRAZADOR_VK_WALK");
-    return ok;
+/* Renders s on Vulkan with `walk` (render_opts.walk, as `render --walk` sets it); false when it
+ * failed. */
+static bool render_with_walk(const scene *s, const render_opts *opts, render_walk walk, film *f) {
+    render_opts o = *opts;
+    o.walk = walk;
+    return render_vk(s, &o, f);
 }
 
 /* The subgroup's cooperative BVH walk and the walk per invocation give bit-identical films (the
@@ -324,8 +324,8 @@ static bool render_walk(const scene *s, const render_opts *opts, const char *wal
 static void check_walks(const char *name, const scene *s, render_opts opts) {
     opts.validate = true;
     film coop = {0}, alone = {0};
-    bool ok = render_walk(s, &opts, "cooperative", &coop);
-    ok = render_walk(s, &opts, "invocation", &alone) && ok;
+    bool ok = render_with_walk(s, &opts, RENDER_WALK_COOPERATIVE, &coop);
+    ok = render_with_walk(s, &opts, RENDER_WALK_COMPUTE, &alone) && ok;
     CHECK(ok, "%s: a walk failed", name);
     if (ok)
         CHECK(!memcmp(coop.accum, alone.accum, (size_t)s->width * s->height * 4 * sizeof(float)),

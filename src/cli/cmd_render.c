@@ -32,6 +32,7 @@ typedef struct render_args {
     int indirect;                                         /* -1 not given, 0 off, 1 on */
     int mode;                                             /* -1 not given, else render_mode */
     int no_jitter, validate, verbose, quiet, no_bvh, force;
+    int walk;                        /* render_walk */
     const char *region, *samples;    /* "x0,x1,y0,y1", "A:B"; NULL: all */
     const char *checkpoint, *resume; /* part files; NULL: none */
     double checkpoint_every;         /* seconds */
@@ -90,6 +91,12 @@ static const opt_spec render_specs[] = {
              "devices`)"},
     OPT_SET("--validate", NULL, ARG(validate), 1,
             "Vulkan's validation layer on; any error fails the run (default off)"),
+    OPT_ONE_OF("--walk", ARG(walk), "auto|compute|cooperative|rayquery",
+               "how Vulkan rays find their hits: compute (each invocation walks trazador's BVH), "
+               "cooperative (the subgroup walks it together), rayquery (the device's "
+               "acceleration structure, VK_KHR_ray_query); one the device lacks is an error "
+               "(default auto: rayquery on GPUs that have it, else compute; TRAZADOR_VK_WALK "
+               "names one too)"),
     OPT_SET("--no-bvh", NULL, ARG(no_bvh), 1,
             "test every sphere for every ray (default: walk the BVH)"),
     OPT_TEXT("--region", NULL, ARG(region), "X0,X1,Y0,Y1", "four whole numbers",
@@ -198,6 +205,10 @@ static opt_result parse_render_args(int argc, char **argv, render_args *a,
         return opt_usage_error(
             &render_command,
             "--validate turns on Vulkan's validation: it cannot go with --backend cpu");
+    if (a->walk != RENDER_WALK_AUTO && a->backend == BACKEND_CPU)
+        return opt_usage_error(&render_command,
+                               "--walk chooses how Vulkan walks rays: it cannot go with "
+                               "--backend cpu");
     return OPT_OK;
 }
 
@@ -304,6 +315,7 @@ static void apply_overrides(const render_args *a, const scene *s, render_opts *o
     if (a->indirect >= 0) o->indirect = a->indirect;
     o->no_jitter = a->no_jitter;
     o->validate = a->validate;
+    o->walk = (render_walk)a->walk;
     o->no_bvh = a->no_bvh;
     o->progress = !a->quiet && isatty(STDERR_FILENO);
 }
@@ -470,9 +482,10 @@ static int render_and_write(const render_args *a, const scene *s) {
     uint32_t end;
     if (!parse_region(a->region, &meta) || !parse_samples(a->samples, &meta, &end)) return 2;
     part p = {0};
-    /* --device and --validate ask for Vulkan as --backend vulkan does. */
-    int backend =
-        a->backend == BACKEND_AUTO && (a->device >= 0 || a->validate) ? BACKEND_VULKAN : a->backend;
+    /* --device, --validate and --walk ask for Vulkan as --backend vulkan does. */
+    int backend = a->backend == BACKEND_AUTO && (a->device >= 0 || a->validate || a->walk)
+                      ? BACKEND_VULKAN
+                      : a->backend;
     if (a->resume ? !load_resume(a->resume, &meta, end, backend, &p) : !part_init(&p, &meta))
         return 1;
     uint32_t begin = p.meta.sample_end;

@@ -45,6 +45,16 @@ typedef struct render_control {
 /* The most threads the CPU back end runs. */
 #define RENDER_MAX_THREADS 256
 
+/* How the Vulkan back end walks rays through the scene (`render --walk`): auto (the measured
+ * faster one for the device type), the compute BVH walk per invocation, the subgroup's
+ * cooperative walk, or ray queries through the device's acceleration structure. */
+typedef enum render_walk {
+    RENDER_WALK_AUTO,
+    RENDER_WALK_COMPUTE,
+    RENDER_WALK_COOPERATIVE,
+    RENDER_WALK_RAY_QUERY
+} render_walk;
+
 typedef struct render_opts {
     int samples; /* samples per pixel */
     uint32_t seed;
@@ -57,6 +67,7 @@ typedef struct render_opts {
     int threads;            /* CPU back end; 0 = all cores */
     int device;             /* Vulkan back end; -1 = first */
     bool validate;          /* Vulkan validation layer, errors fail the run */
+    render_walk walk;       /* Vulkan back end; auto (0) also reads TRAZADOR_VK_WALK */
     bool no_bvh;            /* test every sphere for every ray (debugging, comparisons) */
     bool progress;          /* progress line on stderr */
     const char *cpu_build;  /* CPU back end: the packet build by name; NULL: the fastest */

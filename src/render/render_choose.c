@@ -75,7 +75,8 @@ bool render_choose_part(const scene *s, const render_opts *opts, backend_choice 
     uint32_t begin = p->meta.sample_end;
     if (backend == BACKEND_CPU) return render_cpu_part(s, opts, p, sample_end);
     char reason[RENDER_REASON_SIZE];
-    if (backend == BACKEND_VULKAN || opts->validate || opts->device >= 0) {
+    if (backend == BACKEND_VULKAN || opts->validate || opts->device >= 0 ||
+        opts->walk != RENDER_WALK_AUTO) {
         *used = "vulkan";
         render_status status = render_vk_part_try(s, opts, p, sample_end, reason);
         if (status == RENDER_REFUSED) log_error("%s" VK_CONTEXT_USE_CPU, reason);

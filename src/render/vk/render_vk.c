@@ -14,10 +14,12 @@
 #include "render/part.h"
 #include "render/render.h"
 #include "render/scene_pack.h"
+#include "render/vk/vk_accel.h"
 #include "render/vk/vk_context.h"
 #include "render/vk/vk_probe.h"
 #include "render/vk/vk_strategy.h"
 #include "trace_coop_spv.h"
+#include "trace_rq_spv.h"
 #include "trace_spv.h"
 #include "util/clock.h"
 #include "util/log.h"
@@ -59,6 +61,7 @@ typedef struct vk_render {
     vk_buffer upload;   /* staging for the inputs when device memory is not mapped */
     vk_buffer state;    /* staging for a resumed part's counts and stacks, likewise */
     vk_buffer readback; /* staging: the counters at 0, the sums at 16, then the stacks */
+    vk_accel accel;     /* the ray query walk's acceleration structure */
     vk_kernel kernel;
     VkFence fence;
     VkCommandBuffer cmd;
@@ -478,6 +481,7 @@ static void render_destroy(vk_render *r) {
         if (r->fence) vkDestroyFence(ctx->device, r->fence, NULL);
         if (r->cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &r->cmd);
         vk_kernel_destroy(ctx, &r->kernel);
+        vk_accel_destroy(ctx, &r->accel);
         vk_buffer *buffers[] = {&r->readback,  &r->state,      &r->upload,  &r->counter,
                                 &r->stack,     &r->accum_comp, &r->accum,   &r->emitters,
                                 &r->nodes,     &r->lights,     &r->spheres, &r->frame,
@@ -487,7 +491,8 @@ static void render_destroy(vk_render *r) {
     }
 }
 
-/* Compiles trace.comp for the scene (the module with the cooperative walk or the plain one;
+/* Compiles trace.comp for the scene (the module with the cooperative walk, the ray query one
+ * with its acceleration structure bound, or the plain one;
  * specialization constants: the strategy, the flags, and the spheres and lights of an unrolled
  * scene), creates the fence and binds the buffers; false (logged) on a Vulkan failure. */
 static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_strategy *st,
@@ -505,6 +510,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
         [TZ_BINDING_TRIANGLES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         [TZ_BINDING_MATERIALS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         [TZ_BINDING_NORMALS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+        [TZ_BINDING_ACCEL] = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR,
     };
     /* Small scenes get their sphere and light loops unrolled, and their spheres and lights
      * become specialization constants: the unrolled tests read immediates, and the loop
@@ -532,10 +538,14 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
     const VkSpecializationInfo spec = {SPEC_COUNT, entries, sizeof constants, &constants};
     vk_kernel_desc kernel = {
         .spec = &spec,
-        .code = st->cooperative ? trace_coop_spv : trace_spv,
-        .code_size = st->cooperative ? sizeof trace_coop_spv : sizeof trace_spv,
+        .code = st->ray_query     ? trace_rq_spv
+                : st->cooperative ? trace_coop_spv
+                                  : trace_spv,
+        .code_size = st->ray_query     ? sizeof trace_rq_spv
+                     : st->cooperative ? sizeof trace_coop_spv
+                                       : sizeof trace_spv,
         .types = types,
-        .binding_count = TZ_BINDING_COUNT,
+        .binding_count = st->ray_query ? TZ_BINDING_ACCEL + 1u : TZ_BINDING_COUNT,
         .push_size = sizeof(struct gpu_pass),
     };
     VkFenceCreateInfo fence_info = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
@@ -543,12 +553,19 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
         !VK_CHECK(vkCreateFence(r->ctx.device, &fence_info, NULL, &r->fence)))
         return false;
     const vk_buffer *buffers[] = {
-        [TZ_BINDING_FRAME] = &r->frame,           [TZ_BINDING_SPHERES] = &r->spheres,
-        [TZ_BINDING_LIGHTS] = &r->lights,         [TZ_BINDING_ACCUM] = &r->accum,
-        [TZ_BINDING_COUNTERS] = &r->counter,      [TZ_BINDING_NODES] = &r->nodes,
-        [TZ_BINDING_ACCUM_COMP] = &r->accum_comp, [TZ_BINDING_EMITTERS] = &r->emitters,
-        [TZ_BINDING_STACK] = &r->stack,           [TZ_BINDING_TRIANGLES] = &r->triangles,
-        [TZ_BINDING_MATERIALS] = &r->materials,   [TZ_BINDING_NORMALS] = &r->normals,
+        [TZ_BINDING_FRAME] = &r->frame,
+        [TZ_BINDING_SPHERES] = &r->spheres,
+        [TZ_BINDING_LIGHTS] = &r->lights,
+        [TZ_BINDING_ACCUM] = &r->accum,
+        [TZ_BINDING_COUNTERS] = &r->counter,
+        [TZ_BINDING_NODES] = &r->nodes,
+        [TZ_BINDING_ACCUM_COMP] = &r->accum_comp,
+        [TZ_BINDING_EMITTERS] = &r->emitters,
+        [TZ_BINDING_STACK] = &r->stack,
+        [TZ_BINDING_TRIANGLES] = &r->triangles,
+        [TZ_BINDING_MATERIALS] = &r->materials,
+        [TZ_BINDING_NORMALS] = &r->normals,
+        [TZ_BINDING_ACCEL] = NULL, /* vk_accel_bind */
     };
     const VkDeviceSize band = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)width * ACCUM_PIXEL_BYTES;
     const VkDeviceSize ranges[] = {
@@ -564,8 +581,10 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
         [TZ_BINDING_TRIANGLES] = VK_WHOLE_SIZE,
         [TZ_BINDING_MATERIALS] = VK_WHOLE_SIZE,
         [TZ_BINDING_NORMALS] = VK_WHOLE_SIZE,
+        [TZ_BINDING_ACCEL] = 0,
     };
     vk_kernel_bind(&r->ctx, &r->kernel, buffers, ranges);
+    if (st->ray_query) vk_accel_bind(&r->ctx, &r->kernel, TZ_BINDING_ACCEL, &r->accel);
     return true;
 }
 
@@ -707,17 +726,25 @@ render_status render_vk_part_try(const scene *s, const render_opts *opts, part *
     packed_scene packed = {0};
     bool ok = false;
     double t0 = clock_seconds();
-    vk_context_desc desc = {
-        .device = opts->device, .validate = opts->validate, .threads = opts->threads};
+    vk_context_desc desc = {.device = opts->device,
+                            .validate = opts->validate,
+                            .ray_query = vk_strategy_wants_ray_query(opts),
+                            .threads = opts->threads};
     if (!vk_context_init(&r.ctx, &desc)) return RENDER_FAILED;
     double t_init = clock_seconds();
     log_debug("vulkan: device %d, %s (%s), instance and device in %.1f ms", r.ctx.device_index,
               r.ctx.properties.deviceName, r.ctx.driver_name, (t_init - t0) * 1e3);
     if (!claim_part(&r.ctx, p, reason)) goto done;
-    vk_strategy st = vk_strategy_choose(&r.ctx, s, opts);
-    if (st.use_bvh)
-        log_debug("vulkan: BVH walk %s",
-                  st.cooperative ? "cooperative (TRAZADOR_VK_WALK=cooperative)" : "per invocation");
+    render_walk walk;
+    const char *why;
+    if (!vk_strategy_walk(&r.ctx, opts, &walk, &why)) goto done;
+    vk_strategy st = vk_strategy_choose(&r.ctx, s, opts, walk);
+    log_debug("vulkan: walk %s (%s)%s",
+              st.ray_query     ? "rayquery: the device's acceleration structure"
+              : st.cooperative ? "cooperative: the subgroup walks the BVH together"
+              : st.use_bvh     ? "compute: each invocation walks the BVH"
+                               : "compute: every primitive tested (no BVH for this scene)",
+              why, walk == RENDER_WALK_COOPERATIVE && !st.cooperative ? "; no BVH to walk" : "");
     render_opts packing = *opts;
     packing.no_bvh = !st.use_bvh;
     int width = p->meta.x1 - p->meta.x0, height = p->meta.y1 - p->meta.y0;
@@ -735,6 +762,14 @@ render_status render_vk_part_try(const scene *s, const render_opts *opts, part *
     double t_upload = clock_seconds();
     log_debug("vulkan: buffers and upload in %.1f ms (%s)", (t_upload - t_buffers) * 1e3,
               r.accum.mapped ? "mapped device memory" : "staging copies");
+    if (st.ray_query) {
+        if (!vk_accel_build(&r.ctx, &packed, &r.accel)) goto done;
+        double t_accel = clock_seconds();
+        log_debug("vulkan: acceleration structure of %u primitives built in %.1f ms",
+                  packed.frame.sphere_count + packed.frame.triangle_count,
+                  (t_accel - t_upload) * 1e3);
+        t_upload = t_accel;
+    }
     if (!create_kernel(&r, &packed, &st, width, depth) || !warm_up_pipeline(&r)) goto done;
     double t_pipeline = clock_seconds();
     log_debug("vulkan: pipeline in %.1f ms", (t_pipeline - t_upload) * 1e3);

@@ -100,8 +100,15 @@ bool vk_buffer_create(vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usa
         vk_buffer_destroy(ctx, out);
         return false;
     }
+    /* Buffers read through device addresses (acceleration structure builds) need memory that
+     * has them. */
+    VkMemoryAllocateFlagsInfo address = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO,
+        .flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT,
+    };
     VkMemoryAllocateInfo alloc = {
         .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+        .pNext = (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) ? &address : NULL,
         .allocationSize = req.size,
         .memoryTypeIndex = (uint32_t)type,
     };

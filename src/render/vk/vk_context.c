@@ -58,7 +58,8 @@ static bool open_context(vk_context *ctx, const vk_context_desc *desc) {
         }
         if (!VK_CHECK(create(ctx->instance, &messenger, NULL, &ctx->messenger))) goto fail;
     }
-    if (!vk_device_open(ctx, desc->device) || !vk_memory_file_fits(0) || !vk_probe_loop_limit(ctx))
+    if (!vk_device_open(ctx, desc->device, desc->ray_query) || !vk_memory_file_fits(0) ||
+        !vk_probe_loop_limit(ctx))
         goto fail;
     return true;
 fail:

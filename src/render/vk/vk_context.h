@@ -25,6 +25,7 @@
     X(vkEnumeratePhysicalDevices)               \
     X(vkGetPhysicalDeviceProperties)            \
     X(vkGetPhysicalDeviceProperties2)           \
+    X(vkGetPhysicalDeviceFeatures2)             \
     X(vkGetPhysicalDeviceQueueFamilyProperties) \
     X(vkGetPhysicalDeviceMemoryProperties)      \
     X(vkEnumerateDeviceExtensionProperties)     \
@@ -84,10 +85,11 @@ VK_CONTEXT_INSTANCE_FUNCTIONS(VK_CONTEXT_DECLARE_FUNCTION)
 bool vk_check_result(VkResult result, const char *call, const char *file, int line);
 
 typedef struct vk_context_desc {
-    int device;    /* physical device index; -1 picks the first usable one */
-    bool validate; /* validation layer + messenger; also forced on by TRAZADOR_VALIDATE=1 */
-    int threads;   /* lavapipe's worker threads (LP_NUM_THREADS for this context); 0 leaves the
-                      driver's choice or the user's own LP_NUM_THREADS */
+    int device;     /* physical device index; -1 picks the first usable one */
+    bool validate;  /* validation layer + messenger; also forced on by TRAZADOR_VALIDATE=1 */
+    bool ray_query; /* enable ray queries and acceleration structures where the device has them */
+    int threads;    /* lavapipe's worker threads (LP_NUM_THREADS for this context); 0 leaves the
+                       driver's choice or the user's own LP_NUM_THREADS */
 } vk_context_desc;
 
 typedef struct vk_context {
@@ -101,6 +103,7 @@ typedef struct vk_context {
     char driver_name[VK_MAX_DRIVER_NAME_SIZE];
     char driver_info[VK_MAX_DRIVER_INFO_SIZE];   /* the version string, e.g. "Mesa 25.0.7" */
     VkPhysicalDeviceSubgroupProperties subgroup; /* size, operations and stages (Vulkan 1.1) */
+    bool ray_query;      /* ray queries and acceleration structures enabled (vk_context_desc) */
     uint32_t loop_limit; /* loop passes an invocation completes before the driver stops its loops
                             silently (lavapipe 22.3: 65,535); 0 where they run to the end
                             (vk_probe_loop_limit) */
@@ -131,6 +134,10 @@ bool vk_context_is_lavapipe(const vk_context *ctx);
 /* True when compute shaders on the device have the subgroup operations the cooperative BVH walk
  * uses (basic, arithmetic) in subgroups of at most 63 lanes; never fails. */
 bool vk_context_has_subgroup_walk(const vk_context *ctx);
+/* True when the physical device can walk an acceleration structure with ray queries: Vulkan
+ * 1.2, VK_KHR_ray_query, VK_KHR_acceleration_structure (and its deferred host operations), and
+ * the rayQuery, accelerationStructure and bufferDeviceAddress features; never fails. */
+bool vk_device_has_ray_query(VkPhysicalDevice device);
 /* True when there are Vulkan devices and every one is a CPU (VK_PHYSICAL_DEVICE_TYPE_CPU, e.g.
  * lavapipe); false when there is none or a GPU. Logs nothing. */
 bool vk_context_cpu_only(void);
@@ -174,7 +181,7 @@ bool vk_buffer_create_view(vk_context *ctx, vk_buffer *b, VkFormat format);
 /* Destroys the buffer (and its view) and frees its memory; safe on a zeroed vk_buffer. */
 void vk_buffer_destroy(vk_context *ctx, vk_buffer *b);
 
-#define VK_KERNEL_MAX_BINDINGS 12
+#define VK_KERNEL_MAX_BINDINGS 13
 
 /* One compute pipeline with one descriptor set of buffers (binding k has types[k]). */
 typedef struct vk_kernel_desc {

@@ -20,6 +20,32 @@ static bool has_device_extension(VkPhysicalDevice device, const char *name) {
     return found;
 }
 
+/* The device extensions the ray query walk enables (the deferred host operations are a
+ * requirement of VK_KHR_acceleration_structure). */
+static const char *const RAY_QUERY_EXTENSIONS[] = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
+                                                   VK_KHR_RAY_QUERY_EXTENSION_NAME,
+                                                   VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
+#define RAY_QUERY_EXTENSION_COUNT 3
+
+bool vk_device_has_ray_query(VkPhysicalDevice device) {
+    VkPhysicalDeviceProperties props;
+    vkGetPhysicalDeviceProperties(device, &props);
+    if (props.apiVersion < VK_API_VERSION_1_2) return false;
+    for (int k = 0; k < RAY_QUERY_EXTENSION_COUNT; k++)
+        if (!has_device_extension(device, RAY_QUERY_EXTENSIONS[k])) return false;
+    VkPhysicalDeviceRayQueryFeaturesKHR query = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR structure = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR,
+        .pNext = &query};
+    VkPhysicalDeviceVulkan12Features v12 = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, .pNext = &structure};
+    VkPhysicalDeviceFeatures2 features = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
+                                          .pNext = &v12};
+    vkGetPhysicalDeviceFeatures2(device, &features);
+    return query.rayQuery && structure.accelerationStructure && v12.bufferDeviceAddress;
+}
+
 /* What trazador needs to know of one physical device to list or choose it. */
 typedef struct device_info {
     VkPhysicalDeviceProperties properties;
@@ -144,8 +170,8 @@ static void format_driver_version(const VkPhysicalDeviceProperties *p, char *out
 }
 
 /* The second line of a device in the listing: driver version, the ray tracing extensions a ray
- * query walk would use, the BVH walks trazador has that it offers (TRAZADOR_VK_WALK), and the
- * loop budget a context on it was probed to have. */
+ * query walk would use, the walks trazador has that it offers (`render --walk`), and the loop
+ * budget a context on it was probed to have. */
 static void print_device_details(VkPhysicalDevice device, const device_info *info, int index) {
     char version[48];
     format_driver_version(&info->properties, version, sizeof version);
@@ -166,12 +192,18 @@ static void print_device_details(VkPhysicalDevice device, const device_info *inf
             snprintf(loops, sizeof loops, "stop silently after %u passes", ctx.loop_limit);
         else
             snprintf(loops, sizeof loops, "run to the end");
-        walks = !opened                              ? "unknown"
-                : vk_context_has_subgroup_walk(&ctx) ? "invocation, cooperative"
-                                                     : "invocation";
+        /* The ray query walk needs loops that run to the end (its candidate loop is the
+         * device's). */
+        bool rq = opened && ctx.loop_limit == 0u && vk_device_has_ray_query(device);
+        bool coop = opened && vk_context_has_subgroup_walk(&ctx);
+        walks = !opened      ? "unknown"
+                : coop && rq ? "compute, cooperative, rayquery"
+                : coop       ? "compute, cooperative"
+                : rq         ? "compute, rayquery"
+                             : "compute";
         vk_context_destroy(&ctx);
     }
-    printf("    driverVersion %s; %s %s; %s %s; BVH walks: %s; loops %s\n", version,
+    printf("    driverVersion %s; %s %s; %s %s; walks: %s; loops %s\n", version,
            VK_KHR_RAY_QUERY_EXTENSION_NAME, query ? "yes" : "no",
            VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, structure ? "yes" : "no", walks, loops);
 }
@@ -207,7 +239,7 @@ bool vk_context_print_devices(void) {
     return true;
 }
 
-bool vk_device_open(vk_context *ctx, int requested) {
+bool vk_device_open(vk_context *ctx, int requested, bool ray_query) {
     VkPhysicalDevice *devices = NULL;
     uint32_t count = 0;
     if (!list_devices(ctx->instance, &devices, &count)) {
@@ -255,14 +287,31 @@ bool vk_device_open(vk_context *ctx, int requested) {
         .pQueuePriorities = &priority,
     };
     /* A portability (MoltenVK) device must have its subset extension enabled when it offers it. */
+    const char *extensions[1 + RAY_QUERY_EXTENSION_COUNT];
+    uint32_t extension_count = 0;
     const char *portability = "VK_KHR_portability_subset";
-    bool subset = has_device_extension(ctx->physical, portability);
+    if (has_device_extension(ctx->physical, portability))
+        extensions[extension_count++] = portability;
+    ctx->ray_query = ray_query && vk_device_has_ray_query(ctx->physical);
+    for (int k = 0; ctx->ray_query && k < RAY_QUERY_EXTENSION_COUNT; k++)
+        extensions[extension_count++] = RAY_QUERY_EXTENSIONS[k];
+    VkPhysicalDeviceRayQueryFeaturesKHR query = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR, .rayQuery = VK_TRUE};
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR structure = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR,
+        .pNext = &query,
+        .accelerationStructure = VK_TRUE};
+    VkPhysicalDeviceVulkan12Features v12 = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
+        .pNext = &structure,
+        .bufferDeviceAddress = VK_TRUE};
     VkDeviceCreateInfo create_info = {
         .sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
+        .pNext = ctx->ray_query ? &v12 : NULL,
         .queueCreateInfoCount = 1,
         .pQueueCreateInfos = &queue,
-        .enabledExtensionCount = subset ? 1u : 0u,
-        .ppEnabledExtensionNames = &portability,
+        .enabledExtensionCount = extension_count,
+        .ppEnabledExtensionNames = extensions,
     };
     if (!VK_CHECK(vkCreateDevice(ctx->physical, &create_info, NULL, &ctx->device))) return false;
     vkGetDeviceQueue(ctx->device, ctx->queue_family, 0, &ctx->queue);

@@ -26,7 +26,8 @@ VkResult vk_instance_create(const VkDebugUtilsMessengerCreateInfoEXT *messenger,
 void vk_instance_messenger_info(vk_context *ctx, VkDebugUtilsMessengerCreateInfoEXT *out);
 
 /* Picks the physical device (`requested`, or the first usable one when -1) and creates the
- * logical device, queue and command pool in ctx; false (logged) on failure. */
-bool vk_device_open(vk_context *ctx, int requested);
+ * logical device, queue and command pool in ctx, with ray queries enabled when `ray_query` asks
+ * and the device has them (ctx->ray_query); false (logged) on failure. */
+bool vk_device_open(vk_context *ctx, int requested, bool ray_query);
 
 #endif

@@ -90,11 +90,14 @@ void vk_kernel_bind(vk_context *ctx, vk_kernel *k, const vk_buffer *const *buffe
                     const VkDeviceSize *ranges) {
     VkDescriptorBufferInfo infos[VK_KERNEL_MAX_BINDINGS];
     VkWriteDescriptorSet writes[VK_KERNEL_MAX_BINDINGS];
+    uint32_t count = 0;
     for (uint32_t n = 0; n < k->binding_count; n++) {
+        /* Acceleration structures are no buffers: vk_accel_bind writes them. */
+        if (k->types[n] == VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR) continue;
         bool texel = k->types[n] == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER ||
                      k->types[n] == VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
         infos[n] = (VkDescriptorBufferInfo){buffers[n]->buffer, 0, ranges[n]};
-        writes[n] = (VkWriteDescriptorSet){
+        writes[count++] = (VkWriteDescriptorSet){
             .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
             .dstSet = k->set,
             .dstBinding = n,
@@ -104,7 +107,7 @@ void vk_kernel_bind(vk_context *ctx, vk_kernel *k, const vk_buffer *const *buffe
             .pTexelBufferView = texel ? &buffers[n]->view : NULL,
         };
     }
-    vkUpdateDescriptorSets(ctx->device, k->binding_count, writes, 0, NULL);
+    vkUpdateDescriptorSets(ctx->device, count, writes, 0, NULL);
 }
 
 void vk_kernel_destroy(vk_context *ctx, vk_kernel *k) {

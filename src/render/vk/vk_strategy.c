@@ -9,18 +9,87 @@
 
 #include "render/vk/vk_probe.h"
 #include "shared_layout.h"
+#include "util/log.h"
 
 /* Loop passes a ray's BVH walk must be allowed at least, where loops are cut, for a scene to be
  * tried. */
 #define MIN_WALK_BUDGET 256u
 
-/* Whether the subgroup walks the BVH together: only where TRAZADOR_VK_WALK=cooperative asks for
- * it and the device has the subgroup operations. Otherwise (the default, or =invocation) each
- * invocation walks on its own: on lavapipe 22.3 the cooperative walk measured slower
- * (docs/PERF.md), and on GPUs incoherent rays diverge. */
-static bool cooperative_walk(const vk_context *ctx) {
-    const char *walk = getenv("TRAZADOR_VK_WALK");
-    return walk && !strcmp(walk, "cooperative") && vk_context_has_subgroup_walk(ctx);
+/* The walk TRAZADOR_VK_WALK names (the alias of --walk), auto when it names none. */
+static render_walk walk_from_environment(void) {
+    const char *name = getenv("TRAZADOR_VK_WALK");
+    if (!name) return RENDER_WALK_AUTO;
+    if (!strcmp(name, "compute") || !strcmp(name, "invocation")) return RENDER_WALK_COMPUTE;
+    if (!strcmp(name, "cooperative")) return RENDER_WALK_COOPERATIVE;
+    if (!strcmp(name, "rayquery")) return RENDER_WALK_RAY_QUERY;
+    return RENDER_WALK_AUTO;
+}
+
+bool vk_strategy_wants_ray_query(const render_opts *opts) {
+    render_walk walk = opts->walk != RENDER_WALK_AUTO ? opts->walk : walk_from_environment();
+    return walk == RENDER_WALK_AUTO || walk == RENDER_WALK_RAY_QUERY;
+}
+
+/* Why the device cannot do `walk`, NULL when it can. The ray query walk's candidate loop is the
+ * device's, which a driver that cuts loops (lavapipe 22.3) could cut unseen. */
+static const char *walk_missing(const vk_context *ctx, render_walk walk) {
+    if (walk == RENDER_WALK_COOPERATIVE && !vk_context_has_subgroup_walk(ctx))
+        return "it lacks the subgroup operations (basic, arithmetic) in subgroups of at most 63 "
+               "lanes that the cooperative walk needs";
+    if (walk == RENDER_WALK_RAY_QUERY && !ctx->ray_query)
+        return "it does not offer VK_KHR_ray_query and VK_KHR_acceleration_structure with "
+               "bufferDeviceAddress (Vulkan 1.2)";
+    if (walk == RENDER_WALK_RAY_QUERY && ctx->loop_limit)
+        return "its shaders stop loops silently, which would cut ray queries short";
+    return NULL;
+}
+
+static const char *walk_name(render_walk walk) {
+    return walk == RENDER_WALK_COOPERATIVE ? "cooperative"
+           : walk == RENDER_WALK_RAY_QUERY ? "rayquery"
+                                           : "compute";
+}
+
+/* Auto's walk: ray queries on GPUs that have them (traversal hardware, or at least the driver's
+ * own walk), the compute walk on CPU devices, where lavapipe 25 measured ray queries slower
+ * (docs/PERF.md, "Ray query walk"). The cooperative walk measured slower on lavapipe and
+ * diverges on GPUs, so auto never takes it. */
+static render_walk auto_walk(const vk_context *ctx, const char **why) {
+    bool cpu = ctx->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    bool rq = walk_missing(ctx, RENDER_WALK_RAY_QUERY) == NULL;
+    *why = cpu && rq ? "auto: ray queries measured slower than the compute walk on CPU devices"
+           : cpu     ? "auto: the compute walk on CPU devices"
+           : rq      ? "auto: ray queries, which this GPU has"
+                     : "auto: the compute walk, this GPU has no ray queries";
+    return rq && !cpu ? RENDER_WALK_RAY_QUERY : RENDER_WALK_COMPUTE;
+}
+
+bool vk_strategy_walk(const vk_context *ctx, const render_opts *opts, render_walk *walk,
+                      const char **why) {
+    render_walk env = walk_from_environment();
+    if (opts->walk != RENDER_WALK_AUTO) {
+        const char *missing = walk_missing(ctx, opts->walk);
+        if (missing) {
+            log_error("--walk %s: Vulkan device %d (%s, driver %s %s) cannot do it: %s",
+                      walk_name(opts->walk), ctx->device_index, ctx->properties.deviceName,
+                      ctx->driver_name, ctx->driver_info, missing);
+            return false;
+        }
+        *walk = opts->walk;
+        *why = "--walk asked for it";
+        return true;
+    }
+    *walk = auto_walk(ctx, why);
+    if (env == RENDER_WALK_AUTO) return true;
+    const char *missing = walk_missing(ctx, env);
+    if (missing) {
+        log_info("TRAZADOR_VK_WALK=%s: this device cannot do it (%s); the %s walk instead",
+                 getenv("TRAZADOR_VK_WALK"), missing, walk_name(*walk));
+        return true;
+    }
+    *walk = env;
+    *why = "TRAZADOR_VK_WALK asked for it";
+    return true;
 }
 
 /* TZ_SPEC_WALK_BUDGET: the passes each walk loop may take. A cooperative ray may run both walks
@@ -120,10 +189,12 @@ static uint32_t walk_budget(const scene *s, const render_opts *opts, uint32_t em
     return walk < UINT32_MAX ? (uint32_t)walk : UINT32_MAX;
 }
 
-/* Small scenes test every sphere in unrolled loops; bigger ones walk the BVH, each walk bounded
- * where the driver cuts loops by TZ_SPEC_WALK_BUDGET passes as if it tested that many spheres (a
- * guess of 64 sizes the dispatches elsewhere). */
-vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const render_opts *opts) {
+/* With ray queries every scene walks the device's acceleration structure. Otherwise small scenes
+ * test every sphere in unrolled loops; bigger ones walk the BVH, each walk bounded where the
+ * driver cuts loops by TZ_SPEC_WALK_BUDGET passes as if it tested that many spheres (a guess of
+ * 64 sizes the dispatches elsewhere). */
+vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const render_opts *opts,
+                               render_walk walk) {
     /* A ray tests spheres and triangles alike: one loop pass a primitive. */
     uint32_t spheres = (uint32_t)s->sphere_count + (uint32_t)s->triangle_count, emitters = 0;
     for (int k = 0; opts->mode == RENDER_MODE_PATH && k < s->sphere_count; k++)
@@ -131,10 +202,16 @@ vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const rend
     for (int k = 0; opts->mode == RENDER_MODE_PATH && k < s->triangle_count; k++)
         emitters += triangle_emits(&s->triangles[k]);
     /* Only spheres are unrolled (their data become specialization constants). */
+    if (walk == RENDER_WALK_RAY_QUERY) {
+        /* The device's walk: no loop of trazador's own to bound, a guessed 64 tests a ray. */
+        vk_strategy rq = {.ray_query = true};
+        rq.sample_iterations = sample_iterations(s, opts, emitters, 64u);
+        return rq;
+    }
     bool unroll = spheres <= TZ_UNROLL_MAX_SPHERES && s->triangle_count == 0;
     vk_strategy st = {.unrolled_spheres = unroll ? spheres : 0u};
     st.use_bvh = !opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u;
-    st.cooperative = st.use_bvh && cooperative_walk(ctx);
+    st.cooperative = st.use_bvh && walk == RENDER_WALK_COOPERATIVE;
     uint32_t limit = ctx->loop_limit;
     bool cut = limit != 0u; /* the driver stops loops silently */
     st.walk = st.use_bvh && cut ? walk_budget(s, opts, emitters, limit) : 0u;
