@@ -2,10 +2,13 @@
 #ifndef TRAZADOR_TEST_SCENES_H
 #define TRAZADOR_TEST_SCENES_H
 
+#include <dirent.h>
 #include <math.h>
 #include <stdbool.h>
+#include <stdio.h>
 #include <string.h>
 
+#include "check.h"
 #include "render/render.h"
 #include "scene/scene.h"
 
@@ -59,6 +62,46 @@ static inline scene view(float camera_z, float plane_w, float plane_h, int width
                    .sphere_count = sphere_count,
                    .lights = lights,
                    .light_count = light_count};
+}
+
+/* Makes s `width` pixels across its own plane, the height following the plane's shape. */
+static inline void set_width(scene *s, int width) {
+    s->pixel_size = s->plane_width / (float)width;
+    s->width = width;
+    s->height = (int)lroundf(s->plane_height / s->pixel_size);
+    s->plane_height = (float)s->height * s->pixel_size;
+}
+
+/* Every scene in scenes/, parsed and `width` pixels across, through check(file name, scene,
+ * its options with `samples` samples); checks that each parses and that there is one. */
+static inline void each_example_scene(int width, int samples,
+                                      void (*check)(const char *name, const scene *s,
+                                                    const render_opts *opts)) {
+    const char *folder = TRAZADOR_SOURCE_DIR "/scenes";
+    DIR *dir = opendir(folder);
+    CHECK(dir != NULL, "cannot open %s", folder);
+    if (!dir) return;
+    int count = 0;
+    for (struct dirent *e; (e = readdir(dir)) != NULL;) {
+        size_t len = strlen(e->d_name);
+        if (len < 7 || strcmp(e->d_name + len - 6, ".scene") != 0) continue;
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", folder, e->d_name);
+        scene s;
+        scene_error err;
+        bool parsed = scene_parse_file(path, &s, &err);
+        CHECK(parsed, "%s:%d:%d: %s", err.file, err.line, err.col, err.message);
+        if (!parsed) continue;
+        set_width(&s, width);
+        render_opts opts;
+        render_opts_from_scene(&s, &opts);
+        opts.samples = samples;
+        check(e->d_name, &s, &opts);
+        scene_free(&s);
+        count++;
+    }
+    closedir(dir);
+    CHECK(count > 0, "no scene in %s", folder);
 }
 
 #endif

@@ -8,7 +8,6 @@
  * every pixel once a sample; staging copies (the discrete-GPU path) give the very film mapped
  * memory gives; non-finite samples are dropped and counted alike. Exits 77 only when no Vulkan
  * device exists. */
-#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -186,42 +185,8 @@ static void test_built_scenes(void) {
     check_crowd("crowd 16 spheres 4096 lights", 15, 4096, 16, 1, false);
 }
 
-/* Makes s `width` pixels across its own plane, the height following the plane's shape. */
-static void set_width(scene *s, int width) {
-    s->pixel_size = s->plane_width / (float)width;
-    s->width = width;
-    s->height = (int)lroundf(s->plane_height / s->pixel_size);
-    s->plane_height = (float)s->height * s->pixel_size;
-}
-
 /* Every scene in scenes/, 96 pixels across its own plane, 16 samples. */
-static void test_example_scenes(void) {
-    const char *folder = TRAZADOR_SOURCE_DIR "/scenes";
-    DIR *dir = opendir(folder);
-    CHECK(dir != NULL, "cannot open %s", folder);
-    if (!dir) return;
-    int count = 0;
-    for (struct dirent *e; (e = readdir(dir)) != NULL;) {
-        size_t len = strlen(e->d_name);
-        if (len < 7 || strcmp(e->d_name + len - 6, ".scene") != 0) continue;
-        char path[1024];
-        snprintf(path, sizeof path, "%s/%s", folder, e->d_name);
-        scene s;
-        scene_error err;
-        bool parsed = scene_parse_file(path, &s, &err);
-        CHECK(parsed, "%s:%d:%d: %s", err.file, err.line, err.col, err.message);
-        if (!parsed) continue;
-        set_width(&s, 96);
-        render_opts opts;
-        render_opts_from_scene(&s, &opts);
-        opts.samples = 16;
-        check_both_modes(e->d_name, &s, &opts);
-        scene_free(&s);
-        count++;
-    }
-    closedir(dir);
-    CHECK(count > 0, "no scene in %s", folder);
-}
+static void test_example_scenes(void) { each_example_scene(96, 16, check_both_modes); }
 
 /* Two coincident spheres, red and green, written after five small ones: an exact tie on every
  * ray to them, which goes to the sphere stored first (in BVH order) on both back ends, with and

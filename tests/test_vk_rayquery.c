@@ -5,7 +5,6 @@
  * an exact tie of two coincident spheres. Where the device does not offer ray queries the test
  * says which driver it ran on, checks that the device really lacks them and that asking for the
  * walk fails, and passes. Exits 77 only when no Vulkan device exists. */
-#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -42,42 +41,8 @@ static void check_same(const char *name, const scene *s, const render_opts *opts
     film_free(&query);
 }
 
-/* `width` pixels across the scene's plane. */
-static void set_width(scene *s, int width) {
-    s->pixel_size = s->plane_width / (float)width;
-    s->width = width;
-    s->height = (int)lroundf(s->plane_height / s->pixel_size);
-    s->plane_height = (float)s->height * s->pixel_size;
-}
-
 /* Every scene in scenes/, 64 pixels across, 4 samples. */
-static void test_example_scenes(void) {
-    const char *folder = TRAZADOR_SOURCE_DIR "/scenes";
-    DIR *dir = opendir(folder);
-    CHECK(dir != NULL, "cannot open %s", folder);
-    if (!dir) return;
-    int count = 0;
-    for (struct dirent *e; (e = readdir(dir)) != NULL;) {
-        size_t len = strlen(e->d_name);
-        if (len < 7 || strcmp(e->d_name + len - 6, ".scene") != 0) continue;
-        char path[1024];
-        snprintf(path, sizeof path, "%s/%s", folder, e->d_name);
-        scene s;
-        scene_error err;
-        bool parsed = scene_parse_file(path, &s, &err);
-        CHECK(parsed, "%s:%d:%d: %s", err.file, err.line, err.col, err.message);
-        if (!parsed) continue;
-        set_width(&s, 64);
-        render_opts opts;
-        render_opts_from_scene(&s, &opts);
-        opts.samples = 4;
-        check_same(e->d_name, &s, &opts);
-        scene_free(&s);
-        count++;
-    }
-    closedir(dir);
-    CHECK(count > 0, "no scene in %s", folder);
-}
+static void test_example_scenes(void) { each_example_scene(64, 4, check_same); }
 
 /* The scene `trazador gen` writes for desc, `width` pixels across; false (checked) on failure. */
 static bool generated_scene(const gen_desc *desc, const char *name, int width, scene *s) {
