@@ -42,6 +42,8 @@ typedef struct tz_uvec4 {
  * sampling alone (emitters not sampled): for tests that the strategies agree. */
 #define TZ_FLAG_LIGHTS_ONLY 16u
 #define TZ_FLAG_BSDF_ONLY 32u
+/* Owen-scrambled Sobol points (shaders/common/sampler.h) instead of the random stream. */
+#define TZ_FLAG_SOBOL 64u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
  * pixels, whose rays stay coherent; 4 x 8 ran more instructions: docs/PERF.md), 32 lanes on real

@@ -156,6 +156,9 @@ static void compare_variants(const char *name, scene *s) {
     v = o;
     v.no_bvh = true;
     compare(name, s, &v, true);
+    v = o;
+    v.sampler = RENDER_SAMPLER_SOBOL;
+    compare(name, s, &v, true);
 }
 
 /* In path mode: the scene's own settings, then each option that changes a path. */
@@ -189,6 +192,12 @@ static void compare_path_variants(const char *name, scene *s) {
     v = o;
     v.no_bvh = true;
     compare(name, s, &v, false);
+    v = o;
+    v.sampler = scene_sampler_of(o.sampler, o.mode) == RENDER_SAMPLER_SOBOL ? RENDER_SAMPLER_RANDOM
+                                                                            : RENDER_SAMPLER_SOBOL;
+    check_runs = true;
+    compare(name, s, &v, false);
+    check_runs = false;
 }
 
 /* Seed mode's variants, or path mode's when the tests are on the path builds. */

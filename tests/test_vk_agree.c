@@ -162,6 +162,13 @@ static void test_built_scenes(void) {
     render_opts opts;
     render_opts_from_scene(&s, &opts);
     check_both_modes("materials", &s, &opts);
+    render_opts other = opts; /* each mode with the sampler it does not default to */
+    other.sampler = RENDER_SAMPLER_SOBOL;
+    check_agreement("materials, sobol in seed mode", &s, &other);
+    other.sampler = RENDER_SAMPLER_RANDOM;
+    other.mode = RENDER_MODE_PATH;
+    other.bounces = scene_default_bounces(RENDER_MODE_PATH);
+    check_agreement("materials, random in path mode", &s, &other);
     opts.indirect = false;
     opts.no_jitter = true;
     check_agreement("materials direct", &s, &opts);

@@ -59,6 +59,7 @@
 #define xyz(v) ((v).xyz)
 #define uint_bits(f) floatBitsToUint(f)
 #define float_from_bits(u) uintBitsToFloat(u)
+#define bit_reverse(x) bitfieldReverse(x)
 
 /* Written out so that every sum runs in the C order: GLSL's dot(), length() and normalize()
  * promise neither an order nor a rounding. */
@@ -138,6 +139,15 @@ static inline uint32_t uint_bits(float f) {
     uint32_t u;
     memcpy(&u, &f, sizeof u);
     return u;
+}
+
+/* x with its 32 bits in reverse order (GLSL's bitfieldReverse; sampler.h's Sobol points). */
+static inline uint32_t bit_reverse(uint32_t x) {
+    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+    x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+    x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
+    return (x >> 16) | (x << 16);
 }
 
 /* The float of the bits u (transcendental.h builds powers of two from their exponent). */

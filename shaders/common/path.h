@@ -13,7 +13,7 @@
 #include "lights.h"
 #include "primitive.h"
 #include "ray.h"
-#include "rng.h"
+#include "sampler.h"
 #include "sampling.h"
 #include "shade.h"
 
@@ -151,8 +151,8 @@ TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, surface sf, vec3 n, vec3 ng, vec
 
 /* Radiance of path-mode sample `sample_index` of pixel (i, j), i to the right, j down. */
 TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index) {
-    TZ_UINT flags = TZ_FRAME.flags;
-    TZ_UINT rng = rng_seed(TZ_FRAME.seed, j * TZ_FRAME.width + i, sample_index);
+    TZ_UINT flags = TZ_FLAGS;
+    sampler_state rng = sampler_start(flags, TZ_FRAME.seed, j * TZ_FRAME.width + i, sample_index);
     next_ray camera = camera_ray(TZ_SCENE_ARG i, j, TZ_REF(rng));
     vec3 o = camera.o, d = camera.d;
     TZ_PRECISE vec3 beta = v3(1.0f, 1.0f, 1.0f), radiance = v3(0.0f, 0.0f, 0.0f);
@@ -197,17 +197,17 @@ TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index
             float share = diffuse_share(xyz(color_ks), color_ks.w);
             TZ_PRECISE vec3 direct = point_lights(TZ_SCENE_ARG sf, id, n, ng, wo);
             if (TZ_FRAME.emitter_count > 0u) {
-                float ul = rng_next(TZ_REF(rng));
-                float ua = rng_next(TZ_REF(rng));
-                float ub = rng_next(TZ_REF(rng));
+                float ul = sample_1d(flags, TZ_REF(rng));
+                float ua, ub;
+                sample_2d(flags, TZ_REF(rng), TZ_REF(ua), TZ_REF(ub));
                 if ((flags & TZ_FLAG_BSDF_ONLY) == 0u)
                     direct = v3_add(
                         direct, emitter_light(TZ_SCENE_ARG id, sf, n, ng, wo, share, ul, ua, ub));
             }
             radiance = v3_add(radiance, v3_mul(beta, direct));
-            float us = rng_next(TZ_REF(rng));
-            float u1 = rng_next(TZ_REF(rng));
-            float u2 = rng_next(TZ_REF(rng));
+            float us = sample_1d(flags, TZ_REF(rng));
+            float u1, u2;
+            sample_2d(flags, TZ_REF(rng), TZ_REF(u1), TZ_REF(u2));
             if (share < 0.0f) break;
             vec3 wi;
             if (us < share) {
@@ -234,7 +234,7 @@ TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index
             TZ_BOOL refractive = material == TZ_MATERIAL_REFRACTIVE;
             TZ_BOOL transmits = refractive;
             if (refractive) {
-                float uf = rng_next(TZ_REF(rng));
+                float uf = sample_1d(flags, TZ_REF(rng));
                 TZ_BOOL entering = v3_dot(d, nout) < 0.0f;
                 TZ_PRECISE float eta = entering ? 1.0f / params.y : params.y;
                 TZ_PRECISE float c1 = entering ? -v3_dot(d, nout) : v3_dot(d, nout);
@@ -250,7 +250,7 @@ TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index
         self = id;
         if (k >= 4u && (flags & TZ_FLAG_ROULETTE) != 0u) {
             TZ_PRECISE float q = TZ_MIN(TZ_MAX(TZ_MAX(beta.x, beta.y), beta.z), 1.0f);
-            if (rng_next(TZ_REF(rng)) >= q) break;
+            if (sample_1d(flags, TZ_REF(rng)) >= q) break;
             beta = v3_scale(beta, 1.0f / q);
         }
     }

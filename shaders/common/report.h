@@ -10,7 +10,7 @@
 #include "lights.h"
 #include "primitive.h"
 #include "ray.h"
-#include "rng.h"
+#include "sampler.h"
 #include "shade.h"
 
 /* Where a ray led through mirrors and glass: id the diffuse primitive reached (-1 on a miss, -2
@@ -91,13 +91,14 @@ TZ_FN vec3 indirect_light(TZ_SCENE_PARAM specular_chain c, vec3 wo, float y1, fl
 
 /* Radiance of report-mode sample `sample_index` of pixel (i, j), i to the right, j down. */
 TZ_FN vec3 report_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index) {
-    TZ_UINT rng = rng_seed(TZ_FRAME.seed, j * TZ_FRAME.width + i, sample_index);
+    sampler_state rng =
+        sampler_start(TZ_FLAGS, TZ_FRAME.seed, j * TZ_FRAME.width + i, sample_index);
     next_ray camera = camera_ray(TZ_SCENE_ARG i, j, TZ_REF(rng));
     specular_chain c = follow_specular(TZ_SCENE_ARG camera.o, camera.d, -1);
     TZ_PRECISE vec3 radiance = chain_direct(TZ_SCENE_ARG c);
     if (c.id >= 0 && (TZ_FLAGS & TZ_FLAG_INDIRECT) != 0u) {
-        float y1 = rng_next(TZ_REF(rng));
-        float y2 = rng_next(TZ_REF(rng));
+        float y1, y2;
+        sample_2d(TZ_FLAGS, TZ_REF(rng), TZ_REF(y1), TZ_REF(y2));
         radiance = v3_add(radiance, indirect_light(TZ_SCENE_ARG c, v3_scale(c.d, -1.0f), y1, y2));
     }
     TZ_PRECISE vec3 r = v3_mul(c.weight, radiance);

@@ -33,6 +33,7 @@ typedef struct render_args {
     int mode;                                             /* -1 not given, else render_mode */
     int no_jitter, validate, verbose, quiet, no_bvh, force;
     int walk;                        /* render_walk */
+    int sampler;                     /* render_sampler */
     const char *region, *samples;    /* "x0,x1,y0,y1", "A:B"; NULL: all */
     const char *checkpoint, *resume; /* part files; NULL: none */
     double checkpoint_every;         /* seconds */
@@ -64,6 +65,10 @@ static const opt_spec render_specs[] = {
     OPT_ONE_OF("--mode", ARG(mode), "seed|path",
                "the integrator: seed, the course report's model, or path, physically based path "
                "tracing (default: the scene's, else seed)"),
+    OPT_ONE_OF("--sampler", ARG(sampler), "auto|random|sobol",
+               "where a sample's numbers come from: random (a hashed stream) or sobol "
+               "(Owen-scrambled Sobol points, lower error at equal samples) (default: the "
+               "scene's, else sobol in path mode and random in seed mode)"),
     OPT_WHOLE("--bounces", NULL, ARG(bounces), 0, SCENE_MAX_BOUNCES,
               "seed mode: the longest chain of specular events; path mode: the most scattering "
               "events of a path; 0 to " CLI_AS_TEXT(
@@ -310,6 +315,7 @@ static void apply_overrides(const render_args *a, const scene *s, render_opts *o
     if (a->mode >= 0) o->mode = (render_mode)a->mode;
     if (a->mode >= 0 && !s->bounces_given) o->bounces = scene_default_bounces(o->mode);
     if (a->bounces >= 0) o->bounces = (int)a->bounces;
+    if (a->sampler != RENDER_SAMPLER_AUTO) o->sampler = (render_sampler)a->sampler;
     if (a->threads >= 0) o->threads = (int)a->threads;
     if (a->device >= 0) o->device = (int)a->device;
     if (a->indirect >= 0) o->indirect = a->indirect;
@@ -401,7 +407,7 @@ static void resume_difference(const part_meta *m, const part_meta *want, uint32_
     else if (strcmp(m->digest, want->digest))
         snprintf(why, size,
                  "another scene or other settings: digest %s, this render %s (the scene, bounces, "
-                 "indirect, jitter or roulette)",
+                 "indirect, jitter, roulette or sampler)",
                  m->digest, want->digest);
     else if (m->x0 != want->x0 || m->x1 != want->x1 || m->y0 != want->y0 || m->y1 != want->y1)
         snprintf(why, size, "another region: this render %d,%d,%d,%d", want->x0, want->x1, want->y0,
@@ -475,6 +481,10 @@ static int render_and_write(const render_args *a, const scene *s) {
     render_opts opts;
     render_opts_from_scene(s, &opts);
     apply_overrides(a, s, &opts);
+    log_debug(
+        "render: %s mode, %d samples a pixel, %d bounces, %s sampler",
+        opts.mode == RENDER_MODE_PATH ? "path" : "seed", opts.samples, opts.bounces,
+        scene_sampler_of(opts.sampler, opts.mode) == RENDER_SAMPLER_SOBOL ? "sobol" : "random");
     render_stats stats = {0};
     opts.stats = &stats;
     part_meta meta;

@@ -62,6 +62,7 @@ typedef struct render_opts {
     bool indirect;          /* seed mode: the one bounce of indirect light */
     render_mode mode;       /* seed (the course report's model) or path (DESIGN section 3.2) */
     bool roulette;          /* path mode: Russian roulette from the fourth vertex */
+    render_sampler sampler; /* auto: scene_sampler_of the mode */
     path_strategy strategy; /* path mode: MIS (the default), or one strategy alone (tests) */
     int bounces;            /* seed: longest chain of specular events; path: scattering events */
     int threads;            /* CPU back end; 0 = all cores */

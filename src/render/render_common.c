@@ -16,6 +16,7 @@ void render_opts_from_scene(const scene *s, render_opts *opts) {
     opts->bounces = s->bounces;
     opts->mode = s->mode;
     opts->roulette = s->roulette;
+    opts->sampler = s->sampler;
     opts->device = -1;
 }
 
@@ -116,6 +117,8 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
                           o->indirect, o->no_jitter, o->roulette, o->strategy};
     for (size_t k = 0; k < sizeof settings / sizeof settings[0]; k++)
         h = digest_int(h, settings[k]);
+    /* random keeps the digests of before the sampler existed (their parts still merge) */
+    if (scene_sampler_of(o->sampler, o->mode) == RENDER_SAMPLER_SOBOL) h = digest_int(h, 1);
     return h;
 }
 

@@ -317,11 +317,13 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     vec3 r = v3_normalize(v3_cross(s->camera_up, f));
     vec3 u = v3_cross(f, r);
     bool path = opts->mode == RENDER_MODE_PATH;
-    uint32_t flags = (opts->no_jitter ? 0u : TZ_FLAG_JITTER) |
-                     (opts->indirect && !path ? TZ_FLAG_INDIRECT : 0u) |
-                     (path ? TZ_FLAG_PATH : 0u) | (path && opts->roulette ? TZ_FLAG_ROULETTE : 0u) |
-                     (opts->strategy == PATH_LIGHTS_ONLY ? TZ_FLAG_LIGHTS_ONLY : 0u) |
-                     (opts->strategy == PATH_BSDF_ONLY ? TZ_FLAG_BSDF_ONLY : 0u);
+    uint32_t flags =
+        (opts->no_jitter ? 0u : TZ_FLAG_JITTER) |
+        (opts->indirect && !path ? TZ_FLAG_INDIRECT : 0u) | (path ? TZ_FLAG_PATH : 0u) |
+        (path && opts->roulette ? TZ_FLAG_ROULETTE : 0u) |
+        (opts->strategy == PATH_LIGHTS_ONLY ? TZ_FLAG_LIGHTS_ONLY : 0u) |
+        (opts->strategy == PATH_BSDF_ONLY ? TZ_FLAG_BSDF_ONLY : 0u) |
+        (scene_sampler_of(opts->sampler, opts->mode) == RENDER_SAMPLER_SOBOL ? TZ_FLAG_SOBOL : 0u);
     /* The plane's distance: 2 x width (the seed's), or what the field of view asks. */
     float distance = s->camera_fov > 0.0f
                          ? (float)(0.5 * s->plane_width /

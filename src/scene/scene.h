@@ -51,6 +51,20 @@ typedef enum material_kind {
 
 typedef enum render_mode { RENDER_MODE_SEED = 0, RENDER_MODE_PATH = 1 } render_mode;
 
+/* Where a sample's numbers come from (shaders/common/sampler.h); auto: the mode's default. */
+typedef enum render_sampler {
+    RENDER_SAMPLER_AUTO = 0,
+    RENDER_SAMPLER_RANDOM = 1,
+    RENDER_SAMPLER_SOBOL = 2
+} render_sampler;
+
+/* The sampler a render uses: the one named, else sobol in path mode (lower error at equal
+ * samples, docs/PERF.md) and random in seed mode (the course report's images). */
+static inline render_sampler scene_sampler_of(render_sampler named, render_mode mode) {
+    if (named != RENDER_SAMPLER_AUTO) return named;
+    return mode == RENDER_MODE_PATH ? RENDER_SAMPLER_SOBOL : RENDER_SAMPLER_RANDOM;
+}
+
 /* The bounces of a mode when the scene and the command line name none. */
 static inline int scene_default_bounces(render_mode mode) {
     return mode == RENDER_MODE_PATH ? 16 : 5;
@@ -105,7 +119,8 @@ typedef struct scene {
     bool indirect;
     int bounces; /* scene_default_bounces(mode) unless the scene names it */
     bool bounces_given;
-    bool roulette; /* path mode: Russian roulette from the fourth vertex */
+    bool roulette;          /* path mode: Russian roulette from the fourth vertex */
+    render_sampler sampler; /* auto unless the scene names one */
     uint32_t seed;
     render_mode mode;
     sphere *spheres;

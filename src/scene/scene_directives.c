@@ -220,10 +220,13 @@ enum {
     RENDER_SEED,
     RENDER_MODE,
     RENDER_ROULETTE,
+    RENDER_SAMPLER,
     RENDER_KEY_COUNT
 };
 /* The words of `render mode`, in render_mode order. */
 #define RENDER_MODE_WORDS "seed path"
+/* The words of `render sampler`, in render_sampler order from random. */
+#define RENDER_SAMPLER_WORDS "random sobol"
 static const key_spec render_keys[RENDER_KEY_COUNT] = {
     {"samples", NULL, VALUE_INTEGER, 1.0, SCENE_MAX_SAMPLES, false},
     {"indirect", NULL, VALUE_SWITCH, 0.0, 1.0, false},
@@ -231,6 +234,7 @@ static const key_spec render_keys[RENDER_KEY_COUNT] = {
     {"seed", NULL, VALUE_INTEGER, 0.0, UINT32_MAX, false},
     {"mode", RENDER_MODE_WORDS, VALUE_WORD, 0.0, 1.0, false},
     {"roulette", NULL, VALUE_SWITCH, 0.0, 1.0, false},
+    {"sampler", RENDER_SAMPLER_WORDS, VALUE_WORD, 0.0, 1.0, false},
 };
 
 /* background takes three numbers and no key; this spec names them in messages. */
@@ -1072,6 +1076,9 @@ static bool parse_render(parser *p) {
     p->s.bounces = (int)parser_value_or(&kv, RENDER_BOUNCES, scene_default_bounces(p->s.mode));
     p->s.seed = (uint32_t)parser_value_or(&kv, RENDER_SEED, 1);
     p->s.roulette = parser_value_or(&kv, RENDER_ROULETTE, 1) != 0;
+    if (kv.given & BIT(RENDER_SAMPLER))
+        p->s.sampler =
+            (render_sampler)(RENDER_SAMPLER_RANDOM + (int)parser_value_or(&kv, RENDER_SAMPLER, 0));
     if (kv.given & BIT(RENDER_ROULETTE))
         p->roulette_col = p->tokens[kv.key_token[RENDER_ROULETTE]].col;
     return true;

@@ -10,7 +10,6 @@
 /* The shared text calls the accessors above. */
 #include "common/primitive.h"
 #include "common/ray.h"
-#include "common/rng.h"
 #include "common/shade.h"
 #include "render/cpu/integrator.h"
 
@@ -26,6 +25,7 @@
 #define PACKET_ENTRY(variant) PACKET_ENTRY_NAME(variant)
 
 #include "render/cpu/packet_trace.h"
+#include "render/cpu/sampler_lanes.h"
 
 /* The Phong parameters of each lane's diffuse hit, gathered once for all the BRDF evaluations
  * there. */
@@ -212,14 +212,13 @@ LANE_FN void packet_radiance_direct_only(const packed_scene *p, lanes3 *o, lanes
  * added to radiance. */
 LANE_FN void packet_indirect_light(const packed_scene *p, const int *id, const lanes3 *pos,
                                    const lanes3 *n, const lanes3 *ng, const phong_lanes *m,
-                                   const lanes3 *wo, const int *active_in, uint32_t *rng,
+                                   const lanes3 *wo, const int *active_in, sampler_lanes *rng,
                                    lanes3 *radiance) {
     float y1[LANES], y2[LANES], cos_t[LANES];
-    for (int k = 0; k < LANES; k++) {
-        y1[k] = rng_next(&rng[k]);
-        y2[k] = rng_next(&rng[k]);
-        cos_t[k] = sqrtf(1.0f - y1[k]);
-    }
+    int all[LANES];
+    for (int k = 0; k < LANES; k++) all[k] = 1;
+    draw_lanes_2d(p->frame.flags, rng, all, y1, y2);
+    for (int k = 0; k < LANES; k++) cos_t[k] = sqrtf(1.0f - y1[k]);
     lanes3 o, wi, incoming, f;
     int self[LANES], active[LANES];
     for (int k = 0; k < LANES; k++) {
@@ -249,7 +248,7 @@ void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j,
 void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
                                   uint32_t sample_index, vec3 *out) {
     const struct gpu_frame *fr = &p->frame;
-    uint32_t rng[LANES];
+    sampler_lanes rng;
     int active[LANES], self[LANES], id[LANES];
     lanes3 o, d, weight, pos, n, ng, wo, radiance;
     phong_lanes m;
@@ -260,10 +259,13 @@ void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j,
     float pixel = fr->origin.w, near_distance = fr->near_distance;
     for (int k = 0; k < LANES; k++) {
         active[k] = (uint32_t)k < lanes;
-        rng[k] = rng_seed(fr->seed, j * fr->width + i + (uint32_t)k, sample_index);
+        sampler_state one =
+            sampler_start(fr->flags, fr->seed, j * fr->width + i + (uint32_t)k, sample_index);
         /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag.
          */
-        float u = rng_next(&rng[k]), v = rng_next(&rng[k]);
+        float u, v;
+        sample_2d(fr->flags, &one, &u, &v);
+        lane_sampler_set(&rng, k, 1, one);
         if (!(fr->flags & TZ_FLAG_JITTER)) u = v = 0.5f;
         vec3 dk = camera_direction(right, up, forward, pixel, i + (uint32_t)k, j, u, v);
         set3(&d, k, dk);
@@ -276,7 +278,7 @@ void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j,
     packet_diffuse_hits(active, id, &d, diffuse, &wo);
     packet_direct_light(p, id, &pos, &n, &ng, &m, &wo, diffuse, &radiance);
     if (fr->flags & TZ_FLAG_INDIRECT)
-        packet_indirect_light(p, id, &pos, &n, &ng, &m, &wo, diffuse, rng, &radiance);
+        packet_indirect_light(p, id, &pos, &n, &ng, &m, &wo, diffuse, &rng, &radiance);
     vec3 background = xyz(fr->background);
     for (int k = 0; k < LANES; k++)
         out[k] = path_radiance(id[k], get3(&weight, k), background, get3(&radiance, k));

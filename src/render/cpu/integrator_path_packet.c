@@ -25,6 +25,7 @@
 #define PATH_RUN(variant) PATH_RUN_NAME(variant)
 
 #include "render/cpu/packet_trace.h"
+#include "render/cpu/sampler_lanes.h"
 
 /* What the lanes' rays hit: id[k] the sphere (-1 none), through the packet trace; a shadow ray
  * (any_hit) is blocked when id[k] >= 0. Lanes not in active get -1; nothing is traced when no
@@ -45,8 +46,9 @@ static __attribute__((noinline)) void trace_lanes(const packed_scene *p, const l
 
 /* The state of the lanes' paths (the locals of path_sample). */
 typedef struct path_lanes {
-    uint32_t rng[LANES], vertex[LANES]; /* vertex: path_sample's k */
-    int job[LANES];                     /* the sample the lane runs (out's index), -1 none */
+    sampler_lanes rng;
+    uint32_t vertex[LANES]; /* path_sample's k */
+    int job[LANES];         /* the sample the lane runs (out's index), -1 none */
     int active[LANES], self[LANES], specular[LANES], last_id[LANES];
     float last_pdf[LANES];
     lanes3 o, d, beta, radiance, last_pos, last_n, last_origin;
@@ -59,17 +61,6 @@ typedef struct vertex_lanes {
     float t[LANES], r[LANES], ks[LANES], alpha[LANES], ior[LANES], share[LANES];
     lanes3 pos, nout, shading, n, ng, wo, c, kd;
 } vertex_lanes;
-
-/* The next number of each lane's stream where take[k], else 0 with the stream left as it is: the
- * loops over lanes stay branch-free, so they compile to SIMD. */
-LANE_FN void draw_lanes(uint32_t *rng, const int *take, float *u) {
-    for (int k = 0; k < LANES; k++) {
-        uint32_t state = rng[k];
-        float x = rng_next(&state);
-        rng[k] = take[k] ? state : rng[k];
-        u[k] = take[k] ? x : 0.0f;
-    }
-}
 
 /* phong_lobe(x, alpha) where want[k], else 0: pow_unit lane by lane where alpha is not 0 (x^0 is
  * 1 for every normal x, so Lambertian lanes need none; pow_unit's selects keep gcc from
@@ -282,12 +273,12 @@ LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float
 }
 
 /* The lanes' next rays at mirror and glass vertices (glass draws its Fresnel number). */
-LANE_FN void lanes_specular_bounce(const vertex_lanes *v, path_lanes *s) {
+LANE_FN void lanes_specular_bounce(uint32_t flags, const vertex_lanes *v, path_lanes *s) {
     int refractive[LANES];
     float uf[LANES];
     for (int k = 0; k < LANES; k++)
         refractive[k] = v->specular[k] & (v->material[k] == TZ_MATERIAL_REFRACTIVE);
-    draw_lanes(s->rng, refractive, uf);
+    draw_lanes_1d(flags, &s->rng, refractive, uf);
     for (int k = 0; k < LANES; k++) {
         vec3 d = get3(&s->d, k), nout = get3(&v->nout, k);
         float ior = v->ior[k];
@@ -400,9 +391,8 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s) {
         lanes_point_lights(scene, &v, &direct);
         if (fr->emitter_count > 0u) {
             float ul[LANES], ua[LANES], ub[LANES];
-            draw_lanes(s->rng, v.diffuse, ul);
-            draw_lanes(s->rng, v.diffuse, ua);
-            draw_lanes(s->rng, v.diffuse, ub);
+            draw_lanes_1d(flags, &s->rng, v.diffuse, ul);
+            draw_lanes_2d(flags, &s->rng, v.diffuse, ua, ub);
             if ((flags & TZ_FLAG_BSDF_ONLY) == 0u)
                 lanes_emitter_light(scene, &v, ul, ua, ub, &direct);
         }
@@ -413,18 +403,17 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s) {
                  select3(v.diffuse[k],
                          v3_add(radiance, v3_mul(get3(&s->beta, k), get3(&direct, k))), radiance));
         }
-        draw_lanes(s->rng, v.diffuse, us);
-        draw_lanes(s->rng, v.diffuse, u1);
-        draw_lanes(s->rng, v.diffuse, u2);
+        draw_lanes_1d(flags, &s->rng, v.diffuse, us);
+        draw_lanes_2d(flags, &s->rng, v.diffuse, u1, u2);
         lanes_bsdf_bounce(&v, s, us, u1, u2);
     }
-    if (any_lane(v.specular)) lanes_specular_bounce(&v, s);
+    if (any_lane(v.specular)) lanes_specular_bounce(flags, &v, s);
     for (int k = 0; k < LANES; k++) s->self[k] = s->active[k] ? v.id[k] : s->self[k];
     if ((flags & TZ_FLAG_ROULETTE) != 0u) {
         float u[LANES];
         int take[LANES];
         for (int k = 0; k < LANES; k++) take[k] = s->active[k] & (s->vertex[k] >= 4u);
-        draw_lanes(s->rng, take, u);
+        draw_lanes_1d(flags, &s->rng, take, u);
         float q[LANES];
         for (int k = 0; k < LANES; k++) {
             /* TZ_MIN(TZ_MAX(TZ_MAX(x, y), z), 1) of path_sample, one select at a time: nested,
@@ -452,13 +441,14 @@ LANE_FN void lanes_start(const packed_scene *p, path_lanes *s, const int *start,
     int jitter = (fr.flags & TZ_FLAG_JITTER) != 0u;
     for (int k = 0; k < LANES; k++) {
         int on = start[k];
-        uint32_t rng = rng_seed(fr.seed, y * fr.width + x[k], sample[k]);
-        float u = rng_next(&rng), v = rng_next(&rng);
+        sampler_state rng = sampler_start(fr.flags, fr.seed, y * fr.width + x[k], sample[k]);
+        float u, v;
+        sample_2d(fr.flags, &rng, &u, &v);
         u = jitter ? u : 0.5f;
         v = jitter ? v : 0.5f;
         vec3 d = camera_direction(fr.right, fr.up, fr.forward, fr.origin.w, x[k], y, u, v);
         vec3 o = camera_origin(fr.origin, fr.near_distance, d);
-        s->rng[k] = on ? rng : s->rng[k];
+        lane_sampler_set(&s->rng, k, on, rng);
         s->active[k] = on ? 1 : s->active[k];
         s->vertex[k] = on ? 1u : s->vertex[k];
         set3(&s->o, k, select3(on, o, get3(&s->o, k)));
