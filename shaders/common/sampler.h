@@ -52,8 +52,11 @@ TZ_FN TZ_UINT sobol_second_reversed(TZ_UINT i) {
     return i;
 }
 
-/* A point's 32 bits as a float in [0, 1) from the top 24 (exact), as rng_next's. */
-TZ_FN float sampler_float(TZ_UINT x) { return TZ_FLOAT(x >> 8u) * (1.0f / 16777216.0f); }
+/* The number of a Sobol point given with its bits reversed, Owen-scrambled by seed: a float in
+ * [0, 1) from the top 24 bits (exact), as rng_next's. */
+TZ_FN float owen_number(TZ_UINT reversed_point, TZ_UINT seed) {
+    return TZ_FLOAT(bit_reverse(owen_hash(reversed_point, seed)) >> 8u) * (1.0f / 16777216.0f);
+}
 
 /* The shuffled index of the next sobol draw (an Owen scramble of the index, which maps the first
  * 2^m indices onto an aligned block of 2^m, so every power-of-two prefix is still a net); key
@@ -70,7 +73,7 @@ TZ_FN float sample_1d(TZ_UINT flags, TZ_INOUT(sampler_state) s) {
     if ((flags & TZ_FLAG_SOBOL) == 0u) return rng_next(TZ_REF(TZ_DEREF(s).state));
     TZ_UINT key;
     TZ_UINT i = sobol_draw_index(s, TZ_REF(key));
-    return sampler_float(bit_reverse(owen_hash(i, key)));
+    return owen_number(i, key);
 }
 
 /* The next pair of numbers in [0, 1) into u and v (random: two numbers of the stream in turn). */
@@ -83,8 +86,8 @@ TZ_FN void sample_2d(TZ_UINT flags, TZ_INOUT(sampler_state) s, TZ_INOUT(float) u
     }
     TZ_UINT key;
     TZ_UINT i = sobol_draw_index(s, TZ_REF(key));
-    TZ_DEREF(u) = sampler_float(bit_reverse(owen_hash(i, key)));
-    TZ_DEREF(v) = sampler_float(bit_reverse(owen_hash(sobol_second_reversed(i), rng_hash(key))));
+    TZ_DEREF(u) = owen_number(i, key);
+    TZ_DEREF(v) = owen_number(sobol_second_reversed(i), rng_hash(key));
 }
 
 #endif

@@ -215,9 +215,8 @@ LANE_FN void packet_indirect_light(const packed_scene *p, const int *id, const l
                                    const lanes3 *wo, const int *active_in, sampler_lanes *rng,
                                    lanes3 *radiance) {
     float y1[LANES], y2[LANES], cos_t[LANES];
-    int all[LANES];
-    for (int k = 0; k < LANES; k++) all[k] = 1;
-    draw_lanes_2d(p->frame.flags, rng, all, y1, y2);
+    /* the sample's last draw, so lanes not drawing (their results unused) change nothing */
+    draw_lanes_2d(p->frame.flags, rng, active_in, y1, y2);
     for (int k = 0; k < LANES; k++) cos_t[k] = sqrtf(1.0f - y1[k]);
     lanes3 o, wi, incoming, f;
     int self[LANES], active[LANES];
