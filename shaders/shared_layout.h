@@ -50,6 +50,9 @@ typedef struct tz_uvec4 {
  * GPUs. */
 #define TZ_GROUP_X 8
 #define TZ_GROUP_Y 4
+/* Rows of the accumulation band a dispatch binds (its dynamic offsets are whole bands, aligned
+ * for any device); a dispatch's tile lies within one band and is at most this wide. */
+#define TZ_BAND_ROWS 256u
 
 /* Descriptor bindings of set 0. Spheres and lights are uniform texel buffers (RGBA32F) over the
  * very bytes of the gpu_sphere and gpu_light arrays: a sphere is texels 3k..3k+2, a light texels

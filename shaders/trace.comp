@@ -147,7 +147,7 @@ void main() {
     if (ri >= pass.region_width || rj >= pass.region_height) return;
     uint i = pass.region_x0 + ri;
     uint j = pass.region_y0 + rj;
-    uint slot = at.y * pass.region_width + ri;
+    uint slot = (rj % TZ_BAND_ROWS) * pass.region_width + ri; /* in the band bound */
     /* A chunk's sums start from zero (chunk_tree.h); the count goes on over the whole part. The
      * samples span pass.chunk_count chunks: the first opens as the flags say, the last closes as
      * they say, the ones between are whole. */

@@ -152,6 +152,14 @@ for backend in cpu vulkan; do
         TRAZADOR_VK_STAGING=1 run "staged resume" 0 $tz render $long --backend vulkan \
             --resume ck.exr -o staged.pfm
         same "staged resume" staged.pfm long_whole.pfm
+        # A stop abandons the pass in flight: its checkpoint is the part as the pass began,
+        # read from the snapshot the staging path copies it to.
+        TRAZADOR_VK_STAGING=1 signal_render vulkan TERM staged.pfm
+        rc=$?
+        [ $rc = 143 ] && ok || bad "staged: exit $rc after SIGTERM, want 143: $(tail -n 3 ck.err)"
+        TRAZADOR_VK_STAGING=1 run "staged stop, resumed" 0 $tz render $long --backend vulkan \
+            --resume ck.exr -o staged.pfm
+        same "staged stop, resumed" staged.pfm long_whole.pfm
         TRAZADOR_VK_STAGING=1 run "staged region" 0 $tz render $scene --backend vulkan \
             --region 17,40,11,40 -o staged.exr
         same "staged region" staged.exr vulkan/region_3.exr

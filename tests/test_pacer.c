@@ -1,6 +1,8 @@
-/* test_pacer.c: src/cli/render_pacer.c driving a real CPU render: SIGINT or SIGTERM during a
- * pass makes the CPU back end abandon it at its next tile rather than finish it (a stop does not
- * wait for a whole pass; the checkpoint holds the part as before it); one that comes after the
+/* test_pacer.c: src/cli/render_pacer.c driving a real render on the back end argv[1] names
+ * ("cpu", or "vulkan": exit 77 when no device exists): SIGINT or SIGTERM during a pass makes
+ * the back end abandon it (the CPU back end at its next tile, the Vulkan one at its next
+ * submission) rather than finish it (a stop does not wait for a whole pass; the checkpoint holds
+ * the part as before it); one that comes after the
  * last pass, which no next pass sees, is obeyed as between passes (a checkpoint of the finished
  * part, the render stopped, so `trazador render` exits 128 + signal without an output), where it
  * was lost. The signals are raised from the render's own control, so nothing depends on
@@ -14,9 +16,12 @@
 #include "cli/render_pacer.h"
 #include "render/part.h"
 #include "render/render.h"
+#include "render/vk/vk_context.h"
 #include "scene/scene.h"
 #include "tmp_dir.h"
 #include "util/log.h"
+
+static bool use_vulkan;
 
 /* The pacer's control, raising `sig` once the first pass is decided. */
 typedef struct signalling {
@@ -64,7 +69,12 @@ static bool render_signalled(int sig, bool after, const char *checkpoint, int *s
     control.synced = forward_synced;
     control.user = &sg;
     opts.control = &control;
-    ok = ok && render_cpu_part(&s, &opts, &p, meta.spp);
+    if (use_vulkan) {
+        char reason[RENDER_REASON_SIZE];
+        ok = ok && render_vk_part_try(&s, &opts, &p, meta.spp, reason) == RENDER_DONE;
+    } else {
+        ok = ok && render_cpu_part(&s, &opts, &p, meta.spp);
+    }
     if (after) raise(sig);
     ok = render_pacer_stop(&pc, ok ? &p : NULL) && ok;
     *stopped_by = pc.stopped_by;
@@ -79,15 +89,20 @@ static bool render_signalled(int sig, bool after, const char *checkpoint, int *s
     return ok;
 }
 
-int main(void) {
+int main(int argc, char **argv) {
     log_set_level(LOG_ERROR);
-    if (!tmp_dir_make("test_pacer")) return 1;
+    use_vulkan = argc > 1 && !strcmp(argv[1], "vulkan");
+    if (use_vulkan && vk_context_device_count() == 0) {
+        fprintf(stderr, "test_pacer: no Vulkan device; skipped\n");
+        return 77;
+    }
+    if (!tmp_dir_make(use_vulkan ? "test_pacer_vulkan" : "test_pacer")) return 1;
     static const int stops[2] = {SIGTERM, SIGINT};
     static const char *const names[2] = {"SIGTERM", "SIGINT"};
     const char *path = tmp_path("ck.exr");
     for (int k = 0; k < 2; k++) {
         int by = -1, samples = -1;
-        /* During a pass, the CPU back end abandons it (the part as before it): the stop does
+        /* During a pass, the back end abandons it (the part as before it): the stop does
          * not wait for the pass; the checkpoint holds what was whole, here nothing. */
         CHECK(render_signalled(stops[k], false, path, &by, &samples), "%s in the pass", names[k]);
         CHECK(by == stops[k] && samples == 0, "%s in the pass: stopped by %d, checkpoint of %d",
@@ -107,5 +122,5 @@ int main(void) {
           samples);
     unlink(path);
     rmdir(tmpdir);
-    return check_summary("test_pacer");
+    return check_summary(use_vulkan ? "test_pacer vulkan" : "test_pacer cpu");
 }

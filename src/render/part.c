@@ -36,6 +36,16 @@ bool part_meta_valid(const part_meta *m, const char *where) {
     return !why;
 }
 
+uint32_t part_sample_of(const part *p, uint32_t k) {
+    uint64_t s = (uint64_t)k * CHUNK_SAMPLES;
+    return s < p->meta.spp ? (uint32_t)s : p->meta.spp;
+}
+
+uint32_t part_chunk_of(const part *p, uint32_t s) {
+    return s == p->meta.spp ? (p->meta.spp + CHUNK_SAMPLES - 1u) / CHUNK_SAMPLES
+                            : s / CHUNK_SAMPLES;
+}
+
 bool part_init(part *p, const part_meta *meta) {
     *p = (part){.meta = *meta};
     p->meta.sample_end = p->meta.sample_begin;

@@ -44,6 +44,10 @@ typedef struct part {
     float *open;
 } part;
 
+/* The first sample of chunk k of part p, or its spp past the last chunk. */
+uint32_t part_sample_of(const part *p, uint32_t k);
+/* The chunk that sample s of part p ends at: s / CHUNK_SAMPLES, or the chunk count at spp. */
+uint32_t part_chunk_of(const part *p, uint32_t s);
 /* Starts an empty part (meta's sample_end is set to its sample_begin) of zero sums; false
  * (logged) on invalid metadata or out of memory. */
 bool part_init(part *p, const part_meta *meta);

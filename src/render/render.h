@@ -36,9 +36,10 @@ typedef struct render_control {
     /* The part, up to date; false fails the render (logged by it). */
     bool (*synced)(void *user, const struct part *p);
     void *user;
-    /* Non-zero (a signal handler sets it): the CPU back end abandons the pass in flight at its
-     * next tile, its samples lost and the part as before it, and asks next_pass at once, so
-     * that a stop need not wait for a whole pass. NULL: passes always finish. */
+    /* Non-zero (a signal handler sets it): the back end abandons the pass in flight (the CPU
+     * one at its next tile, the Vulkan one at its next submission), its samples lost and the
+     * part as before it, and asks next_pass at once, so that a stop need not wait for a whole
+     * pass. NULL: passes always finish. */
     volatile sig_atomic_t *stop;
 } render_control;
 

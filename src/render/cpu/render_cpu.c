@@ -170,12 +170,6 @@ static int run_pass(cpu_job *job, int n, bool progress, const cpu_progress *pr) 
     return started;
 }
 
-/* The first sample of chunk k of part p, or its spp past the last chunk. */
-static uint32_t sample_of(const part *p, uint32_t k) {
-    uint64_t s = (uint64_t)k * CHUNK_SAMPLES;
-    return s < p->meta.spp ? (uint32_t)s : p->meta.spp;
-}
-
 /* Lays out the pass of `chunks` chunks from the part's stack: where each goes, and room for the
  * blocks the stack then has; false (logged) on out of memory. */
 static bool plan_pass(cpu_job *job, chunk_stack *shape, uint32_t chunks, int *top, int *merges) {
@@ -256,9 +250,7 @@ bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t 
     atomic_init(&job.tiles_done, 0);
     atomic_init(&job.nonfinite, 0);
     atomic_init(&job.rays, 0);
-    uint32_t end_chunk = sample_end == p->meta.spp
-                             ? (p->meta.spp + CHUNK_SAMPLES - 1u) / CHUNK_SAMPLES
-                             : sample_end / CHUNK_SAMPLES;
+    uint32_t end_chunk = part_chunk_of(p, sample_end);
     uint32_t begin = p->stack.end;
     int *top = malloc((end_chunk - begin + 1u) * sizeof *top);
     int *merges = malloc((end_chunk - begin + 1u) * sizeof *merges);
@@ -266,7 +258,7 @@ bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t 
     if (!ok) log_error("out of memory for a plan of %u chunks", end_chunk - begin);
     int n = thread_count(opts->threads), ran = 0;
     cpu_progress pr = {.start = clock_seconds(),
-                       .total = (double)(sample_of(p, end_chunk) - sample_of(p, begin)),
+                       .total = (double)(part_sample_of(p, end_chunk) - part_sample_of(p, begin)),
                        .pixels = (double)job.width * job.height,
                        .deadline = opts->deadline};
     const render_control *control = opts->control;
@@ -281,8 +273,9 @@ bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t 
         if (!(ok = plan_pass(&job, &shape, chunks, top, merges))) break;
         job.top = top;
         job.merges = merges;
-        pr.done = (double)(sample_of(p, job.first_chunk) - sample_of(p, begin));
-        pr.pass = (double)(sample_of(p, job.first_chunk + chunks) - sample_of(p, job.first_chunk));
+        pr.done = (double)(part_sample_of(p, job.first_chunk) - part_sample_of(p, begin));
+        pr.pass = (double)(part_sample_of(p, job.first_chunk + chunks) -
+                           part_sample_of(p, job.first_chunk));
         ran = run_pass(&job, n, opts->progress, &pr);
         if (atomic_load(&job.tiles_done) < job.tile_count) { /* abandoned: the part as it was */
             atomic_store(&job.nonfinite, 0);
@@ -304,7 +297,7 @@ bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t 
             p->block[b] = NULL;
         }
         p->stack = shape;
-        p->meta.sample_end = sample_of(p, shape.end);
+        p->meta.sample_end = part_sample_of(p, shape.end);
         p->meta.nonfinite += atomic_exchange(&job.nonfinite, 0);
         sync = false;
         next = p->stack.end < end_chunk && control

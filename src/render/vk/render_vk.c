@@ -2,8 +2,9 @@
  * over tiles of a part's region, sample pass after sample pass within each chunk of samples, each
  * pass adding into the chunk's compensated sums in sample order (a barrier between passes) and
  * the chunk's last pushing its value on each pixel's stack of chunk-tree blocks; the stacks are
- * read back into the part when the render ends or its control asks. The sums match render_cpu's,
- * sample for sample. */
+ * read back into the part when the render ends or its control asks, or, when a stop abandons a
+ * pass, from the snapshot taken as it began. Tiles, dispatches and submissions are as
+ * vk_pass_plan.h plans them. The sums match render_cpu's, sample for sample. */
 #include <inttypes.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -16,6 +17,7 @@
 #include "render/scene_pack.h"
 #include "render/vk/vk_accel.h"
 #include "render/vk/vk_context.h"
+#include "render/vk/vk_pass_plan.h"
 #include "render/vk/vk_probe.h"
 #include "render/vk/vk_strategy.h"
 #include "trace_coop_spv.h"
@@ -24,9 +26,6 @@
 #include "util/clock.h"
 #include "util/log.h"
 
-/* Loop passes (about one ray/sphere test each) one dispatch may cost, so that a dispatch stays
- * well under a second on a GPU; samples per dispatch are chosen to fit. */
-#define DISPATCH_BUDGET (UINT64_C(1) << 29)
 /* Loops unrolled by specialization (TZ_SPEC_UNROLLED_*, at most TZ_UNROLL_MAX_*): about 20-30%
  * fewer instructions on lavapipe, at the price of compile time, which grows with the copies of
  * the sphere test, spheres x lights in the shadow rays. Measured cold on lavapipe (first
@@ -34,13 +33,8 @@
  * 250-280 ms; 16 spheres x 4 lights 550 ms, hence the cap on the product. */
 #define UNROLL_MAX_SHADOW_TESTS 16u /* unrolled spheres x unrolled lights */
 
-/* Loop passes one submission may cost: a few seconds on lavapipe, the granularity of the progress
- * line and of the non-finite counter read-back. */
-#define SUBMIT_BUDGET (UINT64_C(1) << 31)
-/* Pixels an image is charged for at least: a smaller one leaves the device's lanes idle, and its
- * few invocations take as long as this many would (a 1 x 1 image of a million samples was timed
- * as one loop pass per sample, one submission of 14 s on lavapipe, with no progress). */
-#define MIN_CHARGED_PIXELS 1024u
+/* Seconds a submission of a stoppable render aims at: a stop waits for the one in flight. */
+#define STOP_SUBMIT_SECONDS 0.1
 /* The buffers of the packed scene: frame, spheres, lights, BVH nodes, emitters, triangles, their
  * materials and normals. */
 #define INPUT_BUFFERS 8
@@ -61,7 +55,11 @@ typedef struct vk_render {
     vk_buffer upload;   /* staging for the inputs when device memory is not mapped */
     vk_buffer state;    /* staging for a resumed part's counts and stacks, likewise */
     vk_buffer readback; /* staging: the counters at 0, the sums at 16, then the stacks */
-    vk_accel accel;     /* the ray query walk's acceleration structure */
+    /* A stoppable render's sums and stacks as the host pass in flight began, laid out as in
+     * readback: a pass abandoned for a stop leaves the part as it was. */
+    vk_buffer snapshot;
+    uint64_t stop_steps; /* steps a stoppable render's submission runs: measured to fit */
+    vk_accel accel;      /* the ray query walk's acceleration structure */
     vk_kernel kernel;
     VkFence fence;
     VkCommandBuffer cmd;
@@ -71,7 +69,7 @@ _Static_assert(TZ_COUNTER_WORDS * sizeof(uint32_t) <= 16,
 
 /* Creates the buffers and writes the packed scene into them (mapped, or through `upload`). */
 static bool create_buffers(vk_render *r, const packed_scene *p, int width, int height,
-                           uint32_t depth) {
+                           uint32_t depth, bool stoppable) {
     vk_context *ctx = &r->ctx;
     const VkBufferUsageFlags input = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
@@ -89,8 +87,8 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
         (p->frame.triangle_count ? p->frame.triangle_count : 1u) * sizeof *p->triangles;
     size_t material_bytes = (p->material_count ? p->material_count : 1u) * sizeof *p->materials;
     size_t normals_bytes = (p->normals_count ? p->normals_count : 1u) * sizeof *p->normals;
-    /* Rows padded to whole tiles: every band binding of TILE_SIZE rows stays inside the buffer. */
-    uint64_t rows = ((uint64_t)height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
+    /* Rows padded to whole bands: every band binding stays inside the buffer. */
+    uint64_t rows = ((uint64_t)height + TZ_BAND_ROWS - 1u) / TZ_BAND_ROWS * TZ_BAND_ROWS;
     VkDeviceSize accum_bytes = rows * (uint64_t)width * ACCUM_PIXEL_BYTES;
     VkDeviceSize stack_bytes = rows * (uint64_t)width * depth * STACK_BLOCK_BYTES;
     const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | input;
@@ -117,13 +115,15 @@ static bool create_buffers(vk_render *r, const packed_scene *p, int width, int h
         !vk_buffer_create(ctx, TZ_COUNTER_WORDS * sizeof(uint32_t), storage, VK_MEMORY_DEVICE,
                           &r->counter))
         return false;
-    if (!r->accum.mapped || !r->stack.mapped || !r->counter.mapped) {
-        VkDeviceSize pixels = (VkDeviceSize)width * (VkDeviceSize)height;
-        VkDeviceSize bytes = 16u + pixels * (ACCUM_PIXEL_BYTES + depth * STACK_BLOCK_BYTES);
-        if (!vk_buffer_create(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, VK_MEMORY_READBACK,
-                              &r->readback))
-            return false;
-    }
+    VkDeviceSize pixels = (VkDeviceSize)width * (VkDeviceSize)height;
+    VkDeviceSize state_bytes = 16u + pixels * (ACCUM_PIXEL_BYTES + depth * STACK_BLOCK_BYTES);
+    if ((!r->accum.mapped || !r->stack.mapped || !r->counter.mapped) &&
+        !vk_buffer_create(ctx, state_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, VK_MEMORY_READBACK,
+                          &r->readback))
+        return false;
+    if (stoppable && !vk_buffer_create(ctx, state_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                       VK_MEMORY_READBACK, &r->snapshot))
+        return false;
     const void *data[INPUT_BUFFERS] = {&p->frame,   p->spheres,   p->lights,    nodes,
                                        p->emitters, p->triangles, p->materials, p->normals};
     vk_buffer *targets[INPUT_BUFFERS] = {&r->frame,    &r->spheres,   &r->lights,    &r->nodes,
@@ -198,130 +198,65 @@ static void record_setup(vk_render *r, bool resumed, size_t pixels) {
     vkCmdFillBuffer(r->cmd, r->accum_comp.buffer, 0, VK_WHOLE_SIZE, 0u);
 }
 
-/* Where chunk k of a pass goes on the stack (chunk_stack_push). */
-typedef struct chunk_slot {
-    uint32_t top, merges;
-} chunk_slot;
-
-typedef struct pass_plan {
-    uint32_t width, height; /* the region */
-    uint32_t region_x0, region_y0;
-    uint32_t spp;               /* samples per pixel of the whole render */
-    uint32_t per_dispatch;      /* samples one invocation renders, in order, within a chunk */
-    uint32_t group;             /* whole chunks a dispatch spans when per_dispatch is a chunk */
-    uint32_t passes_per_submit; /* dispatch passes */
-    uint32_t depth;             /* stack blocks a pixel has room for */
-    /* The host pass being run: chunks first_chunk to first_chunk + chunks - 1, ending at sample
-     * sample_end, each placed by slot[k]. */
-    uint32_t first_chunk, chunks, sample_end;
-    const chunk_slot *slot;
-} pass_plan;
-
-_Static_assert(TZ_CHUNK_SAMPLES == CHUNK_SAMPLES, "the shader's chunks are the tree's");
-/* A dispatch has at most (TILE_SIZE / 8) x (TILE_SIZE / 4) workgroups. */
-_Static_assert((uint64_t)(TILE_SIZE / TZ_GROUP_X) * (TILE_SIZE / TZ_GROUP_Y) *
-                       (TILE_SIZE / TZ_GROUP_X) * (TILE_SIZE / TZ_GROUP_Y) <=
-                   UINT32_MAX,
-               "trace.comp's workgroup n * stride stays within 32 bits");
-
-/* The workgroup stride of a dispatch of `groups` workgroups (gpu_pass.group_stride): coprime with
- * it, so every block is rendered once, and near groups / golden ratio, so that any run of
- * consecutive workgroups spreads evenly over the tile (a Weyl sequence). */
-static uint32_t workgroup_stride(uint32_t groups) {
-    uint32_t stride = (uint32_t)(groups * 0.6180339887 + 0.5);
-    for (;; stride++) {
-        uint32_t a = groups, b = stride;
-        while (b) {
-            uint32_t t = a % b;
-            a = b;
-            b = t;
-        }
-        if (a == 1u) return stride;
-    }
-}
-
-/* Tiles of one pass: the steps of the plan are (pass, tile) pairs, pass after pass. */
-static uint32_t plan_tiles(const pass_plan *plan) {
-    return ((plan->width + TILE_SIZE - 1u) / TILE_SIZE) *
-           ((plan->height + TILE_SIZE - 1u) / TILE_SIZE);
-}
-
-/* Dispatch passes a chunk takes. */
-static uint32_t plan_subpasses(const pass_plan *plan) {
-    return (CHUNK_SAMPLES + plan->per_dispatch - 1u) / plan->per_dispatch;
-}
-
-/* Dispatch passes of the host pass: groups of whole chunks, or each chunk in subpasses. */
-static uint32_t plan_passes_of(const pass_plan *plan) {
-    if (plan->group > 1u) return (plan->chunks + plan->group - 1u) / plan->group;
-    return plan->chunks * plan_subpasses(plan);
-}
-
 /* Records steps [first, last) of the host pass: one dispatch per tile, a barrier before each
- * dispatch pass (and at the first step), each tile's row band bound at its first row through
- * the dynamic offsets. Dispatch pass d is pass d % subpasses of chunk first_chunk + d /
- * subpasses; the last chunk of a render may need fewer. */
+ * dispatch pass (and at the first step), each tile's band bound through the dynamic offsets. */
 static void record_steps(vk_render *r, const pass_plan *plan, uint64_t first, uint64_t last) {
     VkCommandBuffer cmd = r->cmd;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.pipeline);
-    uint32_t tiles = plan_tiles(plan), tiles_x = (plan->width + TILE_SIZE - 1u) / TILE_SIZE;
-    uint32_t subs = plan_subpasses(plan);
     for (uint64_t step = first; step < last; step++) {
-        uint32_t pass = (uint32_t)(step / tiles), tile = (uint32_t)(step % tiles);
-        /* chunks k to k + spans - 1 of the host pass, from subpass sub of the first */
-        uint32_t group = plan->group > 1u ? plan->group : 1u;
-        uint32_t k = plan->group > 1u ? pass * group : pass / subs;
-        uint32_t sub = plan->group > 1u ? 0u : pass % subs;
-        uint32_t spans = plan->chunks - k < group ? plan->chunks - k : group;
-        uint32_t chunk = plan->first_chunk + k, last_chunk = chunk + spans - 1u;
-        uint32_t chunk_begin = last_chunk * CHUNK_SAMPLES;
-        uint32_t chunk_end =
-            plan->spp - chunk_begin < CHUNK_SAMPLES ? plan->spp : chunk_begin + CHUNK_SAMPLES;
-        uint32_t sample = chunk * CHUNK_SAMPLES + sub * plan->per_dispatch;
-        if (sample >= chunk_end) continue; /* the render's last chunk is short */
-        uint32_t count = spans > 1u                                ? chunk_end - sample
-                         : chunk_end - sample < plan->per_dispatch ? chunk_end - sample
-                                                                   : plan->per_dispatch;
+        pass_step at;
+        if (!pass_plan_step(plan, step, &at)) continue;
         /* Each pass reads and writes what the one before wrote: samples add in order. */
-        if (tile == 0u || step == first)
+        if (at.pass_begins || step == first)
             vk_commands_barrier(
                 cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
                     VK_ACCESS_UNIFORM_READ_BIT);
-        uint32_t x0 = tile % tiles_x * TILE_SIZE, y0 = tile / tiles_x * TILE_SIZE;
         /* Dynamic offsets are 32-bit: check_limits keeps the buffers under 4 GiB. */
-        uint32_t band_offset = y0 * plan->width * (uint32_t)ACCUM_PIXEL_BYTES;
-        uint32_t stack_offset = y0 * plan->width * plan->depth * (uint32_t)STACK_BLOCK_BYTES;
+        uint32_t band_offset = at.band_y0 * plan->width * (uint32_t)ACCUM_PIXEL_BYTES;
+        uint32_t stack_offset =
+            at.band_y0 * plan->width * plan->depth * (uint32_t)STACK_BLOCK_BYTES;
         /* In binding order: sums, compensation, stacks. */
         const uint32_t offsets[] = {band_offset, band_offset, stack_offset};
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.layout, 0, 1,
                                 &r->kernel.set, 3, offsets);
-        uint32_t th = plan->height - y0 < TILE_SIZE ? plan->height - y0 : TILE_SIZE;
-        uint32_t tw = plan->width - x0 < TILE_SIZE ? plan->width - x0 : TILE_SIZE;
-        uint32_t gx = (tw + TZ_GROUP_X - 1u) / TZ_GROUP_X;
-        uint32_t gy = (th + TZ_GROUP_Y - 1u) / TZ_GROUP_Y;
-        uint32_t flags =
-            (sub == 0u ? TZ_CHUNK_OPEN : 0u) | (sample + count == chunk_end ? TZ_CHUNK_CLOSE : 0u);
-        struct gpu_pass push = {.x0 = x0,
-                                .y0 = y0,
-                                .first_sample = sample,
-                                .sample_count = count,
-                                .group_stride = workgroup_stride(gx * gy),
+        uint32_t gx = (at.width + TZ_GROUP_X - 1u) / TZ_GROUP_X;
+        uint32_t gy = (at.height + TZ_GROUP_Y - 1u) / TZ_GROUP_Y;
+        struct gpu_pass push = {.x0 = at.x0,
+                                .y0 = at.y0,
+                                .first_sample = at.first_sample,
+                                .sample_count = at.sample_count,
+                                .group_stride = pass_plan_workgroup_stride(gx * gy),
                                 .region_x0 = plan->region_x0,
                                 .region_y0 = plan->region_y0,
                                 .region_width = plan->width,
                                 .region_height = plan->height,
-                                .chunk_flags = flags,
-                                .chunk_count = spans,
+                                .chunk_flags = at.chunk_flags,
+                                .chunk_count = at.spans,
                                 .stack_depth = plan->depth};
-        for (uint32_t c = 0; c < spans; c++)
-            push.stack_slot[c] = plan->slot[k + c].top | plan->slot[k + c].merges << 16u;
+        for (uint32_t c = 0; c < at.spans; c++)
+            push.stack_slot[c] = plan->slot[at.chunk + c].top | plan->slot[at.chunk + c].merges
+                                                                    << 16u;
         vkCmdPushConstants(cmd, r->kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push,
                            &push);
         vkCmdDispatch(cmd, gx, gy, 1);
     }
+}
+
+/* Copies the sums and stacks as they are into the snapshot, in the order of the commands. */
+static void record_snapshot(vk_render *r, const pass_plan *plan) {
+    vk_commands_barrier(r->cmd,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                        VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    VkDeviceSize pixels = (VkDeviceSize)plan->width * plan->height;
+    VkBufferCopy sums = {0, 16, pixels * ACCUM_PIXEL_BYTES};
+    VkBufferCopy stacks = {0, 16 + pixels * ACCUM_PIXEL_BYTES,
+                           pixels * plan->depth * STACK_BLOCK_BYTES};
+    vkCmdCopyBuffer(r->cmd, r->accum.buffer, r->snapshot.buffer, 1, &sums);
+    vkCmdCopyBuffer(r->cmd, r->stack.buffer, r->snapshot.buffer, 1, &stacks);
 }
 
 /* Makes the counter (and with `final` the sums and stacks) readable by the host after the
@@ -345,7 +280,7 @@ static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
                              pixels * plan->depth * STACK_BLOCK_BYTES};
         vkCmdCopyBuffer(cmd, r->stack.buffer, r->readback.buffer, 1, &copy);
     }
-    if (r->readback.buffer)
+    if (r->readback.buffer || r->snapshot.buffer)
         vk_commands_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                             VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
 }
@@ -364,29 +299,39 @@ typedef struct pass_run {
     double deadline;    /* render_opts.deadline */
 } pass_run;
 
-/* Records and runs one host pass, submission by submission; sums the non-finite counts. With
- * progress, submissions are cut finer (down to one tile) so that the line moves. False when a
+/* How a host pass ended: done, stopped before its first submission (the sums as they were),
+ * abandoned after some (the snapshot holds the sums as it began), or failed. */
+typedef enum pass_result { PASS_DONE, PASS_NOT_BEGUN, PASS_ABANDONED, PASS_FAILED } pass_result;
+
+/* Records and runs one host pass, submission by submission; adds its non-finite counts when it
+ * is done. With progress, submissions are cut finer (down to one tile) so that the line moves;
+ * with a stop flag, to about STOP_SUBMIT_SECONDS, and the pass is abandoned between two of them
+ * once the flag is up. PASS_FAILED when a
  * sample ran out of loop budget (the reason in `refusal`, else "") or on a Vulkan failure. */
-static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *opts,
-                       const pass_run *run, uint64_t *nonfinite, uint64_t *rays, char *refusal) {
+static pass_result run_passes(vk_render *r, const pass_plan *plan, const render_opts *opts,
+                              const pass_run *run, uint64_t *nonfinite, uint64_t *rays,
+                              char *refusal) {
     vk_context *ctx = &r->ctx;
-    uint32_t passes = plan_passes_of(plan);
-    uint64_t tiles = plan_tiles(plan), steps = (uint64_t)passes * tiles;
-    uint64_t per_submit = (uint64_t)plan->passes_per_submit * tiles;
+    uint64_t steps = pass_plan_steps(plan), per_submit = plan->steps_per_submit;
     if (opts->progress) {
         uint64_t fine = (steps + PROGRESS_UPDATES - 1u) / PROGRESS_UPDATES;
         if (fine < per_submit) per_submit = fine;
     }
+    volatile sig_atomic_t *stop = opts->control ? opts->control->stop : NULL;
     const uint32_t *counter = r->counter.mapped ? r->counter.mapped : r->readback.mapped;
     bool ok = true;
     uint32_t overflowed = 0; /* samples whose walk ran out of loop passes */
+    uint64_t pass_nonfinite = 0;
     double samples_in_pass = (double)plan->sample_end - run->done;
-    for (uint64_t first = 0; ok && first < steps; first += per_submit) {
-        uint64_t last = steps - first < per_submit ? steps : first + per_submit;
+    for (uint64_t first = 0, last; ok && first < steps; first = last) {
+        if (stop && *stop) return first == 0 ? PASS_NOT_BEGUN : PASS_ABANDONED;
+        uint64_t submit = stop && r->stop_steps < per_submit ? r->stop_steps : per_submit;
+        last = steps - first < submit ? steps : first + submit;
         if (!vk_commands_begin(ctx, &r->cmd)) {
             ok = false;
             break;
         }
+        double t0 = clock_seconds();
         /* The counters restart each submission: the previous submission's atomics and copy
          * are done (fence) and ordered before the fill. */
         vk_commands_barrier(r->cmd,
@@ -395,6 +340,7 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
                             VK_ACCESS_TRANSFER_WRITE_BIT);
         if (first == 0 && run->setup)
             record_setup(r, run->resumed, (size_t)plan->width * plan->height);
+        if (first == 0 && r->snapshot.buffer) record_snapshot(r, plan);
         vkCmdFillBuffer(r->cmd, r->counter.buffer, 0, VK_WHOLE_SIZE, 0u);
         record_steps(r, plan, first, last);
         record_readback(r, plan, last == steps && run->read_back);
@@ -402,7 +348,12 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
             ok = false;
             break;
         }
-        *nonfinite += counter[0];
+        if (stop) { /* the next submission sized to the time these steps took */
+            double per_step = (clock_seconds() - t0) / (double)(last - first);
+            double fit = per_step > 0.0 ? STOP_SUBMIT_SECONDS / per_step : (double)per_submit;
+            r->stop_steps = fit < 1.0 ? 1u : fit < (double)per_submit ? (uint64_t)fit : per_submit;
+        }
+        pass_nonfinite += counter[0];
         *rays += counter[2] | (uint64_t)counter[3] << 32;
         overflowed = counter[1];
         ok = overflowed == 0;
@@ -417,7 +368,9 @@ static bool run_passes(vk_render *r, const pass_plan *plan, const render_opts *o
                  "%u sample%s had a ray whose BVH walk needed more loop passes than lavapipe "
                  "allows (its shaders stop loops silently past %u in all)",
                  overflowed, overflowed == 1 ? "" : "s", ctx->loop_limit);
-    return ok;
+    if (!ok) return PASS_FAILED;
+    *nonfinite += pass_nonfinite;
+    return PASS_DONE;
 }
 
 /* Runs the pipeline once on a pass of no pixels (every invocation returns at once): llvmpipe
@@ -431,47 +384,11 @@ static bool warm_up_pipeline(vk_render *r) {
     const uint32_t offsets[] = {0u, 0u, 0u}; /* sums, compensation, stacks */
     vkCmdBindDescriptorSets(r->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.layout, 0, 1,
                             &r->kernel.set, 3, offsets);
-    struct gpu_pass push = {.group_stride = workgroup_stride(1u), .chunk_count = 1u};
+    struct gpu_pass push = {.group_stride = pass_plan_workgroup_stride(1u), .chunk_count = 1u};
     vkCmdPushConstants(r->cmd, r->kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push,
                        &push);
     vkCmdDispatch(r->cmd, 1, 1, 1);
     return vk_commands_submit_wait(&r->ctx, r->cmd, r->fence);
-}
-
-/* Samples per dispatch (at most a chunk) and passes per submission, from the per-sample worst
- * case. */
-static pass_plan plan_passes(const vk_context *ctx, const part *p, uint64_t sample_iterations) {
-    pass_plan plan = {.width = (uint32_t)(p->meta.x1 - p->meta.x0),
-                      .height = (uint32_t)(p->meta.y1 - p->meta.y0),
-                      .region_x0 = (uint32_t)p->meta.x0,
-                      .region_y0 = (uint32_t)p->meta.y0,
-                      .spp = p->meta.spp};
-    uint64_t tile_pixels = (uint64_t)TILE_SIZE * TILE_SIZE;
-    uint64_t per_dispatch = DISPATCH_BUDGET / (tile_pixels * sample_iterations);
-    if (ctx->loop_limit) {
-        uint64_t fit = (vk_probe_safe_iterations(ctx->loop_limit) - 1u) / sample_iterations;
-        if (fit < per_dispatch) per_dispatch = fit;
-    }
-    /* A pass over the whole image stays within a submission, so that big images show progress
-     * (2000 x 1500 pixels at 64 spp ran as one 13 s submission). */
-    uint64_t pixels = (uint64_t)plan.width * plan.height;
-    if (pixels < MIN_CHARGED_PIXELS) pixels = MIN_CHARGED_PIXELS;
-    uint64_t whole = SUBMIT_BUDGET / pixels / sample_iterations;
-    if (whole < per_dispatch) per_dispatch = whole;
-    /* Whole chunks, up to TZ_PASS_CHUNKS, where a dispatch has room for more than one. */
-    uint64_t group = per_dispatch / CHUNK_SAMPLES;
-    plan.group = group > TZ_PASS_CHUNKS ? TZ_PASS_CHUNKS : group > 1u ? (uint32_t)group : 1u;
-    if (per_dispatch > CHUNK_SAMPLES) per_dispatch = CHUNK_SAMPLES;
-    if (per_dispatch > plan.spp) per_dispatch = plan.spp;
-    plan.per_dispatch = per_dispatch ? (uint32_t)per_dispatch : 1u;
-    uint64_t pass_cost; /* saturated: 16384^2 pixels of 4096 lights, 2^24 spheres, --no-bvh */
-    if (__builtin_mul_overflow(pixels * plan.per_dispatch * plan.group, sample_iterations,
-                               &pass_cost))
-        pass_cost = UINT64_MAX;
-    uint64_t per_submit = SUBMIT_BUDGET / pass_cost;
-    plan.passes_per_submit =
-        per_submit > 0 ? (uint32_t)(per_submit < UINT32_MAX ? per_submit : UINT32_MAX) : 1u;
-    return plan;
 }
 
 static void render_destroy(vk_render *r) {
@@ -482,10 +399,10 @@ static void render_destroy(vk_render *r) {
         if (r->cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &r->cmd);
         vk_kernel_destroy(ctx, &r->kernel);
         vk_accel_destroy(ctx, &r->accel);
-        vk_buffer *buffers[] = {&r->readback,  &r->state,      &r->upload,  &r->counter,
-                                &r->stack,     &r->accum_comp, &r->accum,   &r->emitters,
-                                &r->nodes,     &r->lights,     &r->spheres, &r->frame,
-                                &r->triangles, &r->materials,  &r->normals};
+        vk_buffer *buffers[] = {&r->snapshot, &r->readback,  &r->state,      &r->upload,
+                                &r->counter,  &r->stack,     &r->accum_comp, &r->accum,
+                                &r->emitters, &r->nodes,     &r->lights,     &r->spheres,
+                                &r->frame,    &r->triangles, &r->materials,  &r->normals};
         for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; k++)
             vk_buffer_destroy(ctx, buffers[k]);
     }
@@ -567,7 +484,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
         [TZ_BINDING_NORMALS] = &r->normals,
         [TZ_BINDING_ACCEL] = NULL, /* vk_accel_bind */
     };
-    const VkDeviceSize band = (VkDeviceSize)TILE_SIZE * (VkDeviceSize)width * ACCUM_PIXEL_BYTES;
+    const VkDeviceSize band = (VkDeviceSize)TZ_BAND_ROWS * (VkDeviceSize)width * ACCUM_PIXEL_BYTES;
     const VkDeviceSize ranges[] = {
         [TZ_BINDING_FRAME] = VK_WHOLE_SIZE,
         [TZ_BINDING_SPHERES] = VK_WHOLE_SIZE,
@@ -588,43 +505,28 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
     return true;
 }
 
-/* The chunk that sample s of part p ends at: s / CHUNK_SAMPLES, or the chunk count at the end. */
-static uint32_t chunk_of(const part *p, uint32_t s) {
-    return s == p->meta.spp ? (p->meta.spp + CHUNK_SAMPLES - 1u) / CHUNK_SAMPLES
-                            : s / CHUNK_SAMPLES;
-}
-
-/* The first sample of chunk k of part p, or its spp past the last chunk. */
-static uint32_t sample_of(const part *p, uint32_t k) {
-    uint64_t s = (uint64_t)k * CHUNK_SAMPLES;
-    return s < p->meta.spp ? (uint32_t)s : p->meta.spp;
-}
-
-/* The most blocks the stack holds on its way from `from` to chunk end, at least 1. */
-static uint32_t stack_depth(const chunk_stack *from, uint32_t end) {
-    chunk_stack st = *from;
-    uint32_t depth = st.count > 0 ? (uint32_t)st.count : 1u;
-    for (uint32_t k = st.end; k < end; k++) {
-        chunk_stack_push(&st, (chunk_block){0, k});
-        if ((uint32_t)st.count > depth) depth = (uint32_t)st.count;
-    }
-    return depth;
-}
-
-/* Reads the sums back into p: its counts, the stack `shape` and its blocks, the samples up to
- * chunk `done` and the non-finite samples since the last sync; false (logged) on failure. */
-static bool sync_part(vk_render *r, const pass_plan *plan, const chunk_stack *shape, uint32_t done,
-                      uint64_t *nonfinite, part *p) {
+/* Where the sums and stacks are for the host to read: the mapped buffers, or readback after a
+ * copy; false (logged) on a Vulkan failure. */
+static bool live_state(vk_render *r, const pass_plan *plan, const char **sums,
+                       const char **stacks) {
     size_t n = (size_t)plan->width * plan->height;
     if (!r->accum.mapped || !r->stack.mapped) {
         if (!vk_commands_begin(&r->ctx, &r->cmd)) return false;
         record_readback(r, plan, true);
         if (!vk_commands_submit_wait(&r->ctx, r->cmd, r->fence)) return false;
     }
-    const char *sums = r->accum.mapped ? r->accum.mapped : (const char *)r->readback.mapped + 16;
-    const char *stacks = r->stack.mapped
-                             ? (const char *)r->stack.mapped
-                             : (const char *)r->readback.mapped + 16 + n * ACCUM_PIXEL_BYTES;
+    *sums = r->accum.mapped ? r->accum.mapped : (const char *)r->readback.mapped + 16;
+    *stacks = r->stack.mapped ? (const char *)r->stack.mapped
+                              : (const char *)r->readback.mapped + 16 + n * ACCUM_PIXEL_BYTES;
+    return true;
+}
+
+/* Reads sums and stacks (live_state's, or the snapshot's) into p: its counts, the stack `shape`
+ * and its blocks, the samples up to chunk `done` and the non-finite samples since the last sync;
+ * false (logged) on out of memory. */
+static bool sync_part(const pass_plan *plan, const char *sums, const char *stacks,
+                      const chunk_stack *shape, uint32_t done, uint64_t *nonfinite, part *p) {
+    size_t n = (size_t)plan->width * plan->height;
     for (int k = 0; k < CHUNK_STACK_MAX; k++) {
         if (k >= shape->count) {
             free(p->block[k]);
@@ -643,14 +545,30 @@ static bool sync_part(vk_render *r, const pass_plan *plan, const chunk_stack *sh
                    STACK_BLOCK_BYTES);
     }
     p->stack = *shape;
-    p->meta.sample_end = sample_of(p, done);
+    p->meta.sample_end = part_sample_of(p, done);
     p->meta.nonfinite += *nonfinite;
     *nonfinite = 0;
     return true;
 }
 
+/* Brings p up to date from the device: its sums and stacks as they are (live_state), or with
+ * `abandoned` as the pass in flight began (the snapshot); false (logged) on failure. */
+static bool sync_from(vk_render *r, const pass_plan *plan, bool abandoned, const chunk_stack *shape,
+                      uint32_t done, uint64_t *nonfinite, part *p) {
+    const char *sums, *stacks;
+    if (abandoned) {
+        size_t n = (size_t)plan->width * plan->height;
+        sums = (const char *)r->snapshot.mapped + 16;
+        stacks = sums + n * ACCUM_PIXEL_BYTES;
+    } else if (!live_state(r, plan, &sums, &stacks)) {
+        return false;
+    }
+    return sync_part(plan, sums, stacks, shape, done, nonfinite, p);
+}
+
 /* Renders chunks up to end_chunk in the passes opts->control sets, syncing the part when it
- * asks and at the end; false on failure or a refusal (in `reason`). */
+ * asks and at the end; a stop abandons the pass in flight, the part then as that pass began.
+ * False on failure or a refusal (in `reason`). */
 static bool render_chunks(vk_render *r, pass_plan *plan, const render_opts *opts, part *p,
                           uint32_t end_chunk, bool resumed, char *reason) {
     const render_control *control = opts->control;
@@ -665,7 +583,7 @@ static bool render_chunks(vk_render *r, pass_plan *plan, const render_opts *opts
     pass_run run = {.setup = true,
                     .resumed = resumed,
                     .start = clock_seconds(),
-                    .total = (double)(sample_of(p, end_chunk) - sample_of(p, begin)),
+                    .total = (double)(part_sample_of(p, end_chunk) - part_sample_of(p, begin)),
                     .deadline = opts->deadline};
     bool sync = false, ok = true;
     uint32_t next =
@@ -673,25 +591,41 @@ static bool render_chunks(vk_render *r, pass_plan *plan, const render_opts *opts
     if (sync) ok = control->synced(control->user, p); /* nothing rendered yet: p is current */
     while (ok && done < end_chunk && next > 0) {
         uint32_t chunks = next < end_chunk - done ? next : end_chunk - done;
+        chunk_stack before = shape;
         for (uint32_t k = 0; k < chunks; k++) {
             slots[k].top = (uint32_t)shape.count;
             slots[k].merges = (uint32_t)chunk_stack_push(&shape, (chunk_block){0, done + k});
         }
         plan->first_chunk = done;
         plan->chunks = chunks;
-        plan->sample_end = sample_of(p, done + chunks);
+        plan->sample_end = part_sample_of(p, done + chunks);
         plan->slot = slots;
-        run.done = (double)(sample_of(p, done) - sample_of(p, begin));
-        ok = run_passes(r, plan, opts, &run, &nonfinite, &rays, reason);
+        run.done = (double)(part_sample_of(p, done) - part_sample_of(p, begin));
+        bool current = run.setup; /* nothing rendered yet: p is as the device will be */
+        pass_result result = run_passes(r, plan, opts, &run, &nonfinite, &rays, reason);
         run.setup = false;
-        if (!ok) break;
+        if (result == PASS_FAILED) {
+            ok = false;
+            break;
+        }
+        if (result == PASS_NOT_BEGUN || result == PASS_ABANDONED) {
+            if (!current || result == PASS_ABANDONED)
+                ok = sync_from(r, plan, result == PASS_ABANDONED, &before, done, &nonfinite, p);
+            next = control->next_pass(control->user, p->meta.sample_end, &sync);
+            if (ok && sync) ok = control->synced(control->user, p);
+            if (ok && next > 0) {
+                log_error("vulkan back end: a pass was abandoned, yet the render was not stopped");
+                ok = false;
+            }
+            break;
+        }
         done += chunks;
         sync = false;
         next = done < end_chunk && control
-                   ? control->next_pass(control->user, sample_of(p, done), &sync)
+                   ? control->next_pass(control->user, part_sample_of(p, done), &sync)
                    : 0u;
         if (sync || next == 0 || done == end_chunk) {
-            ok = sync_part(r, plan, &shape, done, &nonfinite, p);
+            ok = sync_from(r, plan, false, &shape, done, &nonfinite, p);
             if (ok && sync) ok = control->synced(control->user, p);
         }
     }
@@ -748,8 +682,9 @@ render_status render_vk_part_try(const scene *s, const render_opts *opts, part *
     render_opts packing = *opts;
     packing.no_bvh = !st.use_bvh;
     int width = p->meta.x1 - p->meta.x0, height = p->meta.y1 - p->meta.y0;
-    uint32_t end_chunk = chunk_of(p, sample_end);
-    uint32_t depth = stack_depth(&p->stack, end_chunk);
+    uint32_t end_chunk = part_chunk_of(p, sample_end);
+    uint32_t depth = pass_plan_stack_depth(&p->stack, end_chunk);
+    bool stoppable = opts->control && opts->control->stop;
     bool resumed = p->stack.count > 0;
     double t_pack = clock_seconds();
     if (!vk_strategy_check(&r.ctx, s, opts, &st, width, height, depth, reason) ||
@@ -757,7 +692,7 @@ render_status render_vk_part_try(const scene *s, const render_opts *opts, part *
         goto done;
     scene_pack_report(&packed, opts, t_pack);
     double t_buffers = clock_seconds(); /* after the pack, which reports its own time */
-    if (!create_buffers(&r, &packed, width, height, depth)) goto done;
+    if (!create_buffers(&r, &packed, width, height, depth, stoppable)) goto done;
     if (resumed && !load_state(&r, p, depth)) goto done;
     double t_upload = clock_seconds();
     log_debug("vulkan: buffers and upload in %.1f ms (%s)", (t_upload - t_buffers) * 1e3,
@@ -774,13 +709,16 @@ render_status render_vk_part_try(const scene *s, const render_opts *opts, part *
     double t_pipeline = clock_seconds();
     log_debug("vulkan: pipeline in %.1f ms", (t_pipeline - t_upload) * 1e3);
 
-    pass_plan plan = plan_passes(&r.ctx, p, st.sample_iterations);
+    uint64_t loop_fit = r.ctx.loop_limit ? vk_probe_safe_iterations(r.ctx.loop_limit) : 0u;
+    pass_plan plan = pass_plan_make(&p->meta, st.sample_iterations, loop_fit, stoppable);
     plan.depth = depth;
     log_debug("vulkan: %" PRIu64
-              " loop passes per sample at most, %u sample%s per dispatch, "
-              "%u pass%s per submission, %u chunk-tree blocks a pixel",
+              " loop passes per sample at most, %u sample%s per dispatch on tiles of %u x %u, "
+              "%" PRIu64 " dispatch%s per submission%s, %u chunk-tree block%s a pixel",
               st.sample_iterations, plan.per_dispatch, plan.per_dispatch == 1 ? "" : "s",
-              plan.passes_per_submit, plan.passes_per_submit == 1 ? "" : "es", depth);
+              plan.tile_width, plan.tile_height, plan.steps_per_submit,
+              plan.steps_per_submit == 1 ? "" : "es",
+              stoppable ? " at most (a stop waits for one)" : "", depth, depth == 1 ? "" : "s");
     if (!render_chunks(&r, &plan, opts, p, end_chunk, resumed, reason)) goto done;
     double t_render = clock_seconds();
     if (opts->stats) opts->stats->render_seconds = t_render - t_pipeline;

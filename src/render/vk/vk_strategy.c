@@ -128,7 +128,7 @@ bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts 
     }
     /* The accumulation buffer is addressed with 32-bit dynamic offsets, and drivers cap buffers
      * below 4 GiB (lavapipe's maxBufferSize is 2^32 - 1): 16384 x 16384 pixels need 2^32 bytes. */
-    uint64_t rows = ((uint64_t)height + TILE_SIZE - 1u) / TILE_SIZE * TILE_SIZE;
+    uint64_t rows = ((uint64_t)height + TZ_BAND_ROWS - 1u) / TZ_BAND_ROWS * TZ_BAND_ROWS;
     uint64_t row_bytes = (uint64_t)width * (ACCUM_PIXEL_BYTES > depth * STACK_BLOCK_BYTES
                                                 ? ACCUM_PIXEL_BYTES
                                                 : depth * STACK_BLOCK_BYTES);
@@ -136,17 +136,17 @@ bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts 
     if (accum_bytes > UINT32_MAX) {
         snprintf(reason, RENDER_REASON_SIZE,
                  "a %d x %d region with %u chunk-tree blocks a pixel needs %" PRIu64
-                 " bytes of accumulation buffer (rows rounded up to whole %u-row tiles), past the "
+                 " bytes of accumulation buffer (rows rounded up to whole %u-row bands), past the "
                  "4 GiB - 1 the Vulkan back end addresses (at this width %" PRIu64
                  " rows fit; --region splits the image)",
-                 width, height, depth, accum_bytes, TILE_SIZE,
-                 UINT32_MAX / row_bytes / TILE_SIZE * TILE_SIZE);
+                 width, height, depth, accum_bytes, TZ_BAND_ROWS,
+                 UINT32_MAX / row_bytes / TZ_BAND_ROWS * TZ_BAND_ROWS);
         return false;
     }
     const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
     uint64_t primitives = (uint64_t)s->sphere_count + (uint64_t)s->triangle_count;
     uint64_t sizes[] = {(uint64_t)s->sphere_count * 3u, (uint64_t)s->light_count * 2u,
-                        (uint64_t)TILE_SIZE * row_bytes,
+                        (uint64_t)TZ_BAND_ROWS * row_bytes,
                         use_bvh ? primitives * 4u : 0u, /* < 1 node a primitive */
                         (uint64_t)s->triangle_count * 3u};
     uint64_t limit[] = {limits->maxTexelBufferElements, limits->maxTexelBufferElements,

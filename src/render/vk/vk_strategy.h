@@ -1,5 +1,5 @@
-/* vk_strategy.h: how the Vulkan back end renders a scene on a device: the tile size and the
- * accumulation's bytes a pixel, the walk (compute, cooperative, ray query), the intersection
+/* vk_strategy.h: how the Vulkan back end renders a scene on a device: the accumulation's
+ * bytes a pixel, the walk (compute, cooperative, ray query), the intersection
  * strategy (unrolled spheres, a BVH walk bounded on lavapipe, every sphere, the device's
  * acceleration structure) and the refusals of what the device could not render right. */
 #ifndef TRAZADOR_VK_STRATEGY_H
@@ -11,9 +11,6 @@
 #include "render/render.h"
 #include "render/vk/vk_context.h"
 
-/* Tile side in pixels: one dispatch covers at most one tile, which bounds its duration on real
- * GPUs (watchdogs) and the accumulation band it binds (TILE_SIZE rows of the image). */
-#define TILE_SIZE 256u
 /* Bytes a pixel takes in each accumulation buffer (sums, compensation): a vec4. */
 #define ACCUM_PIXEL_BYTES (4u * sizeof(float))
 /* Bytes a block of a pixel's stack takes: RGB. */
