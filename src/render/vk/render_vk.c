@@ -19,6 +19,7 @@
 #include "render/vk/vk_context.h"
 #include "render/vk/vk_pass_plan.h"
 #include "render/vk/vk_probe.h"
+#include "render/vk/vk_render_state.h"
 #include "render/vk/vk_strategy.h"
 #include "trace_coop_spv.h"
 #include "trace_rq_spv.h"
@@ -35,10 +36,6 @@
 
 /* Seconds a submission of a stoppable render aims at: a stop waits for the one in flight. */
 #define STOP_SUBMIT_SECONDS 0.1
-/* The buffers of the packed scene: frame, spheres, lights, BVH nodes, emitters, triangles, their
- * materials and normals. */
-#define INPUT_BUFFERS 8
-
 /* The specialization constants of trace.comp in constant_id order, one 32-bit word each. */
 typedef struct spec_data {
     uint32_t words[TZ_SPEC_SCENE];
@@ -47,156 +44,6 @@ typedef struct spec_data {
 #define SPEC_COUNT (sizeof(spec_data) / sizeof(uint32_t))
 _Static_assert(offsetof(spec_data, scene) == TZ_SPEC_SCENE * sizeof(uint32_t),
                "scene data start at constant_id TZ_SPEC_SCENE");
-
-typedef struct vk_render {
-    vk_context ctx;
-    vk_buffer frame, spheres, lights, nodes, emitters, triangles, materials, normals;
-    vk_buffer accum, accum_comp, stack, counter;
-    vk_buffer upload;   /* staging for the inputs when device memory is not mapped */
-    vk_buffer state;    /* staging for a resumed part's counts and stacks, likewise */
-    vk_buffer readback; /* staging: the counters at 0, the sums at 16, then the stacks */
-    /* A stoppable render's sums and stacks as the host pass in flight began, laid out as in
-     * readback: a pass abandoned for a stop leaves the part as it was. */
-    vk_buffer snapshot;
-    uint64_t stop_steps; /* steps a stoppable render's submission runs: measured to fit */
-    vk_accel accel;      /* the ray query walk's acceleration structure */
-    vk_kernel kernel;
-    VkFence fence;
-    VkCommandBuffer cmd;
-} vk_render;
-_Static_assert(TZ_COUNTER_WORDS * sizeof(uint32_t) <= 16,
-               "the counters fit before the accumulation");
-
-/* Creates the buffers and writes the packed scene into them (mapped, or through `upload`). */
-static bool create_buffers(vk_render *r, const packed_scene *p, int width, int height,
-                           uint32_t depth, bool stoppable) {
-    vk_context *ctx = &r->ctx;
-    const VkBufferUsageFlags input = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                       VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                                       VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    size_t sphere_bytes = (p->frame.sphere_count ? p->frame.sphere_count : 1u) * sizeof *p->spheres;
-    size_t light_bytes = (p->frame.light_count ? p->frame.light_count : 1u) * sizeof *p->lights;
-    /* Without a BVH one zeroed node keeps the binding valid; the shader never reads it. */
-    static const struct gpu_bvh_node no_nodes[1];
-    const void *nodes = p->frame.node_count ? (const void *)p->nodes : (const void *)no_nodes;
-    size_t node_bytes = (p->frame.node_count ? p->frame.node_count : 1u) * sizeof *p->nodes;
-    size_t emitter_bytes =
-        (p->frame.emitter_count ? p->frame.emitter_count : 1u) * sizeof *p->emitters;
-    size_t triangle_bytes =
-        (p->frame.triangle_count ? p->frame.triangle_count : 1u) * sizeof *p->triangles;
-    size_t material_bytes = (p->material_count ? p->material_count : 1u) * sizeof *p->materials;
-    size_t normals_bytes = (p->normals_count ? p->normals_count : 1u) * sizeof *p->normals;
-    /* Rows padded to whole bands: every band binding stays inside the buffer. */
-    uint64_t rows = ((uint64_t)height + TZ_BAND_ROWS - 1u) / TZ_BAND_ROWS * TZ_BAND_ROWS;
-    VkDeviceSize accum_bytes = rows * (uint64_t)width * ACCUM_PIXEL_BYTES;
-    VkDeviceSize stack_bytes = rows * (uint64_t)width * depth * STACK_BLOCK_BYTES;
-    const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | input;
-    if (!vk_buffer_create(ctx, sizeof p->frame, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | input,
-                          VK_MEMORY_DEVICE, &r->frame) ||
-        !vk_buffer_create(ctx, sphere_bytes, texels, VK_MEMORY_DEVICE, &r->spheres) ||
-        !vk_buffer_create_view(ctx, &r->spheres, VK_FORMAT_R32G32B32A32_SFLOAT) ||
-        !vk_buffer_create(ctx, light_bytes, texels, VK_MEMORY_DEVICE, &r->lights) ||
-        !vk_buffer_create_view(ctx, &r->lights, VK_FORMAT_R32G32B32A32_SFLOAT) ||
-        !vk_buffer_create(ctx, node_bytes, texels, VK_MEMORY_DEVICE, &r->nodes) ||
-        /* As uints: child references are not floats (a GPU may flush their denormal bits). */
-        !vk_buffer_create_view(ctx, &r->nodes, VK_FORMAT_R32G32B32A32_UINT) ||
-        !vk_buffer_create(ctx, emitter_bytes, texels, VK_MEMORY_DEVICE, &r->emitters) ||
-        !vk_buffer_create_view(ctx, &r->emitters, VK_FORMAT_R32G32B32A32_SFLOAT) ||
-        !vk_buffer_create(ctx, triangle_bytes, texels, VK_MEMORY_DEVICE, &r->triangles) ||
-        !vk_buffer_create_view(ctx, &r->triangles, VK_FORMAT_R32G32B32A32_SFLOAT) ||
-        !vk_buffer_create(ctx, material_bytes, texels, VK_MEMORY_DEVICE, &r->materials) ||
-        !vk_buffer_create_view(ctx, &r->materials, VK_FORMAT_R32G32B32A32_SFLOAT) ||
-        !vk_buffer_create(ctx, normals_bytes, texels, VK_MEMORY_DEVICE, &r->normals) ||
-        !vk_buffer_create_view(ctx, &r->normals, VK_FORMAT_R32G32B32A32_SFLOAT) ||
-        !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum) ||
-        !vk_buffer_create(ctx, accum_bytes, storage, VK_MEMORY_DEVICE, &r->accum_comp) ||
-        !vk_buffer_create(ctx, stack_bytes, storage, VK_MEMORY_DEVICE, &r->stack) ||
-        !vk_buffer_create(ctx, TZ_COUNTER_WORDS * sizeof(uint32_t), storage, VK_MEMORY_DEVICE,
-                          &r->counter))
-        return false;
-    VkDeviceSize pixels = (VkDeviceSize)width * (VkDeviceSize)height;
-    VkDeviceSize state_bytes = 16u + pixels * (ACCUM_PIXEL_BYTES + depth * STACK_BLOCK_BYTES);
-    if ((!r->accum.mapped || !r->stack.mapped || !r->counter.mapped) &&
-        !vk_buffer_create(ctx, state_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, VK_MEMORY_READBACK,
-                          &r->readback))
-        return false;
-    if (stoppable && !vk_buffer_create(ctx, state_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                       VK_MEMORY_READBACK, &r->snapshot))
-        return false;
-    const void *data[INPUT_BUFFERS] = {&p->frame,   p->spheres,   p->lights,    nodes,
-                                       p->emitters, p->triangles, p->materials, p->normals};
-    vk_buffer *targets[INPUT_BUFFERS] = {&r->frame,    &r->spheres,   &r->lights,    &r->nodes,
-                                         &r->emitters, &r->triangles, &r->materials, &r->normals};
-    size_t sizes[INPUT_BUFFERS] = {sizeof p->frame, sphere_bytes,   light_bytes,    node_bytes,
-                                   emitter_bytes,   triangle_bytes, material_bytes, normals_bytes};
-    bool mapped = true;
-    size_t total = 0;
-    for (int k = 0; k < INPUT_BUFFERS; k++) mapped &= targets[k]->mapped != NULL, total += sizes[k];
-    if (mapped) {
-        for (int k = 0; k < INPUT_BUFFERS; k++) memcpy(targets[k]->mapped, data[k], sizes[k]);
-        return true;
-    }
-    if (!vk_buffer_create(ctx, total, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, VK_MEMORY_UPLOAD,
-                          &r->upload))
-        return false;
-    size_t offset = 0;
-    for (int k = 0; k < INPUT_BUFFERS; k++) {
-        memcpy((char *)r->upload.mapped + offset, data[k], sizes[k]);
-        offset += sizes[k];
-    }
-    return true;
-}
-
-/* Writes the part's counts and stacks (a resumed part) where the shader reads them: into the
- * mapped buffers, or into `state` for record_setup to copy; false (logged) on out of memory. */
-static bool load_state(vk_render *r, const part *p, uint32_t depth) {
-    size_t n = (size_t)(p->meta.x1 - p->meta.x0) * (size_t)(p->meta.y1 - p->meta.y0);
-    size_t accum_bytes = n * ACCUM_PIXEL_BYTES;
-    char *accum = r->accum.mapped, *stack = r->stack.mapped;
-    if (!accum || !stack) {
-        if (!vk_buffer_create(&r->ctx, accum_bytes + n * depth * STACK_BLOCK_BYTES,
-                              VK_BUFFER_USAGE_TRANSFER_SRC_BIT, VK_MEMORY_UPLOAD, &r->state))
-            return false;
-        accum = r->state.mapped;
-        stack = accum + accum_bytes;
-    }
-    for (size_t i = 0; i < n; i++) {
-        float px[4] = {0.0f, 0.0f, 0.0f, (float)p->count[i]};
-        memcpy(accum + i * ACCUM_PIXEL_BYTES, px, sizeof px);
-        for (int k = 0; k < p->stack.count; k++)
-            memcpy(stack + (i * depth + (size_t)k) * STACK_BLOCK_BYTES, &p->block[k][3 * i],
-                   STACK_BLOCK_BYTES);
-    }
-    return true;
-}
-
-/* Copies the staged inputs into place (when staged), and the resumed part's state likewise, or
- * zeroes the accumulation buffers of a new part. */
-static void record_setup(vk_render *r, bool resumed, size_t pixels) {
-    if (r->upload.buffer) {
-        vk_buffer *targets[INPUT_BUFFERS] = {&r->frame,     &r->spheres,  &r->lights,
-                                             &r->nodes,     &r->emitters, &r->triangles,
-                                             &r->materials, &r->normals};
-        VkDeviceSize offset = 0;
-        for (int k = 0; k < INPUT_BUFFERS; k++) {
-            VkBufferCopy copy = {offset, 0, targets[k]->size};
-            vkCmdCopyBuffer(r->cmd, r->upload.buffer, targets[k]->buffer, 1, &copy);
-            offset += targets[k]->size;
-        }
-    }
-    if (!resumed) {
-        vkCmdFillBuffer(r->cmd, r->accum.buffer, 0, VK_WHOLE_SIZE, 0u);
-        vkCmdFillBuffer(r->cmd, r->stack.buffer, 0, VK_WHOLE_SIZE, 0u);
-    } else if (r->state.buffer) {
-        VkDeviceSize accum_bytes = (VkDeviceSize)pixels * ACCUM_PIXEL_BYTES;
-        VkBufferCopy sums = {0, 0, accum_bytes};
-        VkBufferCopy stacks = {accum_bytes, 0, r->state.size - accum_bytes};
-        vkCmdCopyBuffer(r->cmd, r->state.buffer, r->accum.buffer, 1, &sums);
-        vkCmdCopyBuffer(r->cmd, r->state.buffer, r->stack.buffer, 1, &stacks);
-    }
-    vkCmdFillBuffer(r->cmd, r->accum_comp.buffer, 0, VK_WHOLE_SIZE, 0u);
-}
 
 /* Records steps [first, last) of the host pass: one dispatch per tile, a barrier before each
  * dispatch pass (and at the first step), each tile's band bound through the dynamic offsets. */
@@ -243,46 +90,6 @@ static void record_steps(vk_render *r, const pass_plan *plan, uint64_t first, ui
                            &push);
         vkCmdDispatch(cmd, gx, gy, 1);
     }
-}
-
-/* Copies the sums and stacks as they are into the snapshot, in the order of the commands. */
-static void record_snapshot(vk_render *r, const pass_plan *plan) {
-    vk_commands_barrier(r->cmd,
-                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                        VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                        VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    VkDeviceSize pixels = (VkDeviceSize)plan->width * plan->height;
-    VkBufferCopy sums = {0, 16, pixels * ACCUM_PIXEL_BYTES};
-    VkBufferCopy stacks = {0, 16 + pixels * ACCUM_PIXEL_BYTES,
-                           pixels * plan->depth * STACK_BLOCK_BYTES};
-    vkCmdCopyBuffer(r->cmd, r->accum.buffer, r->snapshot.buffer, 1, &sums);
-    vkCmdCopyBuffer(r->cmd, r->stack.buffer, r->snapshot.buffer, 1, &stacks);
-}
-
-/* Makes the counter (and with `final` the sums and stacks) readable by the host after the
- * fence. */
-static void record_readback(vk_render *r, const pass_plan *plan, bool final) {
-    VkCommandBuffer cmd = r->cmd;
-    vk_commands_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                        VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
-                        VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_HOST_READ_BIT);
-    if (!r->counter.mapped) {
-        VkBufferCopy copy = {0, 0, TZ_COUNTER_WORDS * sizeof(uint32_t)};
-        vkCmdCopyBuffer(cmd, r->counter.buffer, r->readback.buffer, 1, &copy);
-    }
-    VkDeviceSize pixels = (VkDeviceSize)plan->width * plan->height;
-    if (final && !r->accum.mapped) {
-        VkBufferCopy copy = {0, 16, pixels * ACCUM_PIXEL_BYTES};
-        vkCmdCopyBuffer(cmd, r->accum.buffer, r->readback.buffer, 1, &copy);
-    }
-    if (final && !r->stack.mapped) {
-        VkBufferCopy copy = {0, 16 + pixels * ACCUM_PIXEL_BYTES,
-                             pixels * plan->depth * STACK_BLOCK_BYTES};
-        vkCmdCopyBuffer(cmd, r->stack.buffer, r->readback.buffer, 1, &copy);
-    }
-    if (r->readback.buffer || r->snapshot.buffer)
-        vk_commands_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                            VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
 }
 
 /* Updates of the progress line one render shows at most: each is a submission of its own, and
@@ -339,11 +146,11 @@ static pass_result run_passes(vk_render *r, const pass_plan *plan, const render_
                             VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                             VK_ACCESS_TRANSFER_WRITE_BIT);
         if (first == 0 && run->setup)
-            record_setup(r, run->resumed, (size_t)plan->width * plan->height);
-        if (first == 0 && r->snapshot.buffer) record_snapshot(r, plan);
+            vk_render_record_setup(r, run->resumed, (size_t)plan->width * plan->height);
+        if (first == 0 && r->snapshot.buffer) vk_render_record_snapshot(r, plan);
         vkCmdFillBuffer(r->cmd, r->counter.buffer, 0, VK_WHOLE_SIZE, 0u);
         record_steps(r, plan, first, last);
-        record_readback(r, plan, last == steps && run->read_back);
+        vk_render_record_readback(r, plan, last == steps && run->read_back);
         if (!vk_commands_submit_wait(ctx, r->cmd, r->fence)) {
             ok = false;
             break;
@@ -389,23 +196,6 @@ static bool warm_up_pipeline(vk_render *r) {
                        &push);
     vkCmdDispatch(r->cmd, 1, 1, 1);
     return vk_commands_submit_wait(&r->ctx, r->cmd, r->fence);
-}
-
-static void render_destroy(vk_render *r) {
-    vk_context *ctx = &r->ctx;
-    if (ctx->device) {
-        VK_CHECK(vkDeviceWaitIdle(ctx->device)); /* teardown goes on either way */
-        if (r->fence) vkDestroyFence(ctx->device, r->fence, NULL);
-        if (r->cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &r->cmd);
-        vk_kernel_destroy(ctx, &r->kernel);
-        vk_accel_destroy(ctx, &r->accel);
-        vk_buffer *buffers[] = {&r->snapshot, &r->readback,  &r->state,      &r->upload,
-                                &r->counter,  &r->stack,     &r->accum_comp, &r->accum,
-                                &r->emitters, &r->nodes,     &r->lights,     &r->spheres,
-                                &r->frame,    &r->triangles, &r->materials,  &r->normals};
-        for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; k++)
-            vk_buffer_destroy(ctx, buffers[k]);
-    }
 }
 
 /* Compiles trace.comp for the scene (the module with the cooperative walk, the ray query one
@@ -505,67 +295,6 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
     return true;
 }
 
-/* Where the sums and stacks are for the host to read: the mapped buffers, or readback after a
- * copy; false (logged) on a Vulkan failure. */
-static bool live_state(vk_render *r, const pass_plan *plan, const char **sums,
-                       const char **stacks) {
-    size_t n = (size_t)plan->width * plan->height;
-    if (!r->accum.mapped || !r->stack.mapped) {
-        if (!vk_commands_begin(&r->ctx, &r->cmd)) return false;
-        record_readback(r, plan, true);
-        if (!vk_commands_submit_wait(&r->ctx, r->cmd, r->fence)) return false;
-    }
-    *sums = r->accum.mapped ? r->accum.mapped : (const char *)r->readback.mapped + 16;
-    *stacks = r->stack.mapped ? (const char *)r->stack.mapped
-                              : (const char *)r->readback.mapped + 16 + n * ACCUM_PIXEL_BYTES;
-    return true;
-}
-
-/* Reads sums and stacks (live_state's, or the snapshot's) into p: its counts, the stack `shape`
- * and its blocks, the samples up to chunk `done` and the non-finite samples since the last sync;
- * false (logged) on out of memory. */
-static bool sync_part(const pass_plan *plan, const char *sums, const char *stacks,
-                      const chunk_stack *shape, uint32_t done, uint64_t *nonfinite, part *p) {
-    size_t n = (size_t)plan->width * plan->height;
-    for (int k = 0; k < CHUNK_STACK_MAX; k++) {
-        if (k >= shape->count) {
-            free(p->block[k]);
-            p->block[k] = NULL;
-        } else if (!p->block[k] && !(p->block[k] = malloc(n * STACK_BLOCK_BYTES))) {
-            log_error("out of memory for a part of %zu pixels", n);
-            return false;
-        }
-    }
-    for (size_t i = 0; i < n; i++) {
-        float px[4];
-        memcpy(px, sums + i * ACCUM_PIXEL_BYTES, sizeof px);
-        p->count[i] = (uint32_t)px[3];
-        for (int k = 0; k < shape->count; k++)
-            memcpy(&p->block[k][3 * i], stacks + (i * plan->depth + (size_t)k) * STACK_BLOCK_BYTES,
-                   STACK_BLOCK_BYTES);
-    }
-    p->stack = *shape;
-    p->meta.sample_end = part_sample_of(p, done);
-    p->meta.nonfinite += *nonfinite;
-    *nonfinite = 0;
-    return true;
-}
-
-/* Brings p up to date from the device: its sums and stacks as they are (live_state), or with
- * `abandoned` as the pass in flight began (the snapshot); false (logged) on failure. */
-static bool sync_from(vk_render *r, const pass_plan *plan, bool abandoned, const chunk_stack *shape,
-                      uint32_t done, uint64_t *nonfinite, part *p) {
-    const char *sums, *stacks;
-    if (abandoned) {
-        size_t n = (size_t)plan->width * plan->height;
-        sums = (const char *)r->snapshot.mapped + 16;
-        stacks = sums + n * ACCUM_PIXEL_BYTES;
-    } else if (!live_state(r, plan, &sums, &stacks)) {
-        return false;
-    }
-    return sync_part(plan, sums, stacks, shape, done, nonfinite, p);
-}
-
 /* Renders chunks up to end_chunk in the passes opts->control sets, syncing the part when it
  * asks and at the end; a stop abandons the pass in flight, the part then as that pass began.
  * False on failure or a refusal (in `reason`). */
@@ -610,7 +339,8 @@ static bool render_chunks(vk_render *r, pass_plan *plan, const render_opts *opts
         }
         if (result == PASS_NOT_BEGUN || result == PASS_ABANDONED) {
             if (!current || result == PASS_ABANDONED)
-                ok = sync_from(r, plan, result == PASS_ABANDONED, &before, done, &nonfinite, p);
+                ok = vk_render_sync_part(r, plan, result == PASS_ABANDONED, &before, done,
+                                         &nonfinite, p);
             next = control->next_pass(control->user, p->meta.sample_end, &sync);
             if (ok && sync) ok = control->synced(control->user, p);
             if (ok && next > 0) {
@@ -625,7 +355,7 @@ static bool render_chunks(vk_render *r, pass_plan *plan, const render_opts *opts
                    ? control->next_pass(control->user, part_sample_of(p, done), &sync)
                    : 0u;
         if (sync || next == 0 || done == end_chunk) {
-            ok = sync_from(r, plan, false, &shape, done, &nonfinite, p);
+            ok = vk_render_sync_part(r, plan, false, &shape, done, &nonfinite, p);
             if (ok && sync) ok = control->synced(control->user, p);
         }
     }
@@ -692,8 +422,8 @@ render_status render_vk_part_try(const scene *s, const render_opts *opts, part *
         goto done;
     scene_pack_report(&packed, opts, t_pack);
     double t_buffers = clock_seconds(); /* after the pack, which reports its own time */
-    if (!create_buffers(&r, &packed, width, height, depth, stoppable)) goto done;
-    if (resumed && !load_state(&r, p, depth)) goto done;
+    if (!vk_render_create_buffers(&r, &packed, width, height, depth, stoppable)) goto done;
+    if (resumed && !vk_render_load_part(&r, p, depth)) goto done;
     double t_upload = clock_seconds();
     log_debug("vulkan: buffers and upload in %.1f ms (%s)", (t_upload - t_buffers) * 1e3,
               r.accum.mapped ? "mapped device memory" : "staging copies");
@@ -725,7 +455,7 @@ render_status render_vk_part_try(const scene *s, const render_opts *opts, part *
     log_debug("vulkan: rendering and read-back in %.1f ms", (t_render - t_pipeline) * 1e3);
     ok = true;
 done:
-    render_destroy(&r);
+    vk_render_destroy(&r);
     scene_pack_free(&packed);
     bool valid = vk_context_destroy(&r.ctx);
     if (!valid) log_error("the Vulkan validation layer reported errors: the render failed");
