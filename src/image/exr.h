@@ -40,8 +40,7 @@ typedef struct exr_file {
     exr_channel *channels;
     int attr_count;
     exr_attr *attrs;
-    bool uncompressed; /* stored as is, not ZIP-compressed (a write 3-6x faster, a file 1.6x bigger)
-                        */
+    bool uncompressed; /* stored as is, not ZIP-compressed (docs/PERF.md, "Split renders") */
 } exr_file;
 
 /* Writes f to path atomically; false (logged) on a bad description or an I/O error, leaving any

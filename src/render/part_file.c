@@ -154,9 +154,8 @@ bool part_write(const char *path, const part *p) {
                   .channels = pc.ch,
                   .attr_count = ATTRS,
                   .attrs = pa.a,
-                  /* ZIP shrinks the float sums of a render by a third only, for 3.6 to 6 times the
-                   * write (1024 x 1024 pixels, two blocks: 0.9 s at zlib's default level, 0.54 s
-                   * at its fastest, 0.15 s as is). */
+                  /* ZIP shrinks the float sums of a render by a third only, for several times
+                   * the write (docs/PERF.md, "Split renders"). */
                   .uncompressed = true};
     const char *values[CHECKSUM];
     for (int k = 0; k < CHECKSUM; k++) values[k] = pa.a[k].value;
