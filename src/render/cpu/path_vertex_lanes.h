@@ -1,0 +1,198 @@
+/* path_vertex_lanes.h: a vertex of path mode's paths over the LANES lanes of a packet build
+ * (integrator_path_packet.c, which defines LANES and LANE_FN and includes packet_trace.h
+ * first): the lanes' rays traced as one packet, the surface each lane hit, its
+ * BSDF's lobe and pdf, and the light gathered there by next-event estimation (the point lights
+ * and one emitter), each lane doing path.h's operations in its order. */
+#ifndef TRAZADOR_RENDER_CPU_PATH_VERTEX_LANES_H
+#define TRAZADOR_RENDER_CPU_PATH_VERTEX_LANES_H
+
+/* What the lanes' rays hit: id[k] the sphere (-1 none), through the packet trace; a shadow ray
+ * (any_hit) is blocked when id[k] >= 0. Lanes not in active get -1; nothing is traced when no
+ * lane is active. Out of line: inlined at its four calls it was slower (docs/PERF.md). */
+static __attribute__((noinline)) void trace_lanes(const packed_scene *p, const lanes3 *o,
+                                                  const lanes3 *d, const int *self,
+                                                  const float *tmax, const int *active, int any_hit,
+                                                  int *id, float *t) {
+    if (any_lane(active)) {
+        packet_trace(p, o, d, self, tmax, active, any_hit, id, t);
+        return;
+    }
+    for (int k = 0; k < LANES; k++) {
+        id[k] = -1;
+        t[k] = INFINITY;
+    }
+}
+
+/* A vertex of the lanes' paths: the hit and the hit primitive's surface (sphere 0's where none):
+ * n and ng its shading and geometric normals facing the ray. */
+typedef struct vertex_lanes {
+    int id[LANES], diffuse[LANES], specular[LANES], material[LANES], slot[LANES];
+    float t[LANES], r[LANES], ks[LANES], alpha[LANES], ior[LANES], share[LANES];
+    lanes3 pos, nout, shading, n, ng, wo, c, kd;
+} vertex_lanes;
+
+/* phong_lobe(x, alpha) where want[k], else 0: pow_unit lane by lane where alpha is not 0 (x^0 is
+ * 1 for every normal x, so Lambertian lanes need none; pow_unit's selects keep gcc from
+ * vectorizing it). */
+LANE_FN void lobe_lanes(const float *x, const float *alpha, const int *want, float *lobe) {
+    int pow_lane[LANES], any_pow = 0;
+    for (int k = 0; k < LANES; k++) {
+        int normal = want[k] & (x[k] >= TZ_FLT_MIN);
+        lobe[k] = normal ? 1.0f : 0.0f;
+        pow_lane[k] = normal & (alpha[k] != 0.0f);
+        any_pow |= pow_lane[k];
+    }
+    for (int k = 0; any_pow && k < LANES; k++)
+        if (pow_lane[k]) lobe[k] = pow_unit(x[k], alpha[k]);
+}
+
+/* bsdf_pdf of sampling.h with its phong_lobe(lobe_cos, alpha) given as lobe. */
+LANE_FN float bsdf_pdf_of_lobe(float share, float alpha, float cos_i, float lobe) {
+    float diffuse = cos_i * (1.0f / TZ_PI);
+    float l = (alpha + 1.0f) * (1.0f / (2.0f * TZ_PI)) * lobe;
+    return share * (cos_i > 0.0f ? diffuse : 0.0f) + (1.0f - share) * l;
+}
+
+/* brdf_at of lights.h for lane k of the vertex, phong_lobe(x, alpha) given as lobe. */
+LANE_FN vec3 brdf_of_lobe(const vertex_lanes *v, int k, float lobe) {
+    return phong_from_lobe(get3(&v->kd, k), v->ks[k], v->alpha[k], v->ks[k] > 0.0f ? lobe : 0.0f);
+}
+
+/* The light of the point lights at the diffuse lanes' vertices into direct (point_lights). */
+LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v, lanes3 *direct) {
+    lanes3 so;
+    for (int k = 0; k < LANES; k++) {
+        set3(&so, k, offset_origin(get3(&v->pos, k), get3(&v->ng, k)));
+        set3(direct, k, v3(0.0f, 0.0f, 0.0f));
+    }
+    for (uint32_t l = 0; l < light_count(scene); l++) {
+        lanes3 wi, rad;
+        float dist[LANES], t[LANES];
+        int want[LANES], blocked[LANES];
+        for (int k = 0; k < LANES; k++) {
+            light_sample s =
+                point_light(light_position_power(scene, (int)l), light_color(scene, (int)l),
+                            get3(&v->pos, k), get3(&v->n, k));
+            set3(&wi, k, s.wi);
+            set3(&rad, k, s.radiance);
+            dist[k] = s.dist;
+            want[k] = v->diffuse[k] & !(s.cos_i <= 0.0f) & !(v3_dot(get3(&v->ng, k), s.wi) <= 0.0f);
+        }
+        trace_lanes(scene, &so, &wi, v->id, dist, want, 1, blocked, t);
+        for (int k = 0; k < LANES; k++) {
+            if (!want[k] || blocked[k] >= 0) continue;
+            float x = phong_lobe_cos(get3(&v->n, k), get3(&wi, k), get3(&v->wo, k));
+            vec3 f = brdf_of_lobe(v, k, phong_lobe(x, v->alpha[k]));
+            set3(direct, k, v3_add(get3(direct, k), v3_mul(f, get3(&rad, k))));
+        }
+    }
+}
+
+/* emitter_light of path.h for the diffuse lanes (a sphere's strategies both computed and one
+ * selected, a triangle's point lane by lane), the shadow rays traced together, added to direct;
+ * ul, ua, ub the lanes' numbers. */
+LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *v, const float *ul,
+                                 const float *ua, const float *ub, lanes3 *direct) {
+    int e[LANES], slot[LANES], triangle[LANES], strategy[LANES], want[LANES], blocked[LANES];
+    float r[LANES], pick[LANES], cos_phi[LANES], sin_phi[LANES]; /* arrays of cos_sin: scalar */
+    float pdf[LANES], cos_i[LANES], t_light[LANES], t[LANES], x[LANES], lobe[LANES];
+    lanes3 c, emission, so, wi;
+    int one_emitter = scene->frame.emitter_count == 1u; /* pick_emitter's 0, whatever ul */
+    for (int k = 0; k < LANES; k++) {
+        slot[k] = v->diffuse[k] && !one_emitter ? pick_emitter(scene, ul[k]) : 0;
+        tz_vec4 emission_pick = emitter_emission_pick(scene, slot[k]);
+        e[k] = (int)uint_bits(emitter_primitive_cdf(scene, slot[k]).x);
+        triangle[k] = is_triangle(scene, e[k]);
+        tz_vec4 cr = sphere_center_radius(scene, triangle[k] ? 0 : e[k]);
+        set3(&c, k, xyz(cr));
+        r[k] = cr.w;
+        set3(&emission, k, xyz(emission_pick));
+        pick[k] = emission_pick.w;
+    }
+    for (int k = 0; k < LANES; k++) {
+        strategy[k] =
+            light_strategy(get3(&v->pos, k), get3(&v->n, k), v->id[k], e[k], get3(&c, k), r[k]);
+        cos_sin phi = cos_sin_turn(ub[k]);
+        cos_phi[k] = phi.c;
+        sin_phi[k] = phi.s;
+    }
+    for (int k = 0; k < LANES; k++) {
+        vec3 pos = get3(&v->pos, k), n = get3(&v->n, k), ng = get3(&v->ng, k), ck = get3(&c, k);
+        float rk = r[k];
+        cos_sin phi;
+        phi.c = cos_phi[k];
+        phi.s = sin_phi[k];
+        /* the cone (cone_direction) */
+        vec3 to_c = v3_sub(ck, pos);
+        float d2 = v3_dot(to_c, to_c);
+        vec3 axis = v3_scale(to_c, 1.0f / TZ_SQRT(d2));
+        float omc = cone_one_minus_cos(rk * rk, d2);
+        float xc = ua[k] * omc;
+        float sin2 = xc * (2.0f - xc);
+        float cone_pdf = 1.0f / (2.0f * TZ_PI * omc);
+        vec3 cone_wi = direction_about(axis, 1.0f - xc, TZ_SQRT(TZ_MAX(sin2, 0.0f)), phi);
+        float cone_p = pick[k] * cone_pdf;
+        /* the area (sphere_area_direction) */
+        float z = 1.0f - 2.0f * ua[k];
+        float rho = TZ_SQRT(TZ_MAX(1.0f - z * z, 0.0f));
+        vec3 dir = v3(rho * phi.c, rho * phi.s, z);
+        vec3 q = v3_add(ck, v3_scale(dir, rk));
+        vec3 to_q = v3_sub(q, pos);
+        float dist2 = v3_dot(to_q, to_q);
+        vec3 area_wi = v3_scale(to_q, 1.0f / TZ_SQRT(dist2));
+        vec3 nq = v3_scale(v3_sub(q, ck), 1.0f / rk);
+        float area_p = pick[k] * area_pdf(rk, dist2, v3_dot(nq, area_wi));
+        int cone = strategy[k] == LIGHT_CONE;
+        vec3 w = select3(cone, cone_wi, area_wi);
+        float p = cone ? cone_p : area_p;
+        float ci = v3_dot(n, w);
+        int ok = v->diffuse[k] & (strategy[k] != LIGHT_NONE) & (ci > 0.0f) &
+                 (v3_dot(ng, w) > 0.0f) & (p > 0.0f) & (p < INFINITY);
+        vec3 o = offset_origin(pos, ng);
+        float tl = sphere_distance(ck.x, ck.y, ck.z, rk, o, w, ray_eps(o), e[k] == v->id[k]);
+        set3(&so, k, o);
+        set3(&wi, k, w);
+        pdf[k] = p;
+        cos_i[k] = ci;
+        t_light[k] = tl;
+        want[k] = ok & (tl < INFINITY);
+    }
+    for (int k = 0; any_lane(triangle) && k < LANES; k++) {
+        if (!(v->diffuse[k] & triangle[k])) continue;
+        vec3 n = get3(&v->n, k), ng = get3(&v->ng, k), o = offset_origin(get3(&v->pos, k), ng);
+        triangle_corners tk = corners_of(scene, e[k]);
+        vec3 q = triangle_area_point(tk.a, tk.b, tk.c, ua[k], ub[k]);
+        vec3 w = v3_normalize(v3_sub(q, o));
+        float area = emitter_primitive_cdf(scene, slot[k]).z;
+        float p = pick[k] * triangle_area_pdf(tk, area, o, q, w);
+        float tl = triangle_distance(tk.a, tk.b, tk.c, o, w, ray_eps(o), TZ_FALSE);
+        float ci = v3_dot(n, w);
+        int ok =
+            (e[k] != v->id[k]) & (ci > 0.0f) & (v3_dot(ng, w) > 0.0f) & (p > 0.0f) & (p < INFINITY);
+        set3(&so, k, o);
+        set3(&wi, k, w);
+        pdf[k] = p;
+        cos_i[k] = ci;
+        t_light[k] = tl;
+        want[k] = ok & (tl < INFINITY);
+    }
+    trace_lanes(scene, &so, &wi, v->id, t_light, want, 1, blocked, t);
+    for (int k = 0; k < LANES; k++) {
+        want[k] = want[k] & (blocked[k] < 0);
+        x[k] = phong_lobe_cos(get3(&v->n, k), get3(&wi, k), get3(&v->wo, k));
+    }
+    lobe_lanes(x, v->alpha, want, lobe);
+    int lights_only = (scene->frame.flags & TZ_FLAG_LIGHTS_ONLY) != 0u;
+    for (int k = 0; k < LANES; k++) {
+        float b = bsdf_pdf_of_lobe(v->share[k], v->alpha[k], cos_i[k], lobe[k]);
+        float mis = pdf[k] / (pdf[k] * pdf[k] + b * b);
+        float weight = lights_only ? 1.0f / pdf[k] : mis;
+        vec3 l =
+            v3_scale(v3_mul(brdf_of_lobe(v, k, lobe[k]), get3(&emission, k)), cos_i[k] * weight);
+        l = select3(want[k], l, v3(0.0f, 0.0f, 0.0f));
+        vec3 dk = get3(direct, k);
+        set3(direct, k, select3(v->diffuse[k], v3_add(dk, l), dk));
+    }
+}
+
+#endif
