@@ -73,7 +73,7 @@ typedef struct tz_uvec4 {
 /* Texels 4k..4k+3: gpu_bvh_node k, read as uints (one zeroed node without a BVH). */
 #define TZ_BINDING_NODES 5
 /* Dynamic, bound as TZ_BINDING_ACCUM: a vec4 a pixel, the compensation of the open chunk's RGB
- * sums (Kahan summation, src/render/film_sum.h), w unused. A buffer of its own, so that each
+ * sums (Kahan summation, common/film_sum.h), w unused. A buffer of its own, so that each
  * stays within the 32-bit dynamic offsets as the sums alone did. */
 #define TZ_BINDING_ACCUM_COMP 6
 /* Texels 2e, 2e + 1: gpu_emitter e (one zeroed emitter without any). */

@@ -98,23 +98,7 @@ bool use_bvh() { return UNROLLED_SPHERES == 0u && frame.node_count > 0u; }
 #include "intersect.glsl"
 #include "common/path.h"
 #include "common/report.h"
-
-/* isfinite() on the bits, per component: immune to a compiler that assumes no NaN or infinity. */
-bvec3 finite_parts(vec3 v) {
-    return notEqual(floatBitsToUint(v) & 0x7f800000u, uvec3(0x7f800000u));
-}
-/* True when every component is finite. */
-bool finite3(vec3 v) { return all(finite_parts(v)); }
-
-/* Adds value to the sums whose lost low-order parts are comp (Kahan): film_sum_add() of
- * src/render/film_sum.h, the same operations; past the float range the compensation stops. */
-void film_sum_add(inout vec3 sum, inout vec3 comp, vec3 value) {
-    precise vec3 y = value - comp;
-    precise vec3 t = sum + y;
-    precise vec3 lost = (t - sum) - y;
-    comp = mix(vec3(0.0), lost, finite_parts(t));
-    sum = t;
-}
+#include "common/film_sum.h"
 
 /* The pixel of this invocation within the tile. Workgroup n of the dispatch takes block
  * (n * pass.group_stride) mod (the dispatch's workgroups), a stride coprime with that count:
@@ -172,7 +156,7 @@ void main() {
                 loop_overflow = false;
                 continue;
             }
-            if (finite3(l)) {
+            if (sample_finite(l)) {
                 vec3 rgb = sum.xyz;
                 film_sum_add(rgb, comp, l);
                 sum = vec4(rgb, sum.w + 1.0);
@@ -183,8 +167,8 @@ void main() {
         s += n;
         left -= n;
         if (!last || (pass.chunk_flags & TZ_CHUNK_CLOSE) != 0u) {
-            /* film_sum_value(), then chunk_values_push(): each merge is left + right */
-            precise vec3 value = sum.xyz - comp;
+            /* chunk_values_push() of src/render/chunk_tree.h: each merge is left + right */
+            precise vec3 value = film_sum_value(sum.xyz, comp);
             uint top = pass.stack_slot[c] & 0xffffu;
             for (uint m = 0u; m < pass.stack_slot[c] >> 16u; m++) {
                 top--;

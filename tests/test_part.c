@@ -11,8 +11,8 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "common/film_sum.h"
 #include "image/exr.h"
-#include "render/film_sum.h"
 #include "render/part.h"
 #include "render/render.h"
 #include "scene/scene.h"
@@ -35,21 +35,22 @@ static float sample(int x, int y, uint32_t s, int c) {
     return ldexpf((float)(h >> 8) * 0x1p-24f, (int)(h % 24) - 8);
 }
 
-static bool sample_finite(int x, int y, uint32_t s) {
+static bool pixel_sample_finite(int x, int y, uint32_t s) {
     return isfinite(sample(x, y, s, 0)) && isfinite(sample(x, y, s, 1)) &&
            isfinite(sample(x, y, s, 2));
 }
 
 /* Chunk k of pixel (x, y): its compensated sum and finite count. */
 static uint32_t chunk_value(int x, int y, uint32_t k, float out[3]) {
-    float sum[3] = {0}, comp[3] = {0};
+    vec3 sum = v3(0.0f, 0.0f, 0.0f), comp = sum;
     uint32_t count = 0, end = (k + 1) * CHUNK_SAMPLES < SPP ? (k + 1) * CHUNK_SAMPLES : SPP;
     for (uint32_t s = k * CHUNK_SAMPLES; s < end; s++) {
-        if (!sample_finite(x, y, s)) continue;
-        for (int c = 0; c < 3; c++) film_sum_add(&sum[c], &comp[c], sample(x, y, s, c));
+        if (!pixel_sample_finite(x, y, s)) continue;
+        film_sum_add(&sum, &comp, v3(sample(x, y, s, 0), sample(x, y, s, 1), sample(x, y, s, 2)));
         count++;
     }
-    for (int c = 0; c < 3; c++) out[c] = film_sum_value(sum[c], comp[c]);
+    vec3 value = film_sum_value(sum, comp);
+    out[0] = value.x, out[1] = value.y, out[2] = value.z;
     return count;
 }
 
@@ -407,10 +408,10 @@ static void test_long_sum(void) {
     m.width = m.height = 1, m.x0 = 0, m.x1 = 1, m.y0 = 0, m.y1 = 1, m.spp = 1u << 20;
     part p;
     EXPECT(part_init(&p, &m));
-    float sum = 0, comp = 0;
-    for (uint32_t s = 0; s < CHUNK_SAMPLES; s++) film_sum_add(&sum, &comp, 0.9f);
-    float chunk[3] = {film_sum_value(sum, comp), film_sum_value(sum, comp),
-                      film_sum_value(sum, comp)};
+    vec3 sum = v3(0.0f, 0.0f, 0.0f), comp = sum;
+    for (uint32_t s = 0; s < CHUNK_SAMPLES; s++) film_sum_add(&sum, &comp, v3(0.9f, 0.9f, 0.9f));
+    vec3 value = film_sum_value(sum, comp);
+    float chunk[3] = {value.x, value.y, value.z};
     uint32_t count = CHUNK_SAMPLES;
     bool pushed = true;
     while (pushed && p.meta.sample_end < m.spp) pushed = part_push_chunk(&p, chunk, &count);

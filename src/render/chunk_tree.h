@@ -1,8 +1,8 @@
 /* chunk_tree.h: how a pixel's samples are summed so that any split of a render merges back to
  * the very sums one machine makes (docs/DESIGN.md, "Parts and exact merging"). Samples come in
  * chunks of CHUNK_SAMPLES (chunk k: samples k*C to min((k+1)*C, N) - 1), each summed in sample
- * order with compensation (film_sum.h) into one float per channel. Chunks are combined along a
- * fixed binary tree over the chunk index: block (level l, index m) covers chunks m*2^l to
+ * order with compensation (common/film_sum.h) into one float per channel. Chunks are combined along
+ * a fixed binary tree over the chunk index: block (level l, index m) covers chunks m*2^l to
  * (m+1)*2^l - 1, and its value is left + right of its two halves, in float. A stack of blocks,
  * merging siblings as soon as both are there, holds any chunk-aligned range; its values depend
  * only on the blocks, so parts pushed in sample order rebuild the whole render's stack, which is

@@ -1,6 +1,6 @@
 /* render_cpu.c: the C reference back end: pthreads over tiles of a part's region, pass after pass
  * of whole chunks of samples; each chunk of a pixel summed in sample order (compensated,
- * film_sum.h) and pushed on the pixel's stack of chunk-tree blocks (chunk_tree.h), as
+ * common/film_sum.h) and pushed on the pixel's stack of chunk-tree blocks (chunk_tree.h), as
  * shaders/trace.comp does, so the sums are bit-identical for every thread count and split. */
 #include <math.h>
 #include <pthread.h>
@@ -11,9 +11,9 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "common/film_sum.h"
 #include "render/chunk_tree.h"
 #include "render/cpu/integrator.h"
-#include "render/film_sum.h"
 #include "render/part.h"
 #include "render/render.h"
 #include "util/clock.h"
@@ -69,7 +69,8 @@ static unsigned long long render_lanes(cpu_job *job, int i, int j, uint32_t lane
     for (uint32_t n = 0; n < job->chunks; n++) {
         uint32_t first = (job->first_chunk + n) * CHUNK_SAMPLES;
         uint32_t end = p->meta.spp - first < CHUNK_SAMPLES ? p->meta.spp : first + CHUNK_SAMPLES;
-        float sum[PACKET_LANES_MAX][3] = {{0.0f}}, comp[PACKET_LANES_MAX][3] = {{0.0f}};
+        vec3 sum[PACKET_LANES_MAX], comp[PACKET_LANES_MAX];
+        for (uint32_t k = 0; k < lanes; k++) sum[k] = comp[k] = v3(0.0f, 0.0f, 0.0f);
         /* A path build renders the chunk's samples as one run (a lane whose path ends takes the
          * next sample); they are summed in sample order all the same. */
         vec3 run[CHUNK_SAMPLES * PACKET_LANES_MAX];
@@ -78,19 +79,17 @@ static unsigned long long render_lanes(cpu_job *job, int i, int j, uint32_t lane
             vec3 *l = run + (size_t)(s - first) * lanes;
             if (!pk->samples) pk->sample(job->packed, x, y, lanes, s, l);
             for (uint32_t k = 0; k < lanes; k++) {
-                if (!isfinite(l[k].x) || !isfinite(l[k].y) || !isfinite(l[k].z)) {
+                if (!sample_finite(l[k])) {
                     dropped++;
                     continue;
                 }
-                film_sum_add(&sum[k][0], &comp[k][0], l[k].x);
-                film_sum_add(&sum[k][1], &comp[k][1], l[k].y);
-                film_sum_add(&sum[k][2], &comp[k][2], l[k].z);
+                film_sum_add(&sum[k], &comp[k], l[k]);
                 counted[k]++;
             }
         }
         for (uint32_t k = 0; k < lanes; k++) {
-            float v[3];
-            for (int c = 0; c < 3; c++) v[c] = film_sum_value(sum[k][c], comp[k][c]);
+            vec3 total = film_sum_value(sum[k], comp[k]);
+            const float v[3] = {total.x, total.y, total.z};
             chunk_values_push(value[k], job->top[n], job->merges[n], v);
         }
     }
