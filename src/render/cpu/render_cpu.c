@@ -15,6 +15,7 @@
 #include "render/chunk_tree.h"
 #include "render/cpu/integrator.h"
 #include "render/part.h"
+#include "render/pass_loop.h"
 #include "render/render.h"
 #include "util/clock.h"
 #include "util/log.h"
@@ -219,6 +220,50 @@ static void swap_in(cpu_job *job) {
     job->spare_count = old;
 }
 
+/* What the CPU back end's passes share across pass_loop_run's calls. */
+typedef struct cpu_passes {
+    cpu_job *job;
+    int *top, *merges; /* the pass's plan: where each chunk goes on the stack */
+    int threads, ran;  /* threads to start, and the last pass's */
+    bool progress;
+    cpu_progress *pr;
+    uint32_t begin; /* the chunk the render began at */
+} cpu_passes;
+
+/* pass_backend.run: plans and renders a pass, its planes swapped into the part when it is done,
+ * or the part left as it was when it was abandoned. */
+static pass_result cpu_run_pass(void *user, part *p, uint32_t first, uint32_t chunks) {
+    cpu_passes *c = user;
+    cpu_job *job = c->job;
+    chunk_stack shape = p->stack; /* ends at chunk `first` */
+    if (!plan_pass(job, &shape, chunks, c->top, c->merges)) return PASS_FAILED;
+    job->top = c->top;
+    job->merges = c->merges;
+    c->pr->done = (double)(part_sample_of(p, first) - part_sample_of(p, c->begin));
+    c->pr->pass = (double)(part_sample_of(p, first + chunks) - part_sample_of(p, first));
+    c->ran = run_pass(job, c->threads, c->progress, c->pr);
+    bool abandoned = atomic_load(&job->tiles_done) < job->tile_count;
+    if (abandoned) {
+        atomic_store(&job->nonfinite, 0);
+    } else {
+        swap_in(job);
+        p->stack = shape;
+        p->meta.sample_end = part_sample_of(p, shape.end);
+        p->meta.nonfinite += atomic_exchange(&job->nonfinite, 0);
+    }
+    for (int b = p->stack.count; b < CHUNK_STACK_MAX; b++) {
+        free(p->block[b]);
+        p->block[b] = NULL;
+    }
+    return abandoned ? PASS_ABANDONED : PASS_DONE;
+}
+
+/* pass_backend.sync: nothing to do, every pass writes the part itself. */
+static bool cpu_sync(void *user, part *p, uint32_t done, pass_result result) {
+    (void)user, (void)p, (void)done, (void)result;
+    return true;
+}
+
 bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t sample_end) {
     /* Samples of another back end differ by rounding: going on from them would mix the two. */
     if (p->meta.backend[0] && strcmp(p->meta.backend, "cpu")) {
@@ -260,50 +305,17 @@ bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t 
                        .total = (double)(part_sample_of(p, end_chunk) - part_sample_of(p, begin)),
                        .pixels = (double)job.width * job.height,
                        .deadline = opts->deadline};
-    const render_control *control = opts->control;
-    job.stop = control ? control->stop : NULL;
-    bool sync = false;
-    uint32_t next =
-        control ? control->next_pass(control->user, p->meta.sample_end, &sync) : end_chunk - begin;
-    if (ok && sync) ok = control->synced(control->user, p);
-    while (ok && p->stack.end < end_chunk && next > 0) {
-        uint32_t chunks = next < end_chunk - p->stack.end ? next : end_chunk - p->stack.end;
-        chunk_stack shape = p->stack;
-        if (!(ok = plan_pass(&job, &shape, chunks, top, merges))) break;
-        job.top = top;
-        job.merges = merges;
-        pr.done = (double)(part_sample_of(p, job.first_chunk) - part_sample_of(p, begin));
-        pr.pass = (double)(part_sample_of(p, job.first_chunk + chunks) -
-                           part_sample_of(p, job.first_chunk));
-        ran = run_pass(&job, n, opts->progress, &pr);
-        if (atomic_load(&job.tiles_done) < job.tile_count) { /* abandoned: the part as it was */
-            atomic_store(&job.nonfinite, 0);
-            for (int b = p->stack.count; b < CHUNK_STACK_MAX; b++) {
-                free(p->block[b]);
-                p->block[b] = NULL;
-            }
-            next = control->next_pass(control->user, p->meta.sample_end, &sync);
-            if (sync) ok = control->synced(control->user, p);
-            if (ok && next > 0) {
-                log_error("cpu back end: a pass was abandoned, yet the render was not stopped");
-                ok = false;
-            }
-            break;
-        }
-        swap_in(&job);
-        for (int b = shape.count; b < CHUNK_STACK_MAX; b++) {
-            free(p->block[b]);
-            p->block[b] = NULL;
-        }
-        p->stack = shape;
-        p->meta.sample_end = part_sample_of(p, shape.end);
-        p->meta.nonfinite += atomic_exchange(&job.nonfinite, 0);
-        sync = false;
-        next = p->stack.end < end_chunk && control
-                   ? control->next_pass(control->user, p->meta.sample_end, &sync)
-                   : 0u;
-        if (sync) ok = control->synced(control->user, p);
-    }
+    job.stop = opts->control ? opts->control->stop : NULL;
+    cpu_passes passes = {.job = &job,
+                         .top = top,
+                         .merges = merges,
+                         .threads = n,
+                         .progress = opts->progress,
+                         .pr = &pr,
+                         .begin = begin};
+    pass_backend be = {.run = cpu_run_pass, .sync = cpu_sync, .user = &passes};
+    ok = ok && pass_loop_run(opts, p, end_chunk, "cpu", &be);
+    ran = passes.ran;
     if (opts->progress) render_progress_clear();
     double render_seconds = clock_seconds() - pr.start;
     log_debug("cpu: rendering in %.1f ms on %d threads", render_seconds * 1e3, ran ? ran : 1);

@@ -13,6 +13,7 @@
 
 #include "render/chunk_tree.h"
 #include "render/part.h"
+#include "render/pass_loop.h"
 #include "render/render.h"
 #include "render/scene_pack.h"
 #include "render/vk/vk_accel.h"
@@ -105,10 +106,6 @@ typedef struct pass_run {
     double done, total; /* samples a pixel: rendered before this pass, and in all */
     double deadline;    /* render_opts.deadline */
 } pass_run;
-
-/* How a host pass ended: done, stopped before its first submission (the sums as they were),
- * abandoned after some (the snapshot holds the sums as it began), or failed. */
-typedef enum pass_result { PASS_DONE, PASS_NOT_BEGUN, PASS_ABANDONED, PASS_FAILED } pass_result;
 
 /* Records and runs one host pass, submission by submission; adds its non-finite counts when it
  * is done. With progress, submissions are cut finer (down to one tile) so that the line moves;
@@ -295,73 +292,80 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
     return true;
 }
 
-/* Renders chunks up to end_chunk in the passes opts->control sets, syncing the part when it
- * asks and at the end; a stop abandons the pass in flight, the part then as that pass began.
- * False on failure or a refusal (in `reason`). */
+/* What the Vulkan back end's host passes share across pass_loop_run's calls. */
+typedef struct vk_passes {
+    vk_render *r;
+    pass_plan *plan;
+    const render_opts *opts;
+    chunk_slot *slots;
+    chunk_stack shape, before; /* the stack after the passes run so far, and before the last */
+    pass_run run;
+    bool current;       /* the last pass was the first: the part is as the device began */
+    uint64_t nonfinite; /* since the last sync */
+    uint64_t rays;      /* traced in all */
+    uint32_t begin;     /* the chunk the render began at */
+    char *reason;       /* a refusal */
+} vk_passes;
+
+/* pass_backend.run: plans and runs one host pass (run_passes) on the device. */
+static pass_result vk_run_pass(void *user, part *p, uint32_t first, uint32_t chunks) {
+    vk_passes *v = user;
+    v->before = v->shape;
+    for (uint32_t k = 0; k < chunks; k++) {
+        v->slots[k].top = (uint32_t)v->shape.count;
+        v->slots[k].merges = (uint32_t)chunk_stack_push(&v->shape, (chunk_block){0, first + k});
+    }
+    v->plan->first_chunk = first;
+    v->plan->chunks = chunks;
+    v->plan->sample_end = part_sample_of(p, first + chunks);
+    v->plan->slot = v->slots;
+    v->run.done = (double)(part_sample_of(p, first) - part_sample_of(p, v->begin));
+    v->current = v->run.setup;
+    pass_result result =
+        run_passes(v->r, v->plan, v->opts, &v->run, &v->nonfinite, &v->rays, v->reason);
+    v->run.setup = false;
+    return result;
+}
+
+/* pass_backend.sync: reads the sums back into p: as they are, or after a stop as the pass in
+ * flight began (from the snapshot once a submission of it ran; nothing to read when it was the
+ * first and none ran). */
+static bool vk_sync(void *user, part *p, uint32_t done, pass_result result) {
+    vk_passes *v = user;
+    if (result == PASS_DONE)
+        return vk_render_sync_part(v->r, v->plan, false, &v->shape, done, &v->nonfinite, p);
+    if (v->current && result == PASS_NOT_BEGUN) return true;
+    return vk_render_sync_part(v->r, v->plan, result == PASS_ABANDONED, &v->before, done,
+                               &v->nonfinite, p);
+}
+
+/* Renders chunks up to end_chunk in the passes opts->control sets (pass_loop_run); false on
+ * failure or a refusal (in `reason`). */
 static bool render_chunks(vk_render *r, pass_plan *plan, const render_opts *opts, part *p,
                           uint32_t end_chunk, bool resumed, char *reason) {
-    const render_control *control = opts->control;
-    chunk_stack shape = p->stack;
-    uint32_t done = shape.end, begin = shape.end;
-    chunk_slot *slots = malloc((end_chunk - begin + 1u) * sizeof *slots);
-    if (!slots) {
+    uint32_t begin = p->stack.end;
+    vk_passes v = {
+        .r = r,
+        .plan = plan,
+        .opts = opts,
+        .slots = malloc((end_chunk - begin + 1u) * sizeof(chunk_slot)),
+        .shape = p->stack,
+        .run = {.setup = true,
+                .resumed = resumed,
+                .start = clock_seconds(),
+                .total = (double)(part_sample_of(p, end_chunk) - part_sample_of(p, begin)),
+                .deadline = opts->deadline},
+        .begin = begin,
+        .reason = reason};
+    if (!v.slots) {
         log_error("out of memory for a plan of %u chunks", end_chunk - begin);
         return false;
     }
-    uint64_t nonfinite = 0, rays = 0;
-    pass_run run = {.setup = true,
-                    .resumed = resumed,
-                    .start = clock_seconds(),
-                    .total = (double)(part_sample_of(p, end_chunk) - part_sample_of(p, begin)),
-                    .deadline = opts->deadline};
-    bool sync = false, ok = true;
-    uint32_t next =
-        control ? control->next_pass(control->user, p->meta.sample_end, &sync) : end_chunk - done;
-    if (sync) ok = control->synced(control->user, p); /* nothing rendered yet: p is current */
-    while (ok && done < end_chunk && next > 0) {
-        uint32_t chunks = next < end_chunk - done ? next : end_chunk - done;
-        chunk_stack before = shape;
-        for (uint32_t k = 0; k < chunks; k++) {
-            slots[k].top = (uint32_t)shape.count;
-            slots[k].merges = (uint32_t)chunk_stack_push(&shape, (chunk_block){0, done + k});
-        }
-        plan->first_chunk = done;
-        plan->chunks = chunks;
-        plan->sample_end = part_sample_of(p, done + chunks);
-        plan->slot = slots;
-        run.done = (double)(part_sample_of(p, done) - part_sample_of(p, begin));
-        bool current = run.setup; /* nothing rendered yet: p is as the device will be */
-        pass_result result = run_passes(r, plan, opts, &run, &nonfinite, &rays, reason);
-        run.setup = false;
-        if (result == PASS_FAILED) {
-            ok = false;
-            break;
-        }
-        if (result == PASS_NOT_BEGUN || result == PASS_ABANDONED) {
-            if (!current || result == PASS_ABANDONED)
-                ok = vk_render_sync_part(r, plan, result == PASS_ABANDONED, &before, done,
-                                         &nonfinite, p);
-            next = control->next_pass(control->user, p->meta.sample_end, &sync);
-            if (ok && sync) ok = control->synced(control->user, p);
-            if (ok && next > 0) {
-                log_error("vulkan back end: a pass was abandoned, yet the render was not stopped");
-                ok = false;
-            }
-            break;
-        }
-        done += chunks;
-        sync = false;
-        next = done < end_chunk && control
-                   ? control->next_pass(control->user, part_sample_of(p, done), &sync)
-                   : 0u;
-        if (sync || next == 0 || done == end_chunk) {
-            ok = vk_render_sync_part(r, plan, false, &shape, done, &nonfinite, p);
-            if (ok && sync) ok = control->synced(control->user, p);
-        }
-    }
+    pass_backend be = {.run = vk_run_pass, .sync = vk_sync, .user = &v};
+    bool ok = pass_loop_run(opts, p, end_chunk, "vulkan", &be);
     if (opts->progress) render_progress_clear(); /* on failure too: messages follow */
-    if (opts->stats) opts->stats->rays = rays;
-    free(slots);
+    if (opts->stats) opts->stats->rays = v.rays;
+    free(v.slots);
     return ok;
 }
 
