@@ -1,6 +1,6 @@
 /* mesh_load.h: a model file read through assimp (OBJ, PLY, glTF, COLLADA, ...) into faces and
  * the file's materials mapped to trazador's (scenes/README.md, `mesh`); the `mesh` directive
- * (scene_directives.c) transforms and checks them. */
+ * (scene_mesh.c) transforms and checks them. */
 #ifndef TRAZADOR_MESH_LOAD_H
 #define TRAZADOR_MESH_LOAD_H
 

@@ -1,10 +1,12 @@
-/* parser.h: what the three files of the scene parser share (not an API): the parser's state, the
- * tokens and key tables of a line, and the lexer's functions. scene_lex.c splits lines into tokens
- * and reads values and keys; scene_directives.c parses each directive into the scene;
- * scene_parse.c drives them over a text, in chunks on several threads, and reads files. */
+/* parser.h: what the files of the scene parser share (not an API): the parser's state, the
+ * tokens and key tables of a line, the lexer's functions and the driver's. scene_lex.c splits
+ * lines into tokens and reads values and keys; scene_directives.c hands each directive to its
+ * parser (directives.h); scene_parse.c drives them over a text, in chunks on several threads;
+ * scene_file.c reads files. */
 #ifndef TRAZADOR_SCENE_PARSER_H
 #define TRAZADOR_SCENE_PARSER_H
 
+#include <limits.h>
 #include <stdbool.h>
 #include <stddef.h>
 
@@ -22,6 +24,9 @@
 #ifndef PARSER_MAX_PRIMITIVES
 #define PARSER_MAX_PRIMITIVES SCENE_MAX_PRIMITIVES
 #endif
+
+/* Line numbers are ints: even a text of only newlines this long keeps them in range. */
+#define MAX_TEXT_BYTES ((size_t)INT_MAX - 1)
 
 #define BIT(key) (1u << (key))
 
@@ -113,5 +118,14 @@ bool parser_tokenize(parser *p, const char *line, size_t length);
 /* Parses the directive of the tokenized line p->tokens into p->s; false (reported) on any error,
  * or unreported for a chunk parsed ahead (primitives_only) meeting another directive. */
 bool parser_directive(parser *p);
+/* Parses one line, without its '\n' (a CR left before it counts as the line ending); false
+ * (reported) on an error. */
+bool parser_line(parser *p, const char *line, size_t length);
+/* A scene before its first directive. */
+scene parser_scene_defaults(void);
+/* Parses text on up to threads threads (0: one per core) for a render in mode (-1: the scene's
+ * own mode) into *out, written only on success; false (reported in *err) on any error. */
+bool parser_run(const char *text, size_t length, const char *filename, int threads, int mode,
+                scene *out, scene_error *err);
 
 #endif

@@ -1,5 +1,6 @@
-/* scene_parse.c: the scene parser's driver (DESIGN section 2), from a string or a file: lines
- * through the lexer (scene_lex.c) and the directives (scene_directives.c).
+/* scene_parse.c: the scene parser's driver (DESIGN section 2), over a text (a string, or a file
+ * read by scene_file.c): lines through the lexer (scene_lex.c) and the directives
+ * (scene_directives.c), then the checks of the whole scene.
  *
  * One pass over the text, one line at a time: each line is split into tokens (pointers into the
  * text, no copies), its directive is parsed into a local struct scene, and the first error stops
@@ -13,27 +14,21 @@
  * many primitives) is parsed again in order, so the scene, messages, warnings and which error
  * comes first are those of one pass.
  */
-#include <errno.h>
-#include <fcntl.h>
 #include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <pthread.h>
-#include <stdarg.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include "scene/parser.h"
 #include "scene/scene.h"
 #include "shared_layout.h"
 
-/* Line numbers are ints: even a text of only newlines this long keeps them in range. */
-#define MAX_TEXT_BYTES ((size_t)INT_MAX - 1)
 /* Chunks are no shorter than this: a chunk costs a parser and a copy of its primitives. */
 #define MIN_CHUNK_BYTES (256 * 1024)
 /* Threads a parse uses at most. */
@@ -43,7 +38,7 @@
 #define CHUNKS_PER_THREAD 4
 #define MAX_CHUNKS (CHUNKS_PER_THREAD * MAX_PARSE_THREADS)
 
-static bool parse_line(parser *p, const char *line, size_t length) {
+bool parser_line(parser *p, const char *line, size_t length) {
     /* A CR before the '\n' belongs to the line ending, not to the line's length. */
     size_t content = length > 0 && line[length - 1] == '\r' ? length - 1 : length;
     if (content > SCENE_MAX_LINE) {
@@ -115,7 +110,7 @@ static bool parse_lines(parser *p, const char *text, const char *end) {
     while (text < end) {
         const char *newline = memchr(text, '\n', (size_t)(end - text));
         const char *line_end = newline ? newline : end;
-        if (!parse_line(p, text, (size_t)(line_end - text))) return false;
+        if (!parser_line(p, text, (size_t)(line_end - text))) return false;
         if (!newline) break;
         text = newline + 1;
         p->line++;
@@ -306,8 +301,7 @@ static bool parse_text(parser *p, int threads) {
     return true;
 }
 
-/* A scene before its first directive. */
-static scene scene_defaults(void) {
+scene parser_scene_defaults(void) {
     return (scene){
         .camera_direction = v3(0, 0, 1),
         .camera_up = v3(0, 1, 0),
@@ -320,9 +314,8 @@ static scene scene_defaults(void) {
     };
 }
 
-/* Parses text on up to threads threads for a render in mode (-1: the scene's own mode). */
-static bool parse_string(const char *text, size_t length, const char *filename, int threads,
-                         int mode, scene *out, scene_error *err) {
+bool parser_run(const char *text, size_t length, const char *filename, int threads, int mode,
+                scene *out, scene_error *err) {
     if (err) err->out_of_memory = false;
     parser *p = calloc(1, sizeof *p);
     if (!p) {
@@ -335,7 +328,7 @@ static bool parse_string(const char *text, size_t length, const char *filename, 
     p->err = err;
     p->line = 1;
     p->mode_given = mode;
-    p->s = scene_defaults();
+    p->s = parser_scene_defaults();
     bool ok;
     if (length > MAX_TEXT_BYTES) {
         p->line = 0;
@@ -356,161 +349,15 @@ static bool parse_string(const char *text, size_t length, const char *filename, 
 
 bool scene_parse_string_threads(const char *text, size_t length, const char *filename, int threads,
                                 scene *out, scene_error *err) {
-    return parse_string(text, length, filename, threads, -1, out, err);
+    return parser_run(text, length, filename, threads, -1, out, err);
 }
 
 bool scene_parse_string(const char *text, size_t length, const char *filename, scene *out,
                         scene_error *err) {
-    return parse_string(text, length, filename, 0, -1, out, err);
+    return parser_run(text, length, filename, 0, -1, out, err);
 }
 
 bool scene_parse_string_in_mode(const char *text, size_t length, const char *filename, int mode,
                                 scene *out, scene_error *err) {
-    return parse_string(text, length, filename, 0, mode, out, err);
-}
-
-/* A file-level error has no position: line and col are 0. */
-static bool fail_file(const char *path, scene_error *err, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-static bool fail_file(const char *path, scene_error *err, const char *fmt, ...) {
-    if (err) {
-        snprintf(err->file, sizeof err->file, "%s", path);
-        err->line = 0;
-        err->col = 0;
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(err->message, sizeof err->message, fmt, ap);
-        va_end(ap);
-    }
-    return false;
-}
-
-/* A line of each read of a stream parsed as it arrives (the first new one; spheres dropped: the
- * whole text is parsed again, on every core, once read), so that a stream of bad lines that
- * never ends is refused at once rather than read to the size limit, at no cost worth naming
- * to a good one. Lines left out can only hide errors from it (what it parsed is a subset of
- * what the full parse sees), never make up one, so it never stops a good stream. */
-typedef struct stream_check {
-    parser *p; /* NULL: not checked (no memory: the parse after the read still reports) */
-    size_t checked;
-} stream_check;
-
-static void stream_check_init(stream_check *c, const char *path) {
-    c->checked = 0;
-    c->p = calloc(1, sizeof *c->p);
-    if (!c->p) return;
-    c->p->filename = path;
-    c->p->line = 1;
-    c->p->mode_given = -1;
-    c->p->s = scene_defaults();
-}
-
-static void stream_check_free(stream_check *c) {
-    if (c->p) scene_free(&c->p->s);
-    free(c->p);
-}
-
-/* Whether the first complete line of data[checked, used) parses, and the unfinished last one
- * is not already too long; false on an error, which the parse after the read reports as usual
- * (at the first bad line). */
-static bool stream_check_lines(stream_check *c, const char *data, size_t used) {
-    if (!c->p) return true;
-    const char *text = data + c->checked, *end = data + used;
-    const char *newline = memchr(text, '\n', (size_t)(end - text));
-    if (!newline) return (size_t)(end - text) <= SCENE_MAX_LINE + 1; /* + 1: a CR */
-    if (!parse_line(c->p, text, (size_t)(newline - text))) return false;
-    c->p->s.sphere_count = 0;
-    const char *last = newline;
-    for (const char *q; (q = memchr(last + 1, '\n', (size_t)(end - last - 1)));) last = q;
-    c->checked = (size_t)(last + 1 - data);
-    return (size_t)(end - last - 1) <= SCENE_MAX_LINE + 1;
-}
-
-/* Reads all of fd into a malloc'd buffer; sizes a regular file from fstat, grows for pipes. */
-static bool read_all(int fd, const char *path, char **data, size_t *length, bool *cut,
-                     scene_error *err) {
-    *cut = false;
-    struct stat st;
-    if (fstat(fd, &st) != 0) return fail_file(path, err, "cannot stat: %s", strerror(errno));
-    if (S_ISDIR(st.st_mode)) return fail_file(path, err, "is a directory");
-    size_t capacity = 1 << 16;
-    if (S_ISREG(st.st_mode)) {
-        if ((unsigned long long)st.st_size > MAX_TEXT_BYTES) {
-            return fail_file(path, err, "file is too large (%lld bytes; the limit is %zu)",
-                             (long long)st.st_size, MAX_TEXT_BYTES);
-        }
-        capacity = (size_t)st.st_size + 1; /* +1 so a regular file ends in one short read */
-    }
-    char *buffer = malloc(capacity);
-    if (!buffer) {
-        if (err) err->out_of_memory = true;
-        return fail_file(path, err, "out of memory reading %zu bytes", capacity);
-    }
-    size_t used = 0;
-    stream_check check = {0};
-    if (!S_ISREG(st.st_mode)) stream_check_init(&check, path);
-    for (;;) {
-        if (used == capacity) {
-            if (capacity > MAX_TEXT_BYTES) {
-                free(buffer);
-                stream_check_free(&check);
-                return fail_file(path, err, "file is too large (the limit is %zu bytes)",
-                                 MAX_TEXT_BYTES);
-            }
-            char *grown = realloc(buffer, capacity * 2);
-            if (!grown) {
-                free(buffer);
-                stream_check_free(&check);
-                if (err) err->out_of_memory = true;
-                return fail_file(path, err, "out of memory reading %zu bytes", capacity * 2);
-            }
-            buffer = grown;
-            capacity *= 2;
-        }
-        ssize_t n = read(fd, buffer + used, capacity - used);
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) {
-            int error = errno;
-            free(buffer);
-            stream_check_free(&check);
-            return fail_file(path, err, "cannot read: %s", strerror(error));
-        }
-        if (n == 0) break;
-        used += (size_t)n;
-        /* A NUL byte is an error wherever it is: stop reading a stream (/dev/zero never ends)
-         * and let the parser report it at its line and column. */
-        *cut = !S_ISREG(st.st_mode) && (memchr(buffer + used - n, '\0', (size_t)n) ||
-                                        /* a bad line stops a stream too */
-                                        !stream_check_lines(&check, buffer, used));
-        if (*cut) break;
-    }
-    stream_check_free(&check);
-    *data = buffer;
-    *length = used;
-    return true;
-}
-
-bool scene_parse_file(const char *path, scene *out, scene_error *err) {
-    return scene_parse_file_in_mode(path, -1, out, err);
-}
-
-bool scene_parse_file_in_mode(const char *path, int mode, scene *out, scene_error *err) {
-    if (err) err->out_of_memory = false;
-    /* "-" is standard input, named as the tools name it. */
-    bool is_stdin = !strcmp(path, "-");
-    if (is_stdin) path = "<stdin>";
-    int fd = is_stdin ? dup(STDIN_FILENO) : open(path, O_RDONLY);
-    if (fd < 0) return fail_file(path, err, "cannot open: %s", strerror(errno));
-    char *data = NULL;
-    size_t length = 0;
-    bool cut;
-    bool ok = read_all(fd, path, &data, &length, &cut, err);
-    close(fd);
-    if (ok) ok = parse_string(data, length, path, 0, mode, out, err);
-    if (ok && cut) { /* never a scene cut short: the parse must report what stopped the read */
-        scene_free(out);
-        ok = fail_file(path, err, "stopped reading at a line the parser then accepted");
-    }
-    free(data);
-    return ok;
+    return parser_run(text, length, filename, 0, mode, out, err);
 }

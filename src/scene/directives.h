@@ -1,0 +1,116 @@
+/* directives.h: what the directive files share (not an API): each directive's parser, for the
+ * table in scene_directives.c; the key ranges and the material keys every shape takes; the
+ * material words and the surface read from a shape's line (scene_material.c); the face checks
+ * and appends of the triangle directives, which mesh lines reuse (scene_primitives.c); and
+ * growing the scene's arrays (scene_directives.c). */
+#ifndef TRAZADOR_SCENE_DIRECTIVES_H
+#define TRAZADOR_SCENE_DIRECTIVES_H
+
+#include <float.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "scene/parser.h"
+
+#define NO_RANGE -FLT_MAX, FLT_MAX, false
+#define UNIT_RANGE 0.0, 1.0, false
+/* Positions and radii: the renderer squares their differences in float, which overflows past
+ * about 1.8e19 (a sphere of radius 2e19 vanished). */
+#define COORD_RANGE -1e18, 1e18, false
+
+/* The keys of a surface's material, the same for every shape: each shape's key table holds its
+ * own keys, then these, so that one material table and one reader serve spheres and faces. */
+enum { MAT_COLOR, MAT_KS, MAT_ALPHA, MAT_IOR, MAT_EMISSION, MAT_KEY_COUNT };
+/* clang-format off */
+#define MATERIAL_KEY_SPECS                                          \
+    {"color", "r g b", VALUE_NUMBER, UNIT_RANGE},                   \
+    {"ks", NULL, VALUE_NUMBER, UNIT_RANGE},                         \
+    {"alpha", NULL, VALUE_NUMBER, 0.0, FLT_MAX, false},             \
+    {"ior", NULL, VALUE_NUMBER, 1.0, FLT_MAX, false},               \
+    {"emission", "r g b", VALUE_NUMBER, 0.0, FLT_MAX, false}
+/* clang-format on */
+
+/* A shape directive (sphere, triangle, quad, mesh) as the shared readers (shape_read,
+ * shape_surface) see it. */
+typedef struct shape_spec {
+    const char *word;
+    const key_spec *keys;
+    int key_count;
+    int material_first; /* index in keys of the first material key */
+    unsigned own_keys;  /* bits of keys the shape takes whatever its material */
+    unsigned required;
+    bool glass; /* takes refractive: only a closed surface bounds a medium */
+} shape_spec;
+
+#define LOW_BITS(n) ((1u << (n)) - 1u)
+
+typedef struct material_spec {
+    const char *word;
+    material_kind kind;
+    unsigned keys; /* bits of the material keys (MAT_*) this material accepts */
+    float default_color;
+    bool alias; /* one of the seed's Spanish names */
+} material_spec;
+
+/* A surface's material as its line gives it, defaults filled in. */
+typedef struct surface {
+    material_kind material;
+    vec3 color;
+    float ks, alpha, ior;
+    vec3 emission;
+} surface;
+
+/* Double-precision vectors: the face checks must not overflow or cancel where float would. */
+typedef struct dvec3 {
+    double x, y, z;
+} dvec3;
+static inline dvec3 d3_sub(vec3 a, vec3 b) {
+    return (dvec3){(double)a.x - b.x, (double)a.y - b.y, (double)a.z - b.z};
+}
+static inline dvec3 d3_cross(dvec3 a, dvec3 b) {
+    return (dvec3){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+static inline double d3_dot(dvec3 a, dvec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline double d3_length(dvec3 a) { return sqrt(d3_dot(a, a)); }
+
+/* The directives' parsers (scene_setup.c, scene_primitives.c, scene_mesh.c): each parses the
+ * tokenized line p->tokens into p->s; false (reported) on any error. */
+bool directive_camera(parser *p);
+bool directive_plane(parser *p);
+bool directive_light(parser *p);
+bool directive_background(parser *p);
+bool directive_render(parser *p);
+bool directive_sphere(parser *p);
+bool directive_triangle(parser *p);
+bool directive_quad(parser *p);
+bool directive_mesh(parser *p);
+
+/* Appends to a message, dropping what does not fit. */
+void directive_append(char *message, size_t size, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* Grows *array (count items of *capacity) by doubling, for room for `adding` more items; false
+ * (reported at the directive word) past max or out of memory. */
+bool directive_grow(parser *p, void **array, size_t *capacity, int count, int adding, int max,
+                    size_t item, const char *what);
+
+/* The material the token names, aliases included; NULL for none. */
+const material_spec *material_lookup(const token *word);
+/* The materials the shape takes, for messages, joined by sep; aliases after ", or " if asked. */
+void material_list(char *out, size_t size, const shape_spec *shape, const char *sep, bool aliases);
+/* Reads a shape's line: its material word (token 1), then its keys and the material's into kv;
+ * false (reported) on a bad material or a bad or missing key. */
+bool shape_read(parser *p, const shape_spec *shape, const material_spec **material, key_values *kv);
+/* The material of a shape's line, defaults filled in; records the line's emission for seed mode. */
+surface shape_surface(parser *p, const shape_spec *shape, const material_spec *m,
+                      const key_values *kv);
+
+/* True, with the reason in why, unless face a b c is one the renderer can normalize in single
+ * precision; `what` names the face in the reason. */
+bool face_problem(vec3 a, vec3 b, vec3 c, const char *what, char *why, size_t size);
+/* Room for `adding` triangles; false (reported) past the limits or out of memory. */
+bool faces_reserve(parser *p, int adding);
+/* Appends one face to the scene's triangles (room reserved by faces_reserve). */
+void face_add(parser *p, vec3 a, vec3 b, vec3 c, const surface *f);
+
+#endif

@@ -1,0 +1,98 @@
+/* scene_material.c: a shape's material (DESIGN section 2; scenes/README.md): the material words
+ * and the keys each takes, and the reading of a shape's line, its material and keys, into the
+ * surface it gets (defaults filled in) for spheres, triangles, quads and meshes alike. */
+#include <stdio.h>
+#include <string.h>
+
+#include "scene/directives.h"
+#include "scene/parser.h"
+
+#define MATERIAL_COMMON_KEYS (BIT(MAT_COLOR) | BIT(MAT_EMISSION))
+
+/* The seed's Spanish names last: messages list them apart, as aliases (material_list). */
+static const material_spec materials[] = {
+    {"lambertian", MATERIAL_LAMBERTIAN, MATERIAL_COMMON_KEYS, 0.8f, false},
+    {"phong", MATERIAL_PHONG, MATERIAL_COMMON_KEYS | BIT(MAT_KS) | BIT(MAT_ALPHA), 0.8f, false},
+    {"mirror", MATERIAL_MIRROR, MATERIAL_COMMON_KEYS, 1.0f, false},
+    {"refractive", MATERIAL_REFRACTIVE, MATERIAL_COMMON_KEYS | BIT(MAT_IOR), 1.0f, false},
+    {"lambertiana", MATERIAL_LAMBERTIAN, MATERIAL_COMMON_KEYS, 0.8f, true},
+    {"espejo", MATERIAL_MIRROR, MATERIAL_COMMON_KEYS, 1.0f, true},
+    {"refractada", MATERIAL_REFRACTIVE, MATERIAL_COMMON_KEYS | BIT(MAT_IOR), 1.0f, true},
+};
+
+const material_spec *material_lookup(const token *word) {
+    for (size_t i = 0; i < sizeof materials / sizeof materials[0]; i++) {
+        if (parser_token_is(word, materials[i].word)) return &materials[i];
+    }
+    return NULL;
+}
+
+/* The materials a shape takes, for messages: "lambertian phong mirror refractive, or lambertiana
+ * espejo refractada" (sep " ") or "lambertian, phong, mirror, refractive" (sep ", ", no aliases).
+ */
+void material_list(char *out, size_t size, const shape_spec *shape, const char *sep, bool aliases) {
+    out[0] = '\0';
+    for (int pass = 0; pass < (aliases ? 2 : 1); pass++) {
+        bool first = true;
+        for (size_t i = 0; i < sizeof materials / sizeof materials[0]; i++) {
+            const material_spec *m = &materials[i];
+            if (m->alias != (pass == 1) || (m->kind == MATERIAL_REFRACTIVE && !shape->glass))
+                continue;
+            directive_append(out, size, "%s%s", first ? (pass ? ", or " : "") : sep, m->word);
+            first = false;
+        }
+    }
+}
+
+/* Reads a shape's line: its material word (token 1), then its keys and the material's into kv.
+ * False (reported) on a missing or unknown material, glass on a shape that takes none, or a bad
+ * or missing key. */
+bool shape_read(parser *p, const shape_spec *shape, const material_spec **material,
+                key_values *kv) {
+    char list[128];
+    if (p->token_count < 2) {
+        material_list(list, sizeof list, shape, ", ", false);
+        return parser_fail(p, parser_end_col(p),
+                           "expected a material after '%s' (%s), got end of line", shape->word,
+                           list);
+    }
+    const token *word = &p->tokens[1];
+    const material_spec *m = material_lookup(word);
+    if (!m) {
+        material_list(list, sizeof list, shape, " ", true);
+        return parser_fail(p, word->col, "unknown material '%s' for %s (expected one of: %s)",
+                           parser_quote(p, word), shape->word, list);
+    }
+    if (m->kind == MATERIAL_REFRACTIVE && !shape->glass) {
+        return parser_fail(p, word->col,
+                           "a %s cannot be '%s': glass needs a closed mesh (load one with the "
+                           "'mesh' directive)",
+                           shape->word, m->word);
+    }
+    *material = m;
+    unsigned accepted = shape->own_keys | m->keys << shape->material_first;
+    return parser_keys_of(p, shape->word, m->word, shape->keys, shape->key_count, accepted, 2,
+                          kv) &&
+           parser_require_keys(p, shape->word, shape->keys, shape->key_count, shape->required, kv);
+}
+
+/* The material of a shape's line, defaults filled in; records the first emission, which seed
+ * mode refuses once the whole text is read (render mode may come later). */
+surface shape_surface(parser *p, const shape_spec *shape, const material_spec *m,
+                      const key_values *kv) {
+    int k = shape->material_first;
+    bool phong = m->kind == MATERIAL_PHONG;
+    float c = m->default_color;
+    if ((kv->given & BIT(k + MAT_EMISSION)) && !p->emission_line) {
+        p->emission_line = p->line;
+        p->emission_col = p->tokens[kv->key_token[k + MAT_EMISSION]].col;
+    }
+    return (surface){
+        .material = m->kind,
+        .color = parser_vec3(kv, k + MAT_COLOR, v3(c, c, c)),
+        .ks = phong ? (float)parser_value_or(kv, k + MAT_KS, 0.5) : 0.0f,
+        .alpha = phong ? (float)parser_value_or(kv, k + MAT_ALPHA, 32.0) : 0.0f,
+        .ior = (float)parser_value_or(kv, k + MAT_IOR, m->kind == MATERIAL_REFRACTIVE ? 1.5 : 1.0),
+        .emission = parser_vec3(kv, k + MAT_EMISSION, v3(0, 0, 0)),
+    };
+}

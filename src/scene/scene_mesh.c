@@ -1,0 +1,305 @@
+/* scene_mesh.c: the mesh directive (DESIGN section 3.4; scenes/README.md): a model file loaded
+ * (mesh_load.c), moved by the line's scale, rotate and translate, its degenerate faces dropped,
+ * glass only when it is closed, appended to the scene's triangles. */
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "scene/directives.h"
+#include "scene/mesh_load.h"
+#include "scene/parser.h"
+
+/* A mesh's own keys (file, scale and rotate are read by directive_mesh: a path, 1 or 3 numbers, 4
+ * numbers), then the material keys. */
+enum {
+    MESH_FILE,
+    MESH_SCALE,
+    MESH_ROTATE,
+    MESH_TRANSLATE,
+    MESH_SMOOTH,
+    MESH_MATERIAL,
+    MESH_KEY_COUNT = MESH_MATERIAL + MAT_KEY_COUNT
+};
+static const key_spec mesh_keys[MESH_KEY_COUNT] = {
+    {"file", NULL, VALUE_WORD, NO_RANGE},
+    {"scale", NULL, VALUE_NUMBER, COORD_RANGE},
+    {"rotate", NULL, VALUE_NUMBER, NO_RANGE},
+    {"translate", "x y z", VALUE_NUMBER, COORD_RANGE},
+    {"smooth", NULL, VALUE_SWITCH, 0.0, 1.0, false},
+    MATERIAL_KEY_SPECS,
+};
+_Static_assert(MESH_KEY_COUNT <= MAX_KEYS, "raise MAX_KEYS");
+
+static const shape_spec mesh_shape = {
+    .word = "mesh",
+    .keys = mesh_keys,
+    .key_count = MESH_KEY_COUNT,
+    .material_first = MESH_MATERIAL,
+    .own_keys = LOW_BITS(MESH_MATERIAL),
+    .required = BIT(MESH_FILE),
+    .glass = true, /* when the mesh is closed (directive_mesh checks) */
+};
+
+/* Whether the token can start a number (scale's second value or the next key). */
+static bool looks_numeric(const token *t) {
+    char c = t->text[0];
+    return (c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.';
+}
+
+/* The mesh file's path: absolute as given, else relative to the scene file's folder (the working
+ * folder for text that is not a file: standard input, strings). False when it does not fit. */
+static bool mesh_path(const parser *p, const token *t, char *out, size_t size) {
+    const char *slash = strrchr(p->filename, '/');
+    int dir =
+        t->text[0] == '/' || p->filename[0] == '<' || !slash ? 0 : (int)(slash - p->filename) + 1;
+    int n = snprintf(out, size, "%.*s%.*s", dir, p->filename, t->length, t->text);
+    return n >= 0 && (size_t)n < size;
+}
+
+/* A mesh line's transform: scale, then rotation about a unit axis, then translation. */
+typedef struct mesh_transform {
+    double scale[3], r[3][3], translate[3];
+} mesh_transform;
+
+static mesh_transform make_transform(const double scale[3], const double rotate[4],
+                                     const double translate[3]) {
+    mesh_transform m;
+    double length = sqrt(rotate[0] * rotate[0] + rotate[1] * rotate[1] + rotate[2] * rotate[2]);
+    double u[3] = {rotate[0] / length, rotate[1] / length, rotate[2] / length};
+    double angle = rotate[3] * 3.14159265358979323846 / 180.0, c = cos(angle), s = sin(angle);
+    /* Rodrigues: c I + s [u]x + (1 - c) u u^T (right-handed). */
+    double cross[3][3] = {{0, -u[2], u[1]}, {u[2], 0, -u[0]}, {-u[1], u[0], 0}};
+    for (int i = 0; i < 3; i++) {
+        m.scale[i] = scale[i];
+        m.translate[i] = translate[i];
+        for (int j = 0; j < 3; j++)
+            m.r[i][j] = (i == j ? c : 0.0) + s * cross[i][j] + (1.0 - c) * u[i] * u[j];
+    }
+    return m;
+}
+
+/* A corner moved by the transform; false when it leaves the coordinate range. */
+static bool transform_point(const mesh_transform *m, vec3 v, vec3 *out) {
+    double in[3] = {(double)v.x * m->scale[0], (double)v.y * m->scale[1],
+                    (double)v.z * m->scale[2]};
+    float o[3];
+    for (int i = 0; i < 3; i++) {
+        double x = m->r[i][0] * in[0] + m->r[i][1] * in[1] + m->r[i][2] * in[2] + m->translate[i];
+        if (!(fabs(x) <= 1e18)) return false;
+        o[i] = (float)x;
+    }
+    *out = v3(o[0], o[1], o[2]);
+    return true;
+}
+
+/* A normal by the inverse transpose, R S^-1, renormalized; false when it is zero. */
+static bool transform_normal(const mesh_transform *m, vec3 n, vec3 *out) {
+    double in[3] = {n.x / m->scale[0], n.y / m->scale[1], n.z / m->scale[2]}, o[3];
+    for (int i = 0; i < 3; i++) o[i] = m->r[i][0] * in[0] + m->r[i][1] * in[1] + m->r[i][2] * in[2];
+    double length = sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
+    if (!(length > 0.0) || !isfinite(length)) return false;
+    *out = v3((float)(o[0] / length), (float)(o[1] / length), (float)(o[2] / length));
+    return true;
+}
+
+/* Reads a mesh line's keys after the optional material word (in any order; scale takes 1 or 3
+ * numbers, rotate 4). False (reported) on a bad key or value. */
+static bool read_mesh_keys(parser *p, const material_spec *m, int next, key_values *kv,
+                           double scale[3], double rotate[4]) {
+    unsigned accepted = mesh_shape.own_keys | (m ? m->keys << MESH_MATERIAL : 0u);
+    memset(kv, 0, sizeof *kv);
+    while (next < p->token_count) {
+        const token *t = &p->tokens[next++];
+        int key = 0;
+        while (key < MESH_KEY_COUNT && !parser_token_is(t, mesh_keys[key].name)) key++;
+        if (key < MESH_KEY_COUNT && key >= MESH_MATERIAL && !m) {
+            return parser_fail(p, t->col,
+                               "mesh '%s' needs a material word (mesh lambertian file ... %s ...): "
+                               "without one every face takes the file's own material",
+                               parser_quote(p, t), mesh_keys[key].name);
+        }
+        if (key == MESH_KEY_COUNT || !(accepted & BIT(key))) {
+            char list[128] = "";
+            for (int k = 0; k < MESH_KEY_COUNT; k++) {
+                if (accepted & BIT(k))
+                    directive_append(list, sizeof list, "%s%s", list[0] ? " " : "",
+                                     mesh_keys[k].name);
+            }
+            return parser_fail(p, t->col, "unknown key '%s' for mesh%s%s (expected one of: %s)",
+                               parser_quote(p, t), m ? " " : "", m ? m->word : "", list);
+        }
+        if (kv->given & BIT(key))
+            return parser_fail(p, t->col, "'%s' given twice", mesh_keys[key].name);
+        kv->given |= BIT(key);
+        kv->key_token[key] = next - 1;
+        if (key == MESH_FILE) {
+            if (next >= p->token_count)
+                return parser_fail(p, parser_end_col(p), "expected a path after 'file'");
+            kv->value_token[key][0] = next++;
+        } else if (key == MESH_SCALE || key == MESH_ROTATE) {
+            int count = key == MESH_ROTATE ? 4 : 3;
+            double *out = key == MESH_ROTATE ? rotate : scale;
+            for (int c = 0; c < count; c++) {
+                if (key == MESH_SCALE && c == 1 &&
+                    (next >= p->token_count || !looks_numeric(&p->tokens[next]))) {
+                    out[1] = out[2] = out[0];
+                    break;
+                }
+                double value[3];
+                int value_token[3];
+                if (!parser_values(p, &mesh_keys[key], &next, value, value_token)) return false;
+                out[c] = value[0];
+            }
+        } else if (!parser_values(p, &mesh_keys[key], &next, kv->value[key],
+                                  kv->value_token[key])) {
+            return false;
+        }
+    }
+    if (!parser_require_keys(p, "mesh", mesh_keys, MESH_KEY_COUNT, mesh_shape.required, kv))
+        return false;
+    if (scale[0] == 0.0 || scale[1] == 0.0 || scale[2] == 0.0) {
+        return parser_fail(p, p->tokens[kv->key_token[MESH_SCALE]].col,
+                           "mesh scale must not be zero (it would flatten every face)");
+    }
+    if (rotate[0] == 0.0 && rotate[1] == 0.0 && rotate[2] == 0.0) {
+        return parser_fail(p, p->tokens[kv->key_token[MESH_ROTATE]].col,
+                           "mesh rotate axis must not be zero");
+    }
+    return true;
+}
+
+/* The surface of a mapped file material (a lambertian grey when the face has none). */
+static surface mapped_surface(const mesh *me, int material) {
+    if (material < 0 || material >= me->material_count) {
+        return (surface){.material = MATERIAL_LAMBERTIAN, .color = v3(0.8f, 0.8f, 0.8f), .ior = 1};
+    }
+    const mesh_material *mm = &me->materials[material];
+    return (surface){.material = mm->kind,
+                     .color = mm->color,
+                     .ks = mm->ks,
+                     .alpha = mm->alpha,
+                     .ior = mm->ior,
+                     .emission = mm->emission};
+}
+
+/* A mesh from a model file (mesh_load.c): transformed, its degenerate faces dropped (one
+ * warning), glass only when it is closed. */
+bool directive_mesh(parser *p) {
+    const material_spec *m = NULL;
+    int next = 1;
+    if (p->token_count > 1 && !parser_token_is(&p->tokens[1], "file")) {
+        const token *word = &p->tokens[1];
+        m = material_lookup(word);
+        if (!m) {
+            char list[128];
+            material_list(list, sizeof list, &mesh_shape, " ", true);
+            return parser_fail(p, word->col,
+                               "unknown material '%s' for mesh (expected 'file' or one of: %s)",
+                               parser_quote(p, word), list);
+        }
+        next = 2;
+    }
+    key_values kv;
+    double scale[3] = {1, 1, 1}, rotate[4] = {0, 0, 1, 0};
+    if (!read_mesh_keys(p, m, next, &kv, scale, rotate)) return false;
+    const token *file = &p->tokens[kv.value_token[MESH_FILE][0]];
+    char path[PATH_MAX];
+    if (!mesh_path(p, file, path, sizeof path))
+        return parser_fail(p, file->col, "mesh path is too long");
+    bool smooth = parser_value_or(&kv, MESH_SMOOTH, 0) != 0;
+    mesh me;
+    char error[512];
+    if (!mesh_load(path, smooth, &me, error, sizeof error))
+        return parser_fail(p, file->col, "mesh '%s': %s", path, error);
+    double translate[3] = {0, 0, 0};
+    for (int k = 0; k < 3 && (kv.given & BIT(MESH_TRANSLATE)); k++)
+        translate[k] = kv.value[MESH_TRANSLATE][k];
+    mesh_transform xf = make_transform(scale, rotate, translate);
+    surface given = {0};
+    if (m) given = shape_surface(p, &mesh_shape, m, &kv);
+    bool glass = m && m->kind == MATERIAL_REFRACTIVE, emits = false;
+    for (int k = 0; !m && k < me.material_count; k++)
+        glass |= me.materials[k].kind == MATERIAL_REFRACTIVE;
+    if (glass && !mesh_closed(&me)) {
+        mesh_free(&me);
+        return parser_fail(p, file->col,
+                           "mesh '%s' is refractive but not closed (an edge is not shared by "
+                           "exactly two faces wound the opposite ways): glass needs a surface "
+                           "that bounds its inside",
+                           path);
+    }
+    /* Transformed in place; kept faces first. */
+    size_t kept = 0, dropped = 0;
+    char first_drop[320] = "";
+    for (size_t f = 0; f < me.face_count; f++) {
+        mesh_face face = me.faces[f];
+        for (int k = 0; k < 3; k++) {
+            if (!transform_point(&xf, me.faces[f].v[k], &face.v[k])) {
+                mesh_free(&me);
+                return parser_fail(p, file->col,
+                                   "mesh '%s': face %zu leaves the coordinate range (1e18) once "
+                                   "transformed",
+                                   path, f + 1);
+            }
+        }
+        char why[256];
+        if (face_problem(face.v[0], face.v[1], face.v[2], "face", why, sizeof why)) {
+            if (!dropped++) snprintf(first_drop, sizeof first_drop, "%zu: %s", f + 1, why);
+            continue;
+        }
+        bool normals = smooth;
+        for (int k = 0; k < 3 && normals; k++)
+            normals = transform_normal(&xf, me.faces[f].n[k], &face.n[k]);
+        for (int k = 0; k < 3 && !normals; k++) face.n[k] = v3(0, 0, 0); /* flat */
+        me.faces[kept++] = face;
+    }
+    if (kept == 0) {
+        mesh_free(&me);
+        return parser_fail(p, file->col, "mesh '%s': every face is degenerate (face %s)", path,
+                           first_drop);
+    }
+    /* Glass tells entering from leaving by the geometric normal: wind the faces outward (a
+     * positive signed volume). */
+    double volume = 0.0;
+    for (size_t f = 0; glass && f < kept; f++) {
+        const mesh_face *face = &me.faces[f];
+        dvec3 a = d3_sub(face->v[0], v3(0, 0, 0)), b = d3_sub(face->v[1], v3(0, 0, 0)),
+              c = d3_sub(face->v[2], v3(0, 0, 0));
+        volume += d3_dot(a, d3_cross(b, c));
+    }
+    for (size_t f = 0; volume < 0.0 && f < kept; f++) {
+        mesh_face *face = &me.faces[f];
+        vec3 v = face->v[1], n = face->n[1];
+        face->v[1] = face->v[2], face->n[1] = face->n[2];
+        face->v[2] = v, face->n[2] = n;
+    }
+    if (!faces_reserve(p, kept > (size_t)INT_MAX / 2 ? INT_MAX / 2 : (int)kept)) {
+        mesh_free(&me);
+        return false;
+    }
+    for (size_t f = 0; f < kept; f++) {
+        const mesh_face *face = &me.faces[f];
+        surface s = m ? given : mapped_surface(&me, face->material);
+        emits |= s.emission.x > 0.0f || s.emission.y > 0.0f || s.emission.z > 0.0f;
+        face_add(p, face->v[0], face->v[1], face->v[2], &s);
+        triangle *t = &p->s.triangles[p->s.triangle_count - 1];
+        t->smooth = face->n[0].x != 0.0f || face->n[0].y != 0.0f || face->n[0].z != 0.0f;
+        for (int k = 0; k < 3; k++) t->n[k] = face->n[k];
+    }
+    if (emits && !m && !p->emission_line) {
+        p->emission_line = p->line;
+        p->emission_col = file->col;
+    }
+    if (!m && me.unsupported[0]) {
+        parser_warn(p, p->line, file->col, "mesh '%s': trazador cannot show its %s (ignored)", path,
+                    me.unsupported);
+    }
+    if (dropped) {
+        parser_warn(p, p->line, file->col,
+                    "mesh '%s': %zu degenerate face%s dropped (the first, face %s)", path, dropped,
+                    dropped == 1 ? "" : "s", first_drop);
+    }
+    mesh_free(&me);
+    return true;
+}
