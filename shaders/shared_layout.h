@@ -174,7 +174,8 @@ struct gpu_emitter {
                             * area (triangles) */
 };
 
-/* Samples of a chunk of the chunk tree (src/render/chunk_tree.h: CHUNK_SAMPLES). */
+/* Samples a chunk of the chunk tree holds (src/render/chunk_tree.h; the last chunk of a render
+ * may hold fewer). Sample ranges split at multiples of it merge exactly. */
 #define TZ_CHUNK_SAMPLES 16u
 /* The most chunks one dispatch spans: fewer dispatches, so fewer joins of lavapipe's threads. */
 #define TZ_PASS_CHUNKS 8

@@ -170,7 +170,7 @@ static void test_sphereflake(void) {
         check_common(name, &s);
         /* sphere 0 is the ground: a huge Lambertian sphere whose top the flake rests on */
         const sphere *ground = &s.spheres[0];
-        CHECK(ground->material == MATERIAL_LAMBERTIAN && ground->radius >= 1000.0f,
+        CHECK(ground->material == TZ_MATERIAL_LAMBERTIAN && ground->radius >= 1000.0f,
               "depth %d: sphere 0 is not the ground", depth);
         double top = ground->center.y + ground->radius, lowest = 1e30;
         for (int k = 1; k < s.sphere_count; k++) {
@@ -232,11 +232,11 @@ static void test_random(void) {
         check_common(name, &s);
         /* the ground, then the book's three: brown Lambertian, glass, metal */
         const sphere *ground = &s.spheres[0];
-        CHECK(ground->material == MATERIAL_LAMBERTIAN && ground->radius >= 1000.0f,
+        CHECK(ground->material == TZ_MATERIAL_LAMBERTIAN && ground->radius >= 1000.0f,
               "count %ld: sphere 0 is not the ground", n);
-        CHECK(s.spheres[1].material == MATERIAL_LAMBERTIAN &&
-                  s.spheres[2].material == MATERIAL_REFRACTIVE &&
-                  s.spheres[3].material == MATERIAL_MIRROR,
+        CHECK(s.spheres[1].material == TZ_MATERIAL_LAMBERTIAN &&
+                  s.spheres[2].material == TZ_MATERIAL_REFRACTIVE &&
+                  s.spheres[3].material == TZ_MATERIAL_MIRROR,
               "count %ld: the three big spheres", n);
         for (int k = 1; k <= 3; k++)
             CHECK(in_view(&s, s.spheres[k].center, s.spheres[k].radius),

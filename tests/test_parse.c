@@ -77,19 +77,19 @@ static void check_full_example(const char *name, const scene *s) {
     check(vec_is(l->position, -2, 3, -1) && l->power == 60.0f && vec_is(l->color, 1, 1, 1), name,
           "light");
     const sphere *p = s->spheres;
-    check(p[0].material == MATERIAL_LAMBERTIAN && vec_is(p[0].center, 0, -1001, 0) &&
+    check(p[0].material == TZ_MATERIAL_LAMBERTIAN && vec_is(p[0].center, 0, -1001, 0) &&
               p[0].radius == 1000.0f && vec_is(p[0].color, 0.8f, 0.8f, 0.8f) && p[0].ks == 0 &&
               p[0].alpha == 0 && p[0].ior == 1.0f && vec_is(p[0].emission, 0, 0, 0),
           name, "lambertian sphere");
-    check(p[1].material == MATERIAL_PHONG && vec_is(p[1].center, -1, 0, 2) && p[1].radius == 1 &&
+    check(p[1].material == TZ_MATERIAL_PHONG && vec_is(p[1].center, -1, 0, 2) && p[1].radius == 1 &&
               vec_is(p[1].color, 0.6f, 0.1f, 0.1f) && p[1].ks == 0.3f && p[1].alpha == 40.0f &&
               p[1].ior == 1.0f && vec_is(p[1].emission, 0, 0, 0),
           name, "phong sphere");
-    check(p[2].material == MATERIAL_MIRROR && vec_is(p[2].center, 1, 0, 3) && p[2].radius == 1 &&
+    check(p[2].material == TZ_MATERIAL_MIRROR && vec_is(p[2].center, 1, 0, 3) && p[2].radius == 1 &&
               vec_is(p[2].color, 1, 1, 1) && p[2].ks == 0 && p[2].alpha == 0 && p[2].ior == 1.0f &&
               vec_is(p[2].emission, 0, 0, 0),
           name, "mirror sphere");
-    check(p[3].material == MATERIAL_REFRACTIVE && vec_is(p[3].center, 0, 0, 1) &&
+    check(p[3].material == TZ_MATERIAL_REFRACTIVE && vec_is(p[3].center, 0, 0, 1) &&
               p[3].radius == 0.7f && vec_is(p[3].color, 1, 1, 1) && p[3].ks == 0 &&
               p[3].alpha == 0 && p[3].ior == 1.5f && vec_is(p[3].emission, 0, 0, 0),
           name, "refractive sphere");
@@ -127,18 +127,19 @@ static void test_valid(void) {
                   s.mode == RENDER_MODE_SEED,
               n, "render settings");
         const sphere *p = s.spheres;
-        check(p[0].material == MATERIAL_PHONG && vec_is(p[0].color, 0.8f, 0.8f, 0.8f) &&
+        check(p[0].material == TZ_MATERIAL_PHONG && vec_is(p[0].color, 0.8f, 0.8f, 0.8f) &&
                   p[0].ks == 0.5f && p[0].alpha == 32.0f && p[0].ior == 1.0f,
               n, "phong defaults");
-        check(p[1].material == MATERIAL_LAMBERTIAN && vec_is(p[1].color, 0.8f, 0.8f, 0.8f) &&
+        check(p[1].material == TZ_MATERIAL_LAMBERTIAN && vec_is(p[1].color, 0.8f, 0.8f, 0.8f) &&
                   p[1].ks == 0 && p[1].alpha == 0 && p[1].ior == 1.0f,
               n, "lambertiana");
-        check(p[2].material == MATERIAL_MIRROR && vec_is(p[2].color, 1, 1, 1) && p[2].ior == 1.0f,
-              n, "espejo");
         check(
-            p[3].material == MATERIAL_REFRACTIVE && vec_is(p[3].color, 1, 1, 1) && p[3].ior == 1.5f,
-            n, "refractada");
-        check(p[4].material == MATERIAL_LAMBERTIAN && vec_is(p[4].color, 0.8f, 0.8f, 0.8f), n,
+            p[2].material == TZ_MATERIAL_MIRROR && vec_is(p[2].color, 1, 1, 1) && p[2].ior == 1.0f,
+            n, "espejo");
+        check(p[3].material == TZ_MATERIAL_REFRACTIVE && vec_is(p[3].color, 1, 1, 1) &&
+                  p[3].ior == 1.5f,
+              n, "refractada");
+        check(p[4].material == TZ_MATERIAL_LAMBERTIAN && vec_is(p[4].color, 0.8f, 0.8f, 0.8f), n,
               "lambertian color");
         scene_free(&s);
     }
@@ -240,14 +241,14 @@ static void test_faces(void) {
     const triangle *t = s.triangles;
     check(triangle_at(&t[0], v3(0, 0, 0), v3(1, 0, 0), v3(0, 1, 0)) && !t[0].smooth &&
               vec_is(t[0].n[0], 0, 0, 0) && vec_is(t[0].n[1], 0, 0, 0) &&
-              vec_is(t[0].n[2], 0, 0, 0) && t[0].material == MATERIAL_LAMBERTIAN &&
+              vec_is(t[0].n[2], 0, 0, 0) && t[0].material == TZ_MATERIAL_LAMBERTIAN &&
               vec_is(t[0].color, 0.8f, 0.8f, 0.8f) && t[0].ks == 0 && t[0].alpha == 0 &&
               t[0].ior == 1.0f && vec_is(t[0].emission, 0, 0, 0) && !triangle_emits(&t[0]),
           n, "lambertian triangle and its defaults");
     /* Keys in any order; normals of any length normalized, their direction kept. */
     check(triangle_at(&t[1], v3(-1, 0, 2), v3(1, 0, 2), v3(0, 1, 2)) && t[1].smooth &&
               vec_is(t[1].n[0], 0, 0, -1) && vec_is(t[1].n[1], 0.6f, 0.8f, 0) &&
-              vec_is(t[1].n[2], 0, 0, -1) && t[1].material == MATERIAL_PHONG &&
+              vec_is(t[1].n[2], 0, 0, -1) && t[1].material == TZ_MATERIAL_PHONG &&
               vec_is(t[1].color, 0.5f, 0.25f, 1) && t[1].ks == 0.1f && t[1].alpha == 8.0f &&
               t[1].ior == 1.0f,
           n, "phong triangle with normals: n1 %g %g %g", t[1].n[1].x, t[1].n[1].y, t[1].n[1].z);
@@ -256,19 +257,19 @@ static void test_faces(void) {
               triangle_at(&t[3], v3(0, 0, 0), v3(2, 0, 2), v3(0, 0, 2)),
           n, "quad split");
     for (int k = 2; k <= 3; k++)
-        check(t[k].material == MATERIAL_MIRROR && vec_is(t[k].color, 0.9f, 0.5f, 0.1f) &&
+        check(t[k].material == TZ_MATERIAL_MIRROR && vec_is(t[k].color, 0.9f, 0.5f, 0.1f) &&
                   !t[k].smooth && vec_is(t[k].n[0], 0, 0, 0) && t[k].ks == 0 && t[k].ior == 1.0f,
               n, "espejo quad half %d", k - 2);
-    check(t[4].material == MATERIAL_LAMBERTIAN && vec_is(t[4].color, 0.8f, 0.8f, 0.8f) &&
+    check(t[4].material == TZ_MATERIAL_LAMBERTIAN && vec_is(t[4].color, 0.8f, 0.8f, 0.8f) &&
               vec_is(t[4].emission, 1, 2, 3) && triangle_emits(&t[4]),
           n, "lambertiana triangle with emission");
     check(triangle_at(&t[5], v3(-1, -1, 5), v3(1, -1, 5), v3(1, 1, 5)) &&
               triangle_at(&t[6], v3(-1, -1, 5), v3(1, 1, 5), v3(-1, 1, 5)) &&
-              t[5].material == MATERIAL_MIRROR && vec_is(t[5].color, 1, 1, 1),
+              t[5].material == TZ_MATERIAL_MIRROR && vec_is(t[5].color, 1, 1, 1),
           n, "mirror quad");
-    check(t[7].material == MATERIAL_MIRROR && vec_is(t[7].color, 1, 1, 1), n, "espejo triangle");
+    check(t[7].material == TZ_MATERIAL_MIRROR && vec_is(t[7].color, 1, 1, 1), n, "espejo triangle");
     for (int k = 8; k <= 9; k++)
-        check(t[k].material == MATERIAL_PHONG && t[k].ks == 1.0f && t[k].alpha == 0.0f &&
+        check(t[k].material == TZ_MATERIAL_PHONG && t[k].ks == 1.0f && t[k].alpha == 0.0f &&
                   vec_is(t[k].color, 0.8f, 0.8f, 0.8f) && vec_is(t[k].emission, 0, 0, 0.5f) &&
                   triangle_emits(&t[k]),
               n, "phong quad half %d", k - 8);

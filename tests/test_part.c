@@ -43,8 +43,8 @@ static bool pixel_sample_finite(int x, int y, uint32_t s) {
 /* Chunk k of pixel (x, y): its compensated sum and finite count. */
 static uint32_t chunk_value(int x, int y, uint32_t k, float out[3]) {
     vec3 sum = v3(0.0f, 0.0f, 0.0f), comp = sum;
-    uint32_t count = 0, end = (k + 1) * CHUNK_SAMPLES < SPP ? (k + 1) * CHUNK_SAMPLES : SPP;
-    for (uint32_t s = k * CHUNK_SAMPLES; s < end; s++) {
+    uint32_t count = 0, end = (k + 1) * TZ_CHUNK_SAMPLES < SPP ? (k + 1) * TZ_CHUNK_SAMPLES : SPP;
+    for (uint32_t s = k * TZ_CHUNK_SAMPLES; s < end; s++) {
         if (!pixel_sample_finite(x, y, s)) continue;
         film_sum_add(&sum, &comp, v3(sample(x, y, s, 0), sample(x, y, s, 1), sample(x, y, s, 2)));
         count++;
@@ -55,7 +55,7 @@ static uint32_t chunk_value(int x, int y, uint32_t k, float out[3]) {
 }
 
 static part_meta base_meta(void) {
-    part_meta m = {.seed = 7, .spp = SPP, .chunk = CHUNK_SAMPLES, .width = W, .height = H};
+    part_meta m = {.seed = 7, .spp = SPP, .chunk = TZ_CHUNK_SAMPLES, .width = W, .height = H};
     snprintf(m.digest, sizeof m.digest, "%s", "d1g3st");
     snprintf(m.mode, sizeof m.mode, "%s", "seed");
     snprintf(m.version, sizeof m.version, "%s", TRAZADOR_VERSION);
@@ -73,13 +73,14 @@ static bool render_part(int x0, int x1, int y0, int y1, uint32_t begin, uint32_t
     uint32_t *count = malloc(n * sizeof *count);
     bool ok = rgb && count;
     while (ok && p->meta.sample_end < end) {
-        uint32_t k = p->meta.sample_end / CHUNK_SAMPLES;
+        uint32_t k = p->meta.sample_end / TZ_CHUNK_SAMPLES;
         for (int y = y0; y < y1; y++)
             for (int x = x0; x < x1; x++) {
                 size_t i = (size_t)(y - y0) * (size_t)(x1 - x0) + (size_t)(x - x0);
                 count[i] = chunk_value(x, y, k, &rgb[3 * i]);
-                uint32_t end_k = (k + 1) * CHUNK_SAMPLES < SPP ? (k + 1) * CHUNK_SAMPLES : SPP;
-                p->meta.nonfinite += end_k - k * CHUNK_SAMPLES - count[i];
+                uint32_t end_k =
+                    (k + 1) * TZ_CHUNK_SAMPLES < SPP ? (k + 1) * TZ_CHUNK_SAMPLES : SPP;
+                p->meta.nonfinite += end_k - k * TZ_CHUNK_SAMPLES - count[i];
             }
         ok = part_push_chunk(p, rgb, count);
     }
@@ -111,7 +112,7 @@ static void test_whole_render(void) {
     EXPECT(render_part(0, W, 0, H, 0, SPP, &whole));
     EXPECT(whole.stack.count == 3); /* 11 chunks: blocks 0-8, 8-10 and 10-11 */
     EXPECT(part_film(&whole, &whole_film));
-    uint32_t chunks = (SPP + CHUNK_SAMPLES - 1) / CHUNK_SAMPLES;
+    uint32_t chunks = (SPP + TZ_CHUNK_SAMPLES - 1) / TZ_CHUNK_SAMPLES;
     int off_tree = 0, off_sequence = 0, dropped = 0;
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++) {
@@ -199,8 +200,8 @@ static void test_splits(void) {
                             W,
                             0,
                             H,
-                            c * CHUNK_SAMPLES,
-                            (c + 1) * CHUNK_SAMPLES < SPP ? (c + 1) * CHUNK_SAMPLES : SPP};
+                            c * TZ_CHUNK_SAMPLES,
+                            (c + 1) * TZ_CHUNK_SAMPLES < SPP ? (c + 1) * TZ_CHUNK_SAMPLES : SPP};
     }
     check_split("single chunks", single, 11);
 }
@@ -409,10 +410,10 @@ static void test_long_sum(void) {
     part p;
     EXPECT(part_init(&p, &m));
     vec3 sum = v3(0.0f, 0.0f, 0.0f), comp = sum;
-    for (uint32_t s = 0; s < CHUNK_SAMPLES; s++) film_sum_add(&sum, &comp, v3(0.9f, 0.9f, 0.9f));
+    for (uint32_t s = 0; s < TZ_CHUNK_SAMPLES; s++) film_sum_add(&sum, &comp, v3(0.9f, 0.9f, 0.9f));
     vec3 value = film_sum_value(sum, comp);
     float chunk[3] = {value.x, value.y, value.z};
-    uint32_t count = CHUNK_SAMPLES;
+    uint32_t count = TZ_CHUNK_SAMPLES;
     bool pushed = true;
     while (pushed && p.meta.sample_end < m.spp) pushed = part_push_chunk(&p, chunk, &count);
     EXPECT(pushed);
@@ -451,7 +452,7 @@ static void test_digest(void) {
     /* the value the digest had before the scene gained triangles (commit adbf42e) */
     CHECK(!strcmp(spheres, "f73fd51f075a1740"), "sphere-only digest %s", spheres);
     triangle t = {.v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},
-                  .material = MATERIAL_LAMBERTIAN,
+                  .material = TZ_MATERIAL_LAMBERTIAN,
                   .color = {0.8f, 0.8f, 0.8f},
                   .ior = 1.0f};
     s.triangles = &t;
@@ -475,10 +476,10 @@ static void test_digest(void) {
     scene_digest(&s, other);
     CHECK(strcmp(other, faces), "smooth leaves the digest");
     t.smooth = false;
-    t.material = MATERIAL_PHONG;
+    t.material = TZ_MATERIAL_PHONG;
     scene_digest(&s, other);
     CHECK(strcmp(other, faces), "material leaves the digest");
-    t.material = MATERIAL_LAMBERTIAN;
+    t.material = TZ_MATERIAL_LAMBERTIAN;
     scene_digest(&s, other);
     CHECK(!strcmp(other, faces), "the digest is not a function of the fields: %s, %s", other,
           faces);

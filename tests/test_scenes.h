@@ -37,7 +37,7 @@ static inline sphere ball(float x, float y, float z, float radius, material_kind
                     .radius = radius,
                     .material = material,
                     .color = {r, g, b},
-                    .ior = material == MATERIAL_REFRACTIVE ? 1.5f : 1.0f};
+                    .ior = material == TZ_MATERIAL_REFRACTIVE ? 1.5f : 1.0f};
 }
 
 /* A view from `camera` along +z (up +y) through a plane_w x plane_h plane, `width` pixels

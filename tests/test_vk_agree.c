@@ -82,12 +82,12 @@ static light materials_lights[] = {
 
 static scene materials_scene(void) {
     sphere *b = materials_spheres;
-    b[0] = ball(0.0f, -1000.0f, 0.0f, 999.0f, MATERIAL_LAMBERTIAN, 0.7f, 0.7f, 0.6f);
-    b[1] = ball(-1.6f, 0.0f, 3.0f, 1.0f, MATERIAL_LAMBERTIAN, 0.8f, 0.2f, 0.2f);
-    b[2] = ball(0.6f, -0.3f, 2.0f, 0.7f, MATERIAL_PHONG, 0.2f, 0.3f, 0.8f);
+    b[0] = ball(0.0f, -1000.0f, 0.0f, 999.0f, TZ_MATERIAL_LAMBERTIAN, 0.7f, 0.7f, 0.6f);
+    b[1] = ball(-1.6f, 0.0f, 3.0f, 1.0f, TZ_MATERIAL_LAMBERTIAN, 0.8f, 0.2f, 0.2f);
+    b[2] = ball(0.6f, -0.3f, 2.0f, 0.7f, TZ_MATERIAL_PHONG, 0.2f, 0.3f, 0.8f);
     b[2].ks = 0.4f, b[2].alpha = 30.0f;
-    b[3] = ball(1.2f, 0.4f, 5.0f, 1.4f, MATERIAL_MIRROR, 0.9f, 0.9f, 0.8f);
-    b[4] = ball(-0.4f, -0.5f, 0.8f, 0.5f, MATERIAL_REFRACTIVE, 1.0f, 1.0f, 1.0f);
+    b[3] = ball(1.2f, 0.4f, 5.0f, 1.4f, TZ_MATERIAL_MIRROR, 0.9f, 0.9f, 0.8f);
+    b[4] = ball(-0.4f, -0.5f, 0.8f, 0.5f, TZ_MATERIAL_REFRACTIVE, 1.0f, 1.0f, 1.0f);
     scene s = view(-4.0f, 4.0f, 3.0f, 96, 16, 7, b, 5, materials_lights, 2);
     s.camera_position = (vec3){0.5f, 1.2f, -4.0f};
     s.camera_direction = (vec3){-0.1f, -0.2f, 1.0f};
@@ -102,15 +102,15 @@ static light room_light = {.position = {0.0f, 1.6f, 0.6f}, .power = 9.0f, .color
 static scene room_scene(void) {
     sphere *b = room_spheres;
     const float wall = 1e5f;
-    b[0] = ball(-wall - 2.0f, 0.0f, 0.0f, wall, MATERIAL_LAMBERTIAN, 0.75f, 0.12f, 0.10f);
-    b[1] = ball(wall + 2.0f, 0.0f, 0.0f, wall, MATERIAL_LAMBERTIAN, 0.12f, 0.70f, 0.15f);
-    b[2] = ball(0.0f, -wall - 2.0f, 0.0f, wall, MATERIAL_LAMBERTIAN, 0.75f, 0.75f, 0.75f);
-    b[3] = ball(0.0f, wall + 2.0f, 0.0f, wall, MATERIAL_LAMBERTIAN, 0.75f, 0.75f, 0.75f);
-    b[4] = ball(0.0f, 0.0f, wall + 3.0f, wall, MATERIAL_LAMBERTIAN, 0.75f, 0.75f, 0.75f);
-    b[5] = ball(0.0f, 0.0f, -wall - 8.0f, wall, MATERIAL_LAMBERTIAN, 0.75f, 0.75f, 0.75f);
-    b[6] = ball(-0.85f, -1.3f, 1.4f, 0.7f, MATERIAL_PHONG, 0.85f, 0.85f, 0.85f);
+    b[0] = ball(-wall - 2.0f, 0.0f, 0.0f, wall, TZ_MATERIAL_LAMBERTIAN, 0.75f, 0.12f, 0.10f);
+    b[1] = ball(wall + 2.0f, 0.0f, 0.0f, wall, TZ_MATERIAL_LAMBERTIAN, 0.12f, 0.70f, 0.15f);
+    b[2] = ball(0.0f, -wall - 2.0f, 0.0f, wall, TZ_MATERIAL_LAMBERTIAN, 0.75f, 0.75f, 0.75f);
+    b[3] = ball(0.0f, wall + 2.0f, 0.0f, wall, TZ_MATERIAL_LAMBERTIAN, 0.75f, 0.75f, 0.75f);
+    b[4] = ball(0.0f, 0.0f, wall + 3.0f, wall, TZ_MATERIAL_LAMBERTIAN, 0.75f, 0.75f, 0.75f);
+    b[5] = ball(0.0f, 0.0f, -wall - 8.0f, wall, TZ_MATERIAL_LAMBERTIAN, 0.75f, 0.75f, 0.75f);
+    b[6] = ball(-0.85f, -1.3f, 1.4f, 0.7f, TZ_MATERIAL_PHONG, 0.85f, 0.85f, 0.85f);
     b[6].ks = 0.25f, b[6].alpha = 40.0f;
-    b[7] = ball(0.85f, -1.4f, 0.3f, 0.6f, MATERIAL_REFRACTIVE, 1.0f, 1.0f, 1.0f);
+    b[7] = ball(0.85f, -1.4f, 0.3f, 0.6f, TZ_MATERIAL_REFRACTIVE, 1.0f, 1.0f, 1.0f);
     return view(-6.9f, 4.0f, 4.0f, 96, 16, 3, b, 8, &room_light, 1);
 }
 
@@ -127,14 +127,14 @@ static void check_crowd(const char *name, int n, int m, int width, int samples, 
         free(lights);
         return;
     }
-    spheres[0] = ball(0.0f, 0.0f, 1006.0f, 1000.0f, MATERIAL_LAMBERTIAN, 0.6f, 0.6f, 0.6f);
+    spheres[0] = ball(0.0f, 0.0f, 1006.0f, 1000.0f, TZ_MATERIAL_LAMBERTIAN, 0.6f, 0.6f, 0.6f);
     for (int k = 1; k <= n; k++) {
         material_kind kind = (material_kind)(k % 4);
         spheres[k] =
             ball((float)(k % 8) - 3.5f, (float)(k / 8) - 2.0f, 3.0f, 0.35f + 0.02f * (float)(k % 5),
                  kind, 0.3f + 0.08f * (float)(k % 7), 0.5f, 0.9f - 0.1f * (float)(k % 6));
-        if (kind == MATERIAL_PHONG) spheres[k].ks = 0.3f, spheres[k].alpha = 25.0f;
-        if (kind == MATERIAL_REFRACTIVE) spheres[k].ior = 1.45f;
+        if (kind == TZ_MATERIAL_PHONG) spheres[k].ks = 0.3f, spheres[k].alpha = 25.0f;
+        if (kind == TZ_MATERIAL_REFRACTIVE) spheres[k].ior = 1.45f;
     }
     for (int k = 0; k < m; k++)
         lights[k] = (light){.position = {2.0f * (float)k - (float)m, 3.0f, -1.0f + 0.5f * (float)k},
@@ -203,10 +203,10 @@ static void test_ties(void) {
         sphere spheres[20];
         for (int k = 0; k < 20; k++)
             spheres[k] = ball((float)(k < 5 ? k : k - 2) - 9.0f, 3.0f, 5.0f, 0.3f,
-                              MATERIAL_LAMBERTIAN, 0.5f, 0.5f, 0.5f);
+                              TZ_MATERIAL_LAMBERTIAN, 0.5f, 0.5f, 0.5f);
         for (int k = 5; k < 7; k++) {
             bool red = (k == 5) == (red_first == 1);
-            spheres[k] = ball(0.0f, 0.0f, 3.0f, 1.0f, MATERIAL_LAMBERTIAN, red ? 0.8f : 0.1f,
+            spheres[k] = ball(0.0f, 0.0f, 3.0f, 1.0f, TZ_MATERIAL_LAMBERTIAN, red ? 0.8f : 0.1f,
                               red ? 0.1f : 0.8f, 0.1f);
         }
         light lamp = {.position = {1.0f, 2.0f, -1.0f}, .power = 20.0f, .color = {1, 1, 1}};
@@ -359,7 +359,7 @@ static void test_staging(void) {
 /* The centre ray of a 3 x 3 image hits the sphere exactly at (0, 0, -1), where the light is:
  * zero distance, NaN radiance. Both back ends drop those samples and count them. */
 static void test_nonfinite(void) {
-    sphere lit = ball(0.0f, 0.0f, 0.0f, 1.0f, MATERIAL_LAMBERTIAN, 0.5f, 0.5f, 0.5f);
+    sphere lit = ball(0.0f, 0.0f, 0.0f, 1.0f, TZ_MATERIAL_LAMBERTIAN, 0.5f, 0.5f, 0.5f);
     light lamp = {.position = {0.0f, 0.0f, -1.0f}, .power = 10.0f, .color = {1, 1, 1}};
     scene s = view(-4.0f, 0.75f, 0.75f, 3, 4, 1, &lit, 1, &lamp, 1);
     s.indirect = false;

@@ -24,7 +24,7 @@ static light one_light = {
     .position = {0.0f, 0.0f, 0.0f}, .power = 10.0f, .color = {1.0f, 1.0f, 1.0f}};
 
 static bool render_tiny(int device) {
-    sphere one_sphere = ball(0.0f, 0.0f, 5.0f, 1.0f, MATERIAL_LAMBERTIAN, 0.5f, 0.5f, 0.5f);
+    sphere one_sphere = ball(0.0f, 0.0f, 5.0f, 1.0f, TZ_MATERIAL_LAMBERTIAN, 0.5f, 0.5f, 0.5f);
     scene s = view(0.0f, 0.5f, 0.5f, 1, 2, 1, &one_sphere, 1, &one_light, 1);
     s.indirect = false;
     render_opts opts;

@@ -102,7 +102,7 @@ static void test_bound(void) {
 static scene row_of_spheres(int n, sphere *spheres, light *l) {
     for (int k = 0; k < n; k++)
         spheres[k] =
-            ball((float)k * 0.01f, 0.0f, 5.0f, 0.004f, MATERIAL_LAMBERTIAN, 0.5f, 0.5f, 0.5f);
+            ball((float)k * 0.01f, 0.0f, 5.0f, 0.004f, TZ_MATERIAL_LAMBERTIAN, 0.5f, 0.5f, 0.5f);
     *l = (light){.position = {0.0f, 2.0f, 0.0f}, .power = 10.0f, .color = {1.0f, 1.0f, 1.0f}};
     scene s = view(0.0f, 0.08f, 0.08f, 8, 1, 1, spheres, n, l, 1);
     s.indirect = false;

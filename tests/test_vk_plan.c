@@ -27,7 +27,7 @@ static bool check_host_pass(pass_plan *plan, uint32_t first, uint32_t chunks, ui
     plan->first_chunk = first;
     plan->chunks = chunks;
     plan->slot = slots;
-    uint64_t end_sample = (uint64_t)(first + chunks) * CHUNK_SAMPLES;
+    uint64_t end_sample = (uint64_t)(first + chunks) * TZ_CHUNK_SAMPLES;
     plan->sample_end = end_sample < plan->spp ? (uint32_t)end_sample : plan->spp;
     uint64_t steps = pass_plan_steps(plan);
     for (uint64_t step = 0; step < steps; step++) {
@@ -38,16 +38,16 @@ static bool check_host_pass(pass_plan *plan, uint32_t first, uint32_t chunks, ui
             n >= 1 && at.spans >= 1 && at.spans <= TZ_PASS_CHUNKS && at.chunk + at.spans <= chunks,
             false, "step %llu: %u samples over %u chunks from chunk %u of %u",
             (unsigned long long)step, n, at.spans, at.chunk, chunks);
-        CHECK_RETURN(s0 / CHUNK_SAMPLES == first + at.chunk &&
-                         (s0 + n - 1u) / CHUNK_SAMPLES == first + at.chunk + at.spans - 1u,
+        CHECK_RETURN(s0 / TZ_CHUNK_SAMPLES == first + at.chunk &&
+                         (s0 + n - 1u) / TZ_CHUNK_SAMPLES == first + at.chunk + at.spans - 1u,
                      false, "step %llu: samples %u..%u are not chunks %u..%u",
                      (unsigned long long)step, s0, s0 + n - 1u, first + at.chunk,
                      first + at.chunk + at.spans - 1u);
-        uint32_t last_chunk_end = (first + at.chunk + at.spans) * CHUNK_SAMPLES;
+        uint32_t last_chunk_end = (first + at.chunk + at.spans) * TZ_CHUNK_SAMPLES;
         if (last_chunk_end > plan->spp) last_chunk_end = plan->spp;
         bool opens = (at.chunk_flags & TZ_CHUNK_OPEN) != 0;
         bool closes = (at.chunk_flags & TZ_CHUNK_CLOSE) != 0;
-        CHECK_RETURN(opens == (s0 % CHUNK_SAMPLES == 0) && closes == (s0 + n == last_chunk_end),
+        CHECK_RETURN(opens == (s0 % TZ_CHUNK_SAMPLES == 0) && closes == (s0 + n == last_chunk_end),
                      false, "step %llu: samples %u..%u flagged open %d close %d",
                      (unsigned long long)step, s0, s0 + n - 1u, opens, closes);
         CHECK_RETURN(
@@ -95,7 +95,7 @@ static bool check_render(int width, int height, uint32_t spp, uint64_t iteration
                          uint64_t loop_fit, bool stoppable, uint32_t pass_chunks) {
     part_meta meta = {.spp = spp, .x0 = 3, .x1 = 3 + width, .y0 = 5, .y1 = 5 + height};
     pass_plan plan = pass_plan_make(&meta, iterations, loop_fit, stoppable);
-    CHECK_RETURN(plan.per_dispatch >= 1 && plan.per_dispatch <= CHUNK_SAMPLES &&
+    CHECK_RETURN(plan.per_dispatch >= 1 && plan.per_dispatch <= TZ_CHUNK_SAMPLES &&
                      plan.steps_per_submit >= 1 && plan.region_x0 == 3 && plan.region_y0 == 5,
                  false, "plan of %d x %d: %u per dispatch, %llu steps a submission", width, height,
                  plan.per_dispatch, (unsigned long long)plan.steps_per_submit);
@@ -105,7 +105,7 @@ static bool check_render(int width, int height, uint32_t spp, uint64_t iteration
                      plan.tile_height);
     uint32_t *next = calloc((size_t)width * height, sizeof *next);
     if (!next) return false;
-    uint32_t chunk_count = (spp + CHUNK_SAMPLES - 1u) / CHUNK_SAMPLES;
+    uint32_t chunk_count = (spp + TZ_CHUNK_SAMPLES - 1u) / TZ_CHUNK_SAMPLES;
     bool ok = true;
     for (uint32_t c = 0; ok && c < chunk_count; c += pass_chunks) {
         uint32_t chunks = chunk_count - c < pass_chunks ? chunk_count - c : pass_chunks;

@@ -94,10 +94,10 @@ static void test_generated_scenes(void) {
 static void test_tie(void) {
     sphere spheres[20];
     for (int k = 0; k < 20; k++)
-        spheres[k] = ball((float)(k < 5 ? k : k - 2) - 9.0f, 3.0f, 5.0f, 0.3f, MATERIAL_LAMBERTIAN,
-                          0.5f, 0.5f, 0.5f);
-    spheres[5] = ball(0.0f, 0.0f, 3.0f, 1.0f, MATERIAL_LAMBERTIAN, 0.8f, 0.1f, 0.1f);
-    spheres[6] = ball(0.0f, 0.0f, 3.0f, 1.0f, MATERIAL_LAMBERTIAN, 0.1f, 0.8f, 0.1f);
+        spheres[k] = ball((float)(k < 5 ? k : k - 2) - 9.0f, 3.0f, 5.0f, 0.3f,
+                          TZ_MATERIAL_LAMBERTIAN, 0.5f, 0.5f, 0.5f);
+    spheres[5] = ball(0.0f, 0.0f, 3.0f, 1.0f, TZ_MATERIAL_LAMBERTIAN, 0.8f, 0.1f, 0.1f);
+    spheres[6] = ball(0.0f, 0.0f, 3.0f, 1.0f, TZ_MATERIAL_LAMBERTIAN, 0.1f, 0.8f, 0.1f);
     light lamp = {.position = {1.0f, 2.0f, -1.0f}, .power = 20.0f, .color = {1, 1, 1}};
     scene s = view(-2.0f, 2.0f, 2.0f, 16, 2, 5, spheres, 20, &lamp, 1);
     render_opts opts;
@@ -113,7 +113,7 @@ static void test_not_offered(const vk_context *ctx) {
         ctx->properties.deviceName, ctx->driver_name, ctx->driver_info);
     CHECK(!vk_device_has_ray_query(ctx->physical) || ctx->loop_limit,
           "the device has ray queries, but the context did not enable them");
-    sphere one = ball(0.0f, 0.0f, 3.0f, 1.0f, MATERIAL_LAMBERTIAN, 0.5f, 0.5f, 0.5f);
+    sphere one = ball(0.0f, 0.0f, 3.0f, 1.0f, TZ_MATERIAL_LAMBERTIAN, 0.5f, 0.5f, 0.5f);
     light lamp = {.position = {1.0f, 2.0f, -1.0f}, .power = 20.0f, .color = {1, 1, 1}};
     scene s = view(-2.0f, 2.0f, 2.0f, 4, 1, 5, &one, 1, &lamp, 1);
     render_opts opts;

@@ -44,7 +44,7 @@ static uint32_t next_pass(void *user, uint32_t done, bool *sync) {
     if (pc->checkpoint && pc->every < target) target = pc->every;
     uint32_t chunks = 1;
     if (pc->started && pc->sample_seconds > 0.0) {
-        double chunk_seconds = pc->sample_seconds * CHUNK_SAMPLES;
+        double chunk_seconds = pc->sample_seconds * TZ_CHUNK_SAMPLES;
         double fit = floor(target / chunk_seconds);
         chunks = fit < 1.0 ? 1u : fit > 65536.0 ? 65536u : (uint32_t)fit;
         if (pc->time_limit > 0.0) {

@@ -36,13 +36,13 @@ bool render_parse_samples(const char *text, part_meta *m, uint32_t *end) {
     char rest[2];
     if (strspn(text, "0123456789:") != strlen(text) ||
         sscanf(text, "%lld:%lld%1s", &v[0], &v[1], rest) != 2 || v[0] < 0 || v[0] >= v[1] ||
-        v[1] > m->spp || v[0] % CHUNK_SAMPLES != 0 ||
-        (v[1] % CHUNK_SAMPLES != 0 && v[1] != m->spp)) {
+        v[1] > m->spp || v[0] % TZ_CHUNK_SAMPLES != 0 ||
+        (v[1] % TZ_CHUNK_SAMPLES != 0 && v[1] != m->spp)) {
         fprintf(stderr,
                 "trazador: render: --samples '%s' must be A:B with 0 <= A < B <= %u (the samples "
                 "per pixel), A a multiple of %u and B one too or %u: parts merge exactly in "
                 "whole chunks of %u samples\n",
-                text, m->spp, CHUNK_SAMPLES, m->spp, CHUNK_SAMPLES);
+                text, m->spp, TZ_CHUNK_SAMPLES, m->spp, TZ_CHUNK_SAMPLES);
         return false;
     }
     m->sample_begin = (uint32_t)v[0];

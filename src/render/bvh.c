@@ -10,18 +10,13 @@
 
 #include <math.h>
 #include <stdlib.h>
-#include <unistd.h>
 
 #include "render/bvh_builder.h"
 #include "util/log.h"
+#include "util/threads.h"
 
 /* Tasks per thread: enough that uneven SAH splits still even out across the threads. */
 #define TASKS_PER_THREAD 16
-
-static int thread_count(int requested) {
-    long n = requested > 0 ? requested : sysconf(_SC_NPROCESSORS_ONLN);
-    return n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
-}
 
 /* The item of a sphere: its centre and its radius, padded by a few float ulps of the largest
  * coordinate, so that a hit the sphere test accepts never lies outside its box through
@@ -60,7 +55,7 @@ bool bvh_build_primitives(const bvh_input *in, uint32_t max_depth, int threads, 
     *out = (bvh){0};
     uint32_t count = in->sphere_count + in->triangle_count;
     builder b = {.max_depth = max_depth,
-                 .threads = thread_count(threads),
+                 .threads = thread_count(threads, MAX_THREADS),
                  .first_triangle = in->sphere_count};
     size_t n = count ? count : 1;
     b.items = malloc(n * sizeof *b.items);

@@ -1,6 +1,6 @@
 /* chunk_tree.h: how a pixel's samples are summed so that any split of a render merges back to
  * the very sums one machine makes (docs/DESIGN.md, "Parts and exact merging"). Samples come in
- * chunks of CHUNK_SAMPLES (chunk k: samples k*C to min((k+1)*C, N) - 1), each summed in sample
+ * chunks of TZ_CHUNK_SAMPLES (chunk k: samples k*C to min((k+1)*C, N) - 1), each summed in sample
  * order with compensation (common/film_sum.h) into one float per channel. Chunks are combined along
  * a fixed binary tree over the chunk index: block (level l, index m) covers chunks m*2^l to
  * (m+1)*2^l - 1, and its value is left + right of its two halves, in float. A stack of blocks,
@@ -13,9 +13,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-/* Samples a chunk holds (the last chunk of a render may hold fewer). Sample ranges split at
- * multiples of it merge exactly. */
-#define CHUNK_SAMPLES 16u
+#include "shared_layout.h" /* TZ_CHUNK_SAMPLES: samples a chunk holds */
+
 /* Most blocks a stack holds: two per level of a 32-bit chunk index. */
 #define CHUNK_STACK_MAX 64
 

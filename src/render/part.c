@@ -22,9 +22,9 @@ bool part_meta_valid(const part_meta *m, const char *where) {
         why = "samples per pixel outside 1..1048576";
     else if (m->sample_begin > m->sample_end || m->sample_end > m->spp)
         why = "sample range ends before it begins or past the samples per pixel";
-    else if (m->sample_begin % CHUNK_SAMPLES != 0 && m->sample_begin != m->spp)
+    else if (m->sample_begin % TZ_CHUNK_SAMPLES != 0 && m->sample_begin != m->spp)
         why = "sample range does not begin at a chunk (a multiple of 16 samples)";
-    else if (m->chunk != CHUNK_SAMPLES)
+    else if (m->chunk != TZ_CHUNK_SAMPLES)
         why = "chunk size is not this trazador's 16 samples";
     else if (!m->digest[0] || !m->mode[0] || !m->version[0])
         why = "scene digest, mode or version missing";
@@ -37,13 +37,13 @@ bool part_meta_valid(const part_meta *m, const char *where) {
 }
 
 uint32_t part_sample_of(const part *p, uint32_t k) {
-    uint64_t s = (uint64_t)k * CHUNK_SAMPLES;
+    uint64_t s = (uint64_t)k * TZ_CHUNK_SAMPLES;
     return s < p->meta.spp ? (uint32_t)s : p->meta.spp;
 }
 
 uint32_t part_chunk_of(const part *p, uint32_t s) {
-    return s == p->meta.spp ? (p->meta.spp + CHUNK_SAMPLES - 1u) / CHUNK_SAMPLES
-                            : s / CHUNK_SAMPLES;
+    return s == p->meta.spp ? (p->meta.spp + TZ_CHUNK_SAMPLES - 1u) / TZ_CHUNK_SAMPLES
+                            : s / TZ_CHUNK_SAMPLES;
 }
 
 bool part_init(part *p, const part_meta *meta) {
@@ -112,7 +112,7 @@ bool part_push_chunk(part *p, const float *rgb, const uint32_t *count) {
         p->block[top] = NULL;
     }
     for (size_t i = 0; i < n; i++) p->count[i] += count[i];
-    uint32_t next = m->sample_end + CHUNK_SAMPLES;
+    uint32_t next = m->sample_end + TZ_CHUNK_SAMPLES;
     m->sample_end = next < m->spp && next > m->sample_end ? next : m->spp;
     return true;
 }

@@ -26,7 +26,7 @@ typedef struct part_meta {
     uint32_t seed;
     uint32_t spp;                      /* samples per pixel of the whole render, N */
     uint32_t sample_begin, sample_end; /* the samples summed here: sample_begin to sample_end - 1 */
-    uint32_t chunk;                    /* CHUNK_SAMPLES of the trazador that wrote it */
+    uint32_t chunk;                    /* TZ_CHUNK_SAMPLES of the trazador that wrote it */
     int width, height;                 /* the whole image */
     int x0, x1, y0, y1;                /* the region: x0 <= x < x1, y0 <= y < y1 */
     uint64_t nonfinite;                /* samples dropped as NaN or infinite */
@@ -46,7 +46,7 @@ typedef struct part {
 
 /* The first sample of chunk k of part p, or its spp past the last chunk. */
 uint32_t part_sample_of(const part *p, uint32_t k);
-/* The chunk that sample s of part p ends at: s / CHUNK_SAMPLES, or the chunk count at spp. */
+/* The chunk that sample s of part p ends at: s / TZ_CHUNK_SAMPLES, or the chunk count at spp. */
 uint32_t part_chunk_of(const part *p, uint32_t s);
 /* Starts an empty part (meta's sample_end is set to its sample_begin) of zero sums; false
  * (logged) on invalid metadata or out of memory. */

@@ -252,7 +252,7 @@ bool part_read(const char *path, part *out) {
     if (ok) {
         out->meta = m;
         ok = chunk_stack_of(out->stack.first,
-                            open ? m.sample_end / CHUNK_SAMPLES : chunk_at(&m, m.sample_end),
+                            open ? m.sample_end / TZ_CHUNK_SAMPLES : chunk_at(&m, m.sample_end),
                             &out->stack);
     }
     part_channels pc;

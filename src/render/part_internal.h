@@ -14,17 +14,17 @@ static inline size_t region_pixels(const part_meta *m) {
 
 /* Chunks in a render of spp samples. */
 static inline uint32_t chunk_count(uint32_t spp) {
-    return spp / CHUNK_SAMPLES + (spp % CHUNK_SAMPLES != 0);
+    return spp / TZ_CHUNK_SAMPLES + (spp % TZ_CHUNK_SAMPLES != 0);
 }
 
 /* Whether sample s ends a chunk (or the render). */
 static inline bool chunk_aligned(const part_meta *m, uint32_t s) {
-    return s % CHUNK_SAMPLES == 0 || s == m->spp;
+    return s % TZ_CHUNK_SAMPLES == 0 || s == m->spp;
 }
 
 /* The chunk that sample s begins (s aligned), or the chunk count at the end. */
 static inline uint32_t chunk_at(const part_meta *m, uint32_t s) {
-    return s == m->spp ? chunk_count(m->spp) : s / CHUNK_SAMPLES;
+    return s == m->spp ? chunk_count(m->spp) : s / TZ_CHUNK_SAMPLES;
 }
 
 /* Whether m describes a part; false (logged, `where` first) if not. */

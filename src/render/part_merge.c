@@ -188,7 +188,7 @@ static bool merge_check(const part *parts, const char *const *names, int n) {
         if (!chunk_aligned(&parts[i].meta, parts[i].meta.sample_end)) {
             log_error("merge: %s ends inside a chunk, at sample %" PRIu32
                       " (parts merge in whole chunks of %u samples): resume it to finish",
-                      names[i], parts[i].meta.sample_end, CHUNK_SAMPLES);
+                      names[i], parts[i].meta.sample_end, TZ_CHUNK_SAMPLES);
             return false;
         }
     for (int i = 0; i < n; i++)

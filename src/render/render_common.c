@@ -125,7 +125,7 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
 void render_part_meta(const scene *s, const render_opts *opts, part_meta *m) {
     *m = (part_meta){.seed = opts->seed,
                      .spp = (uint32_t)opts->samples,
-                     .chunk = CHUNK_SAMPLES,
+                     .chunk = TZ_CHUNK_SAMPLES,
                      .width = s->width,
                      .height = s->height,
                      .x1 = s->width,

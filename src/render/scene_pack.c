@@ -10,11 +10,6 @@
 #include "util/clock.h"
 #include "util/log.h"
 
-/* params.z stores the material as the shaders' TZ_MATERIAL_* number. */
-_Static_assert(MATERIAL_LAMBERTIAN == TZ_MATERIAL_LAMBERTIAN &&
-                   MATERIAL_PHONG == TZ_MATERIAL_PHONG && MATERIAL_MIRROR == TZ_MATERIAL_MIRROR &&
-                   MATERIAL_REFRACTIVE == TZ_MATERIAL_REFRACTIVE,
-               "material numbers");
 /* std430 in 16-byte groups (vec4s, four scalars): the C structs must have no padding of their own.
  */
 _Static_assert(sizeof(tz_vec4) == 16, "vec4 is 16 bytes");

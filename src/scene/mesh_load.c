@@ -117,7 +117,7 @@ static mesh_material map_material(const struct aiMaterial *m, char *unsupported,
     vec3 color = has_base ? base : has_kd ? kd : v3(0.8f, 0.8f, 0.8f);
     color = v3(clamp01(color.x), clamp01(color.y), clamp01(color.z));
     mesh_material out = {
-        .kind = MATERIAL_LAMBERTIAN,
+        .kind = TZ_MATERIAL_LAMBERTIAN,
         .color = color,
         .ior = 1.0f,
         .emission = v3(fmaxf(ke.x, 0.0f), fmaxf(ke.y, 0.0f), fmaxf(ke.z, 0.0f)),
@@ -126,7 +126,7 @@ static mesh_material map_material(const struct aiMaterial *m, char *unsupported,
     bool glass = (has_d && d < 1.0f) || illum == 4 || illum == 6 || illum == 7 ||
                  (has_trans && transmission > 0.0f);
     if (glass) {
-        out.kind = MATERIAL_REFRACTIVE;
+        out.kind = TZ_MATERIAL_REFRACTIVE;
         out.ior = has_ni && ni >= 1.0f ? ni : 1.5f;
         if (!has_base && !has_kd) out.color = v3(1, 1, 1);
         return out;
@@ -134,12 +134,12 @@ static mesh_material map_material(const struct aiMaterial *m, char *unsupported,
     if (has_metal || has_rough) {
         /* glTF's metallic-roughness model. */
         if (metallic >= 1.0f && roughness < MIRROR_ROUGHNESS) {
-            out.kind = MATERIAL_MIRROR;
+            out.kind = TZ_MATERIAL_MIRROR;
             return out;
         }
         /* Dielectrics reflect 4% at normal incidence, metals their colour's mean; the Phong lobe
          * of exponent 2 / r^4 - 2 is as wide as GGX's of alpha r^2. */
-        out.kind = MATERIAL_PHONG;
+        out.kind = TZ_MATERIAL_PHONG;
         float r = fmaxf(clamp01(roughness), 1e-3f);
         out.ks = 0.04f + 0.96f * clamp01(metallic);
         out.alpha = fminf(2.0f / (r * r * r * r) - 2.0f, MAX_ALPHA);
@@ -147,13 +147,13 @@ static mesh_material map_material(const struct aiMaterial *m, char *unsupported,
     }
     bool black = kd.x <= 0.0f && kd.y <= 0.0f && kd.z <= 0.0f;
     if (illum == 3 || (has_ks && black && ks_mean >= MIRROR_KS)) {
-        out.kind = MATERIAL_MIRROR;
+        out.kind = TZ_MATERIAL_MIRROR;
         out.color =
             has_ks && ks_mean > 0.0f ? v3(clamp01(ks.x), clamp01(ks.y), clamp01(ks.z)) : out.color;
         return out;
     }
     if (has_ks && ks_mean > 0.0f) {
-        out.kind = MATERIAL_PHONG;
+        out.kind = TZ_MATERIAL_PHONG;
         out.ks = ks_mean;
         out.alpha = has_ns && ns > 0.0f ? ns : 1.0f;
     }

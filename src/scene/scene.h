@@ -6,6 +6,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "shared_layout.h"
 #include "util/vec3.h"
 
 #define SCENE_MAX_RESOLUTION 16384
@@ -42,12 +43,9 @@
  * precision, which overflows past about 1.8e19 (every pixel then the background). */
 #define SCENE_MAX_PLANE_DISTANCE 1e19
 
-typedef enum material_kind {
-    MATERIAL_LAMBERTIAN = 0,
-    MATERIAL_PHONG = 1,
-    MATERIAL_MIRROR = 2,
-    MATERIAL_REFRACTIVE = 3,
-} material_kind;
+/* A material: TZ_MATERIAL_LAMBERTIAN, _PHONG, _MIRROR or _REFRACTIVE (shared_layout.h), the
+ * numbers the shaders read. */
+typedef int material_kind;
 
 typedef enum render_mode { RENDER_MODE_SEED = 0, RENDER_MODE_PATH = 1 } render_mode;
 

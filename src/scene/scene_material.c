@@ -11,13 +11,13 @@
 
 /* The seed's Spanish names last: messages list them apart, as aliases (material_list). */
 static const material_spec materials[] = {
-    {"lambertian", MATERIAL_LAMBERTIAN, MATERIAL_COMMON_KEYS, 0.8f, false},
-    {"phong", MATERIAL_PHONG, MATERIAL_COMMON_KEYS | BIT(MAT_KS) | BIT(MAT_ALPHA), 0.8f, false},
-    {"mirror", MATERIAL_MIRROR, MATERIAL_COMMON_KEYS, 1.0f, false},
-    {"refractive", MATERIAL_REFRACTIVE, MATERIAL_COMMON_KEYS | BIT(MAT_IOR), 1.0f, false},
-    {"lambertiana", MATERIAL_LAMBERTIAN, MATERIAL_COMMON_KEYS, 0.8f, true},
-    {"espejo", MATERIAL_MIRROR, MATERIAL_COMMON_KEYS, 1.0f, true},
-    {"refractada", MATERIAL_REFRACTIVE, MATERIAL_COMMON_KEYS | BIT(MAT_IOR), 1.0f, true},
+    {"lambertian", TZ_MATERIAL_LAMBERTIAN, MATERIAL_COMMON_KEYS, 0.8f, false},
+    {"phong", TZ_MATERIAL_PHONG, MATERIAL_COMMON_KEYS | BIT(MAT_KS) | BIT(MAT_ALPHA), 0.8f, false},
+    {"mirror", TZ_MATERIAL_MIRROR, MATERIAL_COMMON_KEYS, 1.0f, false},
+    {"refractive", TZ_MATERIAL_REFRACTIVE, MATERIAL_COMMON_KEYS | BIT(MAT_IOR), 1.0f, false},
+    {"lambertiana", TZ_MATERIAL_LAMBERTIAN, MATERIAL_COMMON_KEYS, 0.8f, true},
+    {"espejo", TZ_MATERIAL_MIRROR, MATERIAL_COMMON_KEYS, 1.0f, true},
+    {"refractada", TZ_MATERIAL_REFRACTIVE, MATERIAL_COMMON_KEYS | BIT(MAT_IOR), 1.0f, true},
 };
 
 const material_spec *material_lookup(const token *word) {
@@ -36,7 +36,7 @@ void material_list(char *out, size_t size, const shape_spec *shape, const char *
         bool first = true;
         for (size_t i = 0; i < sizeof materials / sizeof materials[0]; i++) {
             const material_spec *m = &materials[i];
-            if (m->alias != (pass == 1) || (m->kind == MATERIAL_REFRACTIVE && !shape->glass))
+            if (m->alias != (pass == 1) || (m->kind == TZ_MATERIAL_REFRACTIVE && !shape->glass))
                 continue;
             directive_append(out, size, "%s%s", first ? (pass ? ", or " : "") : sep, m->word);
             first = false;
@@ -63,7 +63,7 @@ bool shape_read(parser *p, const shape_spec *shape, const material_spec **materi
         return parser_fail(p, word->col, "unknown material '%s' for %s (expected one of: %s)",
                            parser_quote(p, word), shape->word, list);
     }
-    if (m->kind == MATERIAL_REFRACTIVE && !shape->glass) {
+    if (m->kind == TZ_MATERIAL_REFRACTIVE && !shape->glass) {
         return parser_fail(p, word->col,
                            "a %s cannot be '%s': glass needs a closed mesh (load one with the "
                            "'mesh' directive)",
@@ -81,7 +81,7 @@ bool shape_read(parser *p, const shape_spec *shape, const material_spec **materi
 surface shape_surface(parser *p, const shape_spec *shape, const material_spec *m,
                       const key_values *kv) {
     int k = shape->material_first;
-    bool phong = m->kind == MATERIAL_PHONG;
+    bool phong = m->kind == TZ_MATERIAL_PHONG;
     float c = m->default_color;
     if ((kv->given & BIT(k + MAT_EMISSION)) && !p->emission_line) {
         p->emission_line = p->line;
@@ -92,7 +92,8 @@ surface shape_surface(parser *p, const shape_spec *shape, const material_spec *m
         .color = parser_vec3(kv, k + MAT_COLOR, v3(c, c, c)),
         .ks = phong ? (float)parser_value_or(kv, k + MAT_KS, 0.5) : 0.0f,
         .alpha = phong ? (float)parser_value_or(kv, k + MAT_ALPHA, 32.0) : 0.0f,
-        .ior = (float)parser_value_or(kv, k + MAT_IOR, m->kind == MATERIAL_REFRACTIVE ? 1.5 : 1.0),
+        .ior =
+            (float)parser_value_or(kv, k + MAT_IOR, m->kind == TZ_MATERIAL_REFRACTIVE ? 1.5 : 1.0),
         .emission = parser_vec3(kv, k + MAT_EMISSION, v3(0, 0, 0)),
     };
 }

@@ -172,7 +172,8 @@ static bool read_mesh_keys(parser *p, const material_spec *m, int next, key_valu
 /* The surface of a mapped file material (a lambertian grey when the face has none). */
 static surface mapped_surface(const mesh *me, int material) {
     if (material < 0 || material >= me->material_count) {
-        return (surface){.material = MATERIAL_LAMBERTIAN, .color = v3(0.8f, 0.8f, 0.8f), .ior = 1};
+        return (surface){
+            .material = TZ_MATERIAL_LAMBERTIAN, .color = v3(0.8f, 0.8f, 0.8f), .ior = 1};
     }
     const mesh_material *mm = &me->materials[material];
     return (surface){.material = mm->kind,
@@ -218,9 +219,9 @@ bool directive_mesh(parser *p) {
     mesh_transform xf = make_transform(scale, rotate, translate);
     surface given = {0};
     if (m) given = shape_surface(p, &mesh_shape, m, &kv);
-    bool glass = m && m->kind == MATERIAL_REFRACTIVE, emits = false;
+    bool glass = m && m->kind == TZ_MATERIAL_REFRACTIVE, emits = false;
     for (int k = 0; !m && k < me.material_count; k++)
-        glass |= me.materials[k].kind == MATERIAL_REFRACTIVE;
+        glass |= me.materials[k].kind == TZ_MATERIAL_REFRACTIVE;
     if (glass && !mesh_closed(&me)) {
         mesh_free(&me);
         return parser_fail(p, file->col,

@@ -23,11 +23,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <unistd.h>
 
 #include "scene/parser.h"
 #include "scene/scene.h"
 #include "shared_layout.h"
+#include "util/threads.h"
 
 /* Chunks are no shorter than this: a chunk costs a parser and a copy of its primitives. */
 #define MIN_CHUNK_BYTES (256 * 1024)
@@ -335,8 +335,7 @@ bool parser_run(const char *text, size_t length, const char *filename, int threa
         ok = parser_fail(p, 0, "scene is too large (%zu bytes; the limit is %zu)", length,
                          MAX_TEXT_BYTES);
     } else {
-        long online = sysconf(_SC_NPROCESSORS_ONLN);
-        ok = parse_text(p, threads > 0 ? threads : online > 1 ? (int)online : 1);
+        ok = parse_text(p, thread_count(threads, MAX_PARSE_THREADS));
     }
     if (ok) {
         *out = p->s;

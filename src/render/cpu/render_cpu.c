@@ -9,7 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "common/film_sum.h"
 #include "render/chunk_tree.h"
@@ -19,6 +18,7 @@
 #include "render/render.h"
 #include "util/clock.h"
 #include "util/log.h"
+#include "util/threads.h"
 
 #define TILE_SIZE 16
 
@@ -68,13 +68,14 @@ static unsigned long long render_lanes(cpu_job *job, int i, int j, uint32_t lane
     unsigned long long dropped = 0;
     uint32_t counted[PACKET_LANES_MAX] = {0};
     for (uint32_t n = 0; n < job->chunks; n++) {
-        uint32_t first = (job->first_chunk + n) * CHUNK_SAMPLES;
-        uint32_t end = p->meta.spp - first < CHUNK_SAMPLES ? p->meta.spp : first + CHUNK_SAMPLES;
+        uint32_t first = (job->first_chunk + n) * TZ_CHUNK_SAMPLES;
+        uint32_t end =
+            p->meta.spp - first < TZ_CHUNK_SAMPLES ? p->meta.spp : first + TZ_CHUNK_SAMPLES;
         vec3 sum[PACKET_LANES_MAX], comp[PACKET_LANES_MAX];
         for (uint32_t k = 0; k < lanes; k++) sum[k] = comp[k] = v3(0.0f, 0.0f, 0.0f);
         /* A path build renders the chunk's samples as one run (a lane whose path ends takes the
          * next sample); they are summed in sample order all the same. */
-        vec3 run[CHUNK_SAMPLES * PACKET_LANES_MAX];
+        vec3 run[TZ_CHUNK_SAMPLES * PACKET_LANES_MAX];
         if (pk->samples) pk->samples(job->packed, x, y, lanes, first, end - first, run);
         for (uint32_t s = first; s < end; s++) {
             vec3 *l = run + (size_t)(s - first) * lanes;
@@ -126,12 +127,6 @@ static void *worker(void *arg) {
     }
     atomic_fetch_add(&job->rays, integrator_rays_traced() - rays_before);
     return NULL;
-}
-
-static int thread_count(int requested) {
-    if (requested > 0) return requested < RENDER_MAX_THREADS ? requested : RENDER_MAX_THREADS;
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n < 1 ? 1 : n > RENDER_MAX_THREADS ? RENDER_MAX_THREADS : (int)n;
 }
 
 /* The progress line's scale: samples a pixel rendered before this pass, in it and in all. */
@@ -300,7 +295,7 @@ bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t 
     int *merges = malloc((end_chunk - begin + 1u) * sizeof *merges);
     bool ok = top && merges;
     if (!ok) log_error("out of memory for a plan of %u chunks", end_chunk - begin);
-    int n = thread_count(opts->threads), ran = 0;
+    int n = thread_count(opts->threads, RENDER_MAX_THREADS), ran = 0;
     cpu_progress pr = {.start = clock_seconds(),
                        .total = (double)(part_sample_of(p, end_chunk) - part_sample_of(p, begin)),
                        .pixels = (double)job.width * job.height,

@@ -12,7 +12,6 @@
  * as one loop pass per sample, one submission of 14 s on lavapipe, with no progress). */
 #define MIN_CHARGED_PIXELS 1024u
 
-_Static_assert(TZ_CHUNK_SAMPLES == CHUNK_SAMPLES, "the shader's chunks are the tree's");
 /* A dispatch has at most (TZ_BAND_ROWS / 8) x (TZ_BAND_ROWS / 4) workgroups. */
 _Static_assert((uint64_t)(TZ_BAND_ROWS / TZ_GROUP_X) * (TZ_BAND_ROWS / TZ_GROUP_Y) *
                        (TZ_BAND_ROWS / TZ_GROUP_X) * (TZ_BAND_ROWS / TZ_GROUP_Y) <=
@@ -67,9 +66,9 @@ pass_plan pass_plan_make(const part_meta *meta, uint64_t sample_iterations, uint
     uint64_t whole = SUBMIT_BUDGET / pixels / sample_iterations;
     if (whole < per_dispatch) per_dispatch = whole;
     /* Whole chunks, up to TZ_PASS_CHUNKS, where a dispatch has room for more than one. */
-    uint64_t group = per_dispatch / CHUNK_SAMPLES;
+    uint64_t group = per_dispatch / TZ_CHUNK_SAMPLES;
     plan.group = group > TZ_PASS_CHUNKS ? TZ_PASS_CHUNKS : group > 1u ? (uint32_t)group : 1u;
-    if (per_dispatch > CHUNK_SAMPLES) per_dispatch = CHUNK_SAMPLES;
+    if (per_dispatch > TZ_CHUNK_SAMPLES) per_dispatch = TZ_CHUNK_SAMPLES;
     if (per_dispatch > plan.spp) per_dispatch = plan.spp;
     plan.per_dispatch = per_dispatch ? (uint32_t)per_dispatch : 1u;
     uint64_t cost; /* saturated: 16384^2 pixels of 4096 lights, 2^24 spheres, --no-bvh */
@@ -89,7 +88,7 @@ uint32_t pass_plan_tiles(const pass_plan *plan) {
 
 /* Dispatch passes a chunk takes. */
 static uint32_t subpasses(const pass_plan *plan) {
-    return (CHUNK_SAMPLES + plan->per_dispatch - 1u) / plan->per_dispatch;
+    return (TZ_CHUNK_SAMPLES + plan->per_dispatch - 1u) / plan->per_dispatch;
 }
 
 uint64_t pass_plan_steps(const pass_plan *plan) {
@@ -111,10 +110,10 @@ bool pass_plan_step(const pass_plan *plan, uint64_t step, pass_step *out) {
     uint32_t sub = plan->group > 1u ? 0u : pass % subs;
     uint32_t spans = plan->chunks - k < group ? plan->chunks - k : group;
     uint32_t chunk = plan->first_chunk + k, last_chunk = chunk + spans - 1u;
-    uint32_t chunk_begin = last_chunk * CHUNK_SAMPLES;
+    uint32_t chunk_begin = last_chunk * TZ_CHUNK_SAMPLES;
     uint32_t chunk_end =
-        plan->spp - chunk_begin < CHUNK_SAMPLES ? plan->spp : chunk_begin + CHUNK_SAMPLES;
-    uint32_t sample = chunk * CHUNK_SAMPLES + sub * plan->per_dispatch;
+        plan->spp - chunk_begin < TZ_CHUNK_SAMPLES ? plan->spp : chunk_begin + TZ_CHUNK_SAMPLES;
+    uint32_t sample = chunk * TZ_CHUNK_SAMPLES + sub * plan->per_dispatch;
     if (sample >= chunk_end) return false;
     uint32_t count = spans > 1u                                ? chunk_end - sample
                      : chunk_end - sample < plan->per_dispatch ? chunk_end - sample
