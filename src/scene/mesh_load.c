@@ -163,9 +163,8 @@ static mesh_material map_material(const struct aiMaterial *m, char *unsupported,
 /* The import itself, in the child process (mesh_load). */
 static bool import(const char *path, bool smooth, mesh *out, char *error, size_t error_size) {
     memset(out, 0, sizeof *out);
-    unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                     aiProcess_PreTransformVertices | aiProcess_SortByPType |
-                     aiProcess_ValidateDataStructure;
+    unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices |
+                     aiProcess_SortByPType | aiProcess_ValidateDataStructure;
     if (smooth) flags |= aiProcess_GenSmoothNormals;
     struct aiPropertyStore *props = aiCreatePropertyStore();
     if (!props) return fail(error, error_size, "out of memory");
