@@ -179,8 +179,8 @@ static bool import(const char *path, bool smooth, mesh *out, char *error, size_t
     }
     bool ok = true;
     if (faces == 0) {
-        ok = fail(error, error_size, "holds no triangles (%u meshes of points or lines only)",
-                  sc->mNumMeshes);
+        ok = fail(error, error_size, "holds no triangles (%u mesh%s of points or lines only)",
+                  sc->mNumMeshes, sc->mNumMeshes == 1 ? "" : "es");
     }
     if (ok) {
         out->faces = malloc(faces * sizeof *out->faces);
