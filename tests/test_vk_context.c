@@ -30,6 +30,7 @@ static bool render_tiny(int device) {
     render_opts opts;
     render_opts_from_scene(&s, &opts);
     opts.device = device;
+    opts.device_given = device >= 0;
     opts.validate = true;
     film f = {0};
     bool ok = render_vk(&s, &opts, &f);

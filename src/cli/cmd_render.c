@@ -318,7 +318,7 @@ static void apply_overrides(const render_args *a, const scene *s, render_opts *o
     if (a->bounces >= 0) o->bounces = (int)a->bounces;
     if (a->sampler != RENDER_SAMPLER_AUTO) o->sampler = (render_sampler)a->sampler;
     if (a->threads >= 0) o->threads = (int)a->threads;
-    if (a->device >= 0) o->device = (int)a->device;
+    if (a->device >= 0) o->device = (int)a->device, o->device_given = true;
     if (a->indirect >= 0) o->indirect = a->indirect;
     o->no_jitter = a->no_jitter;
     o->validate = a->validate;

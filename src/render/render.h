@@ -16,8 +16,7 @@ typedef struct render_stats {
     double render_seconds; /* the sample passes alone */
     uint64_t rays;         /* nearest-hit and shadow rays traced */
     uint32_t bvh_nodes, bvh_depth;
-    uint64_t scene_bytes;       /* spheres, lights and BVH nodes as the shaders read them */
-    unsigned validation_errors; /* Vulkan: what the validation layer reported (it fails the run) */
+    uint64_t scene_bytes; /* spheres, lights and BVH nodes as the shaders read them */
 } render_stats;
 
 /* How path mode samples emitters: both strategies weighted by MIS, or one alone. */
@@ -67,7 +66,8 @@ typedef struct render_opts {
     path_strategy strategy; /* path mode: MIS (the default), or one strategy alone (tests) */
     int bounces;            /* seed: longest chain of specular events; path: scattering events */
     int threads;            /* CPU back end; 0 = all cores */
-    int device;             /* Vulkan back end; -1 = first */
+    bool device_given;      /* Vulkan back end: `device` was asked for (--device) */
+    int device;             /* the Vulkan device asked for; without device_given the first */
     bool validate;          /* Vulkan validation layer, errors fail the run */
     render_walk walk;       /* Vulkan back end; auto (0) also reads TRAZADOR_VK_WALK */
     bool no_bvh;            /* test every sphere for every ray (debugging, comparisons) */
@@ -108,9 +108,14 @@ bool render_cpu(const scene *s, const render_opts *opts, film *f);
 bool render_cpu_part(const scene *s, const render_opts *opts, struct part *p, uint32_t sample_end);
 
 /* How a Vulkan render ended: done; refused, because this device cannot render this scene right
- * (the reason is given, nothing is logged: the caller may render it elsewhere); or failed
- * (logged). */
-typedef enum render_status { RENDER_DONE, RENDER_REFUSED, RENDER_FAILED } render_status;
+ * (the reason is given, nothing is logged: the caller may render it elsewhere); failed (logged);
+ * or invalid: the validation layer reported errors (logged), which no fallback may hide. */
+typedef enum render_status {
+    RENDER_DONE,
+    RENDER_REFUSED,
+    RENDER_FAILED,
+    RENDER_INVALID
+} render_status;
 /* Bytes of a refusal's reason, its terminating NUL included. */
 #define RENDER_REASON_SIZE 512
 /* Renders with the Vulkan compute back end into f (allocated by the call); on RENDER_REFUSED

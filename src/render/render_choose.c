@@ -75,7 +75,7 @@ bool render_choose_part(const scene *s, const render_opts *opts, backend_choice 
     uint32_t begin = p->meta.sample_end;
     if (backend == BACKEND_CPU) return render_cpu_part(s, opts, p, sample_end);
     char reason[RENDER_REASON_SIZE];
-    if (backend == BACKEND_VULKAN || opts->validate || opts->device >= 0 ||
+    if (backend == BACKEND_VULKAN || opts->validate || opts->device_given ||
         opts->walk != RENDER_WALK_AUTO) {
         *used = "vulkan";
         render_status status = render_vk_part_try(s, opts, p, sample_end, reason);
@@ -94,12 +94,9 @@ bool render_choose_part(const scene *s, const render_opts *opts, backend_choice 
         if (cpu) return render_cpu_part(s, opts, p, sample_end);
     }
     *used = "vulkan";
-    render_stats vk_stats = {0};
-    render_opts tried = *opts;
-    if (!tried.stats) tried.stats = &vk_stats;
-    render_status status = render_vk_part_try(s, &tried, p, sample_end, reason);
+    render_status status = render_vk_part_try(s, opts, p, sample_end, reason);
     if (status == RENDER_DONE) return true;
-    if (tried.stats->validation_errors > 0) return false;
+    if (status == RENDER_INVALID) return false;
     if (status == RENDER_REFUSED)
         log_info("%s; rendering with the CPU back end instead", reason);
     else

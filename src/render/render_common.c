@@ -17,7 +17,6 @@ void render_opts_from_scene(const scene *s, render_opts *opts) {
     opts->mode = s->mode;
     opts->roulette = s->roulette;
     opts->sampler = s->sampler;
-    opts->device = -1;
 }
 
 bool film_init(film *f, int width, int height) {

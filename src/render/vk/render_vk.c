@@ -394,7 +394,7 @@ render_status render_vk_part_try(const scene *s, const render_opts *opts, part *
     packed_scene packed = {0};
     bool ok = false;
     double t0 = clock_seconds();
-    vk_context_desc desc = {.device = opts->device,
+    vk_context_desc desc = {.device = opts->device_given ? opts->device : -1,
                             .validate = opts->validate,
                             .ray_query = vk_strategy_wants_ray_query(opts),
                             .threads = opts->threads};
@@ -463,12 +463,11 @@ done:
     scene_pack_free(&packed);
     bool valid = vk_context_destroy(&r.ctx);
     if (!valid) log_error("the Vulkan validation layer reported errors: the render failed");
-    if (opts->stats) opts->stats->validation_errors = vk_context_validation_errors(&r.ctx);
     /* A refusal stands only when nothing else went wrong: validation errors fail the run. */
     if (ok && valid) return RENDER_DONE;
     if (reason[0] && valid) return RENDER_REFUSED;
     if (reason[0]) log_error("%s" VK_CONTEXT_USE_CPU, reason);
-    return RENDER_FAILED;
+    return valid ? RENDER_FAILED : RENDER_INVALID;
 }
 
 render_status render_vk_try(const scene *s, const render_opts *opts, film *f, char *reason) {
