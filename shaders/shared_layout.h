@@ -36,7 +36,7 @@ typedef struct tz_uvec4 {
 
 #define TZ_FLAG_JITTER 1u
 #define TZ_FLAG_INDIRECT 2u
-#define TZ_FLAG_PATH 4u     /* path mode (DESIGN section 3.2), else seed mode */
+#define TZ_FLAG_PATH 4u     /* path mode (DESIGN section 3.2), else report mode */
 #define TZ_FLAG_ROULETTE 8u /* path mode: Russian roulette from the fourth vertex */
 /* Path mode's light sampling alone (no MIS, emission found by BSDF rays not counted) or BSDF
  * sampling alone (emitters not sampled): for tests that the strategies agree. */

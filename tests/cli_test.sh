@@ -11,8 +11,8 @@ has() { # has NAME FILE TEXT
 
 run help 0 "$tz" --help
 has help out "usage: trazador render"
-has help out "[--mode seed|path]" # issue 24: the synopsis lacked it
-grep -qF -- "[--mode seed|path]" "$src/README.md" && ok || bad "README's synopsis lacks --mode"
+has help out "[--mode report|path]" # issue 24: the synopsis lacked it
+grep -qF -- "[--mode report|path]" "$src/README.md" && ok || bad "README's synopsis lacks --mode"
 run version 0 "$tz" --version
 has version out "trazador 0."
 run verbose 0 "$tz" render --backend cpu --width 32 --spp 1 --verbose -o verbose.png
@@ -66,11 +66,11 @@ fi
 cuts_loops=false
 "$tz" devices 2>/dev/null | grep -A1 '^\*' | grep -q "loops stop silently" && cuts_loops=true
 if "$tz" devices 2>/dev/null | grep -q llvmpipe; then
-    # With lavapipe the only device, auto renders seed mode with the CPU back end, faster there
+    # With lavapipe the only device, auto renders report mode with the CPU back end, faster there
     # (README), and says why under --verbose.
     "$tz" gen random --count 20000 -o crowd.scene
     run lavapipe-refusal 0 "$tz" render --no-bvh --width 8 --spp 1 --verbose crowd.scene -o crowd.png
-    has lavapipe-refusal err "auto: the only Vulkan devices are CPUs; the CPU back end: seed mode through the BVH"
+    has lavapipe-refusal err "auto: the only Vulkan devices are CPUs; the CPU back end: report mode through the BVH"
     grep -q "error" "$tmp/err" && bad "lavapipe-refusal: an error line: $(cat "$tmp/err")" || ok
     run auto-path-small 0 "$tz" render --width 8 --spp 1 --verbose "$src/scenes/cornell_path.scene" -o cp.png
     # Path mode on a small scene goes to lavapipe only without a 16-lane CPU build (AVX-512).
@@ -222,8 +222,17 @@ run mode-seed-emission 2 "$tz" render glow.scene --backend cpu --spp 1 -o glow4.
 has mode-seed-emission err "glow.scene:3:41: emission needs path mode: add 'render mode path'"
 printf 'render mode path\n' >>glow.scene
 run mode-seed-flag-emission 2 "$tz" render glow.scene --backend cpu --spp 1 --mode seed -o glow4.pfm
-has mode-seed-flag-emission err "glow.scene:3:41: emission needs path mode, and the render was asked for in seed mode (--mode seed)"
+has mode-seed-flag-emission err "glow.scene:3:41: emission needs path mode, and the render was asked for in report mode (--mode report)"
 [ ! -e glow4.pfm ] && ok || bad "mode-seed-emission wrote glow4.pfm"
+# "seed" is report mode's old name, still taken by --mode and by `render mode` (issue 20).
+run mode-report-flag-emission 2 "$tz" render glow.scene --backend cpu --spp 1 --mode report -o glow4.pfm
+has mode-report-flag-emission err "the render was asked for in report mode (--mode report)"
+"$tz" render --backend cpu --spp 2 --width 40 --mode seed -q -o mode_seed.pfm
+"$tz" render --backend cpu --spp 2 --width 40 --mode report -q -o mode_report.pfm
+sed 's/^render /render mode seed /' "$src/scenes/cornell.scene" >mode_seed.scene
+"$tz" render mode_seed.scene --backend cpu --spp 2 --width 40 -q -o mode_seed_scene.pfm
+cmp -s mode_seed.pfm mode_report.pfm && cmp -s mode_seed.pfm mode_seed_scene.pfm && ok ||
+    bad "--mode seed, --mode report and 'render mode seed' differ"
 
 # A fov so small that the plane lies past single precision's reach is an error at the fov,
 # naming the smallest that works (issue 24, defect 7: it rendered only the background); a
@@ -277,7 +286,7 @@ run tonemap-png 0 "$tz" render --backend cpu --spp 1 --width 8 --tonemap linear 
 [ -s "$tmp/err" ] && bad "tonemap-png: warned: $(cat "$tmp/err")" || ok
 printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nrender roulette off\n' >roulette.scene
 run roulette-seed 0 "$tz" render roulette.scene --backend cpu --spp 1 -q -o roulette.png
-has roulette-seed err "roulette.scene:3:8: roulette does nothing in seed mode: it is path mode's Russian roulette"
+has roulette-seed err "roulette.scene:3:8: roulette does nothing in report mode: it is path mode's Russian roulette"
 run roulette-path 0 "$tz" render roulette.scene --backend cpu --spp 1 -q --mode path -o roulette.png
 [ -s "$tmp/err" ] && bad "roulette-path: warned: $(cat "$tmp/err")" || ok
 

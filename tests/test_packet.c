@@ -200,7 +200,7 @@ static void compare_path_variants(const char *name, scene *s) {
     check_runs = false;
 }
 
-/* Seed mode's variants, or path mode's when the tests are on the path builds. */
+/* Report mode's variants, or path mode's when the tests are on the path builds. */
 static void compare_scene(const char *name, scene *s) {
     if (path_mode)
         compare_path_variants(name, s);
@@ -348,7 +348,7 @@ static bool read_scene(const char *file, char *text, size_t size, const char *ex
     return ok;
 }
 
-/* The scene text arg in seed mode: without its render lines and emission. */
+/* The scene text arg in report mode: without its render lines and emission. */
 static bool write_seed_mode(FILE *fp, const void *arg) {
     char text[4096];
     snprintf(text, sizeof text, "%s", (const char *)arg);

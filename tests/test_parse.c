@@ -67,7 +67,7 @@ static void check_full_example(const char *name, const scene *s) {
     check(s->width == 400 && s->height == 300, name, "resolution %dx%d", s->width, s->height);
     check(vec_is(s->background, 0, 0, 0), name, "background");
     check(s->samples == 64 && s->indirect && s->bounces == 5 && s->seed == 1 &&
-              s->mode == RENDER_MODE_SEED,
+              s->mode == RENDER_MODE_REPORT,
           name, "render settings");
     if (!check(s->light_count == 1 && s->sphere_count == 4, name, "counts %d lights %d spheres",
                s->light_count, s->sphere_count)) {
@@ -124,7 +124,7 @@ static void test_valid(void) {
         check(vec_is(s.lights[0].color, 1, 1, 1), n, "light color");
         check(vec_is(s.background, 0, 0, 0), n, "background");
         check(s.samples == 64 && s.indirect && s.bounces == 5 && s.seed == 1 &&
-                  s.mode == RENDER_MODE_SEED,
+                  s.mode == RENDER_MODE_REPORT,
               n, "render settings");
         const sphere *p = s.spheres;
         check(p[0].material == TZ_MATERIAL_PHONG && vec_is(p[0].color, 0.8f, 0.8f, 0.8f) &&
@@ -314,8 +314,9 @@ static const invalid_case invalid_cases[] = {
      "unknown key 'ks' for sphere mirror (expected one of: center radius color emission)"},
     {"unknown key lists phong keys", BYTES(BASE "sphere phong center 0 0 0 radius 1 ior 2"), 3, 36,
      "(expected one of: center radius color ks alpha emission)"},
-    {"emission in seed mode", BYTES(BASE "sphere lambertian center 0 0 0 radius 1 emission 1 1 1"),
-     3, 41, "emission needs path mode: add 'render mode path'"},
+    {"emission in report mode",
+     BYTES(BASE "sphere lambertian center 0 0 0 radius 1 emission 1 1 1"), 3, 41,
+     "emission needs path mode: add 'render mode path'"},
     {"negative emission",
      BYTES(BASE "sphere lambertian center 0 0 0 radius 1 emission 1 -1 1\nrender mode path"), 3, 52,
      "emission must be >= 0, got -1"},
@@ -323,7 +324,7 @@ static const invalid_case invalid_cases[] = {
      BYTES(BASE "sphere lambertian center 0 0 0 radius 1 emission 1 1 inf\nrender mode path"), 3,
      54, "(NaN and infinities are not allowed)"},
     {"unknown mode", BYTES(BASE "render mode paths"), 3, 13,
-     "expected one of seed path for 'mode', got 'paths'"},
+     "expected one of report path seed for 'mode', got 'paths'"},
     {"roulette not a switch", BYTES(BASE "render mode path roulette 1"), 3, 27,
      "expected on or off for 'roulette'"},
     {"fov zero", BYTES("camera position 0 0 0 fov 0\nplane width 1 height 1 pixel 1\n"), 1, 27,
@@ -660,10 +661,10 @@ static const invalid_case invalid_cases[] = {
     {"quad with a sliver half",
      BYTES(BASE "quad lambertian v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0.5 0.500001 0"), 3, 1,
      "quad half v0 v2 v3 is degenerate: its height is"},
-    {"triangle emission in seed mode",
+    {"triangle emission in report mode",
      BYTES(BASE "triangle lambertian v0 0 0 0 v1 1 0 0 v2 0 1 0 emission 1 1 1"), 3, 48,
      "emission needs path mode: add 'render mode path'"},
-    {"quad emission in seed mode",
+    {"quad emission in report mode",
      BYTES(BASE
            "quad lambertiana v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 0 emission 0 0 5\nrender seed 3\n"),
      3, 54, "emission needs path mode"},
@@ -916,16 +917,16 @@ static void test_chunks(void) {
         }
     }
     free(line_at);
-    /* Emission in seed mode, found by a chunk parsed ahead, is reported at its own line. */
+    /* Emission in report mode, found by a chunk parsed ahead, is reported at its own line. */
     size_t size = 64u * 30000u, used = 0;
     char *text = malloc(size);
     used += (size_t)sprintf(text, "camera position 0 0 0\nplane width 4 height 3 pixel 0.01\n");
     for (int k = 3; k <= 30000; k++)
         used += (size_t)sprintf(text + used, "sphere lambertian center %d 0 9 radius 0.5%s\n", k,
                                 k == 22222 ? " emission 1 1 1" : "");
-    bool ok = parse_all_threads("chunks, emission in seed mode", text, used, &err, &s);
+    bool ok = parse_all_threads("chunks, emission in report mode", text, used, &err, &s);
     check(!ok && err.line == 22222 && strstr(err.message, "emission needs path mode"),
-          "chunks, emission in seed mode", "%d:%d %s", err.line, err.col, err.message);
+          "chunks, emission in report mode", "%d:%d %s", err.line, err.col, err.message);
     if (ok) scene_free(&s);
     free(text);
 }
@@ -983,7 +984,7 @@ static void test_chunks_faces(void) {
               name, "%d triangles, expected %d", s.triangle_count, expected);
         scene_free(&s);
     }
-    /* A bad face late, found by a chunk parsed ahead, and a face emitting in seed mode. */
+    /* A bad face late, found by a chunk parsed ahead, and a face emitting in report mode. */
     char *bad = malloc(used + 1);
     const struct {
         int line;
@@ -1001,7 +1002,7 @@ static void test_chunks_faces(void) {
         snprintf(case_name, sizeof case_name, "%s, '%s' at line %d", name, cases[c].text,
                  cases[c].line);
         bool ok = parse_all_threads(case_name, bad, used, &err, &s);
-        /* in seed mode the first emitting triangle (line 22: 3k+1 and a multiple of 11) fails */
+        /* in report mode the first emitting triangle (line 22: 3k+1 and a multiple of 11) fails */
         int line = cases[c].col ? cases[c].line : 22;
         check(!ok && err.line == line && (!cases[c].col || err.col == cases[c].col) &&
                   strstr(err.message, cases[c].message),

@@ -57,7 +57,7 @@ static uint32_t chunk_value(int x, int y, uint32_t k, float out[3]) {
 static part_meta base_meta(void) {
     part_meta m = {.seed = 7, .spp = SPP, .chunk = TZ_CHUNK_SAMPLES, .width = W, .height = H};
     snprintf(m.digest, sizeof m.digest, "%s", "d1g3st");
-    snprintf(m.mode, sizeof m.mode, "%s", "seed");
+    snprintf(m.mode, sizeof m.mode, "%s", "report");
     snprintf(m.version, sizeof m.version, "%s", TRAZADOR_VERSION);
     return m;
 }
@@ -223,6 +223,14 @@ static void test_part_files(void) {
            !memcmp(q.count, p.count, sizeof(uint32_t) * 7 * 5));
     for (int k = 0; k < p.stack.count && k < q.stack.count; k++)
         EXPECT(!memcmp(q.block[k], p.block[k], sizeof(float) * 3 * 7 * 5));
+    /* A part of report mode written before its rename says "seed": read as "report". */
+    part old;
+    snprintf(p.meta.mode, sizeof p.meta.mode, "%s", "seed");
+    EXPECT(part_write(path, &p) && part_read(path, &old));
+    EXPECT(!strcmp(old.meta.mode, "report") && !strcmp(q.meta.mode, "report"));
+    part_free(&old);
+    snprintf(p.meta.mode, sizeof p.meta.mode, "%s", "report");
+    EXPECT(part_write(path, &p));
     /* The file is a viewable image of the region's mean inside the whole image. */
     exr_file f;
     EXPECT(exr_file_read(path, &f));
@@ -282,7 +290,7 @@ static void test_refusals(void) {
     CHECK(strstr(why, "a.exr and b.exr") && strstr(why, "scene digest d1g3st against X1g3st"), "%s",
           why);
     why = refusal(two, 2, other_mode);
-    CHECK(strstr(why, "mode seed against path"), "%s", why);
+    CHECK(strstr(why, "mode report against path"), "%s", why);
     why = refusal(two, 2, other_seed_digest);
     CHECK(strstr(why, "seed 7 against 8"), "%s", why);
     why = refusal(two, 2, other_spp_digest);

@@ -4,7 +4,7 @@
  * cos, sin and pow are shaders/common/transcendental.h's, made of those: every film must be
  * bit-identical, pixel for pixel. Scenes built here and every scene in scenes/ are rendered small
  * (96 pixels wide, 16 samples, the same seed) by both back ends with validation on, in their own
- * mode and, for those of seed mode, in path mode too. Also: an image of several tiles renders
+ * mode and, for those of report mode, in path mode too. Also: an image of several tiles renders
  * every pixel once a sample; staging copies (the discrete-GPU path) give the very film mapped
  * memory gives; non-finite samples are dropped and counted alike. Exits 77 only when no Vulkan
  * device exists. */
@@ -48,8 +48,8 @@ static void check_agreement(const char *name, const scene *s, const render_opts 
         diff_images(&a, &b, &st)) {
         double exact = exact_share(&cpu, &vk);
         printf("%-30s %4s %3dx%-3d %2d spp: %.4f%% of pixels bit-exact, psnr %6.2f dB\n", name,
-               opts->mode == RENDER_MODE_PATH ? "path" : "seed", s->width, s->height, opts->samples,
-               100.0 * exact, st.psnr);
+               opts->mode == RENDER_MODE_PATH ? "path" : "report", s->width, s->height,
+               opts->samples, 100.0 * exact, st.psnr);
         CHECK(exact == 1.0, "%s: only %.4f%% of pixels bit-exact (psnr %.2f dB, %ld differ)", name,
               100.0 * exact, st.psnr, st.differ_count);
         CHECK(cpu.nonfinite == vk.nonfinite,
@@ -62,7 +62,7 @@ static void check_agreement(const char *name, const scene *s, const render_opts 
     film_free(&vk);
 }
 
-/* check_agreement in the scene's mode and, for a scene of seed mode, in path mode with path
+/* check_agreement in the scene's mode and, for a scene of report mode, in path mode with path
  * mode's bounces (as --mode path) unless the scene sets them. */
 static void check_both_modes(const char *name, const scene *s, const render_opts *opts) {
     check_agreement(name, s, opts);
@@ -164,7 +164,7 @@ static void test_built_scenes(void) {
     check_both_modes("materials", &s, &opts);
     render_opts other = opts; /* each mode with the sampler it does not default to */
     other.sampler = RENDER_SAMPLER_SOBOL;
-    check_agreement("materials, sobol in seed mode", &s, &other);
+    check_agreement("materials, sobol in report mode", &s, &other);
     other.sampler = RENDER_SAMPLER_RANDOM;
     other.mode = RENDER_MODE_PATH;
     other.bounces = scene_default_bounces(RENDER_MODE_PATH);
@@ -292,7 +292,8 @@ static bool render_with_walk(const scene *s, const render_opts *opts, render_wal
 }
 
 /* The subgroup's cooperative BVH walk and the walk per invocation give bit-identical films (the
- * tie rule) on generated scenes, seed mode and path mode, with and without the indirect bounce. */
+ * tie rule) on generated scenes, report mode and path mode, with and without the indirect bounce.
+ */
 static void check_walks(const char *name, const scene *s, render_opts opts) {
     opts.validate = true;
     film coop = {0}, alone = {0};

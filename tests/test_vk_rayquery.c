@@ -1,7 +1,7 @@
 /* test_vk_rayquery.c: the ray query walk (`--walk rayquery`: the device's acceleration structure,
  * every candidate decided by the shared tests and the tie rule) gives films byte-identical to the
  * compute walk's, with validation on: every scene in scenes/ (spheres, quads, the mesh), 3,000
- * random spheres (seed mode with and without the indirect bounce, path mode), sphereflake 3, and
+ * random spheres (report mode with and without the indirect bounce, path mode), sphereflake 3, and
  * an exact tie of two coincident spheres. Where the device does not offer ray queries the test
  * says which driver it ran on, checks that the device really lacks them and that asking for the
  * walk fails, and passes. Exits 77 only when no Vulkan device exists. */

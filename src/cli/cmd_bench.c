@@ -20,7 +20,7 @@ typedef struct workload {
     int size; /* square image side in pixels */
     int samples;
     bool indirect;
-    bool path; /* path mode on scenes/cornell_path.scene, else seed mode on the default scene */
+    bool path; /* path mode on scenes/cornell_path.scene, else report mode on the default scene */
 } workload;
 
 static const workload workloads[] = {

@@ -63,17 +63,17 @@ static const opt_spec render_specs[] = {
                   SCENE_MAX_SAMPLES) " (default: the scene's, else 64)"),
     OPT_WHOLE("--seed", NULL, ARG(seed), 0, 4294967295.0,
               "the random seed, 0 to 4294967295 (default: the scene's, else 1)"),
-    OPT_ONE_OF("--mode", ARG(mode), "seed|path",
-               "the integrator: seed, the course report's model, or path, physically based path "
-               "tracing (default: the scene's, else seed)"),
+    OPT_ONE_OF("--mode", ARG(mode), "report|path|seed",
+               "the integrator: report, the course report's model, or path, physically based "
+               "path tracing (default: the scene's, else report; seed is report's old name)"),
     OPT_ONE_OF("--sampler", ARG(sampler), "auto|random|sobol",
                "where a sample's numbers come from: random (a hashed stream) or sobol "
                "(Owen-scrambled Sobol points, lower error at equal samples) (default: the "
-               "scene's, else sobol in path mode and random in seed mode)"),
+               "scene's, else sobol in path mode and random in report mode)"),
     OPT_WHOLE("--bounces", NULL, ARG(bounces), 0, SCENE_MAX_BOUNCES,
-              "seed mode: the longest chain of specular events; path mode: the most scattering "
+              "report mode: the longest chain of specular events; path mode: the most scattering "
               "events of a path; 0 to " CLI_AS_TEXT(
-                  SCENE_MAX_BOUNCES) " (default: the scene's, else 5 in seed mode, 16 in path)"),
+                  SCENE_MAX_BOUNCES) " (default: the scene's, else 5 in report mode, 16 in path)"),
     OPT_SET("--indirect", NULL, ARG(indirect), 1,
             "one diffuse bounce of indirect light (default: the scene's, else on)"),
     OPT_SET("--no-indirect", NULL, ARG(indirect), 0,
@@ -357,7 +357,7 @@ static int render_and_write(const render_args *a, const scene *s) {
     apply_overrides(a, s, &opts);
     log_debug(
         "render: %s mode, %d samples a pixel, %d bounces, %s sampler",
-        opts.mode == RENDER_MODE_PATH ? "path" : "seed", opts.samples, opts.bounces,
+        opts.mode == RENDER_MODE_PATH ? "path" : "report", opts.samples, opts.bounces,
         scene_sampler_of(opts.sampler, opts.mode) == RENDER_SAMPLER_SOBOL ? "sobol" : "random");
     render_stats stats = {0};
     opts.stats = &stats;
@@ -450,6 +450,7 @@ int cmd_render(int argc, char **argv) {
     const char *scene_path;
     opt_result parsed_args = parse_render_args(argc, argv, &a, &scene_path);
     if (parsed_args != OPT_OK) return parsed_args == OPT_HELP ? 0 : parsed_args;
+    if (a.mode >= 0) a.mode = (int)scene_mode_of_word(a.mode); /* seed is report */
     if (a.verbose) log_set_level(LOG_DEBUG);
     if (a.quiet) log_set_level(LOG_WARN);
     scene s;

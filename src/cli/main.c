@@ -8,7 +8,7 @@
 
 static const char usage_text[] =
     "usage: trazador render [SCENE] [-o OUT] [--backend auto|vulkan|cpu] [--spp N] [--seed N]\n"
-    "                       [--mode seed|path] [--no-jitter] [--no-indirect] [--indirect]\n"
+    "                       [--mode report|path] [--no-jitter] [--no-indirect] [--indirect]\n"
     "                       [--bounces N] [--threads N] [--device N] [--validate] [--quiet]\n"
     "                       [--verbose] [--tonemap srgb|linear] [--width N] [--no-bvh]\n"
     "                       [--format F] [--force] [--region X0,X1,Y0,Y1] [--samples A:B]\n"

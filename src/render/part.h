@@ -17,7 +17,7 @@
  * is equal. */
 typedef struct part_meta {
     char digest[PART_TEXT_MAX + 1];  /* the scene and every setting that changes a sample */
-    char mode[PART_TEXT_MAX + 1];    /* integrator mode, "seed" */
+    char mode[PART_TEXT_MAX + 1];    /* integrator mode, "report" or "path" */
     char version[PART_TEXT_MAX + 1]; /* trazador's version (TRAZADOR_VERSION) */
     /* The back end that rendered it, "cpu" or "vulkan: DEVICE, driver NAME, version N"; "" while
      * nothing is rendered. The two back ends (and two Vulkan drivers) differ by rounding, so

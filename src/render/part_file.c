@@ -202,7 +202,8 @@ static bool read_meta(const char *path, const exr_file *f, part_meta *m) {
                      .y1 = f->y0 + f->height};
     snprintf(m->version, sizeof m->version, "%s", value[0]);
     snprintf(m->digest, sizeof m->digest, "%s", value[1]);
-    snprintf(m->mode, sizeof m->mode, "%s", value[2]);
+    /* "seed" is what parts of report mode were written with before the mode's rename. */
+    snprintf(m->mode, sizeof m->mode, "%s", strcmp(value[2], "seed") ? value[2] : "report");
     snprintf(m->backend, sizeof m->backend, "%s", value[8]);
     uint64_t seed, spp, begin, end, chunk;
     char begin_text[16] = "", end_text[16] = "";

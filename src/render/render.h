@@ -59,7 +59,7 @@ typedef struct render_opts {
     int samples; /* samples per pixel */
     uint32_t seed;
     bool no_jitter;         /* zero is default: jitter on */
-    bool indirect;          /* seed mode: the one bounce of indirect light */
+    bool indirect;          /* report mode: the one bounce of indirect light */
     render_mode mode;       /* seed (the course report's model) or path (DESIGN section 3.2) */
     bool roulette;          /* path mode: Russian roulette from the fourth vertex */
     render_sampler sampler; /* auto: scene_sampler_of the mode */

@@ -25,8 +25,8 @@ static bool cpu_faster(const scene *s, const render_opts *opts, const char **why
     }
     *why = opts->mode == RENDER_MODE_PATH
                ? "path mode, where the CPU back end measured faster than lavapipe"
-           : small ? "seed mode, where the CPU back end measured faster than lavapipe"
-                   : "seed mode through the BVH, where the CPU back end measured faster than "
+           : small ? "report mode, where the CPU back end measured faster than lavapipe"
+                   : "report mode through the BVH, where the CPU back end measured faster than "
                      "lavapipe";
     return true;
 }

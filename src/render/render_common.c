@@ -130,7 +130,7 @@ void render_part_meta(const scene *s, const render_opts *opts, part_meta *m) {
                      .x1 = s->width,
                      .y1 = s->height};
     snprintf(m->digest, sizeof m->digest, "%016" PRIx64, render_digest(s, opts));
-    snprintf(m->mode, sizeof m->mode, "%s", opts->mode == RENDER_MODE_PATH ? "path" : "seed");
+    snprintf(m->mode, sizeof m->mode, "%s", opts->mode == RENDER_MODE_PATH ? "path" : "report");
     snprintf(m->version, sizeof m->version, "%s", TRAZADOR_VERSION);
 }
 

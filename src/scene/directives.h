@@ -101,7 +101,8 @@ void material_list(char *out, size_t size, const shape_spec *shape, const char *
 /* Reads a shape's line: its material word (token 1), then its keys and the material's into kv;
  * false (reported) on a bad material or a bad or missing key. */
 bool shape_read(parser *p, const shape_spec *shape, const material_spec **material, key_values *kv);
-/* The material of a shape's line, defaults filled in; records the line's emission for seed mode. */
+/* The material of a shape's line, defaults filled in; records the line's emission for report mode.
+ */
 surface shape_surface(parser *p, const shape_spec *shape, const material_spec *m,
                       const key_values *kv);
 

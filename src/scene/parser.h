@@ -72,7 +72,7 @@ typedef struct parser {
     int fov_line, fov_col; /* of the camera's fov, 0 without one */
     int roulette_col;      /* of render's roulette key, 0 without one (on render_line) */
     bool tiny_warned;
-    int emission_line, emission_col; /* the first emission (sphere or face): seed mode refuses */
+    int emission_line, emission_col; /* the first emission (sphere or face): report mode refuses */
     int mode_given;                  /* the render's mode from the command line; -1: the scene's */
     /* A chunk parsed ahead: any directive but sphere, triangle and quad stops it. */
     bool primitives_only;

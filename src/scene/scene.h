@@ -47,7 +47,13 @@
  * numbers the shaders read. */
 typedef int material_kind;
 
-typedef enum render_mode { RENDER_MODE_SEED = 0, RENDER_MODE_PATH = 1 } render_mode;
+/* The integrator: the course report's model ("report", called "seed" before, a word still
+ * accepted) or physically based path tracing. */
+typedef enum render_mode { RENDER_MODE_REPORT = 0, RENDER_MODE_PATH = 1 } render_mode;
+/* The mode a word of `render mode` or `--mode` names at `index` in "report path seed". */
+static inline render_mode scene_mode_of_word(int index) {
+    return index == 1 ? RENDER_MODE_PATH : RENDER_MODE_REPORT;
+}
 
 /* Where a sample's numbers come from (shaders/common/sampler.h); auto: the mode's default. */
 typedef enum render_sampler {
@@ -57,7 +63,7 @@ typedef enum render_sampler {
 } render_sampler;
 
 /* The sampler a render uses: the one named, else sobol in path mode (lower error at equal
- * samples, docs/PERF.md) and random in seed mode (the course report's images). */
+ * samples, docs/PERF.md) and random in report mode (the course report's images). */
 static inline render_sampler scene_sampler_of(render_sampler named, render_mode mode) {
     if (named != RENDER_SAMPLER_AUTO) return named;
     return mode == RENDER_MODE_PATH ? RENDER_SAMPLER_SOBOL : RENDER_SAMPLER_RANDOM;
@@ -76,7 +82,7 @@ typedef struct sphere {
     float ks;      /* phong specular weight, 0 for the others */
     float alpha;   /* phong exponent */
     float ior;     /* refractive index, 1 for the others */
-    vec3 emission; /* radiance emitted (path mode; an error in seed mode) */
+    vec3 emission; /* radiance emitted (path mode; an error in report mode) */
 } sphere;
 
 /* A triangle (a `triangle` line, half of a `quad`, or a face of a mesh). Its geometric normal

@@ -280,13 +280,13 @@ static bool parse_text(parser *p, int threads) {
     if (!p->plane_line) return parser_fail(p, 1, "missing 'plane' directive");
     if (!check_fov(p)) return false;
     /* The mode the render will use decides, not the scene's own: --mode path enables emission. */
-    if (p->emission_line && p->mode_given == RENDER_MODE_SEED) {
+    if (p->emission_line && p->mode_given == RENDER_MODE_REPORT) {
         p->line = p->emission_line;
         return parser_fail(p, p->emission_col,
-                           "emission needs path mode, and the render was asked for in seed mode "
-                           "(--mode seed)");
+                           "emission needs path mode, and the render was asked for in report mode "
+                           "(--mode report)");
     }
-    if (p->emission_line && p->mode_given < 0 && p->s.mode == RENDER_MODE_SEED) {
+    if (p->emission_line && p->mode_given < 0 && p->s.mode == RENDER_MODE_REPORT) {
         p->line = p->emission_line;
         return parser_fail(p, p->emission_col,
                            "emission needs path mode: add 'render mode path' (or render with "
@@ -294,9 +294,9 @@ static bool parse_text(parser *p, int threads) {
     }
     /* A setting the render's mode has no use for is said once, not ignored silently. */
     render_mode mode = p->mode_given >= 0 ? (render_mode)p->mode_given : p->s.mode;
-    if (p->roulette_col && mode == RENDER_MODE_SEED)
+    if (p->roulette_col && mode == RENDER_MODE_REPORT)
         parser_warn(p, p->render_line, p->roulette_col,
-                    "roulette does nothing in seed mode: it is path mode's Russian roulette");
+                    "roulette does nothing in report mode: it is path mode's Russian roulette");
     warn_near_surfaces(p);
     return true;
 }
@@ -309,7 +309,7 @@ scene parser_scene_defaults(void) {
         .indirect = true,
         .bounces = 5,
         .seed = 1,
-        .mode = RENDER_MODE_SEED,
+        .mode = RENDER_MODE_REPORT,
         .roulette = true,
     };
 }

@@ -65,8 +65,8 @@ enum {
     RENDER_SAMPLER,
     RENDER_KEY_COUNT
 };
-/* The words of `render mode`, in render_mode order. */
-#define RENDER_MODE_WORDS "seed path"
+/* The words of `render mode`, in render_mode order, then "seed", report's old name. */
+#define RENDER_MODE_WORDS "report path seed"
 /* The words of `render sampler`, in render_sampler order from random. */
 #define RENDER_SAMPLER_WORDS "random sobol"
 static const key_spec render_keys[RENDER_KEY_COUNT] = {
@@ -74,7 +74,7 @@ static const key_spec render_keys[RENDER_KEY_COUNT] = {
     {"indirect", NULL, VALUE_SWITCH, 0.0, 1.0, false},
     {"bounces", NULL, VALUE_INTEGER, 0.0, SCENE_MAX_BOUNCES, false},
     {"seed", NULL, VALUE_INTEGER, 0.0, UINT32_MAX, false},
-    {"mode", RENDER_MODE_WORDS, VALUE_WORD, 0.0, 1.0, false},
+    {"mode", RENDER_MODE_WORDS, VALUE_WORD, 0.0, 2.0, false},
     {"roulette", NULL, VALUE_SWITCH, 0.0, 1.0, false},
     {"sampler", RENDER_SAMPLER_WORDS, VALUE_WORD, 0.0, 1.0, false},
 };
@@ -345,7 +345,7 @@ bool directive_render(parser *p) {
     }
     p->s.samples = (int)parser_value_or(&kv, RENDER_SAMPLES, 64);
     p->s.indirect = parser_value_or(&kv, RENDER_INDIRECT, 1) != 0;
-    p->s.mode = (render_mode)parser_value_or(&kv, RENDER_MODE, RENDER_MODE_SEED);
+    p->s.mode = scene_mode_of_word((int)parser_value_or(&kv, RENDER_MODE, RENDER_MODE_REPORT));
     p->s.bounces_given = kv.given & BIT(RENDER_BOUNCES);
     p->s.bounces = (int)parser_value_or(&kv, RENDER_BOUNCES, scene_default_bounces(p->s.mode));
     p->s.seed = (uint32_t)parser_value_or(&kv, RENDER_SEED, 1);

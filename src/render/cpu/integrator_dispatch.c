@@ -1,6 +1,6 @@
 /* integrator_dispatch.c: the builds of the packet integrators (src/render/cpu/integrator_packet.c
- * for seed mode, integrator_path_packet.c for path mode, one per vector level, see CMakeLists.txt)
- * and which of them this processor runs. */
+ * for report mode, integrator_path_packet.c for path mode, one per vector level, see
+ * CMakeLists.txt) and which of them this processor runs. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -61,7 +61,7 @@ static void samples_path_reference(const packed_scene *p, uint32_t i, uint32_t j
         sample_path_reference(p, i, j, lanes, first + s, out + (size_t)s * lanes);
 }
 
-/* Every build compiled into this binary, fastest first, for seed mode and for path mode (of the
+/* Every build compiled into this binary, fastest first, for report mode and for path mode (of the
  * same name), with what it needs to run. */
 static const struct {
     packet_integrator build, path;

@@ -113,7 +113,7 @@ uint64_t vk_probe_sample_iterations(uint32_t sphere_count, uint32_t light_count,
 
 uint64_t vk_probe_path_iterations(uint32_t sphere_count, uint32_t light_count, uint32_t bounces,
                                   uint32_t emitter_count) {
-    /* A ray costs as in seed mode. The path loop runs a pass a vertex (bounces + 1, and one
+    /* A ray costs as in report mode. The path loop runs a pass a vertex (bounces + 1, and one
      * spare); a diffuse vertex adds its light loop's passes and exit pass, the binary search's
      * passes (ceil(log2(emitters)) and its exit) and the emitter's shadow ray. */
     uint64_t per_ray = (uint64_t)sphere_count + 2u;
