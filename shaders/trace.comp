@@ -113,17 +113,20 @@ uvec2 tile_pixel() {
     return corner * gl_WorkGroupSize.xy + gl_LocalInvocationID.xy;
 }
 
-/* Block k of the stack of the pixel at slot, as RGB. */
-vec3 stack_load(uint slot, uint k) {
+/* Block k of the stack of the pixel at slot, as RGB: chunk_push's stack. */
+vec3 chunk_stack_load(uint slot, uint k) {
     uint at = (slot * pass.stack_depth + k) * 3u;
     return vec3(stack[at], stack[at + 1u], stack[at + 2u]);
 }
-void stack_store(uint slot, uint k, vec3 v) {
+void chunk_stack_store(uint slot, uint k, vec3 v) {
     uint at = (slot * pass.stack_depth + k) * 3u;
     stack[at] = v.x;
     stack[at + 1u] = v.y;
     stack[at + 2u] = v.z;
 }
+#define CHUNK_STACK_PARAM uint slot,
+#define CHUNK_STACK_ARG slot,
+#include "common/chunk_push.h"
 
 void main() {
     uvec2 at = tile_pixel();
@@ -167,15 +170,8 @@ void main() {
         s += n;
         left -= n;
         if (!last || (pass.chunk_flags & TZ_CHUNK_CLOSE) != 0u) {
-            /* chunk_values_push() of src/render/chunk_tree.h: each merge is left + right */
-            precise vec3 value = film_sum_value(sum.xyz, comp);
-            uint top = pass.stack_slot[c] & 0xffffu;
-            for (uint m = 0u; m < pass.stack_slot[c] >> 16u; m++) {
-                top--;
-                precise vec3 left_value = stack_load(slot, top);
-                value = left_value + value;
-            }
-            stack_store(slot, top, value);
+            chunk_push(slot, pass.stack_slot[c] & 0xffffu, pass.stack_slot[c] >> 16u,
+                       film_sum_value(sum.xyz, comp));
         }
     }
     accum[slot] = sum;

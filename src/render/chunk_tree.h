@@ -78,13 +78,6 @@ static inline void chunk_sum_combine(float left[3], const float right[3]) {
     for (int c = 0; c < 3; c++) left[c] = left[c] + right[c];
 }
 
-/* Places value v of a block just pushed at position top of one pixel's stack of values (value[k]
- * of block k), then makes the merges chunk_stack_push reported; never fails. */
-static inline void chunk_values_push(float (*value)[3], int top, int merges, const float v[3]) {
-    for (int c = 0; c < 3; c++) value[top][c] = v[c];
-    for (int m = 0; m < merges; m++, top--) chunk_sum_combine(value[top - 1], value[top]);
-}
-
 /* The total of a stack of n values (value[k] of block k): the top, then each block below added on
  * its left, value[k] + total; 0 for n = 0. Never fails. */
 static inline void chunk_sum_fold(const float *const *value, int n, float out[3]) {

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "render/chunk_values.h"
 #include "render/part_internal.h"
 #include "util/log.h"
 
@@ -221,7 +222,8 @@ static bool merge_pixel(const part *parts, const int *order, int held, int x, in
         for (int k = 0; k < q->stack.count; k++) {
             int top = s.count, merges = chunk_stack_push(&s, q->stack.block[k]);
             if (merges < 0) return false;
-            chunk_values_push(value, top, merges, &q->block[k][3 * i]);
+            const float *v = &q->block[k][3 * i];
+            chunk_push(value, (uint32_t)top, (uint32_t)merges, v3(v[0], v[1], v[2]));
         }
         count += q->count[i];
     }

@@ -12,6 +12,7 @@
 
 #include "common/film_sum.h"
 #include "render/chunk_tree.h"
+#include "render/chunk_values.h"
 #include "render/cpu/integrator.h"
 #include "render/part.h"
 #include "render/pass_loop.h"
@@ -90,9 +91,8 @@ static unsigned long long render_lanes(cpu_job *job, int i, int j, uint32_t lane
             }
         }
         for (uint32_t k = 0; k < lanes; k++) {
-            vec3 total = film_sum_value(sum[k], comp[k]);
-            const float v[3] = {total.x, total.y, total.z};
-            chunk_values_push(value[k], job->top[n], job->merges[n], v);
+            chunk_push(value[k], (uint32_t)job->top[n], (uint32_t)job->merges[n],
+                       film_sum_value(sum[k], comp[k]));
         }
     }
     for (uint32_t k = 0; k < lanes; k++) {

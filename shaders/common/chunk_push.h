@@ -1,0 +1,22 @@
+/* chunk_push.h: a closed chunk's value onto a pixel's stack of chunk-tree blocks
+ * (src/render/chunk_tree.h), one text for C and GLSL (dialect.h): placed at block `top`, then
+ * merged `merges` times into the blocks below it, each merge left + right in float. The includer
+ * names the stack: CHUNK_STACK_PARAM and CHUNK_STACK_ARG (its leading parameters and arguments),
+ * chunk_stack_load(CHUNK_STACK_ARG k) and chunk_stack_store(CHUNK_STACK_ARG k, v) for block k. */
+#ifndef TRAZADOR_COMMON_CHUNK_PUSH_H
+#define TRAZADOR_COMMON_CHUNK_PUSH_H
+
+#include "dialect.h"
+
+/* Pushes chunk_value at block top, merging as chunk_stack_push reported; never fails. */
+TZ_FN void chunk_push(CHUNK_STACK_PARAM TZ_UINT top, TZ_UINT merges, vec3 chunk_value) {
+    TZ_PRECISE vec3 sum = chunk_value;
+    for (TZ_UINT m = 0u; m < merges; m++) {
+        top -= 1u;
+        TZ_PRECISE vec3 left = chunk_stack_load(CHUNK_STACK_ARG top);
+        sum = v3_add(left, sum);
+    }
+    chunk_stack_store(CHUNK_STACK_ARG top, sum);
+}
+
+#endif
