@@ -28,11 +28,10 @@
 #include "util/clock.h"
 #include "util/log.h"
 
-/* Loops unrolled by specialization (TZ_SPEC_UNROLLED_*, at most TZ_UNROLL_MAX_*): about 20-30%
- * fewer instructions on lavapipe, at the price of compile time, which grows with the copies of
- * the sphere test, spheres x lights in the shadow rays. Measured cold on lavapipe (first
- * dispatch, Mesa's shader cache empty): plain loops ~120 ms; 8 spheres 165 ms; 16 spheres
- * 250-280 ms; 16 spheres x 4 lights 550 ms, hence the cap on the product. */
+/* Loops unrolled by specialization (TZ_SPEC_UNROLLED_*, at most TZ_UNROLL_MAX_*): fewer
+ * instructions on lavapipe, at the price of compile time, which grows with the copies of the
+ * sphere test, spheres x lights in the shadow rays (docs/PERF.md, "First dispatch"), hence the
+ * cap on the product. */
 #define UNROLL_MAX_SHADOW_TESTS 16u /* unrolled spheres x unrolled lights */
 
 /* Seconds a submission of a stoppable render aims at: a stop waits for the one in flight. */
