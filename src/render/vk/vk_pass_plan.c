@@ -8,8 +8,7 @@
  * line and of the non-finite counter read-back. */
 #define SUBMIT_BUDGET (UINT64_C(1) << 31)
 /* Pixels an image is charged for at least: a smaller one leaves the device's lanes idle, and its
- * few invocations take as long as this many would (a 1 x 1 image of a million samples was timed
- * as one loop pass per sample, one submission of 14 s on lavapipe, with no progress). */
+ * few invocations take as long as this many would (docs/PERF.md, "Vulkan pass planning"). */
 #define MIN_CHARGED_PIXELS 1024u
 
 /* A dispatch has at most (TZ_BAND_ROWS / 8) x (TZ_BAND_ROWS / 4) workgroups. */
@@ -60,7 +59,7 @@ pass_plan pass_plan_make(const part_meta *meta, uint64_t sample_iterations, uint
         if (fit < per_dispatch) per_dispatch = fit;
     }
     /* A pass over the whole image stays within a submission, so that big images show progress
-     * (2000 x 1500 pixels at 64 spp ran as one 13 s submission). */
+     * (docs/PERF.md, "Vulkan pass planning"). */
     uint64_t pixels = (uint64_t)plan.width * plan.height;
     if (pixels < MIN_CHARGED_PIXELS) pixels = MIN_CHARGED_PIXELS;
     uint64_t whole = SUBMIT_BUDGET / pixels / sample_iterations;
