@@ -33,7 +33,7 @@ static void random_scene(scene *s, int n) {
                  .plane_height = 1,
                  .camera_direction = {0, 0, 1},
                  .camera_up = {0, 1, 0},
-                 .samples = 1,
+                 .spp = 1,
                  .bounces = 5};
     s->spheres = calloc((size_t)n, sizeof *s->spheres);
     s->sphere_count = n;
@@ -65,7 +65,7 @@ static bool same_sphere(const packed_scene *a, int ia, const packed_scene *b, in
 static void compare_rays(int sphere_count, int rays) {
     scene s;
     random_scene(&s, sphere_count);
-    render_opts with = {.samples = 1}, without = {.samples = 1, .no_bvh = true};
+    render_opts with = {.spp = 1}, without = {.spp = 1, .no_bvh = true};
     packed_scene tree, brute;
     if (!scene_pack(&s, &with, &tree) || !scene_pack(&s, &without, &brute)) {
         CHECK(0, "pack failed");

@@ -83,8 +83,7 @@ static double dist(vec3 a, vec3 b) { return v3_length(v3_sub(a, b)); }
    lights, every number valid (the parser has checked them). */
 static void check_common(const char *name, const scene *s) {
     CHECK(s->width == 400 && s->height == 300, "%s: %dx%d pixels", name, s->width, s->height);
-    CHECK(s->samples == 16 && s->indirect, "%s: render settings %d %d", name, s->samples,
-          s->indirect);
+    CHECK(s->spp == 16 && s->indirect, "%s: render settings %d %d", name, s->spp, s->indirect);
     CHECK(s->light_count >= 2 && s->light_count <= 3, "%s: %d lights", name, s->light_count);
     for (int k = 0; k < s->light_count; k++)
         CHECK(s->lights[k].power > 0.0f, "%s: light %d has no power", name, k);
@@ -394,7 +393,7 @@ static void render_small(const char *what, const char *path) {
     s.height = 30;
     render_opts o;
     render_opts_from_scene(&s, &o);
-    o.samples = 2;
+    o.spp = 2;
     film f = {0};
     CHECK(render_cpu(&s, &o, &f), "%s: render failed", what);
     int lit = 0;

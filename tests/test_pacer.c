@@ -55,7 +55,7 @@ static bool render_signalled(int sig, bool after, const char *checkpoint, int *s
     if (!scene_parse_string(text, sizeof text - 1, "pacer.scene", &s, &err)) return false;
     render_opts opts;
     render_opts_from_scene(&s, &opts);
-    opts.samples = 16;
+    opts.spp = 16;
     opts.threads = 1;
     part_meta meta;
     render_part_meta(&s, &opts, &meta);

@@ -66,7 +66,7 @@ static void check_full_example(const char *name, const scene *s) {
           "plane %g %g %g", s->plane_width, s->plane_height, s->pixel_size);
     check(s->width == 400 && s->height == 300, name, "resolution %dx%d", s->width, s->height);
     check(vec_is(s->background, 0, 0, 0), name, "background");
-    check(s->samples == 64 && s->indirect && s->bounces == 5 && s->seed == 1 &&
+    check(s->spp == 64 && s->indirect && s->bounces == 5 && s->seed == 1 &&
               s->mode == RENDER_MODE_REPORT,
           name, "render settings");
     if (!check(s->light_count == 1 && s->sphere_count == 4, name, "counts %d lights %d spheres",
@@ -123,7 +123,7 @@ static void test_valid(void) {
         check(s.width == 4 && s.height == 2, n, "resolution %dx%d", s.width, s.height);
         check(vec_is(s.lights[0].color, 1, 1, 1), n, "light color");
         check(vec_is(s.background, 0, 0, 0), n, "background");
-        check(s.samples == 64 && s.indirect && s.bounces == 5 && s.seed == 1 &&
+        check(s.spp == 64 && s.indirect && s.bounces == 5 && s.seed == 1 &&
                   s.mode == RENDER_MODE_REPORT,
               n, "render settings");
         const sphere *p = s.spheres;
@@ -150,9 +150,9 @@ static void test_valid(void) {
         "sphere mirror radius 2 color 0.5 0.25 0 center 1 2 3\n";
     if (parse_ok("render settings, background, key order", BYTES(settings), &s)) {
         const char *n = "render settings";
-        check(s.samples == SCENE_MAX_SAMPLES && !s.indirect && s.bounces == SCENE_MAX_BOUNCES &&
+        check(s.spp == SCENE_MAX_SAMPLES && !s.indirect && s.bounces == SCENE_MAX_BOUNCES &&
                   s.seed == 4294967295u,
-              n, "got %d %d %d %u", s.samples, s.indirect, s.bounces, s.seed);
+              n, "got %d %d %d %u", s.spp, s.indirect, s.bounces, s.seed);
         check(vec_is(s.background, 0.5f, 2, 0), n, "background above 1 is allowed");
         check(vec_is(s.spheres[0].center, 1, 2, 3) && s.spheres[0].radius == 2 &&
                   vec_is(s.spheres[0].color, 0.5f, 0.25f, 0),

@@ -54,7 +54,7 @@ static inline scene view(float camera_z, float plane_w, float plane_h, int width
                    .pixel_size = pixel,
                    .width = width,
                    .height = (int)lroundf(plane_h / pixel),
-                   .samples = samples,
+                   .spp = samples,
                    .indirect = true,
                    .bounces = 5,
                    .seed = seed,
@@ -95,7 +95,7 @@ static inline void each_example_scene(int width, int samples,
         set_width(&s, width);
         render_opts opts;
         render_opts_from_scene(&s, &opts);
-        opts.samples = samples;
+        opts.spp = samples;
         check(e->d_name, &s, &opts);
         scene_free(&s);
         count++;

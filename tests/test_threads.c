@@ -17,7 +17,7 @@ int main(void) {
     s.width = s.height = 100;
     render_opts o;
     render_opts_from_scene(&s, &o);
-    o.samples = 8;
+    o.spp = 8;
     film reference = {0};
     o.threads = 1;
     CHECK(render_cpu(&s, &o, &reference), "render with 1 thread failed");

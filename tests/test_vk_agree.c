@@ -48,8 +48,8 @@ static void check_agreement(const char *name, const scene *s, const render_opts 
         diff_images(&a, &b, &st)) {
         double exact = exact_share(&cpu, &vk);
         printf("%-30s %4s %3dx%-3d %2d spp: %.4f%% of pixels bit-exact, psnr %6.2f dB\n", name,
-               opts->mode == RENDER_MODE_PATH ? "path" : "report", s->width, s->height,
-               opts->samples, 100.0 * exact, st.psnr);
+               opts->mode == RENDER_MODE_PATH ? "path" : "report", s->width, s->height, opts->spp,
+               100.0 * exact, st.psnr);
         CHECK(exact == 1.0, "%s: only %.4f%% of pixels bit-exact (psnr %.2f dB, %ld differ)", name,
               100.0 * exact, st.psnr, st.differ_count);
         CHECK(cpu.nonfinite == vk.nonfinite,
@@ -252,7 +252,7 @@ static void test_tiles(void) {
     set_width(&s, 525); /* 256 + 256 + 13 by 256 + 138: partial workgroups on both axes */
     render_opts opts;
     render_opts_from_scene(&s, &opts);
-    opts.samples = 2;
+    opts.spp = 2;
     opts.indirect = false;
     film vk = {0};
     opts.validate = true;
@@ -318,7 +318,7 @@ static void test_walks(void) {
     render_opts opts;
     if (generated_scene(&random, "random.scene", 64, &s)) {
         render_opts_from_scene(&s, &opts);
-        opts.samples = 2;
+        opts.spp = 2;
         check_walks("random 3000, indirect", &s, opts);
         opts.indirect = false;
         check_walks("random 3000, direct", &s, opts);
@@ -329,7 +329,7 @@ static void test_walks(void) {
     }
     if (generated_scene(&flake, "flake.scene", 64, &s)) {
         render_opts_from_scene(&s, &opts);
-        opts.samples = 2;
+        opts.spp = 2;
         check_walks("sphereflake 3", &s, opts);
         opts.mode = RENDER_MODE_PATH;
         check_walks("sphereflake 3, path", &s, opts);

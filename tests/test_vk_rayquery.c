@@ -71,7 +71,7 @@ static void test_generated_scenes(void) {
     render_opts opts;
     if (generated_scene(&random, "random.scene", 64, &s)) {
         render_opts_from_scene(&s, &opts);
-        opts.samples = 2;
+        opts.spp = 2;
         check_same("random 3000, indirect", &s, &opts);
         opts.indirect = false;
         check_same("random 3000, direct", &s, &opts);
@@ -82,7 +82,7 @@ static void test_generated_scenes(void) {
     }
     if (generated_scene(&flake, "flake.scene", 64, &s)) {
         render_opts_from_scene(&s, &opts);
-        opts.samples = 2;
+        opts.spp = 2;
         check_same("sphereflake 3", &s, &opts);
         scene_free(&s);
     }

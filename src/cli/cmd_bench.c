@@ -64,7 +64,7 @@ static double run_workload(const scene *seed_scene, const scene *path_scene, con
     s.width = s.height = w->size;
     render_opts opts;
     render_opts_from_scene(&s, &opts);
-    opts.samples = spp > 0 ? spp : w->samples;
+    opts.spp = spp > 0 ? spp : w->samples;
     opts.indirect = w->indirect;
     opts.cpu_build = cpu_build;
     render_stats stats = {0};
@@ -76,7 +76,7 @@ static double run_workload(const scene *seed_scene, const scene *path_scene, con
     double elapsed = clock_seconds() - start;
     film_free(&f);
     *mrays = (double)stats.rays / elapsed * 1e-6;
-    return ok ? (double)w->size * w->size * opts.samples / elapsed * 1e-6 : -1.0;
+    return ok ? (double)w->size * w->size * opts.spp / elapsed * 1e-6 : -1.0;
 }
 
 /* A random-spheres scene (trazador gen random) of `count` spheres in all, ground included; false
@@ -150,7 +150,7 @@ static double run_scaling(const scene *s, backend_choice backend, const char *cp
     render_opts opts;
     render_opts_from_scene(s, &opts);
     opts.cpu_build = cpu_build;
-    opts.samples = samples;
+    opts.spp = samples;
     opts.indirect = true;
     opts.stats = stats;
     film f = {0};
@@ -158,7 +158,7 @@ static double run_scaling(const scene *s, backend_choice backend, const char *cp
     bool ok = render_choose(s, &opts, backend, &f, &used);
     film_free(&f);
     return ok && stats->render_seconds > 0.0
-               ? (double)s->width * s->height * opts.samples / stats->render_seconds * 1e-6
+               ? (double)s->width * s->height * opts.spp / stats->render_seconds * 1e-6
                : -1.0;
 }
 

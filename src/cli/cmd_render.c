@@ -311,7 +311,7 @@ static void clear_progress(int sig) {
 
 /* The flags over the scene's settings; a mode named without bounces takes that mode's default. */
 static void apply_overrides(const render_args *a, const scene *s, render_opts *o) {
-    if (a->spp >= 0) o->samples = (int)a->spp;
+    if (a->spp >= 0) o->spp = (int)a->spp;
     if (a->seed >= 0) o->seed = (uint32_t)a->seed;
     if (a->mode >= 0) o->mode = (render_mode)a->mode;
     if (a->mode >= 0 && !s->bounces_given) o->bounces = scene_default_bounces(o->mode);
@@ -357,7 +357,7 @@ static int render_and_write(const render_args *a, const scene *s) {
     apply_overrides(a, s, &opts);
     log_debug(
         "render: %s mode, %d samples a pixel, %d bounces, %s sampler",
-        opts.mode == RENDER_MODE_PATH ? "path" : "report", opts.samples, opts.bounces,
+        opts.mode == RENDER_MODE_PATH ? "path" : "report", opts.spp, opts.bounces,
         scene_sampler_of(opts.sampler, opts.mode) == RENDER_SAMPLER_SOBOL ? "sobol" : "random");
     render_stats stats = {0};
     opts.stats = &stats;

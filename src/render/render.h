@@ -56,7 +56,7 @@ typedef enum render_walk {
 } render_walk;
 
 typedef struct render_opts {
-    int samples; /* samples per pixel */
+    int spp; /* samples per pixel */
     uint32_t seed;
     bool no_jitter;         /* zero is default: jitter on */
     bool indirect;          /* report mode: the one bounce of indirect light */

@@ -10,7 +10,7 @@
 
 void render_opts_from_scene(const scene *s, render_opts *opts) {
     *opts = (render_opts){0};
-    opts->samples = s->samples;
+    opts->spp = s->spp;
     opts->seed = s->seed;
     opts->indirect = s->indirect;
     opts->bounces = s->bounces;
@@ -112,7 +112,7 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
             h = digest_vec3(h, t->emission);
         }
     }
-    int64_t settings[] = {o->samples,  o->seed,      o->mode,     o->bounces,
+    int64_t settings[] = {o->spp,      o->seed,      o->mode,     o->bounces,
                           o->indirect, o->no_jitter, o->roulette, o->strategy};
     for (size_t k = 0; k < sizeof settings / sizeof settings[0]; k++)
         h = digest_int(h, settings[k]);
@@ -123,7 +123,7 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
 
 void render_part_meta(const scene *s, const render_opts *opts, part_meta *m) {
     *m = (part_meta){.seed = opts->seed,
-                     .spp = (uint32_t)opts->samples,
+                     .spp = (uint32_t)opts->spp,
                      .chunk = TZ_CHUNK_SAMPLES,
                      .width = s->width,
                      .height = s->height,

@@ -119,7 +119,7 @@ typedef struct scene {
     int width, height; /* pixels: plane size / pixel size */
     vec3 background;
     /* render settings; command-line flags override them */
-    int samples;
+    int spp; /* samples per pixel (`render samples`) */
     bool indirect;
     int bounces; /* scene_default_bounces(mode) unless the scene names it */
     bool bounces_given;

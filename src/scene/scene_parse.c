@@ -305,7 +305,7 @@ scene parser_scene_defaults(void) {
     return (scene){
         .camera_direction = v3(0, 0, 1),
         .camera_up = v3(0, 1, 0),
-        .samples = 64,
+        .spp = 64,
         .indirect = true,
         .bounces = 5,
         .seed = 1,

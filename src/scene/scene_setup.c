@@ -343,7 +343,7 @@ bool directive_render(parser *p) {
         !parser_keys(p, "render", render_keys, RENDER_KEY_COUNT, ~0u, 1, &kv)) {
         return false;
     }
-    p->s.samples = (int)parser_value_or(&kv, RENDER_SAMPLES, 64);
+    p->s.spp = (int)parser_value_or(&kv, RENDER_SAMPLES, 64);
     p->s.indirect = parser_value_or(&kv, RENDER_INDIRECT, 1) != 0;
     p->s.mode = scene_mode_of_word((int)parser_value_or(&kv, RENDER_MODE, RENDER_MODE_REPORT));
     p->s.bounces_given = kv.given & BIT(RENDER_BOUNCES);
