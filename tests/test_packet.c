@@ -53,7 +53,7 @@ static const char facets[] =
 static int bits_equal(vec3 a, vec3 b) { return memcmp(&a, &b, sizeof a) == 0; }
 
 /* The builds under test (seed or path mode) and the one-sample reference they must match. */
-static packet_integrator builds[PACKET_VARIANTS_MAX];
+static packet_integrator builds[PACKET_BUILDS_MAX];
 static int build_count;
 static vec3 (*reference)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
 static bool path_mode;

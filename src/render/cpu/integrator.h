@@ -19,7 +19,7 @@ vec3 integrator_path_sample(const packed_scene *p, uint32_t i, uint32_t j, uint3
 /* The widest packet of any packet integrator. */
 #define PACKET_LANES_MAX 16
 /* The most packet integrators a build has, the one-sample reference included. */
-#define PACKET_VARIANTS_MAX 4
+#define PACKET_BUILDS_MAX 4
 /* The name of the build that is integrator_sample itself, one sample at a time (never the
  * default: the oracle, timed by bench). */
 #define PACKET_REFERENCE_NAME "reference"
@@ -57,7 +57,7 @@ static inline int integrator_packet_walks(const packed_scene *p) {
 
 /* The packet integrators this processor runs into list, fastest first (the reference last);
  * returns how many (>= 2). */
-int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]);
+int integrator_packet_list(packet_integrator list[PACKET_BUILDS_MAX]);
 /* The build named `wanted`, or when NULL the one TRAZADOR_PACKET_BUILD names, or the fastest
  * for the scene: the first listed, or with walks_bvh the first of at most PACKET_WALK_LANES_MAX
  * lanes; never fails (warns, falls back to the fastest). */
@@ -65,7 +65,7 @@ packet_integrator integrator_packet_choose(const char *wanted, bool walks_bvh);
 /* The path-mode builds (src/render/cpu/integrator_path_packet.c: sample(p, i, j, lanes,
  * sample_index, out) sets out[k] = integrator_path_sample(p, i + k, j, sample_index) bit for bit)
  * this processor runs into list, fastest first (the reference last); returns how many (>= 2). */
-int integrator_path_list(packet_integrator list[PACKET_VARIANTS_MAX]);
+int integrator_path_list(packet_integrator list[PACKET_BUILDS_MAX]);
 /* The path-mode build named `wanted` (the names of integrator_packet_choose), chosen as that
  * chooses; never fails (warns, falls back to the fastest). */
 packet_integrator integrator_path_choose(const char *wanted, bool walks_bvh);

@@ -89,7 +89,7 @@ static const struct {
 #define COMPILED_BUILDS (sizeof compiled_builds / sizeof compiled_builds[0])
 
 /* The builds of the mode (path or seed) this processor runs into list, fastest first. */
-static int list_builds(bool path, packet_integrator list[PACKET_VARIANTS_MAX]) {
+static int list_builds(bool path, packet_integrator list[PACKET_BUILDS_MAX]) {
     int n = 0;
     for (size_t k = 0; k < COMPILED_BUILDS; k++)
         if (compiled_builds[k].runs())
@@ -97,11 +97,11 @@ static int list_builds(bool path, packet_integrator list[PACKET_VARIANTS_MAX]) {
     return n;
 }
 
-int integrator_path_list(packet_integrator list[PACKET_VARIANTS_MAX]) {
+int integrator_path_list(packet_integrator list[PACKET_BUILDS_MAX]) {
     return list_builds(true, list);
 }
 
-int integrator_packet_list(packet_integrator list[PACKET_VARIANTS_MAX]) {
+int integrator_packet_list(packet_integrator list[PACKET_BUILDS_MAX]) {
     return list_builds(false, list);
 }
 
@@ -114,7 +114,7 @@ static packet_integrator fastest(const packet_integrator *list, int n, bool walk
 
 /* The build of the mode named wanted (integrator_packet_choose, integrator_path_choose). */
 static packet_integrator choose(bool path, const char *wanted, bool walks_bvh) {
-    packet_integrator list[PACKET_VARIANTS_MAX];
+    packet_integrator list[PACKET_BUILDS_MAX];
     int n = list_builds(path, list);
     const char *source = wanted ? "packet build " : "TRAZADOR_PACKET_BUILD="; /* for warnings */
     if (!wanted) wanted = getenv("TRAZADOR_PACKET_BUILD");

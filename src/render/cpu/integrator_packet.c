@@ -14,15 +14,15 @@
 #include "render/cpu/integrator.h"
 
 /* Built once per vector level (CMakeLists.txt): PACKET_LANES lanes, the entry point named
- * integrator_sample_packet_<PACKET_VARIANT>; src/render/cpu/integrator_dispatch.c picks one at run
+ * integrator_sample_packet_<PACKET_BUILD>; src/render/cpu/integrator_dispatch.c picks one at run
  * time. */
 #ifndef PACKET_LANES
 #define PACKET_LANES 8
-#define PACKET_VARIANT baseline
+#define PACKET_BUILD baseline
 #endif
 #define LANES PACKET_LANES
-#define PACKET_ENTRY_NAME(variant) integrator_sample_packet_##variant
-#define PACKET_ENTRY(variant) PACKET_ENTRY_NAME(variant)
+#define PACKET_ENTRY_NAME(build) integrator_sample_packet_##build
+#define PACKET_ENTRY(build) PACKET_ENTRY_NAME(build)
 
 #include "render/cpu/packet_trace.h"
 #include "render/cpu/sampler_lanes.h"
@@ -241,11 +241,11 @@ LANE_FN void packet_indirect_light(const packed_scene *p, const int *id, const l
 }
 
 /* The packet_integrator sample function of this build (integrator.h). */
-void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
-                                  uint32_t sample_index, vec3 *out);
+void PACKET_ENTRY(PACKET_BUILD)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                                uint32_t sample_index, vec3 *out);
 
-void PACKET_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
-                                  uint32_t sample_index, vec3 *out) {
+void PACKET_ENTRY(PACKET_BUILD)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                                uint32_t sample_index, vec3 *out) {
     const struct gpu_frame *fr = &p->frame;
     sampler_lanes rng;
     int active[LANES], self[LANES], id[LANES];

@@ -13,16 +13,16 @@
 #include "common/path.h"
 
 /* Built once per vector level (CMakeLists.txt): PACKET_LANES lanes, the entry point named
- * integrator_path_packet_<PACKET_VARIANT>; src/render/cpu/integrator_dispatch.c picks one. */
+ * integrator_path_packet_<PACKET_BUILD>; src/render/cpu/integrator_dispatch.c picks one. */
 #ifndef PACKET_LANES
 #define PACKET_LANES 8
-#define PACKET_VARIANT baseline
+#define PACKET_BUILD baseline
 #endif
 #define LANES PACKET_LANES
-#define PATH_ENTRY_NAME(variant) integrator_path_packet_##variant
-#define PATH_ENTRY(variant) PATH_ENTRY_NAME(variant)
-#define PATH_RUN_NAME(variant) integrator_path_samples_##variant
-#define PATH_RUN(variant) PATH_RUN_NAME(variant)
+#define PATH_ENTRY_NAME(build) integrator_path_packet_##build
+#define PATH_ENTRY(build) PATH_ENTRY_NAME(build)
+#define PATH_RUN_NAME(build) integrator_path_samples_##build
+#define PATH_RUN(build) PATH_RUN_NAME(build)
 
 #include "render/cpu/packet_trace.h"
 #include "render/cpu/path_vertex_lanes.h"
@@ -310,19 +310,19 @@ LANE_FN void run_samples(const packed_scene *p, uint32_t i, uint32_t j, uint32_t
 }
 
 /* The packet_integrator sample function of this build (integrator.h), for path mode. */
-void PATH_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
-                                uint32_t sample_index, vec3 *out);
+void PATH_ENTRY(PACKET_BUILD)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                              uint32_t sample_index, vec3 *out);
 
-void PATH_ENTRY(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
-                                uint32_t sample_index, vec3 *out) {
+void PATH_ENTRY(PACKET_BUILD)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                              uint32_t sample_index, vec3 *out) {
     run_samples(p, i, j, lanes, sample_index, 1, out);
 }
 
 /* The packet_integrator samples function of this build (integrator.h). */
-void PATH_RUN(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
-                              uint32_t first, uint32_t count, vec3 *out);
+void PATH_RUN(PACKET_BUILD)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                            uint32_t first, uint32_t count, vec3 *out);
 
-void PATH_RUN(PACKET_VARIANT)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
-                              uint32_t first, uint32_t count, vec3 *out) {
+void PATH_RUN(PACKET_BUILD)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
+                            uint32_t first, uint32_t count, vec3 *out) {
     run_samples(p, i, j, lanes, first, count, out);
 }
