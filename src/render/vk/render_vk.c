@@ -96,11 +96,10 @@ static void record_steps(vk_render *r, const pass_plan *plan, uint64_t first, ui
  * a submission costs lavapipe a fence wait and a fork and join of its threads. */
 #define PROGRESS_UPDATES 200u
 
-/* What run_passes needs beyond the plan: the progress line's scale and whether to read back. */
+/* What run_passes needs beyond the plan: the set-up it owes and the progress line's scale. */
 typedef struct pass_run {
     bool setup;         /* the first submission of the render: uploads and zeroing */
     bool resumed;       /* the part had samples: its state was loaded, not zeroed */
-    bool read_back;     /* the sums and stacks are wanted on the host after this pass */
     double start;       /* clock_seconds() when rendering began */
     double done, total; /* samples a pixel: rendered before this pass, and in all */
     double deadline;    /* render_opts.deadline */
@@ -146,7 +145,7 @@ static pass_result run_passes(vk_render *r, const pass_plan *plan, const render_
         if (first == 0 && r->snapshot.buffer) vk_render_record_snapshot(r, plan);
         vkCmdFillBuffer(r->cmd, r->counter.buffer, 0, VK_WHOLE_SIZE, 0u);
         record_steps(r, plan, first, last);
-        vk_render_record_readback(r, plan, last == steps && run->read_back);
+        vk_render_record_readback(r, plan, false);
         if (!vk_commands_submit_wait(ctx, r->cmd, r->fence)) {
             ok = false;
             break;
@@ -389,7 +388,7 @@ static bool claim_part(const vk_context *ctx, part *p, char *reason) {
 render_status render_vk_part_try(const scene *s, const render_opts *opts, part *p,
                                  uint32_t sample_end, char *reason) {
     reason[0] = '\0';
-    vk_render r = {0};
+    vk_render r = {.stop_steps = 1};
     packed_scene packed = {0};
     bool ok = false;
     double t0 = clock_seconds();

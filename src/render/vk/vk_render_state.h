@@ -24,7 +24,7 @@ typedef struct vk_render {
     /* A stoppable render's sums and stacks as the host pass in flight began, laid out as in
      * readback: a pass abandoned for a stop leaves the part as it was. */
     vk_buffer snapshot;
-    uint64_t stop_steps; /* steps a stoppable render's submission runs: measured to fit */
+    uint64_t stop_steps; /* steps a stoppable render's submission runs: 1, then measured to fit */
     vk_accel accel;      /* the ray query walk's acceleration structure */
     vk_kernel kernel;
     VkFence fence;
