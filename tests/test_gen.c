@@ -395,7 +395,7 @@ static void render_small(const char *what, const char *path) {
     render_opts_from_scene(&s, &o);
     o.spp = 2;
     film f = {0};
-    CHECK(render_cpu(&s, &o, &f), "%s: render failed", what);
+    CHECK(render_film(&render_backend_cpu, &s, &o, &f), "%s: render failed", what);
     int lit = 0;
     for (int k = 0; f.accum && k < s.width * s.height; k++) {
         const float *p = &f.accum[k * 4];

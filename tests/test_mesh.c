@@ -94,7 +94,7 @@ static bool parse(const char *text, int threads, scene *s, scene_error *err) {
 static bool render(const scene *s, film *f) {
     render_opts o;
     render_opts_from_scene(s, &o);
-    return render_cpu(s, &o, f);
+    return render_film(&render_backend_cpu, s, &o, f);
 }
 
 /* Whether triangle a has the corners of b (any order) within tol. */

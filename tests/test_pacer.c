@@ -69,12 +69,9 @@ static bool render_signalled(int sig, bool after, const char *checkpoint, int *s
     control.synced = forward_synced;
     control.user = &sg;
     opts.control = &control;
-    if (use_vulkan) {
-        char reason[RENDER_REASON_SIZE];
-        ok = ok && render_vk_part_try(&s, &opts, &p, meta.spp, reason) == RENDER_DONE;
-    } else {
-        ok = ok && render_cpu_part(&s, &opts, &p, meta.spp);
-    }
+    const render_backend *b = use_vulkan ? &render_backend_vulkan : &render_backend_cpu;
+    char reason[RENDER_REASON_SIZE];
+    ok = ok && b->render_part(&s, &opts, &p, meta.spp, reason) == RENDER_DONE;
     if (after) raise(sig);
     ok = render_pacer_stop(&pc, ok ? &p : NULL) && ok;
     *stopped_by = pc.stopped_by;

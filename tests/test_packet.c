@@ -368,9 +368,9 @@ static void compare_path_builds(void) {
     build_count = integrator_path_list(builds);
     for (int b = 0; b < build_count; b++)
         printf("path integrator build %s, %u lanes\n", builds[b].name, builds[b].width);
-    CHECK(build_count >= 2 && !strcmp(builds[build_count - 1].name, PACKET_REFERENCE_NAME) &&
-              !strcmp(integrator_path_choose(PACKET_REFERENCE_NAME, false).name,
-                      PACKET_REFERENCE_NAME) &&
+    CHECK(build_count >= 2 && !strcmp(builds[build_count - 1].name, RENDER_CPU_REFERENCE) &&
+              !strcmp(integrator_path_choose(RENDER_CPU_REFERENCE, false).name,
+                      RENDER_CPU_REFERENCE) &&
               !strcmp(integrator_path_choose(NULL, false).name, builds[0].name),
           "the path builds: the reference last and by name only, the fastest first");
     const char *files[] = {"cornell_path.scene", "caustic.scene",     "all.scene",
@@ -391,13 +391,13 @@ int main(void) {
     for (int b = 0; b < build_count; b++)
         printf("packet integrator build %s, %u lanes\n", builds[b].name, builds[b].width);
     CHECK(build_count >= 2 && !strcmp(builds[build_count - 2].name, "baseline") &&
-              !strcmp(builds[build_count - 1].name, PACKET_REFERENCE_NAME),
+              !strcmp(builds[build_count - 1].name, RENDER_CPU_REFERENCE),
           "the baseline and reference builds are not listed last");
-    CHECK(!strcmp(integrator_packet_choose(PACKET_REFERENCE_NAME, true).name,
-                  PACKET_REFERENCE_NAME) &&
-              strcmp(integrator_packet_choose(NULL, false).name, PACKET_REFERENCE_NAME) &&
-              strcmp(integrator_packet_choose(NULL, true).name, PACKET_REFERENCE_NAME),
-          "the reference build is chosen by name only");
+    CHECK(
+        !strcmp(integrator_packet_choose(RENDER_CPU_REFERENCE, true).name, RENDER_CPU_REFERENCE) &&
+            strcmp(integrator_packet_choose(NULL, false).name, RENDER_CPU_REFERENCE) &&
+            strcmp(integrator_packet_choose(NULL, true).name, RENDER_CPU_REFERENCE),
+        "the reference build is chosen by name only");
     CHECK(!strcmp(integrator_packet_choose(NULL, false).name, builds[0].name) &&
               integrator_packet_choose(NULL, true).width <= PACKET_WALK_LANES_MAX,
           "the fastest build for scenes with and without BVH walks");

@@ -27,7 +27,8 @@ static inline bool parse_scene_text(const char *text, scene *s, render_opts *opt
 
 /* Renders on the Vulkan or the CPU back end into f; false on failure. */
 static inline bool render_on(bool vulkan, const scene *s, const render_opts *opts, film *f) {
-    return vulkan ? render_vk(s, opts, f) : render_cpu(s, opts, f);
+    return vulkan ? render_film(&render_backend_vulkan, s, opts, f)
+                  : render_film(&render_backend_cpu, s, opts, f);
 }
 
 /* A sphere: Phong parameters 0 and ior 1, 1.5 for glass (callers set others). */

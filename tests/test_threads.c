@@ -20,12 +20,13 @@ int main(void) {
     o.spp = 8;
     film reference = {0};
     o.threads = 1;
-    CHECK(render_cpu(&s, &o, &reference), "render with 1 thread failed");
+    CHECK(render_film(&render_backend_cpu, &s, &o, &reference), "render with 1 thread failed");
     const int counts[] = {2, 3, 7, 16, 1};
     for (size_t k = 0; k < sizeof counts / sizeof counts[0] && reference.accum; k++) {
         film f = {0};
         o.threads = counts[k];
-        CHECK(render_cpu(&s, &o, &f), "render with %d threads failed", counts[k]);
+        CHECK(render_film(&render_backend_cpu, &s, &o, &f), "render with %d threads failed",
+              counts[k]);
         size_t bytes = (size_t)s.width * s.height * 4 * sizeof(float);
         CHECK(f.accum && memcmp(f.accum, reference.accum, bytes) == 0,
               "%d threads: film differs from 1 thread", counts[k]);

@@ -27,7 +27,8 @@
 static bool render_both(const scene *s, const render_opts *opts, film *cpu, film *vk) {
     render_opts o = *opts;
     o.validate = true;
-    bool ok_cpu = render_cpu(s, &o, cpu), ok_vk = render_vk(s, &o, vk);
+    bool ok_cpu = render_film(&render_backend_cpu, s, &o, cpu),
+         ok_vk = render_film(&render_backend_vulkan, s, &o, vk);
     return ok_cpu && ok_vk;
 }
 
@@ -225,7 +226,8 @@ static void test_ties(void) {
         film cpu = {0}, vk = {0}, brute = {0};
         render_opts no_bvh = opts;
         no_bvh.no_bvh = true;
-        if (render_both(&s, &opts, &cpu, &vk) && render_cpu(&s, &no_bvh, &brute)) {
+        if (render_both(&s, &opts, &cpu, &vk) &&
+            render_film(&render_backend_cpu, &s, &no_bvh, &brute)) {
             size_t centre = (8u * 16u + 8u) * 4u; /* a pixel on the pair */
             bool red_seen = cpu.accum[centre] > cpu.accum[centre + 1];
             CHECK(red_seen == red_stored_first,
@@ -256,7 +258,7 @@ static void test_tiles(void) {
     opts.indirect = false;
     film vk = {0};
     opts.validate = true;
-    if (render_vk(&s, &opts, &vk)) {
+    if (render_film(&render_backend_vulkan, &s, &opts, &vk)) {
         size_t n = (size_t)vk.width * (size_t)vk.height, wrong = 0;
         for (size_t k = 0; k < n; k++) wrong += vk.accum[4 * k + 3] != 2.0f;
         CHECK(s.height > 256 && wrong == 0, "%dx%d: %zu pixels not rendered exactly twice", s.width,
@@ -288,7 +290,7 @@ static bool generated_scene(const gen_desc *desc, const char *name, int width, s
 static bool render_with_walk(const scene *s, const render_opts *opts, render_walk walk, film *f) {
     render_opts o = *opts;
     o.walk = walk;
-    return render_vk(s, &o, f);
+    return render_film(&render_backend_vulkan, s, &o, f);
 }
 
 /* The subgroup's cooperative BVH walk and the walk per invocation give bit-identical films (the
@@ -345,9 +347,9 @@ static void test_staging(void) {
     render_opts_from_scene(&s, &opts);
     opts.validate = true;
     film mapped = {0}, staged = {0};
-    bool ok = render_vk(&s, &opts, &mapped);
+    bool ok = render_film(&render_backend_vulkan, &s, &opts, &mapped);
     setenv("TRAZADOR_VK_STAGING", "1", 1);
-    ok = render_vk(&s, &opts, &staged) && ok;
+    ok = render_film(&render_backend_vulkan, &s, &opts, &staged) && ok;
     unsetenv("TRAZADOR_VK_STAGING");
     CHECK(ok, "staging: a render failed");
     if (ok)

@@ -2,7 +2,7 @@
  * validation messenger (an error must fail the run), a missing or unloadable validation layer,
  * lavapipe's thread count, a file-size limit (a render under `ulimit -f 16` ends, never by a
  * signal: lavapipe of Mesa 25 keeps device memory in a memfd the limit caps), no driver at all
- * (the one-line error, render_vk false), and, run as `test_vk_context no-loader`, no loader at
+ * (the one-line error, render_film false), and, run as `test_vk_context no-loader`, no loader at
  * all. Exits 77 only when no Vulkan device exists. */
 #include <dirent.h>
 #include <signal.h>
@@ -33,7 +33,7 @@ static bool render_tiny(int device) {
     opts.device_given = device >= 0;
     opts.validate = true;
     film f = {0};
-    bool ok = render_vk(&s, &opts, &f);
+    bool ok = render_film(&render_backend_vulkan, &s, &opts, &f);
     if (ok) CHECK(f.accum[3] == 2.0f, "the pixel has %g samples, want 2", f.accum[3]);
     film_free(&f);
     return ok;
@@ -203,7 +203,7 @@ static void test_file_limit(void) {
                        : "failed");
 }
 
-/* No driver manifest: no device, the one-line error, render_vk false. Runs last: it leaves the
+/* No driver manifest: no device, the one-line error, render_film false. Runs last: it leaves the
  * loader without drivers. */
 static void test_no_driver(void) {
     setenv("VK_ICD_FILENAMES", "/nonexistent.json", 1);

@@ -135,18 +135,20 @@ static void test_guard(vk_context *ctx) {
     opts.indirect = true;
     opts.no_bvh = true;
     film f = {0}, reference = {0};
-    bool rendered = render_vk(&big, &opts, &f);
+    bool rendered = render_film(&render_backend_vulkan, &big, &opts, &f);
     if (ctx->loop_limit)
         CHECK(!rendered && !f.accum, "%s rendered a scene of %llu iterations per sample",
               ctx->driver_name, (unsigned long long)vk_probe_sample_iterations(BIG, 1, 5, true));
     else
         CHECK(rendered, "a %d-sphere scene failed where loops run to the end", BIG);
     film_free(&f);
-    CHECK(render_vk(&small, &opts, &f), "a %d-sphere scene failed", BIG / 2);
+    CHECK(render_film(&render_backend_vulkan, &small, &opts, &f), "a %d-sphere scene failed",
+          BIG / 2);
     film_free(&f);
     opts.no_bvh = false;
-    CHECK(render_vk(&big, &opts, &f), "the %d-sphere scene failed through the BVH", BIG);
-    CHECK(render_cpu(&big, &opts, &reference), "the C renderer failed");
+    CHECK(render_film(&render_backend_vulkan, &big, &opts, &f),
+          "the %d-sphere scene failed through the BVH", BIG);
+    CHECK(render_film(&render_backend_cpu, &big, &opts, &reference), "the C renderer failed");
     double diff = film_difference(&reference, &f);
     CHECK(diff < 1e-3, "the BVH render differs from the C renderer by %g relative", diff);
     film_free(&f);
@@ -181,7 +183,7 @@ static void test_walk_budget(vk_context *ctx, const char *walk, int near_count) 
     render_opts_from_scene(&pile, &opts);
     opts.no_jitter = true; /* the ray down the axis */
     film f = {0}, reference = {0};
-    bool rendered = render_vk(&pile, &opts, &f);
+    bool rendered = render_film(&render_backend_vulkan, &pile, &opts, &f);
     if (ctx->loop_limit)
         CHECK(!rendered && !f.accum, "%s walk: %s rendered a walk past its loop budget", walk,
               ctx->driver_name);
@@ -190,8 +192,9 @@ static void test_walk_budget(vk_context *ctx, const char *walk, int near_count) 
               PILE);
     film_free(&f);
     scene near = pile_of_spheres(near_count, spheres, &l);
-    CHECK(render_vk(&near, &opts, &f), "%s walk: a pile of %d spheres failed", walk, near_count);
-    CHECK(render_cpu(&near, &opts, &reference), "the C renderer failed");
+    CHECK(render_film(&render_backend_vulkan, &near, &opts, &f),
+          "%s walk: a pile of %d spheres failed", walk, near_count);
+    CHECK(render_film(&render_backend_cpu, &near, &opts, &reference), "the C renderer failed");
     CHECK(f.accum && reference.accum && !memcmp(f.accum, reference.accum, 4 * sizeof(float)),
           "%s walk: the pile of %d spheres differs from the C renderer", walk, near_count);
     film_free(&f);

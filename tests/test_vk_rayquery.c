@@ -21,7 +21,7 @@
 static bool render_with_walk(const scene *s, render_opts opts, render_walk walk, film *f) {
     opts.validate = true;
     opts.walk = walk;
-    return render_vk(s, &opts, f);
+    return render_film(&render_backend_vulkan, s, &opts, f);
 }
 
 /* The films of the two walks, bit for bit. */

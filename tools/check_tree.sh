@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# tools/check_tree.sh: two checks of the tree that cannot pass by accident (run by .ci/run):
-# every repository path that README.md, docs/ and the source comments name exists, and
-# clang-format (.clang-format) would change no C file or shared C/GLSL header.
+# tools/check_tree.sh: three checks of the tree that cannot pass by accident (run by .ci/run):
+# every repository path that README.md, docs/ and the source comments name exists; clang-format
+# (.clang-format) would change no C file or shared C/GLSL header; and no source includes a
+# header by a path relative to its own folder, which the compiler would find without the layer
+# folders of cmake/Layers.cmake (docs/DESIGN.md section 1) and so without their rules.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 failed=0
@@ -27,5 +29,17 @@ if ! clang-format --dry-run --Werror $files 2>/tmp/check_tree_format.$$; then
     failed=1
 fi
 rm -f /tmp/check_tree_format.$$
-[ "$failed" = 0 ] && echo "check_tree: every named path exists; clang-format changes nothing"
+relative=$(for file in $(git ls-files src | grep -E '\.[ch]$'); do
+    grep -oE '^#include "[^"]+"' "$file" | sed -E 's/^#include "(.*)"/\1/' |
+        while read -r header; do
+            [ -e "$(dirname "$file")/$header" ] && echo "$file: $header"
+        done
+done)
+if [ -n "$relative" ]; then
+    echo "check_tree: includes relative to the including file's folder (name the layer):" >&2
+    echo "$relative" | sed 's/^/  /' >&2
+    failed=1
+fi
+[ "$failed" = 0 ] &&
+    echo "check_tree: every named path exists; clang-format changes nothing; includes name layers"
 exit "$failed"

@@ -9,8 +9,7 @@
 #include "cli/options.h"
 #include "default_scene.h"
 #include "path_scene.h"
-#include "render/cpu/integrator.h"
-#include "render/vk/vk_context.h"
+#include "render/render.h"
 #include "scene/gen.h"
 #include "util/clock.h"
 #include "util/log.h"
@@ -281,7 +280,7 @@ static int bench_scaling(bool want_cpu, bool want_vk) {
            "ref vs 10", "vk vs 10", "vk/cpu", "vk/ref");
     enum { CPU, REF, VK, ENGINES };
     const engine engines[ENGINES] = {{BACKEND_CPU, NULL, want_cpu},
-                                     {BACKEND_CPU, PACKET_REFERENCE_NAME, want_cpu},
+                                     {BACKEND_CPU, RENDER_CPU_REFERENCE, want_cpu},
                                      {BACKEND_VULKAN, NULL, want_vk}};
     int failures = 0;
     double base[ENGINES] = {0};
@@ -362,14 +361,14 @@ int cmd_bench(int argc, char **argv) {
     int count;
     opt_result rc = opt_parse(&bench_command, argc, argv, &a, none, &count);
     if (rc != OPT_OK) return rc == OPT_HELP ? 0 : rc;
-    bool have_vk = vk_context_device_count() > 0;
+    bool have_vk = render_backend_vulkan.device_count() > 0;
     bool want_cpu = a.backend != BENCH_VULKAN;
     /* --backend vulkan or both: no device is an error, not a skip */
     bool vk_named = a.backend == BENCH_VULKAN || a.backend == BENCH_BOTH;
     bool want_vk = vk_named || (a.backend == BENCH_AUTO && have_vk);
     long long spp = a.spp;
     if (vk_named && !have_vk) {
-        log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
+        log_error(RENDER_NO_VULKAN_DEVICE);
         return 1;
     }
 
@@ -388,12 +387,8 @@ int cmd_bench(int argc, char **argv) {
     }
     int failures = 0;
     if (want_cpu) {
-        packet_integrator every = integrator_packet_choose(NULL, false);
-        packet_integrator walk = integrator_packet_choose(NULL, true);
-        printf(
-            "cpu: packet integrator build %s (%u lanes) where every sphere is tested, %s (%u "
-            "lanes) where the BVH is walked\n",
-            every.name, every.width, walk.name, walk.width);
+        printf("cpu: ");
+        render_backend_cpu.describe();
     } else {
         printf("cpu: not timed (--backend vulkan)\n");
     }
@@ -401,7 +396,7 @@ int cmd_bench(int argc, char **argv) {
         printf("vulkan: not timed (%s)\n", have_vk ? "--backend cpu" : "no device");
     } else { /* which driver was timed: figures of two lavapipe releases differ twofold */
         printf("vulkan: each workload timed after an untimed 1-spp render; the devices:\n");
-        vk_context_print_devices();
+        render_backend_vulkan.describe();
     }
     printf("%-34s %15s %12s %15s %15s %12s %7s %7s\n", "workload (end to end)", "cpu Msamples/s",
            "cpu Mrays/s", "ref Msamples/s", "vk Msamples/s", "vk Mrays/s", "vk/cpu", "vk/ref");
@@ -410,7 +405,7 @@ int cmd_bench(int argc, char **argv) {
         double cpu_rays = 0.0, ref_rays = 0.0, vk_rays = 0.0;
         double cpu =
             want_cpu ? run_workload(&s, &path, w, BACKEND_CPU, NULL, (int)spp, &cpu_rays) : 0.0;
-        double ref = want_cpu ? run_workload(&s, &path, w, BACKEND_CPU, PACKET_REFERENCE_NAME,
+        double ref = want_cpu ? run_workload(&s, &path, w, BACKEND_CPU, RENDER_CPU_REFERENCE,
                                              (int)spp, &ref_rays)
                               : 0.0;
         /* An untimed 1-spp render first: lavapipe compiles the workload's shader to machine code

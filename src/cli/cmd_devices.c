@@ -1,7 +1,7 @@
 /* cmd_devices.c: `trazador devices`, the Vulkan devices and the default one. */
 #include "cli/cli.h"
 #include "cli/options.h"
-#include "render/vk/vk_context.h"
+#include "render/render.h"
 
 int cmd_devices(int argc, char **argv) {
     static const opt_command command = {
@@ -13,5 +13,5 @@ int cmd_devices(int argc, char **argv) {
     int count;
     opt_result rc = opt_parse(&command, argc, argv, NULL, positional, &count);
     if (rc != OPT_OK) return rc == OPT_HELP ? 0 : rc;
-    return vk_context_print_devices() ? 0 : 1;
+    return render_backend_vulkan.describe() ? 0 : 1;
 }

@@ -17,7 +17,6 @@
 #include "default_scene.h"
 #include "image/image.h"
 #include "render/part.h"
-#include "render/vk/vk_context.h"
 #include "scene/scene.h"
 #include "util/atomic_file.h"
 #include "util/clock.h"
@@ -330,9 +329,9 @@ static void apply_overrides(const render_args *a, const scene *s, render_opts *o
 /* Naming a device asks for Vulkan: none at all is the usual runtime failure (1), a number past
  * the devices a mistake on the command line (2); neither falls back to the CPU. 0 to go on. */
 static int check_device(long long device) {
-    int devices = device >= 0 ? vk_context_device_count() : -1;
+    int devices = device >= 0 ? render_backend_vulkan.device_count() : -1;
     if (devices == 0) {
-        log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
+        log_error(RENDER_NO_VULKAN_DEVICE);
         return 1;
     }
     if (devices > 0 && device >= devices) {

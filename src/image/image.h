@@ -7,7 +7,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "render/render.h"
+#include "image/film.h"
 
 typedef enum tonemap { TONEMAP_SRGB = 0, TONEMAP_LINEAR = 1 } tonemap;
 

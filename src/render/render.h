@@ -1,5 +1,5 @@
-/* render.h: render options, the film, the progress line, the two back ends and the choice between
- * them. */
+/* render.h: render options, the progress line, the table of the two back ends and the choice
+ * between them. */
 #ifndef TRAZADOR_RENDER_H
 #define TRAZADOR_RENDER_H
 
@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "image/film.h"
 #include "scene/scene.h"
 
 /* What a render measured, for --verbose and bench. */
@@ -78,19 +79,8 @@ typedef struct render_opts {
     double deadline; /* clock_seconds() when a time limit ends, for the progress line; 0: none */
 } render_opts;
 
-/* Per-pixel accumulation: 4 floats a pixel, RGB sums and the count of finite samples. */
-typedef struct film {
-    int width, height;
-    float *accum;
-    uint64_t nonfinite; /* samples dropped because their radiance was NaN or infinite */
-} film;
-
 /* Fills opts from the scene's `render` settings (flags override afterwards); never fails. */
 void render_opts_from_scene(const scene *s, render_opts *opts);
-/* Allocates a zeroed film; false on out-of-memory. */
-bool film_init(film *f, int width, int height);
-/* Frees the film; safe on a zeroed film. */
-void film_free(film *f);
 
 /* Prints the progress line on stderr: share done, time so far, samples per second and the time
  * left (samples: of the whole render), at most what is left until `deadline` (clock_seconds(),
@@ -99,17 +89,9 @@ void render_progress_print(double share, double seconds, double samples, double 
 /* Clears the progress line, so that messages start a clean line; never fails. */
 void render_progress_clear(void);
 
-/* Renders with the CPU back end (the packet integrator) into f (allocated by the call); false
- * on failure (logged). */
-bool render_cpu(const scene *s, const render_opts *opts, film *f);
-/* Adds to part p (its region, from its sample_end on) the samples up to sample_end (chunk-aligned
- * or the render's total) in passes that opts->control sets; the part is up to date on return;
- * false on failure (logged). */
-bool render_cpu_part(const scene *s, const render_opts *opts, struct part *p, uint32_t sample_end);
-
-/* How a Vulkan render ended: done; refused, because this device cannot render this scene right
+/* How a back end's render ended: done; refused, because it cannot render this scene right here
  * (the reason is given, nothing is logged: the caller may render it elsewhere); failed (logged);
- * or invalid: the validation layer reported errors (logged), which no fallback may hide. */
+ * or invalid: the Vulkan validation layer reported errors (logged), which no fallback may hide. */
 typedef enum render_status {
     RENDER_DONE,
     RENDER_REFUSED,
@@ -118,15 +100,44 @@ typedef enum render_status {
 } render_status;
 /* Bytes of a refusal's reason, its terminating NUL included. */
 #define RENDER_REASON_SIZE 512
-/* Renders with the Vulkan compute back end into f (allocated by the call); on RENDER_REFUSED
- * `reason` (RENDER_REASON_SIZE bytes) says why, on the other results it is "". */
-render_status render_vk_try(const scene *s, const render_opts *opts, film *f, char *reason);
-/* render_vk_try with a refusal logged as an error; true only when done. */
-bool render_vk(const scene *s, const render_opts *opts, film *f);
-/* render_cpu_part on the Vulkan back end, with render_vk_try's results; after a failure or a
- * refusal the part holds what was last synced, from which another back end can go on. */
-render_status render_vk_part_try(const scene *s, const render_opts *opts, struct part *p,
+/* The end of every refusal of a scene or device by the Vulkan back end, which the CPU back end
+ * renders; --backend auto drops it from its notice, since it falls back by itself. */
+#define RENDER_USE_CPU ": use --backend cpu"
+/* What to tell a user who asked for Vulkan and has no Vulkan device. */
+#define RENDER_NO_VULKAN_DEVICE                                                          \
+    "no Vulkan device found (VK_LOADER_DEBUG=all shows why): install lavapipe (Debian: " \
+    "apt-get install mesa-vulkan-drivers) or use --backend cpu"
+/* The CPU back end's one-sample build (render_opts.cpu_build): the reference of every other. */
+#define RENDER_CPU_REFERENCE "reference"
+
+/* A back end: the CPU one (src/render/cpu/) or the Vulkan one (src/render/vk/). */
+typedef struct render_backend {
+    const char *name; /* "cpu" or "vulkan": what --backend and a part's metadata call it */
+    /* The devices it can render on here, 0 where it has none (no Vulkan loader, driver or
+     * device); logs nothing. */
+    int (*device_count)(void);
+    /* Whether every one of those devices is a CPU (lavapipe). */
+    bool (*cpu_only)(void);
+    /* Prints on stdout what it renders with here (its builds, or its devices and what they
+     * offer); false on failure (logged). */
+    bool (*describe)(void);
+    /* Whether it renders scene s with opts faster than the other back end on a CPU Vulkan
+     * device, the measured reason in *why (docs/PERF.md); NULL where that was never measured. */
+    bool (*beats_cpu_vulkan)(const scene *s, const render_opts *opts, const char **why);
+    /* Adds to part p (its region, from its sample_end on) the samples up to sample_end
+     * (chunk-aligned or the render's total) in passes that opts->control sets; on a refusal
+     * `reason` (RENDER_REASON_SIZE bytes) says why, otherwise it is "". After a failure or a
+     * refusal the part holds what was last synced, from which another back end can go on. */
+    render_status (*render_part)(const scene *s, const render_opts *opts, struct part *p,
                                  uint32_t sample_end, char *reason);
+} render_backend;
+
+extern const render_backend render_backend_cpu;    /* render/cpu/render_cpu.c */
+extern const render_backend render_backend_vulkan; /* render/vk/render_vk.c */
+
+/* Renders the whole image with back end b into f (allocated by the call), a refusal logged as
+ * an error; true only when done. */
+bool render_film(const render_backend *b, const scene *s, const render_opts *opts, film *f);
 
 /* The back end a render asks for: auto (Vulkan when it can render the scene, else the CPU). */
 typedef enum backend_choice { BACKEND_AUTO = 0, BACKEND_VULKAN, BACKEND_CPU } backend_choice;
@@ -136,7 +147,7 @@ typedef enum backend_choice { BACKEND_AUTO = 0, BACKEND_VULKAN, BACKEND_CPU } ba
  * on failure (logged). */
 bool render_choose(const scene *s, const render_opts *opts, backend_choice backend, film *f,
                    const char **used);
-/* render_choose for a part (render_cpu_part); false on failure (logged). */
+/* render_choose for a part (render_backend.render_part); false on failure (logged). */
 bool render_choose_part(const scene *s, const render_opts *opts, backend_choice backend,
                         struct part *p, uint32_t sample_end, const char **used);
 
@@ -144,10 +155,5 @@ bool render_choose_part(const scene *s, const render_opts *opts, backend_choice 
  * version, seed, samples, chunk and size; the whole image and samples 0:0. Never fails. */
 struct part_meta;
 void render_part_meta(const scene *s, const render_opts *opts, struct part_meta *m);
-/* The render of film f through a whole part (render_part_meta) rendered by `part_render`; false
- * on failure (logged). */
-bool render_film_by_part(const scene *s, const render_opts *opts, film *f,
-                         bool (*part_render)(const scene *, const render_opts *, struct part *,
-                                             uint32_t));
 
 #endif

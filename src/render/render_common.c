@@ -1,8 +1,7 @@
-/* render_common.c: what both back ends share: options from the scene, the film, the progress
+/* render_common.c: what both back ends share: options from the scene, the progress
  * line, and the metadata (scene digest included) of the parts they render. */
 #include <inttypes.h>
 #include <stdio.h>
-#include <stdlib.h>
 
 #include "render/part.h"
 #include "render/render.h"
@@ -17,20 +16,6 @@ void render_opts_from_scene(const scene *s, render_opts *opts) {
     opts->mode = s->mode;
     opts->roulette = s->roulette;
     opts->sampler = s->sampler;
-}
-
-bool film_init(film *f, int width, int height) {
-    *f = (film){0};
-    f->accum = calloc((size_t)width * (size_t)height * 4, sizeof(float));
-    if (!f->accum) return false;
-    f->width = width;
-    f->height = height;
-    return true;
-}
-
-void film_free(film *f) {
-    free(f->accum);
-    *f = (film){0};
 }
 
 void render_progress_print(double share, double seconds, double samples, double deadline) {
@@ -132,17 +117,4 @@ void render_part_meta(const scene *s, const render_opts *opts, part_meta *m) {
     snprintf(m->digest, sizeof m->digest, "%016" PRIx64, render_digest(s, opts));
     snprintf(m->mode, sizeof m->mode, "%s", opts->mode == RENDER_MODE_PATH ? "path" : "report");
     snprintf(m->version, sizeof m->version, "%s", TRAZADOR_VERSION);
-}
-
-bool render_film_by_part(const scene *s, const render_opts *opts, film *f,
-                         bool (*part_render)(const scene *, const render_opts *, part *,
-                                             uint32_t)) {
-    *f = (film){0};
-    part_meta meta;
-    render_part_meta(s, opts, &meta);
-    part p;
-    if (!part_init(&p, &meta)) return false;
-    bool ok = part_render(s, opts, &p, meta.spp) && part_film(&p, f);
-    part_free(&p);
-    return ok;
 }

@@ -80,7 +80,7 @@ static inline void primitive_leaf_hit(const packed_scene *p, uint32_t first, uin
         triangle_leaf_hit(p, first - spheres, first - spheres + count, o, d, tmin, self, best, id);
 }
 
-/* Rays traced by this thread, for Mrays/s (render_cpu sums the threads'). */
+/* Rays traced by this thread, for Mrays/s (render_cpu.c sums the threads'). */
 static _Thread_local uint64_t rays_traced;
 
 uint64_t integrator_rays_traced(void) { return rays_traced; }

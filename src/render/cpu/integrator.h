@@ -20,9 +20,6 @@ vec3 integrator_path_sample(const packed_scene *p, uint32_t i, uint32_t j, uint3
 #define PACKET_LANES_MAX 16
 /* The most packet integrators a build has, the one-sample reference included. */
 #define PACKET_BUILDS_MAX 4
-/* The name of the build that is integrator_sample itself, one sample at a time (never the
- * default: the oracle, timed by bench). */
-#define PACKET_REFERENCE_NAME "reference"
 
 /* A build of the packet integrator (src/render/cpu/integrator_packet.c) for one vector level:
  * sample(p, i, j, lanes, sample_index, out) sets out[k] = integrator_sample(p, i + k, j,

@@ -82,8 +82,8 @@ static const struct {
      {"baseline", TRAZADOR_PATH_LANES_BASELINE, integrator_path_packet_baseline,
       integrator_path_samples_baseline},
      runs_anywhere},
-    {{PACKET_REFERENCE_NAME, 8, sample_reference, NULL},
-     {PACKET_REFERENCE_NAME, 8, sample_path_reference, samples_path_reference},
+    {{RENDER_CPU_REFERENCE, 8, sample_reference, NULL},
+     {RENDER_CPU_REFERENCE, 8, sample_path_reference, samples_path_reference},
      runs_anywhere},
 };
 #define COMPILED_BUILDS (sizeof compiled_builds / sizeof compiled_builds[0])

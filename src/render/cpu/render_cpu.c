@@ -259,7 +259,9 @@ static bool cpu_sync(void *user, part *p, uint32_t done, pass_result result) {
     return true;
 }
 
-bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t sample_end) {
+/* Adds to part p the samples up to sample_end (render_backend.render_part); false on failure
+ * (logged). */
+static bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t sample_end) {
     /* Samples of another back end differ by rounding: going on from them would mix the two. */
     if (p->meta.backend[0] && strcmp(p->meta.backend, "cpu")) {
         log_error(
@@ -326,6 +328,54 @@ bool render_cpu_part(const scene *s, const render_opts *opts, part *p, uint32_t 
     return ok;
 }
 
-bool render_cpu(const scene *s, const render_opts *opts, film *f) {
-    return render_film_by_part(s, opts, f, render_cpu_part);
+/* render_backend.render_part of the CPU back end, which never refuses. */
+static render_status cpu_render(const scene *s, const render_opts *opts, part *p,
+                                uint32_t sample_end, char *reason) {
+    reason[0] = '\0';
+    return render_cpu_part(s, opts, p, sample_end) ? RENDER_DONE : RENDER_FAILED;
 }
+
+/* render_backend.device_count: the processor. */
+static int cpu_device_count(void) { return 1; }
+
+/* render_backend.cpu_only: it is one. */
+static bool cpu_is_cpu(void) { return true; }
+
+/* render_backend.describe: the packet builds this processor runs. */
+static bool cpu_describe(void) {
+    packet_integrator every = integrator_packet_choose(NULL, false);
+    packet_integrator walk = integrator_packet_choose(NULL, true);
+    packet_integrator path = integrator_path_choose(NULL, false);
+    printf(
+        "packet integrator build %s (%u lanes) where every sphere is tested, %s (%u lanes) where "
+        "the BVH is walked, %s (%u lanes) in path mode\n",
+        every.name, every.width, walk.name, walk.width, path.name, path.width);
+    return true;
+}
+
+/* render_backend.beats_cpu_vulkan (docs/PERF.md, "Cooperative walk" and "Path mode on the
+ * CPU"): everywhere, but for path mode on scenes small enough to unroll where it has no 16-lane
+ * path build, whose narrower builds are no faster than the one-sample text, which lavapipe beats
+ * there. */
+static bool cpu_beats_cpu_vulkan(const scene *s, const render_opts *opts, const char **why) {
+    bool small = s->sphere_count <= TZ_UNROLL_MAX_SPHERES;
+    if (opts->mode == RENDER_MODE_PATH && small && integrator_path_choose(NULL, false).width < 16) {
+        *why =
+            "path mode on a scene of at most 16 spheres, no 16-lane CPU build: lavapipe "
+            "measured faster";
+        return false;
+    }
+    *why = opts->mode == RENDER_MODE_PATH
+               ? "path mode, where the CPU back end measured faster than lavapipe"
+           : small ? "report mode, where the CPU back end measured faster than lavapipe"
+                   : "report mode through the BVH, where the CPU back end measured faster than "
+                     "lavapipe";
+    return true;
+}
+
+const render_backend render_backend_cpu = {.name = "cpu",
+                                           .device_count = cpu_device_count,
+                                           .cpu_only = cpu_is_cpu,
+                                           .describe = cpu_describe,
+                                           .beats_cpu_vulkan = cpu_beats_cpu_vulkan,
+                                           .render_part = cpu_render};

@@ -385,8 +385,9 @@ static bool claim_part(const vk_context *ctx, part *p, char *reason) {
     return true;
 }
 
-render_status render_vk_part_try(const scene *s, const render_opts *opts, part *p,
-                                 uint32_t sample_end, char *reason) {
+/* render_backend.render_part of the Vulkan back end. */
+static render_status vk_render_part(const scene *s, const render_opts *opts, part *p,
+                                    uint32_t sample_end, char *reason) {
     reason[0] = '\0';
     vk_render r = {.stop_steps = 1};
     packed_scene packed = {0};
@@ -464,26 +465,12 @@ done:
     /* A refusal stands only when nothing else went wrong: validation errors fail the run. */
     if (ok && valid) return RENDER_DONE;
     if (reason[0] && valid) return RENDER_REFUSED;
-    if (reason[0]) log_error("%s" VK_CONTEXT_USE_CPU, reason);
+    if (reason[0]) log_error("%s" RENDER_USE_CPU, reason);
     return valid ? RENDER_FAILED : RENDER_INVALID;
 }
 
-render_status render_vk_try(const scene *s, const render_opts *opts, film *f, char *reason) {
-    *f = (film){0};
-    reason[0] = '\0';
-    part_meta meta;
-    render_part_meta(s, opts, &meta);
-    part p;
-    if (!part_init(&p, &meta)) return RENDER_FAILED;
-    render_status status = render_vk_part_try(s, opts, &p, meta.spp, reason);
-    if (status == RENDER_DONE && !part_film(&p, f)) status = RENDER_FAILED;
-    part_free(&p);
-    return status;
-}
-
-bool render_vk(const scene *s, const render_opts *opts, film *f) {
-    char reason[RENDER_REASON_SIZE];
-    render_status status = render_vk_try(s, opts, f, reason);
-    if (status == RENDER_REFUSED) log_error("%s" VK_CONTEXT_USE_CPU, reason);
-    return status == RENDER_DONE;
-}
+const render_backend render_backend_vulkan = {.name = "vulkan",
+                                              .device_count = vk_context_device_count,
+                                              .cpu_only = vk_context_cpu_only,
+                                              .describe = vk_context_print_devices,
+                                              .render_part = vk_render_part};

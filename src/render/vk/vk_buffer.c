@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "render/render.h"
 #include "render/vk/vk_context.h"
 #include "util/log.h"
 
@@ -52,7 +53,7 @@ bool vk_memory_file_fits(uint64_t bytes) {
     log_error(
         "lavapipe keeps device memory in a memfd, which the file-size limit (ulimit -f) "
         "caps at %" PRIu64 " bytes: it holds %" PRId64 " and would need %" PRIu64
-        " more, past which the driver crashes (SIGBUS); raise the limit" VK_CONTEXT_USE_CPU,
+        " more, past which the driver crashes (SIGBUS); raise the limit" RENDER_USE_CPU,
         (uint64_t)limit.rlim_cur, held, pages + MEMORY_FILE_HEADROOM);
     return false;
 #else

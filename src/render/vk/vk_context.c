@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "render/render.h"
 #include "render/vk/vk_internal.h"
 #include "render/vk/vk_probe.h"
 #include "util/log.h"
@@ -29,7 +30,7 @@ static bool open_context(vk_context *ctx, const vk_context_desc *desc) {
     vk_instance_messenger_info(ctx, &messenger);
     VkResult result = vk_instance_create(ctx->validate ? &messenger : NULL, &ctx->instance);
     if (result == VK_ERROR_INCOMPATIBLE_DRIVER) {
-        log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
+        log_error(RENDER_NO_VULKAN_DEVICE);
         return false;
     }
     if (result != VK_SUCCESS) {
@@ -40,7 +41,7 @@ static bool open_context(vk_context *ctx, const vk_context_desc *desc) {
             log_error(
                 "cannot start Vulkan: vkCreateInstance failed with %s (a broken driver "
                 "manifest in VK_ICD_FILENAMES, VK_DRIVER_FILES or vulkan/icd.d can do this; "
-                "VK_LOADER_DEBUG=all shows the loader's reasons)" VK_CONTEXT_USE_CPU,
+                "VK_LOADER_DEBUG=all shows the loader's reasons)" RENDER_USE_CPU,
                 vk_result_name(result));
         ctx->instance = VK_NULL_HANDLE;
         return false;

@@ -144,13 +144,6 @@ bool vk_context_cpu_only(void);
 
 /* Number of Vulkan physical devices; 0 when there is no loader, driver or device. Logs nothing. */
 int vk_context_device_count(void);
-/* The end of every message of a scene or device the Vulkan back end refuses and the CPU back
- * end renders; --backend auto drops it from its notice, since it falls back by itself. */
-#define VK_CONTEXT_USE_CPU ": use --backend cpu"
-/* What to tell a user who has no Vulkan device. */
-#define VK_CONTEXT_NO_DEVICE_MESSAGE                                                     \
-    "no Vulkan device found (VK_LOADER_DEBUG=all shows why): install lavapipe (Debian: " \
-    "apt-get install mesa-vulkan-drivers) or use --backend cpu"
 /* Prints every device (index, name, type, driver and its version, whether it offers
  * VK_KHR_ray_query and VK_KHR_acceleration_structure, its probed loop budget), marking the
  * default; false when none. */

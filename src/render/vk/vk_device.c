@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "render/render.h"
 #include "render/vk/vk_internal.h"
 #include "util/log.h"
 
@@ -214,7 +215,7 @@ bool vk_context_print_devices(void) {
     uint32_t count = 0;
     if (!instance || !list_devices(instance, &devices, &count)) {
         if (vk_loader_ready())
-            log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
+            log_error(RENDER_NO_VULKAN_DEVICE);
         else
             vk_loader_report();
         if (instance) vkDestroyInstance(instance, NULL);
@@ -243,7 +244,7 @@ bool vk_device_open(vk_context *ctx, int requested, bool ray_query) {
     VkPhysicalDevice *devices = NULL;
     uint32_t count = 0;
     if (!list_devices(ctx->instance, &devices, &count)) {
-        log_error(VK_CONTEXT_NO_DEVICE_MESSAGE);
+        log_error(RENDER_NO_VULKAN_DEVICE);
         return false;
     }
     int index = requested >= 0 ? requested : default_device(devices, count);
@@ -256,7 +257,7 @@ bool vk_device_open(vk_context *ctx, int requested, bool ray_query) {
     if (index < 0) {
         log_error(
             "no usable Vulkan device: none of the %u found has Vulkan 1.1 and a compute "
-            "queue" VK_CONTEXT_USE_CPU,
+            "queue" RENDER_USE_CPU,
             count);
         free(devices);
         return false;

@@ -1,0 +1,20 @@
+/* film.h: the per-pixel accumulation a render resolves into an image. */
+#ifndef TRAZADOR_FILM_H
+#define TRAZADOR_FILM_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+/* Per-pixel accumulation: 4 floats a pixel, RGB sums and the count of finite samples. */
+typedef struct film {
+    int width, height;
+    float *accum;
+    uint64_t nonfinite; /* samples dropped because their radiance was NaN or infinite */
+} film;
+
+/* Allocates a zeroed film; false on out-of-memory. */
+bool film_init(film *f, int width, int height);
+/* Frees the film; safe on a zeroed film. */
+void film_free(film *f);
+
+#endif
