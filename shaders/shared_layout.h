@@ -44,6 +44,9 @@ typedef struct tz_uvec4 {
 #define TZ_FLAG_BSDF_ONLY 32u
 /* Owen-scrambled Sobol points (shaders/common/sampler.h) instead of the random stream. */
 #define TZ_FLAG_SOBOL 64u
+/* The scene has triangles; without it their code is dead wherever the flags are a
+ * specialization constant (trace.comp's FLAGS). */
+#define TZ_FLAG_TRIANGLES 128u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
  * pixels, whose rays stay coherent; 4 x 8 ran more instructions: docs/PERF.md), 32 lanes on real

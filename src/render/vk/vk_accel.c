@@ -140,6 +140,19 @@ static bool create_structure(vk_context *ctx, const accel_functions *f,
     return true;
 }
 
+/* The build of one structure of `type` over one geometry, tuned for trace speed. */
+static VkAccelerationStructureBuildGeometryInfoKHR build_info(
+    VkAccelerationStructureTypeKHR type, const VkAccelerationStructureGeometryKHR *geometry) {
+    return (VkAccelerationStructureBuildGeometryInfoKHR){
+        .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR,
+        .type = type,
+        .flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR,
+        .mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR,
+        .geometryCount = 1,
+        .pGeometries = geometry,
+    };
+}
+
 bool vk_accel_build(vk_context *ctx, const packed_scene *p, vk_accel *out) {
     *out = (vk_accel){0};
     accel_functions f;
@@ -165,14 +178,8 @@ bool vk_accel_build(vk_context *ctx, const packed_scene *p, vk_accel *out) {
         /* The shader decides every candidate either way; opaque spares any-hit bookkeeping. */
         .flags = VK_GEOMETRY_OPAQUE_BIT_KHR,
     };
-    VkAccelerationStructureBuildGeometryInfoKHR bottom = {
-        .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR,
-        .type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR,
-        .flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR,
-        .mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR,
-        .geometryCount = 1,
-        .pGeometries = &boxes,
-    };
+    VkAccelerationStructureBuildGeometryInfoKHR bottom =
+        build_info(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, &boxes);
     VkAccelerationStructureBuildSizesInfoKHR bottom_sizes, top_sizes;
     if (!create_structure(ctx, &f, &bottom, count, &bottom_sizes, &out->bottom_storage,
                           &out->bottom))
@@ -195,14 +202,8 @@ bool vk_accel_build(vk_context *ctx, const packed_scene *p, vk_accel *out) {
              .data.deviceAddress = buffer_address(&f, ctx, &out->instance)},
         .flags = VK_GEOMETRY_OPAQUE_BIT_KHR,
     };
-    VkAccelerationStructureBuildGeometryInfoKHR top = {
-        .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR,
-        .type = VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR,
-        .flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR,
-        .mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR,
-        .geometryCount = 1,
-        .pGeometries = &instances,
-    };
+    VkAccelerationStructureBuildGeometryInfoKHR top =
+        build_info(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, &instances);
     if (!create_structure(ctx, &f, &top, 1u, &top_sizes, &out->top_storage, &out->top))
         return false;
 
