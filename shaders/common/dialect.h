@@ -14,6 +14,7 @@
  * neither (-ffp-contract=off), and without it lavapipe's images change. */
 #define TZ_PRECISE precise
 #define TZ_FN
+#define TZ_LANE_FN
 #define TZ_BOOL bool
 /* C's branch-free & and | on 0/1 ints are && and || on GLSL bools. */
 #define TZ_AND &&
@@ -95,6 +96,9 @@ float v3_max_abs(vec3 a) { return max(abs(a.x), max(abs(a.y), abs(a.z))); }
 
 #define TZ_PRECISE
 #define TZ_FN static inline
+/* A TZ_FN that the CPU packet builds call inside their lane loops, always inlined: called, it
+ * keeps the loop from being vectorized, and gcc stops inlining it when its caller grows. */
+#define TZ_LANE_FN static inline __attribute__((always_inline))
 #define TZ_BOOL int
 #define TZ_AND &
 #define TZ_OR |

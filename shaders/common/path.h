@@ -56,7 +56,7 @@ TZ_STRUCT_END(path_vertex)
 
 /* The solid-angle pdf of area sampling triangle k (of area `area`) for the point pos seen from
  * `from` along d: dist^2 / (area |cos at pos|). */
-TZ_FN float triangle_area_pdf(triangle_corners k, float area, vec3 from, vec3 pos, vec3 d) {
+TZ_LANE_FN float triangle_area_pdf(triangle_corners k, float area, vec3 from, vec3 pos, vec3 d) {
     TZ_PRECISE vec3 to_hit = v3_sub(pos, from);
     TZ_PRECISE float pdf = v3_dot(to_hit, to_hit) / (area * TZ_ABS(v3_dot(triangle_normal(k), d)));
     return pdf;
@@ -135,17 +135,29 @@ TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, surface sf, vec3 n, vec3 ng, vec
         t_light = sphere_distance(c.x, c.y, c.z, r, o, wi, ray_eps(o), e == id);
     }
     float cos_i = v3_dot(n, wi);
-    if (!(cos_i > 0.0f) || !(v3_dot(ng, wi) > 0.0f) || !(pdf > 0.0f) || !(pdf < TZ_INFINITY))
+    TZ_BOOL folds = folds_at(n, ng);
+    if (!(folds || cos_i > 0.0f) || !(v3_dot(ng, wi) > 0.0f) || !(pdf > 0.0f) ||
+        !(pdf < TZ_INFINITY))
         return v3(0.0f, 0.0f, 0.0f);
     if (!(t_light < TZ_INFINITY) || integrator_occluded(TZ_SCENE_ARG o, wi, t_light, id))
         return v3(0.0f, 0.0f, 0.0f);
-    float x = phong_lobe_cos(n, wi, wo);
-    float b = bsdf_pdf(share, sf.params.x, cos_i, x);
+    float alpha = sf.params.x, x = phong_lobe_cos(n, wi, wo);
+    float b = bsdf_pdf(share, alpha, cos_i, x);
+    vec3 f = brdf_at(sf.color_ks, alpha, x);
+    float f_scale = cos_i; /* f times f_scale: f cos */
+    if (folds) {
+        vec3 wm = mirror_in_plane(wi, ng);
+        float cos_m = v3_dot(n, wm), xm = phong_lobe_cos(n, wm, wo);
+        folded_bsdf fb = fold_terms(f, cos_i, b, brdf_at(sf.color_ks, alpha, xm), cos_m,
+                                    bsdf_pdf(share, alpha, cos_m, xm));
+        f = fb.f_cos;
+        f_scale = 1.0f;
+        b = fb.pdf;
+    }
     /* the MIS weight over the pdf, or 1 / pdf with light sampling alone */
     TZ_PRECISE float mis = pdf / (pdf * pdf + b * b);
     TZ_PRECISE float weight = (TZ_FRAME.flags & TZ_FLAG_LIGHTS_ONLY) != 0u ? 1.0f / pdf : mis;
-    TZ_PRECISE vec3 l =
-        v3_scale(v3_mul(brdf_at(sf.color_ks, sf.params.x, x), xyz(emission_pick)), cos_i * weight);
+    TZ_PRECISE vec3 l = v3_scale(v3_mul(f, xyz(emission_pick)), f_scale * weight);
     return l;
 }
 
@@ -216,11 +228,25 @@ TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index
                 TZ_PRECISE vec3 wr = v3_sub(v3_scale(n, 2.0f * v3_dot(n, wo)), wo);
                 wi = phong_lobe_direction(wr, params.x, u1, u2);
             }
+            /* A smooth face folds a direction below it above it (folds_at); on any other a
+             * direction below the face ends the path. */
+            TZ_BOOL folds = folds_at(n, ng);
+            if (folds && !(v3_dot(ng, wi) > 0.0f)) wi = mirror_in_plane(wi, ng);
             float cos_i = v3_dot(n, wi), x = phong_lobe_cos(n, wi, wo);
             float pdf = bsdf_pdf(share, params.x, cos_i, x);
-            /* A direction below the face (a shading normal leaning away) ends the path. */
-            if (!(cos_i > 0.0f) || !(v3_dot(ng, wi) > 0.0f) || !(pdf > 0.0f)) break;
-            TZ_PRECISE vec3 f = v3_scale(brdf_at(color_ks, params.x, x), cos_i / pdf);
+            vec3 fv = brdf_at(color_ks, params.x, x);
+            float f_scale = cos_i; /* fv times f_scale: f cos */
+            if (folds) {
+                vec3 wm = mirror_in_plane(wi, ng);
+                float cos_m = v3_dot(n, wm), xm = phong_lobe_cos(n, wm, wo);
+                folded_bsdf fb = fold_terms(fv, cos_i, pdf, brdf_at(color_ks, params.x, xm), cos_m,
+                                            bsdf_pdf(share, params.x, cos_m, xm));
+                fv = fb.f_cos;
+                f_scale = 1.0f;
+                pdf = fb.pdf;
+            }
+            if (!(folds || cos_i > 0.0f) || !(v3_dot(ng, wi) > 0.0f) || !(pdf > 0.0f)) break;
+            TZ_PRECISE vec3 f = v3_scale(fv, f_scale / pdf);
             beta = v3_mul(beta, f);
             last.pos = pos;
             last.n = n;

@@ -45,8 +45,8 @@ TZ_FN vec3 offset_origin(vec3 p, vec3 n) {
  * centre lies along an axis from the ray origin. When the ray leaves this very sphere (is_self),
  * moving inward (b < 0) only its far root counts; moving outward it cannot hit it again.
  * Branch-free, so that loops over spheres or rays compile to SIMD. */
-TZ_FN float sphere_distance(float cx, float cy, float cz, float r, vec3 o, vec3 d, float tmin,
-                            TZ_BOOL is_self) {
+TZ_LANE_FN float sphere_distance(float cx, float cy, float cz, float r, vec3 o, vec3 d, float tmin,
+                                 TZ_BOOL is_self) {
     TZ_PRECISE float ocx = o.x - cx, ocy = o.y - cy, ocz = o.z - cz;
     TZ_PRECISE float b = ocx * d.x + ocy * d.y + ocz * d.z;
     float ax = TZ_ABS(ocx), ay = TZ_ABS(ocy), az = TZ_ABS(ocz);
@@ -87,7 +87,7 @@ TZ_STRUCT_END(triangle_edges)
  * ray runs along +z, and the edge functions are 2D cross products of corners. An edge shared by
  * two faces gives them exactly opposite edge functions (the same products, subtracted the other
  * way round), so a ray through it hits at least one of them: no ray slips between faces. */
-TZ_FN triangle_edges triangle_edge_functions(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d) {
+TZ_LANE_FN triangle_edges triangle_edge_functions(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d) {
     float ax = TZ_ABS(d.x), ay = TZ_ABS(d.y), az = TZ_ABS(d.z);
     int kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
     float dz = kz == 0 ? d.x : kz == 1 ? d.y : d.z;
@@ -117,7 +117,8 @@ TZ_FN triangle_edges triangle_edge_functions(vec3 a, vec3 b, vec3 c, vec3 o, vec
 /* Distance to the triangle (corners a, b, c) along o + t d: t > tmin, infinity for a miss (or
  * when the ray leaves this very triangle, is_self: a plane cannot be met again). Both sides
  * count. Branch-free, as sphere_distance. */
-TZ_FN float triangle_distance(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d, float tmin, TZ_BOOL is_self) {
+TZ_LANE_FN float triangle_distance(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d, float tmin,
+                                   TZ_BOOL is_self) {
     triangle_edges e = triangle_edge_functions(a, b, c, o, d);
     TZ_BOOL negative = (e.u < 0.0f) TZ_OR(e.v < 0.0f) TZ_OR(e.w < 0.0f);
     TZ_BOOL positive = (e.u > 0.0f) TZ_OR(e.v > 0.0f) TZ_OR(e.w > 0.0f);

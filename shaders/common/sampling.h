@@ -14,6 +14,37 @@ TZ_STRUCT(direction_sample) {
 }
 TZ_STRUCT_END(direction_sample)
 
+/* Whether a diffuse vertex folds its BSDF onto the geometric hemisphere: where its shading
+ * normal n is not its geometric normal ng (a smooth face), so that the part of the shading
+ * hemisphere below the face is reflected above it rather than lost (DESIGN section 3.2). */
+TZ_FN TZ_BOOL folds_at(vec3 n, vec3 ng) { return n.x != ng.x || n.y != ng.y || n.z != ng.z; }
+
+/* w mirrored in the plane of unit normal ng: the other direction that folds onto w. */
+TZ_FN vec3 mirror_in_plane(vec3 w, vec3 ng) {
+    TZ_PRECISE vec3 m = v3_sub(w, v3_scale(ng, 2.0f * v3_dot(ng, w)));
+    return m;
+}
+
+/* The folded BSDF at a direction: f times the shading cosine, and the pdf of sampling it. */
+TZ_STRUCT(folded_bsdf) {
+    vec3 f_cos;
+    float pdf;
+}
+TZ_STRUCT_END(folded_bsdf)
+
+/* The folded BSDF summed over a direction (BRDF f_i at shading cosine cos_i, BSDF pdf pdf_i) and
+ * its mirror image (f_m, cos_m, pdf_m). */
+TZ_FN folded_bsdf fold_terms(vec3 f_i, float cos_i, float pdf_i, vec3 f_m, float cos_m,
+                             float pdf_m) {
+    folded_bsdf r;
+    TZ_PRECISE vec3 f_cos =
+        v3_add(v3_scale(f_i, TZ_MAX(cos_i, 0.0f)), v3_scale(f_m, TZ_MAX(cos_m, 0.0f)));
+    TZ_PRECISE float pdf = pdf_i + pdf_m;
+    r.f_cos = f_cos;
+    r.pdf = pdf;
+    return r;
+}
+
 /* The unit vector at polar angle theta (cosine cos_t, sine sin_t) and azimuth phi about unit
  * axis w, in the basis of the bounce direction. */
 TZ_FN vec3 direction_about(vec3 w, float cos_t, float sin_t, cos_sin phi) {

@@ -42,14 +42,16 @@ typedef struct path_lanes {
  * lanes whose path ends here are made inactive. */
 LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float *us,
                                const float *u1, const float *u2) {
-    float cos_i[LANES], x[LANES], lobe[LANES];
-    int cosine[LANES], go[LANES], any_lobe = 0;
-    lanes3 lobe_wi, wi;
+    float cos_i[LANES], x[LANES], lobe[LANES], pdf[LANES], f_scale[LANES];
+    int cosine[LANES], go[LANES], folds[LANES], any_lobe = 0, any_fold = 0;
+    lanes3 lobe_wi, wi, fv;
     for (int k = 0; k < LANES; k++) {
         go[k] = v->diffuse[k] & !(v->share[k] < 0.0f);
         cosine[k] = us[k] < v->share[k];
         any_lobe |= go[k] & !cosine[k];
         set3(&lobe_wi, k, v3(0.0f, 0.0f, 0.0f));
+        folds[k] = go[k] & folds_at(get3(&v->n, k), get3(&v->ng, k));
+        any_fold |= folds[k];
     }
     for (int k = 0; any_lobe && k < LANES; k++) {
         vec3 n = get3(&v->n, k), wo = get3(&v->wo, k);
@@ -57,26 +59,38 @@ LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float
         set3(&lobe_wi, k, phong_lobe_direction(wr, v->alpha[k], u1[k], u2[k]));
     }
     for (int k = 0; k < LANES; k++) {
-        vec3 n = get3(&v->n, k), wo = get3(&v->wo, k);
-        vec3 w = select3(cosine[k], cosine_direction(n, u1[k], u2[k]), get3(&lobe_wi, k));
-        set3(&wi, k, w);
+        vec3 n = get3(&v->n, k);
+        set3(&wi, k, select3(cosine[k], cosine_direction(n, u1[k], u2[k]), get3(&lobe_wi, k)));
+    }
+    for (int k = 0; any_fold && k < LANES; k++) { /* path_sample's fold below a smooth face */
+        vec3 w = get3(&wi, k), ng = get3(&v->ng, k);
+        if (folds[k] && !(v3_dot(ng, w) > 0.0f)) set3(&wi, k, mirror_in_plane(w, ng));
+    }
+    for (int k = 0; k < LANES; k++) {
+        vec3 n = get3(&v->n, k), wo = get3(&v->wo, k), w = get3(&wi, k);
         cos_i[k] = v3_dot(n, w);
         x[k] = phong_lobe_cos(n, w, wo);
     }
     lobe_lanes(x, v->alpha, go, lobe);
     for (int k = 0; k < LANES; k++) {
-        float pdf = bsdf_pdf_of_lobe(v->share[k], v->alpha[k], cos_i[k], lobe[k]);
+        pdf[k] = bsdf_pdf_of_lobe(v->share[k], v->alpha[k], cos_i[k], lobe[k]);
+        set3(&fv, k, brdf_of_lobe(v, k, lobe[k]));
+        f_scale[k] = cos_i[k];
+    }
+    if (any_fold) lanes_fold(v, folds, &wi, cos_i, &fv, f_scale, pdf);
+    for (int k = 0; k < LANES; k++) {
         vec3 n = get3(&v->n, k), ng = get3(&v->ng, k), pos = get3(&v->pos, k);
-        /* A direction below the face (a shading normal leaning away) ends the path. */
-        int ok = go[k] & (cos_i[k] > 0.0f) & (v3_dot(ng, get3(&wi, k)) > 0.0f) & (pdf > 0.0f);
-        vec3 f = v3_scale(brdf_of_lobe(v, k, lobe[k]), cos_i[k] / pdf);
+        /* On a face that does not fold, a direction below it ends the path. */
+        int ok = go[k] & (folds[k] | (cos_i[k] > 0.0f)) & (v3_dot(ng, get3(&wi, k)) > 0.0f) &
+                 (pdf[k] > 0.0f);
+        vec3 f = v3_scale(get3(&fv, k), f_scale[k] / pdf[k]);
         vec3 o = offset_origin(pos, ng);
         set3(&s->beta, k, select3(ok, v3_mul(get3(&s->beta, k), f), get3(&s->beta, k)));
         set3(&s->last_pos, k, select3(ok, pos, get3(&s->last_pos, k)));
         set3(&s->last_n, k, select3(ok, n, get3(&s->last_n, k)));
         set3(&s->last_origin, k, select3(ok, o, get3(&s->last_origin, k)));
         s->last_id[k] = ok ? v->id[k] : s->last_id[k];
-        s->last_pdf[k] = ok ? pdf : s->last_pdf[k];
+        s->last_pdf[k] = ok ? pdf[k] : s->last_pdf[k];
         s->specular[k] = ok ? 0 : s->specular[k];
         set3(&s->o, k, select3(ok, o, get3(&s->o, k)));
         set3(&s->d, k, select3(ok, get3(&wi, k), get3(&s->d, k)));

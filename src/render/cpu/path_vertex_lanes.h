@@ -88,15 +88,62 @@ LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v
     }
 }
 
+/* fold_terms of the folded BSDF (sampling.h) for the lanes in folds, the direction in wi: fv,
+ * f_scale and pdf (the BRDF, the factor that makes it f cos, and the pdf at wi alone) become the
+ * sums over wi and its mirror image (fv f cos, f_scale 1). Out of line: only smooth faces need
+ * it, and inlined it grew its callers past gcc's inlining of sphere_distance. */
+static __attribute__((noinline)) void lanes_fold(const vertex_lanes *v, const int *folds,
+                                                 const lanes3 *wi, const float *cos_i, lanes3 *fv,
+                                                 float *f_scale, float *pdf) {
+    float cos_m[LANES], xm[LANES], lobe_m[LANES];
+    for (int k = 0; k < LANES; k++) {
+        vec3 n = get3(&v->n, k), wm = mirror_in_plane(get3(wi, k), get3(&v->ng, k));
+        cos_m[k] = v3_dot(n, wm);
+        xm[k] = phong_lobe_cos(n, wm, get3(&v->wo, k));
+    }
+    lobe_lanes(xm, v->alpha, folds, lobe_m);
+    for (int k = 0; k < LANES; k++) {
+        if (!folds[k]) continue;
+        folded_bsdf fb =
+            fold_terms(get3(fv, k), cos_i[k], pdf[k], brdf_of_lobe(v, k, lobe_m[k]), cos_m[k],
+                       bsdf_pdf_of_lobe(v->share[k], v->alpha[k], cos_m[k], lobe_m[k]));
+        set3(fv, k, fb.f_cos);
+        f_scale[k] = 1.0f;
+        pdf[k] = fb.pdf;
+    }
+}
+
+/* The shadow rays of lanes_emitter_light toward the lanes' light points, with what weighs them. */
+typedef struct shadow_lanes {
+    lanes3 origin, dir;
+    float pdf[LANES], cos_i[LANES], t_light[LANES]; /* t_light: the light point's distance */
+    int want[LANES];                                /* traced, and lit unless blocked */
+} shadow_lanes;
+
+/* Lane k of s: a ray from o along w to a light point at distance tl, drawn with pdf p, at cos_i
+ * ci; wanted where ok and the ray meets the light. */
+LANE_FN void shadow_lane_set(shadow_lanes *s, int k, vec3 o, vec3 w, float p, float ci, float tl,
+                             int ok) {
+    set3(&s->origin, k, o);
+    set3(&s->dir, k, w);
+    s->pdf[k] = p;
+    s->cos_i[k] = ci;
+    s->t_light[k] = tl;
+    s->want[k] = ok & (tl < INFINITY);
+}
+
 /* emitter_light of path.h for the diffuse lanes (a sphere's strategies both computed and one
  * selected, a triangle's point lane by lane), the shadow rays traced together, added to direct;
  * ul, ua, ub the lanes' numbers. */
 LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *v, const float *ul,
                                  const float *ua, const float *ub, lanes3 *direct) {
-    int e[LANES], slot[LANES], triangle[LANES], strategy[LANES], want[LANES], blocked[LANES];
+    int e[LANES], slot[LANES], triangle[LANES], strategy[LANES], blocked[LANES];
     float r[LANES], pick[LANES], cos_phi[LANES], sin_phi[LANES]; /* arrays of cos_sin: scalar */
-    float pdf[LANES], cos_i[LANES], t_light[LANES], t[LANES], x[LANES], lobe[LANES];
-    lanes3 c, emission, so, wi;
+    float t[LANES], x[LANES], lobe[LANES];
+    int folds[LANES];
+    lanes3 c, emission;
+    shadow_lanes s;
+    for (int k = 0; k < LANES; k++) folds[k] = folds_at(get3(&v->n, k), get3(&v->ng, k));
     int one_emitter = scene->frame.emitter_count == 1u; /* pick_emitter's 0, whatever ul */
     for (int k = 0; k < LANES; k++) {
         slot[k] = v->diffuse[k] && !one_emitter ? pick_emitter(scene, ul[k]) : 0;
@@ -146,16 +193,11 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         vec3 w = select3(cone, cone_wi, area_wi);
         float p = cone ? cone_p : area_p;
         float ci = v3_dot(n, w);
-        int ok = v->diffuse[k] & (strategy[k] != LIGHT_NONE) & (ci > 0.0f) &
+        int ok = v->diffuse[k] & (strategy[k] != LIGHT_NONE) & (folds[k] | (ci > 0.0f)) &
                  (v3_dot(ng, w) > 0.0f) & (p > 0.0f) & (p < INFINITY);
         vec3 o = offset_origin(pos, ng);
         float tl = sphere_distance(ck.x, ck.y, ck.z, rk, o, w, ray_eps(o), e[k] == v->id[k]);
-        set3(&so, k, o);
-        set3(&wi, k, w);
-        pdf[k] = p;
-        cos_i[k] = ci;
-        t_light[k] = tl;
-        want[k] = ok & (tl < INFINITY);
+        shadow_lane_set(&s, k, o, w, p, ci, tl, ok);
     }
     for (int k = 0; any_lane(triangle) && k < LANES; k++) {
         if (!(v->diffuse[k] & triangle[k])) continue;
@@ -167,29 +209,33 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         float p = pick[k] * triangle_area_pdf(tk, area, o, q, w);
         float tl = triangle_distance(tk.a, tk.b, tk.c, o, w, ray_eps(o), TZ_FALSE);
         float ci = v3_dot(n, w);
-        int ok =
-            (e[k] != v->id[k]) & (ci > 0.0f) & (v3_dot(ng, w) > 0.0f) & (p > 0.0f) & (p < INFINITY);
-        set3(&so, k, o);
-        set3(&wi, k, w);
-        pdf[k] = p;
-        cos_i[k] = ci;
-        t_light[k] = tl;
-        want[k] = ok & (tl < INFINITY);
+        int ok = (e[k] != v->id[k]) & (folds[k] | (ci > 0.0f)) & (v3_dot(ng, w) > 0.0f) &
+                 (p > 0.0f) & (p < INFINITY);
+        shadow_lane_set(&s, k, o, w, p, ci, tl, ok);
     }
-    trace_lanes(scene, &so, &wi, v->id, t_light, want, 1, blocked, t);
+    trace_lanes(scene, &s.origin, &s.dir, v->id, s.t_light, s.want, 1, blocked, t);
+    int any_fold = 0;
     for (int k = 0; k < LANES; k++) {
-        want[k] = want[k] & (blocked[k] < 0);
-        x[k] = phong_lobe_cos(get3(&v->n, k), get3(&wi, k), get3(&v->wo, k));
+        s.want[k] = s.want[k] & (blocked[k] < 0);
+        x[k] = phong_lobe_cos(get3(&v->n, k), get3(&s.dir, k), get3(&v->wo, k));
+        folds[k] = folds[k] & s.want[k];
+        any_fold |= folds[k];
     }
-    lobe_lanes(x, v->alpha, want, lobe);
+    lobe_lanes(x, v->alpha, s.want, lobe);
+    float b[LANES], f_scale[LANES];
+    lanes3 f;
+    for (int k = 0; k < LANES; k++) {
+        b[k] = bsdf_pdf_of_lobe(v->share[k], v->alpha[k], s.cos_i[k], lobe[k]);
+        set3(&f, k, brdf_of_lobe(v, k, lobe[k]));
+        f_scale[k] = s.cos_i[k];
+    }
+    if (any_fold) lanes_fold(v, folds, &s.dir, s.cos_i, &f, f_scale, b); /* emitter_light's */
     int lights_only = (scene->frame.flags & TZ_FLAG_LIGHTS_ONLY) != 0u;
     for (int k = 0; k < LANES; k++) {
-        float b = bsdf_pdf_of_lobe(v->share[k], v->alpha[k], cos_i[k], lobe[k]);
-        float mis = pdf[k] / (pdf[k] * pdf[k] + b * b);
-        float weight = lights_only ? 1.0f / pdf[k] : mis;
-        vec3 l =
-            v3_scale(v3_mul(brdf_of_lobe(v, k, lobe[k]), get3(&emission, k)), cos_i[k] * weight);
-        l = select3(want[k], l, v3(0.0f, 0.0f, 0.0f));
+        float mis = s.pdf[k] / (s.pdf[k] * s.pdf[k] + b[k] * b[k]);
+        float weight = lights_only ? 1.0f / s.pdf[k] : mis;
+        vec3 l = v3_scale(v3_mul(get3(&f, k), get3(&emission, k)), f_scale[k] * weight);
+        l = select3(s.want[k], l, v3(0.0f, 0.0f, 0.0f));
         vec3 dk = get3(direct, k);
         set3(direct, k, select3(v->diffuse[k], v3_add(dk, l), dk));
     }
