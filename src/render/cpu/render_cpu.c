@@ -21,7 +21,9 @@
 #include "util/log.h"
 #include "util/threads.h"
 
-#define TILE_SIZE 16
+/* The side of the squares of pixels the threads take in turn (the Vulkan back end plans its own
+ * tiles: vk_pass_plan.h). */
+#define CPU_TILE_SIZE 16
 
 /* Cache lines are 64 bytes on the processors the packet builds target. */
 #define CACHE_LINE 64
@@ -104,9 +106,9 @@ static unsigned long long render_lanes(cpu_job *job, int i, int j, uint32_t lane
 }
 
 static void render_tile(cpu_job *job, int tile) {
-    int x0 = (tile % job->tiles_x) * TILE_SIZE, y0 = (tile / job->tiles_x) * TILE_SIZE;
-    int x1 = x0 + TILE_SIZE < job->width ? x0 + TILE_SIZE : job->width;
-    int y1 = y0 + TILE_SIZE < job->height ? y0 + TILE_SIZE : job->height;
+    int x0 = (tile % job->tiles_x) * CPU_TILE_SIZE, y0 = (tile / job->tiles_x) * CPU_TILE_SIZE;
+    int x1 = x0 + CPU_TILE_SIZE < job->width ? x0 + CPU_TILE_SIZE : job->width;
+    int y1 = y0 + CPU_TILE_SIZE < job->height ? y0 + CPU_TILE_SIZE : job->height;
     unsigned long long dropped = 0;
     int width = (int)job->packet.width;
     for (int j = y0; j < y1; j++)
@@ -285,8 +287,8 @@ static bool render_cpu_part(const scene *s, const render_opts *opts, part *p, ui
                      : integrator_packet_choose(build, integrator_packet_walks(&packed));
     log_debug("cpu back end: packet integrator build %s, %u lanes", job.packet.name,
               job.packet.width);
-    job.tiles_x = (job.width + TILE_SIZE - 1) / TILE_SIZE;
-    job.tile_count = job.tiles_x * ((job.height + TILE_SIZE - 1) / TILE_SIZE);
+    job.tiles_x = (job.width + CPU_TILE_SIZE - 1) / CPU_TILE_SIZE;
+    job.tile_count = job.tiles_x * ((job.height + CPU_TILE_SIZE - 1) / CPU_TILE_SIZE);
     atomic_init(&job.next_tile, 0);
     atomic_init(&job.tiles_done, 0);
     atomic_init(&job.nonfinite, 0);
