@@ -395,7 +395,7 @@ static void write_sphere(int rings, int segments) {
 
 /* Path mode inside a closed mesh whose faces all emit 1 with albedo 0.5: every pixel sees
  * 1 + a + ... + a^24 (test_triangles.c's furnace), with flat faces and with `smooth on`, whose
- * shading normals fold the directions below a face above it (DESIGN section 3.2) rather than end
+ * shading normals fold the directions below a face above it (DESIGN section 3.3) rather than end
  * those paths (which lost 0.33% of the energy on this sphere). */
 static void expect_mesh_furnace(const char *smooth) {
     char text[512];

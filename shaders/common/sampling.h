@@ -16,7 +16,7 @@ TZ_STRUCT_END(direction_sample)
 
 /* Whether a diffuse vertex folds its BSDF onto the geometric hemisphere: where its shading
  * normal n is not its geometric normal ng (a smooth face), so that the part of the shading
- * hemisphere below the face is reflected above it rather than lost (DESIGN section 3.2). */
+ * hemisphere below the face is reflected above it rather than lost (DESIGN section 3.3). */
 TZ_FN TZ_BOOL folds_at(vec3 n, vec3 ng) { return n.x != ng.x || n.y != ng.y || n.z != ng.z; }
 
 /* w mirrored in the plane of unit normal ng: the other direction that folds onto w. */
