@@ -252,7 +252,7 @@ int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
     int id = -1;
     [[unroll]] for (uint k = 0u; k < sphere_count(); k++)
         keep_nearer(int(k), sphere_distance_at(int(k), o, d, tmin, self), best, id);
-    if ((TZ_FLAGS & TZ_FLAG_TRIANGLES) != 0u) for (uint k = 0u; k < frame.triangle_count; k++) {
+    if (TZ_HAS_TRIANGLES) for (uint k = 0u; k < frame.triangle_count; k++) {
         int t = int(frame.sphere_count + k);
         keep_nearer(t, triangle_distance_at(t, o, d, tmin, self), best, id);
     }
@@ -273,7 +273,7 @@ bool integrator_occluded(vec3 o, vec3 d, float dist, int self) {
     float tmin = ray_eps(o);
     [[unroll]] for (uint k = 0u; k < sphere_count();
                     k++) if (sphere_distance_at(int(k), o, d, tmin, self) < dist) return true;
-    if ((TZ_FLAGS & TZ_FLAG_TRIANGLES) != 0u) for (uint k = 0u; k < frame.triangle_count; k++) {
+    if (TZ_HAS_TRIANGLES) for (uint k = 0u; k < frame.triangle_count; k++) {
         int t = int(frame.sphere_count + k);
         if (triangle_distance_at(t, o, d, tmin, self) < dist) return true;
     }

@@ -86,6 +86,17 @@ TZ_FN float light_pdf_at(TZ_SCENE_PARAM path_vertex v, int id, vec3 pos, vec3 d)
     return strategy == LIGHT_CONE ? cone : strategy == LIGHT_AREA ? area : 0.0f;
 }
 
+/* The folded BSDF (fold_terms) at direction wi of a smooth diffuse vertex (shading normal n,
+ * geometric normal ng, wo the way back, material color_ks and alpha, diffuse share), given its
+ * terms at wi itself: BRDF f_i, shading cosine cos_i and pdf pdf_i. */
+TZ_FN folded_bsdf fold_at(vec3 n, vec3 ng, vec3 wi, vec3 wo, TZ_VEC4 color_ks, float alpha,
+                          float share, vec3 f_i, float cos_i, float pdf_i) {
+    vec3 wm = mirror_in_plane(wi, ng);
+    float cos_m = v3_dot(n, wm), xm = phong_lobe_cos(n, wm, wo);
+    return fold_terms(f_i, cos_i, pdf_i, brdf_at(color_ks, alpha, xm), cos_m,
+                      bsdf_pdf(share, alpha, cos_m, xm));
+}
+
 /* Light from the emitter picked by ul and sampled by ua, ub at a diffuse vertex (primitive id at
  * surface sf, facing shading normal n and geometric normal ng, wo the way back, share the BSDF's
  * diffuse share), weighted by MIS, or alone; beta not applied. */
@@ -146,10 +157,7 @@ TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, surface sf, vec3 n, vec3 ng, vec
     vec3 f = brdf_at(sf.color_ks, alpha, x);
     float f_scale = cos_i; /* f times f_scale: f cos */
     if (folds) {
-        vec3 wm = mirror_in_plane(wi, ng);
-        float cos_m = v3_dot(n, wm), xm = phong_lobe_cos(n, wm, wo);
-        folded_bsdf fb = fold_terms(f, cos_i, b, brdf_at(sf.color_ks, alpha, xm), cos_m,
-                                    bsdf_pdf(share, alpha, cos_m, xm));
+        folded_bsdf fb = fold_at(n, ng, wi, wo, sf.color_ks, alpha, share, f, cos_i, b);
         f = fb.f_cos;
         f_scale = 1.0f;
         b = fb.pdf;
@@ -237,10 +245,7 @@ TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index
             vec3 fv = brdf_at(color_ks, params.x, x);
             float f_scale = cos_i; /* fv times f_scale: f cos */
             if (folds) {
-                vec3 wm = mirror_in_plane(wi, ng);
-                float cos_m = v3_dot(n, wm), xm = phong_lobe_cos(n, wm, wo);
-                folded_bsdf fb = fold_terms(fv, cos_i, pdf, brdf_at(color_ks, params.x, xm), cos_m,
-                                            bsdf_pdf(share, params.x, cos_m, xm));
+                folded_bsdf fb = fold_at(n, ng, wi, wo, color_ks, params.x, share, fv, cos_i, pdf);
                 fv = fb.f_cos;
                 f_scale = 1.0f;
                 pdf = fb.pdf;

@@ -8,10 +8,14 @@
 #include "dialect.h"
 #include "ray.h"
 
-/* Whether primitive id is a triangle (else a sphere); the flag first, so that lavapipe drops the
- * triangle code of sphere scenes (docs/PERF.md, "Triangles' cost to sphere scenes"). */
+/* Whether the scene has triangles, from the flags: where they are a specialization constant
+ * (trace.comp), lavapipe drops the triangle code of sphere scenes (docs/PERF.md, "Triangles'
+ * cost to sphere scenes"). */
+#define TZ_HAS_TRIANGLES ((TZ_FLAGS & TZ_FLAG_TRIANGLES) != 0u)
+
+/* Whether primitive id is a triangle (else a sphere); TZ_HAS_TRIANGLES first. */
 TZ_FN TZ_BOOL is_triangle(TZ_SCENE_PARAM int id) {
-    return ((TZ_FLAGS & TZ_FLAG_TRIANGLES) != 0u) TZ_AND(id >= TZ_INT(TZ_FRAME.sphere_count));
+    return TZ_HAS_TRIANGLES TZ_AND(id >= TZ_INT(TZ_FRAME.sphere_count));
 }
 
 /* The corners of triangle primitive id. */
