@@ -121,9 +121,6 @@ typedef struct render_backend {
     /* Prints on stdout what it renders with here (its builds, or its devices and what they
      * offer); false on failure (logged). */
     bool (*describe)(void);
-    /* Whether it renders scene s with opts faster than the other back end on a CPU Vulkan
-     * device, the measured reason in *why (docs/PERF.md); NULL where that was never measured. */
-    bool (*beats_cpu_vulkan)(const scene *s, const render_opts *opts, const char **why);
     /* Adds to part p (its region, from its sample_end on) the samples up to sample_end
      * (chunk-aligned or the render's total) in passes that opts->control sets; on a refusal
      * `reason` (RENDER_REASON_SIZE bytes) says why, otherwise it is "". After a failure or a

@@ -355,22 +355,8 @@ static bool cpu_describe(void) {
     return true;
 }
 
-/* render_backend.beats_cpu_vulkan (docs/PERF.md, "Cooperative walk", "Path mode on the CPU" and
- * "auto on lavapipe"): on every scene, mode and build measured, lavapipe 22.3 and 25 alike (the
- * 8-lane path build, once no faster than the one-sample text, now beats both). */
-static bool cpu_beats_cpu_vulkan(const scene *s, const render_opts *opts, const char **why) {
-    bool small = s->sphere_count + s->triangle_count <= TZ_UNROLL_MAX_SPHERES;
-    *why = opts->mode == RENDER_MODE_PATH
-               ? "path mode, where the CPU back end measured faster than lavapipe"
-           : small ? "report mode, where the CPU back end measured faster than lavapipe"
-                   : "report mode through the BVH, where the CPU back end measured faster than "
-                     "lavapipe";
-    return true;
-}
-
 const render_backend render_backend_cpu = {.name = "cpu",
                                            .device_count = cpu_device_count,
                                            .cpu_only = cpu_is_cpu,
                                            .describe = cpu_describe,
-                                           .beats_cpu_vulkan = cpu_beats_cpu_vulkan,
                                            .render_part = cpu_render};
