@@ -94,6 +94,88 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
     return id;
 }
 
+/* Keeps the nearer of two children of a wide node, by entry distance, in (ta, ra). */
+void nearer_child_first(inout float ta, inout uint ra, inout float tb, inout uint rb) {
+    bool swap = tb < ta;
+    float t = ta;
+    uint r = ra;
+    ta = swap ? tb : ta, ra = swap ? rb : ra;
+    tb = swap ? t : tb, rb = swap ? r : rb;
+}
+
+/* Where the ray enters child c of the wide node whose fields 0, 2 and 3 are given (box_entry of
+ * its decoded box), infinity for no child (reference 0). */
+float wide_child_entry(uvec4 frame_bits, uvec4 lo, uvec4 hi, uint ref, uint c, vec3 o, vec3 inv,
+                       float tmax) {
+    uint shift = 8u * c;
+    vec3 origin = uintBitsToFloat(frame_bits.xyz);
+    uvec3 exponents = (uvec3(frame_bits.w) >> uvec3(0u, 8u, 16u)) & 255u;
+    vec3 scale = uintBitsToFloat(exponents << 23u);
+    vec3 box_lo = origin + vec3((lo.xyz >> shift) & 255u) * scale;
+    vec3 box_hi = origin + vec3((uvec3(lo.w, hi.x, hi.y) >> shift) & 255u) * scale;
+    float t = box_entry(vec4(box_lo, 0.0), vec4(box_hi, 0.0), o, inv, tmax);
+    return ref == 0u ? TZ_INFINITY : t;
+}
+
+/* trace_bvh over the wide BVH (src/render/bvh_wide.h), the same passes with up to four children a
+ * node visit: the nearest entered child is taken, the others are pushed (a stack of
+ * TZ_WIDE_STACK, which the build keeps every walk within). It finds trace_bvh's hits: every
+ * decoded box holds its binary box, and the tie rule decides. */
+int trace_wide_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out) {
+    float tmin = ray_eps(o), best = tmax;
+    int id = -1;
+    vec3 inv = inverse_direction(d);
+    uint stack[TZ_WIDE_STACK];
+    float stack_t[TZ_WIDE_STACK];
+    int top = 0;
+    const uint none = 0xffffffffu;
+    uint node = 0u;                  /* the root */
+    uint sphere = 0u, leaf_end = 0u; /* the leaf's spheres still to test */
+    for (uint pass = 0u;; pass++) {
+        if (WALK_BUDGET > 0u && pass == WALK_BUDGET) {
+            loop_overflow = true;
+            break;
+        }
+        if (sphere >= leaf_end && node == none) {
+            if (top == 0) break;
+            top--;
+            uint ref = stack[top], count = child_count(ref);
+            if (stack_t[top] < best) {
+                node = count == 0u ? ref : none;
+                sphere = child_index(ref);
+                leaf_end = count == 0u ? 0u : sphere + count;
+            }
+        }
+        if (sphere >= leaf_end && node != none) {
+            uvec4 frame_bits = wide_node_field(node, 0u), refs = wide_node_field(node, 1u);
+            uvec4 lo = wide_node_field(node, 2u), hi = wide_node_field(node, 3u);
+            float t0 = wide_child_entry(frame_bits, lo, hi, refs.x, 0u, o, inv, best);
+            float t1 = wide_child_entry(frame_bits, lo, hi, refs.y, 1u, o, inv, best);
+            float t2 = wide_child_entry(frame_bits, lo, hi, refs.z, 2u, o, inv, best);
+            float t3 = wide_child_entry(frame_bits, lo, hi, refs.w, 3u, o, inv, best);
+            uint r0 = refs.x, r1 = refs.y, r2 = refs.z, r3 = refs.w;
+            nearer_child_first(t0, r0, t1, r1);
+            nearer_child_first(t0, r0, t2, r2);
+            nearer_child_first(t0, r0, t3, r3);
+            uint count = child_count(r0);
+            bool enters = t0 < TZ_INFINITY;
+            node = enters && count == 0u ? r0 : none;
+            sphere = child_index(r0);
+            leaf_end = enters && count > 0u ? sphere + count : 0u;
+            if (t3 < TZ_INFINITY) stack[top] = r3, stack_t[top] = t3, top++;
+            if (t2 < TZ_INFINITY) stack[top] = r2, stack_t[top] = t2, top++;
+            if (t1 < TZ_INFINITY) stack[top] = r1, stack_t[top] = t1, top++;
+        }
+        if (sphere < leaf_end) {
+            keep_nearer(int(sphere), primitive_distance(int(sphere), o, d, tmin, self), best, id);
+            sphere++;
+            if (any_hit && id >= 0) break;
+        }
+    }
+    t_out = best;
+    return id;
+}
+
 #ifdef TZ_SUBGROUP_WALK
 /* Lane counts packed into one uint, so that one subgroupAdd a pass takes every vote (lavapipe
  * runs each subgroup operation as a loop over the lanes): fields of COOP_BITS bits, at most
@@ -233,6 +315,7 @@ int walk_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out
 #ifdef TZ_SUBGROUP_WALK
     if (coherent_rays) return trace_bvh_cooperative(o, d, self, tmax, any_hit, t_out);
 #endif
+    if (WIDE_BVH != 0u) return trace_wide_bvh(o, d, self, tmax, any_hit, t_out);
     return trace_bvh(o, d, self, tmax, any_hit, t_out);
 }
 

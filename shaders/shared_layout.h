@@ -90,10 +90,12 @@ typedef struct tz_uvec4 {
 #define TZ_BINDING_MATERIALS 10
 /* Texels 3s..3s+2: gpu_normals s, the shading normals of the smooth triangles (one zeroed). */
 #define TZ_BINDING_NORMALS 11
-#define TZ_BINDING_COUNT 12
+/* Texels 4k..4k+3: gpu_wide_node k, read as uints (one zeroed node without a BVH). */
+#define TZ_BINDING_WIDE_NODES 12
+#define TZ_BINDING_COUNT 13
 /* The ray query module only: the top-level acceleration structure of the scene's primitives
  * (AABB primitive k is primitive id k), one binding past the others. */
-#define TZ_BINDING_ACCEL 12
+#define TZ_BINDING_ACCEL 13
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
  * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.sphere_count
@@ -107,13 +109,15 @@ typedef struct tz_uvec4 {
  * limit, which counts the passes of a whole SIMD group: bounding every walk bounds the group's
  * sum whatever the divergence. 0: unlimited (real GPUs have no such limit). */
 #define TZ_SPEC_WALK_BUDGET 3
+/* 1: the walk per invocation reads the wide BVH (struct gpu_wide_node), 0: the binary one. */
+#define TZ_SPEC_WIDE_BVH 4
 /* The most spheres and lights whose loops are unrolled. Their data are specialization constants
  * too, the floats of struct gpu_unrolled from constant_id TZ_SPEC_SCENE on, so that lavapipe
  * compiles the unrolled tests with immediate operands: no texel fetch (a call that spills every
  * live register) and no per-lane gather. */
 #define TZ_UNROLL_MAX_SPHERES 16
 #define TZ_UNROLL_MAX_LIGHTS 4
-#define TZ_SPEC_SCENE 4
+#define TZ_SPEC_SCENE 5
 
 /* One sphere, 48 bytes. material is stored as an exactly representable float. */
 struct gpu_sphere {
@@ -226,6 +230,25 @@ struct gpu_bvh_node {
     TZ_VEC4 left_hi;  /* xyz its maximum, w unused (0) */
     TZ_VEC4 right_lo; /* the same for the right child */
     TZ_VEC4 right_hi;
+};
+
+/* The same tree with up to four children a node, for the shaders' walk per invocation (each
+ * node visit four texels, as a binary node's, for twice the children): src/render/bvh_wide.c
+ * collapses the binary nodes, depth first, the root first. Child c's box is quantized to 8 bits
+ * an axis in the node's frame: its minimum on axis a is origin[a] + q * 2^(e[a] - 127), which
+ * the product being exact makes one rounding in C and GLSL alike; the builder rounds every q
+ * outwards until the decoded box holds the exact one, so the walk never misses what the binary
+ * boxes find. refs[c] is a reference as in gpu_bvh_node, 0 for no child (the root is no one's
+ * child). A walk pushes at most TZ_WIDE_STACK children (the builder keeps every path within). */
+#define TZ_WIDE_CHILDREN 4
+#define TZ_WIDE_STACK 64
+struct gpu_wide_node {
+    TZ_UVEC4 origin_exponents; /* xyz the frame's origin (float bits), w the biased exponents
+                                * of its scale: x in bits 0-7, y 8-15, z 16-23 */
+    TZ_UVEC4 refs;             /* the children's references */
+    TZ_UVEC4 lo;               /* x, y, z: the children's quantized minima on that axis, child c
+                                * in bits 8c..8c+7; w: their maxima on x */
+    TZ_UVEC4 hi;               /* x, y: the maxima on y and z; z, w unused (0) */
 };
 
 #endif

@@ -45,6 +45,7 @@ layout(std430, set = 0, binding = TZ_BINDING_STACK) buffer stack_block { float s
 layout(set = 0, binding = TZ_BINDING_TRIANGLES) uniform samplerBuffer triangle_texels;
 layout(set = 0, binding = TZ_BINDING_MATERIALS) uniform samplerBuffer material_texels;
 layout(set = 0, binding = TZ_BINDING_NORMALS) uniform samplerBuffer normals_texels;
+layout(set = 0, binding = TZ_BINDING_WIDE_NODES) uniform usamplerBuffer wide_node_texels;
 #ifdef TZ_RAY_QUERY_WALK
 /* The scene's primitives as one AABB geometry of one instance (src/render/vk/vk_accel.c). */
 layout(set = 0, binding = TZ_BINDING_ACCEL) uniform accelerationStructureEXT scene_accel;
@@ -54,6 +55,7 @@ layout(constant_id = TZ_SPEC_UNROLLED_SPHERES) const uint UNROLLED_SPHERES = 0u;
 layout(constant_id = TZ_SPEC_UNROLLED_LIGHTS) const uint UNROLLED_LIGHTS = 0u;
 layout(constant_id = TZ_SPEC_FLAGS) const uint FLAGS = 0u; /* frame.flags */
 layout(constant_id = TZ_SPEC_WALK_BUDGET) const uint WALK_BUDGET = 0u;
+layout(constant_id = TZ_SPEC_WIDE_BVH) const uint WIDE_BVH = 0u;
 
 #include "spec_scene.glsl"
 
@@ -88,6 +90,8 @@ vec4 emitter_emission_pick(int e) { return texelFetch(emitter_texels, 2 * e); }
 vec4 emitter_primitive_cdf(int e) { return texelFetch(emitter_texels, 2 * e + 1); }
 /* vec4 f of struct gpu_bvh_node k as uints (0 left_lo, 1 left_hi, 2 right_lo, 3 right_hi). */
 uvec4 node_field(uint k, uint f) { return texelFetch(node_texels, int(4u * k + f)); }
+/* vec4 f of struct gpu_wide_node k (0 origin_exponents, 1 refs, 2 lo, 3 hi). */
+uvec4 wide_node_field(uint k, uint f) { return texelFetch(wide_node_texels, int(4u * k + f)); }
 
 /* Loop counts: a specialization constant when small enough to unroll, else the frame's. */
 uint sphere_count() { return UNROLLED_SPHERES > 0u ? UNROLLED_SPHERES : frame.sphere_count; }

@@ -2,7 +2,8 @@
  * on random scenes (overlapping and nested spheres, rays starting inside spheres and on their
  * surfaces), the tree's invariants (depth bound, leaf sizes, every sphere in one leaf, boxes that
  * hold their contents) on ordinary and pathological inputs, the same tree for every thread count,
- * and build time for big scenes. */
+ * and build time for big scenes; the wide tree made from each: every sphere in one leaf, within
+ * every decoded box above it, and every walk within its stack. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,6 +12,7 @@
 #include "check.h"
 #include "common/rng.h"
 #include "render/bvh.h"
+#include "render/bvh_wide.h"
 #include "render/cpu/integrator.h"
 
 static uint32_t rng_state = 12345u;
@@ -173,6 +175,85 @@ static uint32_t check_root(const bvh *t, const struct gpu_sphere *spheres, uint3
     return check_child(t, spheres, 0, &everywhere_lo, &everywhere_hi, seen, count, bad);
 }
 
+/* Coordinate a of the box corner that quantized byte q of node n decodes to, as the shaders'
+ * walk decodes it (shared_layout.h, struct gpu_wide_node). */
+static float wide_decoded(const struct gpu_wide_node *n, int a, uint32_t q) {
+    const uint32_t *origin = &n->origin_exponents.x;
+    uint32_t exponent = n->origin_exponents.w >> (8 * a) & 255u, scale_bits = exponent << 23;
+    float o, scale;
+    memcpy(&o, &origin[a], sizeof o);
+    memcpy(&scale, &scale_bits, sizeof scale);
+    return o + (float)q * scale;
+}
+
+/* What check_wide_child passes down: the tree, and the decoded boxes from the root's children to
+ * the current one. */
+typedef struct wide_check {
+    const bvh *t;
+    const struct gpu_sphere *spheres;
+    const struct gpu_wide_node *nodes;
+    uint32_t node_count, count, *seen;
+    float lo[TZ_BVH_MAX_DEPTH][3], hi[TZ_BVH_MAX_DEPTH][3];
+    int bad;
+} wide_check;
+
+/* Checks wide node k at level `level`, reached with `pending` children on a walk's stack, and
+ * every node below it. */
+static void check_wide_node(wide_check *w, uint32_t k, int level, uint32_t pending) {
+    if (k >= w->node_count || level >= TZ_BVH_MAX_DEPTH) {
+        w->bad++;
+        return;
+    }
+    const struct gpu_wide_node *n = &w->nodes[k];
+    const uint32_t *refs = &n->refs.x;
+    const uint32_t *lo[3] = {&n->lo.x, &n->lo.y, &n->lo.z}, *hi[3] = {&n->lo.w, &n->hi.x, &n->hi.y};
+    uint32_t children = 0;
+    for (int c = 0; c < TZ_WIDE_CHILDREN; c++) children += refs[c] != 0u;
+    if (children == 0 || pending + children - 1 > TZ_WIDE_STACK) w->bad++;
+    for (int c = 0; c < TZ_WIDE_CHILDREN; c++) {
+        uint32_t ref = refs[c];
+        if (ref == 0u) continue;
+        for (int a = 0; a < 3; a++) {
+            w->lo[level][a] = wide_decoded(n, a, *lo[a] >> (8 * c) & 255u);
+            w->hi[level][a] = wide_decoded(n, a, *hi[a] >> (8 * c) & 255u);
+        }
+        uint32_t leaf = ref >> TZ_BVH_COUNT_SHIFT, index = ref & TZ_BVH_INDEX_MASK;
+        if (!leaf) {
+            check_wide_node(w, index, level + 1, pending + children - 1);
+            continue;
+        }
+        for (uint32_t s = index; s < index + leaf && s < w->count; s++) {
+            w->seen[s]++;
+            const tz_vec4 *b = &w->spheres[w->t->order[s]].center_radius;
+            float slo[3] = {b->x - b->w, b->y - b->w, b->z - b->w};
+            float shi[3] = {b->x + b->w, b->y + b->w, b->z + b->w};
+            for (int l = 0; l <= level; l++)
+                for (int a = 0; a < 3; a++)
+                    w->bad += !(w->lo[l][a] <= slo[a] && shi[a] <= w->hi[l][a]);
+        }
+    }
+}
+
+/* The wide tree of t: as many spheres seen as the binary tree holds, each once and within every
+ * decoded box on its way, no walk past its stack, fewer nodes than the binary tree. */
+static void check_wide(const char *name, const bvh *t, const struct gpu_sphere *spheres,
+                       uint32_t count) {
+    wide_check w = {.t = t, .spheres = spheres, .count = count};
+    CHECK(bvh_widen(t->nodes, t->node_count, (struct gpu_wide_node **)&w.nodes, &w.node_count),
+          "%s: widening failed", name);
+    w.seen = calloc(count, sizeof *w.seen);
+    check_wide_node(&w, 0, 0, 0);
+    int coverage = 0;
+    for (uint32_t k = 0; k < count; k++) coverage += w.seen[k] != 1;
+    CHECK(w.bad == 0, "%s: %d wide nodes break an invariant", name, w.bad);
+    CHECK(coverage == 0, "%s: %d spheres not in exactly one wide leaf", name, coverage);
+    CHECK(w.node_count <= t->node_count, "%s: %u wide nodes from %u", name, w.node_count,
+          t->node_count);
+    printf("%s: %u wide nodes\n", name, w.node_count);
+    free(w.seen);
+    free((void *)w.nodes);
+}
+
 static void check_tree(const char *name, const struct gpu_sphere *spheres, uint32_t count,
                        uint32_t max_depth) {
     bvh t;
@@ -193,6 +274,7 @@ static void check_tree(const char *name, const struct gpu_sphere *spheres, uint3
     CHECK(t.depth < max_depth, "%s: depth %u reaches the bound %u", name, t.depth, max_depth);
     printf("%s: %u spheres, %u nodes, depth %u, %.3f s\n", name, count, t.node_count, t.depth,
            seconds);
+    check_wide(name, &t, spheres, count);
     /* The parallel build splits big nodes' binning among threads and builds subtrees as tasks;
      * every thread count must give the very tree (nodes, sphere order, depth) of one thread. */
     bvh one;

@@ -293,20 +293,30 @@ static bool render_with_walk(const scene *s, const render_opts *opts, render_wal
     return render_film(&render_backend_vulkan, s, &o, f);
 }
 
-/* The subgroup's cooperative BVH walk and the walk per invocation give bit-identical films (the
- * tie rule) on generated scenes, report mode and path mode, with and without the indirect bounce.
- */
+/* The subgroup's cooperative BVH walk and the walk per invocation over the binary and the wide
+ * BVH (TRAZADOR_VK_BVH) give bit-identical films (the tie rule) on generated scenes, report mode
+ * and path mode, with and without the indirect bounce. */
 static void check_walks(const char *name, const scene *s, render_opts opts) {
     opts.validate = true;
-    film coop = {0}, alone = {0};
+    const char *layouts[] = {"binary", "wide"};
+    film coop = {0}, alone[2] = {{0}, {0}};
     bool ok = render_with_walk(s, &opts, RENDER_WALK_COOPERATIVE, &coop);
-    ok = render_with_walk(s, &opts, RENDER_WALK_COMPUTE, &alone) && ok;
+    for (int k = 0; k < 2; k++) {
+        setenv("TRAZADOR_VK_BVH", layouts[k], 1);
+        ok = render_with_walk(s, &opts, RENDER_WALK_COMPUTE, &alone[k]) && ok;
+    }
+    unsetenv("TRAZADOR_VK_BVH");
     CHECK(ok, "%s: a walk failed", name);
-    if (ok)
-        CHECK(!memcmp(coop.accum, alone.accum, (size_t)s->width * s->height * 4 * sizeof(float)),
+    size_t bytes = (size_t)s->width * s->height * 4 * sizeof(float);
+    if (ok) {
+        CHECK(!memcmp(coop.accum, alone[0].accum, bytes),
               "%s: the cooperative walk changed the film", name);
+        CHECK(!memcmp(alone[1].accum, alone[0].accum, bytes), "%s: the wide BVH changed the film",
+              name);
+    }
     film_free(&coop);
-    film_free(&alone);
+    film_free(&alone[0]);
+    film_free(&alone[1]);
 }
 
 static void test_walks(void) {
@@ -336,6 +346,17 @@ static void test_walks(void) {
         opts.mode = RENDER_MODE_PATH;
         check_walks("sphereflake 3, path", &s, opts);
         scene_free(&s);
+    }
+    /* Triangles, smooth and flat, and their leaves in the wide nodes. */
+    scene_error err;
+    if (scene_parse_file(TRAZADOR_SOURCE_DIR "/scenes/mesh.scene", &s, &err)) {
+        set_width(&s, 48);
+        render_opts_from_scene(&s, &opts);
+        opts.spp = 2;
+        check_walks("mesh.scene", &s, opts);
+        scene_free(&s);
+    } else {
+        CHECK(0, "%s:%d:%d: %s", err.file, err.line, err.col, err.message);
     }
     remove(tmpdir);
 }

@@ -212,6 +212,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
         [TZ_BINDING_TRIANGLES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         [TZ_BINDING_MATERIALS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         [TZ_BINDING_NORMALS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+        [TZ_BINDING_WIDE_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
         [TZ_BINDING_ACCEL] = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR,
     };
     /* Small scenes get their sphere and light loops unrolled, and their spheres and lights
@@ -227,6 +228,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
                                [TZ_SPEC_UNROLLED_LIGHTS] = unroll_lights ? lights : 0u,
                                [TZ_SPEC_FLAGS] = packed->frame.flags,
                                [TZ_SPEC_WALK_BUDGET] = vk_strategy_walk_loop(st),
+                               [TZ_SPEC_WIDE_BVH] = st->wide_bvh,
                            }};
     /* The unrolled spheres and lights, zero past the scene's (the shader reads none of those). */
     memcpy(constants.scene.spheres, packed->spheres,
@@ -267,7 +269,9 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
         [TZ_BINDING_TRIANGLES] = &r->triangles,
         [TZ_BINDING_MATERIALS] = &r->materials,
         [TZ_BINDING_NORMALS] = &r->normals,
-        [TZ_BINDING_ACCEL] = NULL, /* vk_accel_bind */
+        [TZ_BINDING_WIDE_NODES] = &r->wide_nodes,
+        /* vk_accel_bind binds the acceleration structure */
+        [TZ_BINDING_ACCEL] = NULL,
     };
     const VkDeviceSize band = (VkDeviceSize)TZ_BAND_ROWS * (VkDeviceSize)width * ACCUM_PIXEL_BYTES;
     const VkDeviceSize ranges[] = {
@@ -283,6 +287,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
         [TZ_BINDING_TRIANGLES] = VK_WHOLE_SIZE,
         [TZ_BINDING_MATERIALS] = VK_WHOLE_SIZE,
         [TZ_BINDING_NORMALS] = VK_WHOLE_SIZE,
+        [TZ_BINDING_WIDE_NODES] = VK_WHOLE_SIZE,
         [TZ_BINDING_ACCEL] = 0,
     };
     vk_kernel_bind(&r->ctx, &r->kernel, buffers, ranges);
@@ -409,7 +414,8 @@ static render_status vk_render_part(const scene *s, const render_opts *opts, par
     log_debug("vulkan: walk %s (%s)%s",
               st.ray_query     ? "rayquery: the device's acceleration structure"
               : st.cooperative ? "cooperative: the subgroup walks the BVH together"
-              : st.use_bvh     ? "compute: each invocation walks the BVH"
+              : st.wide_bvh    ? "compute: each invocation walks the wide BVH"
+              : st.use_bvh     ? "compute: each invocation walks the binary BVH"
                                : "compute: every primitive tested (no BVH for this scene)",
               why, walk == RENDER_WALK_COOPERATIVE && !st.cooperative ? "; no BVH to walk" : "");
     render_opts packing = *opts;
@@ -425,7 +431,7 @@ static render_status vk_render_part(const scene *s, const render_opts *opts, par
         goto done;
     scene_pack_report(&packed, opts, t_pack);
     double t_buffers = clock_seconds(); /* after the pack, which reports its own time */
-    if (!vk_render_create_buffers(&r, &packed, width, height, depth, stoppable)) goto done;
+    if (!vk_render_create_buffers(&r, &packed, &st, width, height, depth, stoppable)) goto done;
     if (resumed && !vk_render_load_part(&r, p, depth)) goto done;
     double t_upload = clock_seconds();
     log_debug("vulkan: buffers and upload in %.1f ms (%s)", (t_upload - t_buffers) * 1e3,

@@ -5,15 +5,20 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "render/bvh_wide.h"
 #include "render/vk/vk_strategy.h"
+#include "util/clock.h"
 #include "util/log.h"
 
 /* The buffers of the packed scene: frame, spheres, lights, BVH nodes, emitters, triangles, their
- * materials and normals. */
-#define INPUT_BUFFERS 8
+ * materials and normals, and the wide BVH nodes. */
+#define INPUT_BUFFERS 9
 
-bool vk_render_create_buffers(vk_render *r, const packed_scene *p, int width, int height,
-                              uint32_t depth, bool stoppable) {
+/* vk_render_create_buffers with the wide nodes made (none: one zeroed node), and the binary ones
+ * when `binary`. */
+static bool create_buffers(vk_render *r, const packed_scene *p, int width, int height,
+                           uint32_t depth, bool stoppable, bool binary,
+                           const struct gpu_wide_node *wide, uint32_t wide_count) {
     vk_context *ctx = &r->ctx;
     const VkBufferUsageFlags input = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
@@ -23,8 +28,12 @@ bool vk_render_create_buffers(vk_render *r, const packed_scene *p, int width, in
     size_t light_bytes = (p->frame.light_count ? p->frame.light_count : 1u) * sizeof *p->lights;
     /* Without a BVH one zeroed node keeps the binding valid; the shader never reads it. */
     static const struct gpu_bvh_node no_nodes[1];
-    const void *nodes = p->frame.node_count ? (const void *)p->nodes : (const void *)no_nodes;
-    size_t node_bytes = (p->frame.node_count ? p->frame.node_count : 1u) * sizeof *p->nodes;
+    uint32_t node_count = binary ? p->frame.node_count : 0u;
+    const void *nodes = node_count ? (const void *)p->nodes : (const void *)no_nodes;
+    size_t node_bytes = (node_count ? node_count : 1u) * sizeof *p->nodes;
+    static const struct gpu_wide_node no_wide_nodes[1];
+    const void *wide_nodes = wide_count ? (const void *)wide : (const void *)no_wide_nodes;
+    size_t wide_bytes = (wide_count ? wide_count : 1u) * sizeof *wide;
     size_t emitter_bytes =
         (p->frame.emitter_count ? p->frame.emitter_count : 1u) * sizeof *p->emitters;
     size_t triangle_bytes =
@@ -45,6 +54,8 @@ bool vk_render_create_buffers(vk_render *r, const packed_scene *p, int width, in
         !vk_buffer_create(ctx, node_bytes, texels, VK_MEMORY_DEVICE, &r->nodes) ||
         /* As uints: child references are not floats (a GPU may flush their denormal bits). */
         !vk_buffer_create_view(ctx, &r->nodes, VK_FORMAT_R32G32B32A32_UINT) ||
+        !vk_buffer_create(ctx, wide_bytes, texels, VK_MEMORY_DEVICE, &r->wide_nodes) ||
+        !vk_buffer_create_view(ctx, &r->wide_nodes, VK_FORMAT_R32G32B32A32_UINT) ||
         !vk_buffer_create(ctx, emitter_bytes, texels, VK_MEMORY_DEVICE, &r->emitters) ||
         !vk_buffer_create_view(ctx, &r->emitters, VK_FORMAT_R32G32B32A32_SFLOAT) ||
         !vk_buffer_create(ctx, triangle_bytes, texels, VK_MEMORY_DEVICE, &r->triangles) ||
@@ -68,12 +79,15 @@ bool vk_render_create_buffers(vk_render *r, const packed_scene *p, int width, in
     if (stoppable && !vk_buffer_create(ctx, state_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                        VK_MEMORY_READBACK, &r->snapshot))
         return false;
-    const void *data[INPUT_BUFFERS] = {&p->frame,   p->spheres,   p->lights,    nodes,
-                                       p->emitters, p->triangles, p->materials, p->normals};
-    vk_buffer *targets[INPUT_BUFFERS] = {&r->frame,    &r->spheres,   &r->lights,    &r->nodes,
-                                         &r->emitters, &r->triangles, &r->materials, &r->normals};
-    size_t sizes[INPUT_BUFFERS] = {sizeof p->frame, sphere_bytes,   light_bytes,    node_bytes,
-                                   emitter_bytes,   triangle_bytes, material_bytes, normals_bytes};
+    const void *data[INPUT_BUFFERS] = {&p->frame,    p->spheres,  p->lights,
+                                       nodes,        p->emitters, p->triangles,
+                                       p->materials, p->normals,  wide_nodes};
+    vk_buffer *targets[INPUT_BUFFERS] = {&r->frame,     &r->spheres,  &r->lights,
+                                         &r->nodes,     &r->emitters, &r->triangles,
+                                         &r->materials, &r->normals,  &r->wide_nodes};
+    size_t sizes[INPUT_BUFFERS] = {sizeof p->frame, sphere_bytes,  light_bytes,
+                                   node_bytes,      emitter_bytes, triangle_bytes,
+                                   material_bytes,  normals_bytes, wide_bytes};
     bool mapped = true;
     size_t total = 0;
     for (int k = 0; k < INPUT_BUFFERS; k++) mapped &= targets[k]->mapped != NULL, total += sizes[k];
@@ -90,6 +104,24 @@ bool vk_render_create_buffers(vk_render *r, const packed_scene *p, int width, in
         offset += sizes[k];
     }
     return true;
+}
+
+bool vk_render_create_buffers(vk_render *r, const packed_scene *p, const vk_strategy *st, int width,
+                              int height, uint32_t depth, bool stoppable) {
+    struct gpu_wide_node *wide;
+    uint32_t wide_count;
+    double start = clock_seconds();
+    if (!bvh_widen(p->nodes, st->wide_bvh ? p->frame.node_count : 0u, &wide, &wide_count))
+        return false;
+    if (wide_count)
+        log_debug("vulkan: %u wide BVH nodes from %u binary ones in %.1f ms", wide_count,
+                  p->frame.node_count, 1e3 * (clock_seconds() - start));
+    /* The cooperative walk reads the binary nodes; so does the walk per invocation without the
+     * wide ones. */
+    bool binary = st->cooperative || !st->wide_bvh;
+    bool made = create_buffers(r, p, width, height, depth, stoppable, binary, wide, wide_count);
+    free(wide);
+    return made;
 }
 
 bool vk_render_load_part(vk_render *r, const part *p, uint32_t depth) {
@@ -117,7 +149,7 @@ void vk_render_record_setup(vk_render *r, bool resumed, size_t pixels) {
     if (r->upload.buffer) {
         vk_buffer *targets[INPUT_BUFFERS] = {&r->frame,     &r->spheres,  &r->lights,
                                              &r->nodes,     &r->emitters, &r->triangles,
-                                             &r->materials, &r->normals};
+                                             &r->materials, &r->normals,  &r->wide_nodes};
         VkDeviceSize offset = 0;
         for (int k = 0; k < INPUT_BUFFERS; k++) {
             VkBufferCopy copy = {offset, 0, targets[k]->size};
@@ -242,10 +274,10 @@ void vk_render_destroy(vk_render *r) {
         if (r->cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &r->cmd);
         vk_kernel_destroy(ctx, &r->kernel);
         vk_accel_destroy(ctx, &r->accel);
-        vk_buffer *buffers[] = {&r->snapshot, &r->readback,  &r->state,      &r->upload,
-                                &r->counter,  &r->stack,     &r->accum_comp, &r->accum,
-                                &r->emitters, &r->nodes,     &r->lights,     &r->spheres,
-                                &r->frame,    &r->triangles, &r->materials,  &r->normals};
+        vk_buffer *buffers[] = {
+            &r->snapshot,   &r->readback,  &r->state,     &r->upload,  &r->counter,   &r->stack,
+            &r->accum_comp, &r->accum,     &r->emitters,  &r->nodes,   &r->lights,    &r->spheres,
+            &r->frame,      &r->triangles, &r->materials, &r->normals, &r->wide_nodes};
         for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; k++)
             vk_buffer_destroy(ctx, buffers[k]);
     }

@@ -13,10 +13,11 @@
 #include "render/vk/vk_accel.h"
 #include "render/vk/vk_context.h"
 #include "render/vk/vk_pass_plan.h"
+#include "render/vk/vk_strategy.h"
 
 typedef struct vk_render {
     vk_context ctx;
-    vk_buffer frame, spheres, lights, nodes, emitters, triangles, materials, normals;
+    vk_buffer frame, spheres, lights, nodes, emitters, triangles, materials, normals, wide_nodes;
     vk_buffer accum, accum_comp, stack, counter;
     vk_buffer upload;   /* staging for the inputs when device memory is not mapped */
     vk_buffer state;    /* staging for a resumed part's counts and stacks, likewise */
@@ -33,9 +34,11 @@ typedef struct vk_render {
 _Static_assert(TZ_COUNTER_WORDS * sizeof(uint32_t) <= 16,
                "the counters fit before the accumulation");
 
-/* Creates the buffers and writes the packed scene into them (mapped, or through `upload`). */
-bool vk_render_create_buffers(vk_render *r, const packed_scene *p, int width, int height,
-                              uint32_t depth, bool stoppable);
+/* Creates the buffers and writes the packed scene into them (mapped, or through `upload`): the
+ * BVH's nodes, binary or wide or both, as the strategy's walks read them (one zeroed node for a
+ * layout no walk reads). */
+bool vk_render_create_buffers(vk_render *r, const packed_scene *p, const vk_strategy *st, int width,
+                              int height, uint32_t depth, bool stoppable);
 /* Writes the part's counts and stacks (a resumed part) where the shader reads them: into the
  * mapped buffers, or into `state` for record_setup to copy; false (logged) on out of memory. */
 bool vk_render_load_part(vk_render *r, const part *p, uint32_t depth);

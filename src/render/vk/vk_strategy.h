@@ -23,6 +23,7 @@ typedef struct vk_strategy {
     bool use_bvh;
     bool cooperative; /* the subgroup walks the BVH together: the trace_coop module */
     bool ray_query;   /* rays walk the device's acceleration structure: the trace_rq module */
+    bool wide_bvh;    /* the walk per invocation reads the wide BVH (TZ_SPEC_WIDE_BVH) */
     uint32_t walk;    /* loop passes of a ray's walk (TZ_SPEC_WALK_BUDGET: vk_strategy_walk_loop), 0
                          unlimited */
     uint64_t sample_iterations;
