@@ -2,9 +2,10 @@
  * SAH and stored as one flat array of struct gpu_bvh_node (shaders/shared_layout.h) that both
  * back ends traverse as is.
  * Four walks read it: trace_bvh in src/render/cpu/integrator.c (one ray, a leaf at once),
- * packet_walk in src/render/cpu/packet_trace.h (a packet's union of nodes; spheres only), and
+ * packet_walk in src/render/cpu/packet_trace.h (a packet's union of nodes), and
  * trace_bvh and trace_bvh_cooperative in shaders/intersect.glsl (one primitive a loop pass, per
- * invocation or for the whole subgroup). They visit primitives in different orders, and the
+ * invocation or for the whole subgroup); trace_wide_bvh walks the same tree collapsed by
+ * bvh_wide.h, whose boxes hold these. They visit primitives in different orders, and the
  * packet tests spheres beyond a lane's own walk; they agree on every hit because of the tie
  * rule, nearer_hit in shaders/common/ray.h: an exact tie goes to the lower index. Primitives are
  * stored in BVH order with and without the tree, so --no-bvh gives the same images too. */
