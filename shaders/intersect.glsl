@@ -1,10 +1,11 @@
 /* intersect.glsl: the GLSL back end's nearest-hit and shadow queries over the spheres and
- * triangles, by brute force or through the BVH, on the shared steps of common/ray.h; the C back end's functions of
- * the same names are in src/render/cpu/integrator.c (trace_bvh, integrator_nearest,
- * integrator_occluded). The including shader declares `frame`, sphere_center_radius(),
- * sphere_params(), sphere_count(), node_field(), use_bvh() and WALK_BUDGET; with TZ_SUBGROUP_WALK
- * defined (and the subgroup extensions enabled) the walk is cooperative for coherent rays; with
- * TZ_RAY_QUERY_WALK every query goes through the device's acceleration structure scene_accel. */
+ * triangles, by brute force or through the BVH, on the shared steps of common/ray.h; the C back
+ * end's functions of the same names are in src/render/cpu/integrator.c (trace_bvh,
+ * integrator_nearest, integrator_occluded). The including shader declares `frame`,
+ * sphere_center_radius(), sphere_params(), sphere_count(), node_field(), use_bvh() and WALK_BUDGET;
+ * with TZ_SUBGROUP_WALK defined (and the subgroup extensions enabled) the walk is cooperative for
+ * coherent rays; with TZ_RAY_QUERY_WALK every query goes through the device's acceleration
+ * structure scene_accel. */
 #ifndef TRAZADOR_INTERSECT_GLSL
 #define TRAZADOR_INTERSECT_GLSL
 
@@ -32,6 +33,18 @@ void keep_nearer(int k, float t, inout float best, inout int id) {
     id = take ? k : id;
 }
 
+/* No node: the walk tests a leaf or pops. */
+#define WALK_NONE 0xffffffffu
+
+/* The walk's next step when it enters child ref (a reference of shared_layout.h): the inner node
+ * to visit, or the leaf's primitives first..end - 1 to test; neither when it does not enter. */
+void enter_child(uint ref, bool enters, out uint node, out uint first, out uint end) {
+    uint count = child_count(ref);
+    node = enters && count == 0u ? ref : WALK_NONE;
+    first = child_index(ref);
+    end = enters && count > 0u ? first + count : 0u;
+}
+
 /* Nearest sphere hit below tmax through the BVH (t_out its distance), or with any_hit the first
  * one found; -1 when none. Nearer child first, a stack of TZ_BVH_MAX_DEPTH child references
  * (each level pushes at most one). One loop of at most WALK_BUDGET passes, each doing all it can:
@@ -46,7 +59,6 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
     uint stack[TZ_BVH_MAX_DEPTH];
     float stack_t[TZ_BVH_MAX_DEPTH];
     int top = 0;
-    const uint none = 0xffffffffu;
     uint node = 0u;                  /* the root */
     uint sphere = 0u, leaf_end = 0u; /* the leaf's spheres still to test */
     for (uint pass = 0u;; pass++) {
@@ -54,17 +66,12 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
             loop_overflow = true;
             break;
         }
-        if (sphere >= leaf_end && node == none) {
+        if (sphere >= leaf_end && node == WALK_NONE) {
             if (top == 0) break;
             top--;
-            uint ref = stack[top], count = child_count(ref);
-            if (stack_t[top] < best) {
-                node = count == 0u ? ref : none;
-                sphere = child_index(ref);
-                leaf_end = count == 0u ? 0u : sphere + count;
-            }
+            enter_child(stack[top], stack_t[top] < best, node, sphere, leaf_end);
         }
-        if (sphere >= leaf_end && node != none) {
+        if (sphere >= leaf_end && node != WALK_NONE) {
             uvec4 left_lo = node_field(node, 0u), left_hi = node_field(node, 1u);
             uvec4 right_lo = node_field(node, 2u), right_hi = node_field(node, 3u);
             float tl = box_entry(uintBitsToFloat(left_lo), uintBitsToFloat(left_hi), o, inv, best);
@@ -73,11 +80,7 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
             bool left_first = tl <= tr;
             float near_t = left_first ? tl : tr, far_t = left_first ? tr : tl;
             uint near_ref = left_first ? left_lo.w : right_lo.w;
-            uint near_count = child_count(near_ref);
-            bool enters = near_t < TZ_INFINITY;
-            node = enters && near_count == 0u ? near_ref : none;
-            sphere = child_index(near_ref);
-            leaf_end = enters && near_count > 0u ? sphere + near_count : 0u;
+            enter_child(near_ref, near_t < TZ_INFINITY, node, sphere, leaf_end);
             if (far_t < TZ_INFINITY) {
                 stack[top] = left_first ? right_lo.w : left_lo.w;
                 stack_t[top] = far_t;
@@ -128,7 +131,6 @@ int trace_wide_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float
     uint stack[TZ_WIDE_STACK];
     float stack_t[TZ_WIDE_STACK];
     int top = 0;
-    const uint none = 0xffffffffu;
     uint node = 0u;                  /* the root */
     uint sphere = 0u, leaf_end = 0u; /* the leaf's spheres still to test */
     for (uint pass = 0u;; pass++) {
@@ -136,17 +138,12 @@ int trace_wide_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float
             loop_overflow = true;
             break;
         }
-        if (sphere >= leaf_end && node == none) {
+        if (sphere >= leaf_end && node == WALK_NONE) {
             if (top == 0) break;
             top--;
-            uint ref = stack[top], count = child_count(ref);
-            if (stack_t[top] < best) {
-                node = count == 0u ? ref : none;
-                sphere = child_index(ref);
-                leaf_end = count == 0u ? 0u : sphere + count;
-            }
+            enter_child(stack[top], stack_t[top] < best, node, sphere, leaf_end);
         }
-        if (sphere >= leaf_end && node != none) {
+        if (sphere >= leaf_end && node != WALK_NONE) {
             uvec4 frame_bits = wide_node_field(node, 0u), refs = wide_node_field(node, 1u);
             uvec4 lo = wide_node_field(node, 2u), hi = wide_node_field(node, 3u);
             float t0 = wide_child_entry(frame_bits, lo, hi, refs.x, 0u, o, inv, best);
@@ -157,11 +154,7 @@ int trace_wide_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float
             nearer_child_first(t0, r0, t1, r1);
             nearer_child_first(t0, r0, t2, r2);
             nearer_child_first(t0, r0, t3, r3);
-            uint count = child_count(r0);
-            bool enters = t0 < TZ_INFINITY;
-            node = enters && count == 0u ? r0 : none;
-            sphere = child_index(r0);
-            leaf_end = enters && count > 0u ? sphere + count : 0u;
+            enter_child(r0, t0 < TZ_INFINITY, node, sphere, leaf_end);
             if (t3 < TZ_INFINITY) stack[top] = r3, stack_t[top] = t3, top++;
             if (t2 < TZ_INFINITY) stack[top] = r2, stack_t[top] = t2, top++;
             if (t1 < TZ_INFINITY) stack[top] = r1, stack_t[top] = t1, top++;
@@ -205,7 +198,6 @@ int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, ou
     float stack_t[TZ_BVH_MAX_DEPTH]; /* per lane: where its ray enters the pending child */
     int top = 0;
     uint lanes = subgroupAdd(1u);
-    const uint none = 0xffffffffu;
     uint node = 0u;                  /* the root */
     uint sphere = 0u, leaf_end = 0u; /* the leaf's spheres still to test */
     for (uint pass = 0u;; pass++) {
@@ -213,7 +205,7 @@ int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, ou
             loop_overflow = true;
             break;
         }
-        bool visit = node != none, test = sphere < leaf_end;
+        bool visit = node != WALK_NONE, test = sphere < leaf_end;
         uvec4 left_lo = node_field(visit ? node : 0u, 0u);
         uvec4 left_hi = node_field(visit ? node : 0u, 1u);
         uvec4 right_lo = node_field(visit ? node : 0u, 2u);
@@ -236,18 +228,15 @@ int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, ou
         vote |= (id >= 0 ? 1u : 0u) << (COOP_BITS * COOP_HIT);
         uint votes = subgroupAdd(vote);
         if (any_hit && coop_field(votes, COOP_HIT) == lanes) break;
-        node = none;
+        node = WALK_NONE;
         if (visit) {
             uint enter_l = coop_field(votes, COOP_ENTER_LEFT);
             uint enter_r = coop_field(votes, COOP_ENTER_RIGHT);
             bool left_first = 2u * coop_field(votes, COOP_LEFT_FIRST) >= enter_l + enter_r;
             left_first = enter_r == 0u || (enter_l > 0u && left_first);
             uint near_ref = left_first ? left_lo.w : right_lo.w;
-            uint near_count = child_count(near_ref);
             bool enters = enter_l + enter_r > 0u;
-            node = enters && near_count == 0u ? near_ref : none;
-            sphere = child_index(near_ref);
-            leaf_end = enters && near_count > 0u ? sphere + near_count : 0u;
+            enter_child(near_ref, enters, node, sphere, leaf_end);
             if (enter_l > 0u && enter_r > 0u) {
                 stack[top] = left_first ? right_lo.w : left_lo.w;
                 stack_t[top] = left_first ? tr : tl;
@@ -260,12 +249,7 @@ int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, ou
         /* Nothing left to visit: pop the child on top, entered when a lane voted for it. */
         if (top == 0) break;
         top--;
-        uint ref = stack[top], count = child_count(ref);
-        if (coop_field(votes, COOP_PENDING) > 0u) {
-            node = count == 0u ? ref : none;
-            sphere = child_index(ref);
-            leaf_end = count == 0u ? 0u : sphere + count;
-        }
+        enter_child(stack[top], coop_field(votes, COOP_PENDING) > 0u, node, sphere, leaf_end);
     }
     t_out = best;
     return id;
@@ -335,10 +319,11 @@ int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
     int id = -1;
     [[unroll]] for (uint k = 0u; k < sphere_count(); k++)
         keep_nearer(int(k), sphere_distance_at(int(k), o, d, tmin, self), best, id);
-    if (TZ_HAS_TRIANGLES) for (uint k = 0u; k < frame.triangle_count; k++) {
-        int t = int(frame.sphere_count + k);
-        keep_nearer(t, triangle_distance_at(t, o, d, tmin, self), best, id);
-    }
+    if (TZ_HAS_TRIANGLES)
+        for (uint k = 0u; k < frame.triangle_count; k++) {
+            int t = int(frame.sphere_count + k);
+            keep_nearer(t, triangle_distance_at(t, o, d, tmin, self), best, id);
+        }
     t_out = best;
     return id;
 #endif
@@ -356,10 +341,11 @@ bool integrator_occluded(vec3 o, vec3 d, float dist, int self) {
     float tmin = ray_eps(o);
     [[unroll]] for (uint k = 0u; k < sphere_count();
                     k++) if (sphere_distance_at(int(k), o, d, tmin, self) < dist) return true;
-    if (TZ_HAS_TRIANGLES) for (uint k = 0u; k < frame.triangle_count; k++) {
-        int t = int(frame.sphere_count + k);
-        if (triangle_distance_at(t, o, d, tmin, self) < dist) return true;
-    }
+    if (TZ_HAS_TRIANGLES)
+        for (uint k = 0u; k < frame.triangle_count; k++) {
+            int t = int(frame.sphere_count + k);
+            if (triangle_distance_at(t, o, d, tmin, self) < dist) return true;
+        }
     return false;
 #endif
 }
