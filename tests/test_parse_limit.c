@@ -3,33 +3,14 @@
  * (tests/CMakeLists.txt): the real limit, 16777216, takes gigabytes to reach. The error is at the
  * directive word of the first line past the limit, on 1 thread and on several (chunks parsed
  * ahead are refused by the limit too). */
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "parse_check.h"
 #include "scene/parser.h"
-#include "scene/scene.h"
 
 _Static_assert(PARSER_MAX_PRIMITIVES == 30000, "built with the lowered limit");
-
-static int passed, failed;
-
-static void check(bool ok, const char *name, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-static void check(bool ok, const char *name, const char *fmt, ...) {
-    if (ok) {
-        passed++;
-        return;
-    }
-    failed++;
-    fprintf(stderr, "FAIL %s: ", name);
-    va_list ap;
-    va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
-    va_end(ap);
-    fputc('\n', stderr);
-}
 
 /* A text of the two required lines and then `count` primitive lines: line k (from 3) is a
  * sphere, a triangle or a quad by `pattern`, k - 3 taken modulo its length (s, t, q), but for the
@@ -102,6 +83,5 @@ int main(void) {
     text = primitives_text(60000, "qts", 0, &length);
     expect("60000 mixed lines", text, length, 22503, 0);
     free(text);
-    printf("test_parse_limit: %d passed, %d failed\n", passed, failed);
-    return failed ? 1 : 0;
+    return parse_check_summary("test_parse_limit");
 }
