@@ -1,0 +1,77 @@
+/* test_digest.c: the scene digest of a part's metadata (render_part_meta), which merge and resume
+ * compare: a sphere-only scene keeps the value it had before triangles existed, and every field
+ * of a triangle changes it. */
+#include <string.h>
+
+#include "check.h"
+#include "render/part.h"
+#include "render/render.h"
+#include "scene/scene.h"
+
+/* The digest of scene s rendered with its own settings. */
+static void scene_digest(const scene *s, char out[sizeof(((part_meta *)0)->digest)]) {
+    render_opts opts;
+    render_opts_from_scene(s, &opts);
+    part_meta m;
+    render_part_meta(s, &opts, &m);
+    memcpy(out, m.digest, sizeof m.digest);
+}
+
+/* A sphere-only scene keeps the digest it had before triangles existed (its parts still merge);
+ * a triangle changes it, and so does a change to any field of a triangle. */
+static void test_digest(void) {
+    static const char text[] =
+        "camera position 0 1 -8\nplane width 4 height 3 pixel 0.01\n"
+        "light position -2 3 -1 power 60\n"
+        "sphere phong center -1 0 2 radius 1 color 0.6 0.1 0.1 ks 0.3 alpha 40\n";
+    scene s;
+    scene_error err;
+    if (!scene_parse_string(text, sizeof text - 1, "digest.scene", &s, &err)) {
+        CHECK(false, "%s", err.message);
+        return;
+    }
+    char spheres[sizeof(((part_meta *)0)->digest)], faces[sizeof spheres], other[sizeof spheres];
+    scene_digest(&s, spheres);
+    /* the value the digest had before the scene gained triangles (commit adbf42e) */
+    CHECK(!strcmp(spheres, "f73fd51f075a1740"), "sphere-only digest %s", spheres);
+    triangle t = {.v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},
+                  .material = TZ_MATERIAL_LAMBERTIAN,
+                  .color = {0.8f, 0.8f, 0.8f},
+                  .ior = 1.0f};
+    s.triangles = &t;
+    s.triangle_count = 1;
+    scene_digest(&s, faces);
+    CHECK(strcmp(faces, spheres), "a triangle leaves the digest %s", faces);
+    /* every float of the triangle, then smooth and material */
+    float *fields[] = {&t.v[0].x,     &t.v[0].y,     &t.v[0].z,    &t.v[1].x, &t.v[1].y, &t.v[1].z,
+                       &t.v[2].x,     &t.v[2].y,     &t.v[2].z,    &t.n[0].x, &t.n[0].y, &t.n[0].z,
+                       &t.n[1].x,     &t.n[1].y,     &t.n[1].z,    &t.n[2].x, &t.n[2].y, &t.n[2].z,
+                       &t.color.x,    &t.color.y,    &t.color.z,   &t.ks,     &t.alpha,  &t.ior,
+                       &t.emission.x, &t.emission.y, &t.emission.z};
+    for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++) {
+        float kept = *fields[k];
+        *fields[k] = kept + 0.5f;
+        scene_digest(&s, other);
+        CHECK(strcmp(other, faces), "triangle float %zu leaves the digest", k);
+        *fields[k] = kept;
+    }
+    t.smooth = true;
+    scene_digest(&s, other);
+    CHECK(strcmp(other, faces), "smooth leaves the digest");
+    t.smooth = false;
+    t.material = TZ_MATERIAL_PHONG;
+    scene_digest(&s, other);
+    CHECK(strcmp(other, faces), "material leaves the digest");
+    t.material = TZ_MATERIAL_LAMBERTIAN;
+    scene_digest(&s, other);
+    CHECK(!strcmp(other, faces), "the digest is not a function of the fields: %s, %s", other,
+          faces);
+    s.triangles = NULL;
+    s.triangle_count = 0;
+    scene_free(&s);
+}
+
+int main(void) {
+    CHECK_CASE(test_digest);
+    return check_summary("test_digest");
+}
