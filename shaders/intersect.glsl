@@ -45,58 +45,6 @@ void enter_child(uint ref, bool enters, out uint node, out uint first, out uint 
     end = enters && count > 0u ? first + count : 0u;
 }
 
-/* Nearest sphere hit below tmax through the BVH (t_out its distance), or with any_hit the first
- * one found; -1 when none. Nearer child first, a stack of TZ_BVH_MAX_DEPTH child references
- * (each level pushes at most one). One loop of at most WALK_BUDGET passes, each doing all it can:
- * a pop when idle, a node visit (a leaf child taken at once becomes the spheres to test), one
- * sphere of the current leaf (lavapipe pays for every test in the loop on every pass; with the
- * BVH's small leaves a second test a pass costs more than it saves). The C walks test a leaf's
- * spheres at once and find the same sphere (src/render/bvh.h: the tie rule). */
-int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out) {
-    float tmin = ray_eps(o), best = tmax;
-    int id = -1;
-    vec3 inv = inverse_direction(d);
-    uint stack[TZ_BVH_MAX_DEPTH];
-    float stack_t[TZ_BVH_MAX_DEPTH];
-    int top = 0;
-    uint node = 0u;                  /* the root */
-    uint sphere = 0u, leaf_end = 0u; /* the leaf's spheres still to test */
-    for (uint pass = 0u;; pass++) {
-        if (WALK_BUDGET > 0u && pass == WALK_BUDGET) {
-            loop_overflow = true;
-            break;
-        }
-        if (sphere >= leaf_end && node == WALK_NONE) {
-            if (top == 0) break;
-            top--;
-            enter_child(stack[top], stack_t[top] < best, node, sphere, leaf_end);
-        }
-        if (sphere >= leaf_end && node != WALK_NONE) {
-            uvec4 left_lo = node_field(node, 0u), left_hi = node_field(node, 1u);
-            uvec4 right_lo = node_field(node, 2u), right_hi = node_field(node, 3u);
-            float tl = box_entry(uintBitsToFloat(left_lo), uintBitsToFloat(left_hi), o, inv, best);
-            float tr =
-                box_entry(uintBitsToFloat(right_lo), uintBitsToFloat(right_hi), o, inv, best);
-            bool left_first = tl <= tr;
-            float near_t = left_first ? tl : tr, far_t = left_first ? tr : tl;
-            uint near_ref = left_first ? left_lo.w : right_lo.w;
-            enter_child(near_ref, near_t < TZ_INFINITY, node, sphere, leaf_end);
-            if (far_t < TZ_INFINITY) {
-                stack[top] = left_first ? right_lo.w : left_lo.w;
-                stack_t[top] = far_t;
-                top++;
-            }
-        }
-        if (sphere < leaf_end) {
-            keep_nearer(int(sphere), primitive_distance(int(sphere), o, d, tmin, self), best, id);
-            sphere++;
-            if (any_hit && id >= 0) break;
-        }
-    }
-    t_out = best;
-    return id;
-}
-
 /* Keeps the nearer of two children of a wide node, by entry distance, in (ta, ra). */
 void nearer_child_first(inout float ta, inout uint ra, inout float tb, inout uint rb) {
     bool swap = tb < ta;
@@ -120,15 +68,21 @@ float wide_child_entry(uvec4 frame_bits, uvec4 lo, uvec4 hi, uint ref, uint c, v
     return ref == 0u ? TZ_INFINITY : t;
 }
 
-/* trace_bvh over the wide BVH (src/render/bvh_wide.h), the same passes with up to four children a
- * node visit: the nearest entered child is taken, the others are pushed (a stack of
- * TZ_WIDE_STACK, which the build keeps every walk within). It finds trace_bvh's hits: every
- * decoded box holds its binary box, and the tie rule decides. */
-int trace_wide_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out) {
+/* Nearest sphere hit below tmax through the BVH (t_out its distance), or with any_hit the first
+ * one found; -1 when none. Nearer child first, the others on a stack of child references. The
+ * nodes are the binary ones (each level pushes at most one, TZ_BVH_MAX_DEPTH in all) or with
+ * WIDE_BVH the wide ones of src/render/bvh_wide.h (up to three a visit, TZ_WIDE_STACK in all,
+ * which the build keeps every walk within; every decoded box holds its binary box). One loop of
+ * at most WALK_BUDGET passes, each doing all it can: a pop when idle, a node visit (a leaf child
+ * taken at once becomes the spheres to test), one sphere of the current leaf (lavapipe pays for
+ * every test in the loop on every pass; with the BVH's small leaves a second test a pass costs
+ * more than it saves). The C walks test a leaf's spheres at once over the binary nodes and find
+ * the same sphere (src/render/bvh.h: the tie rule). */
+int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out) {
     float tmin = ray_eps(o), best = tmax;
     int id = -1;
     vec3 inv = inverse_direction(d);
-    uint stack[TZ_WIDE_STACK];
+    uint stack[TZ_WIDE_STACK]; /* >= TZ_BVH_MAX_DEPTH: the binary walk's too */
     float stack_t[TZ_WIDE_STACK];
     int top = 0;
     uint node = 0u;                  /* the root */
@@ -143,7 +97,7 @@ int trace_wide_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float
             top--;
             enter_child(stack[top], stack_t[top] < best, node, sphere, leaf_end);
         }
-        if (sphere >= leaf_end && node != WALK_NONE) {
+        if (sphere >= leaf_end && node != WALK_NONE && WIDE_BVH != 0u) {
             uvec4 frame_bits = wide_node_field(node, 0u), refs = wide_node_field(node, 1u);
             uvec4 lo = wide_node_field(node, 2u), hi = wide_node_field(node, 3u);
             float t0 = wide_child_entry(frame_bits, lo, hi, refs.x, 0u, o, inv, best);
@@ -158,6 +112,21 @@ int trace_wide_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float
             if (t3 < TZ_INFINITY) stack[top] = r3, stack_t[top] = t3, top++;
             if (t2 < TZ_INFINITY) stack[top] = r2, stack_t[top] = t2, top++;
             if (t1 < TZ_INFINITY) stack[top] = r1, stack_t[top] = t1, top++;
+        } else if (sphere >= leaf_end && node != WALK_NONE) {
+            uvec4 left_lo = node_field(node, 0u), left_hi = node_field(node, 1u);
+            uvec4 right_lo = node_field(node, 2u), right_hi = node_field(node, 3u);
+            float tl = box_entry(uintBitsToFloat(left_lo), uintBitsToFloat(left_hi), o, inv, best);
+            float tr =
+                box_entry(uintBitsToFloat(right_lo), uintBitsToFloat(right_hi), o, inv, best);
+            bool left_first = tl <= tr;
+            float near_t = left_first ? tl : tr, far_t = left_first ? tr : tl;
+            uint near_ref = left_first ? left_lo.w : right_lo.w;
+            enter_child(near_ref, near_t < TZ_INFINITY, node, sphere, leaf_end);
+            if (far_t < TZ_INFINITY) {
+                stack[top] = left_first ? right_lo.w : left_lo.w;
+                stack_t[top] = far_t;
+                top++;
+            }
         }
         if (sphere < leaf_end) {
             keep_nearer(int(sphere), primitive_distance(int(sphere), o, d, tmin, self), best, id);
@@ -299,7 +268,6 @@ int walk_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_out
 #ifdef TZ_SUBGROUP_WALK
     if (coherent_rays) return trace_bvh_cooperative(o, d, self, tmax, any_hit, t_out);
 #endif
-    if (WIDE_BVH != 0u) return trace_wide_bvh(o, d, self, tmax, any_hit, t_out);
     return trace_bvh(o, d, self, tmax, any_hit, t_out);
 }
 

@@ -4,11 +4,12 @@
  * Four walks read it: trace_bvh in src/render/cpu/integrator.c (one ray, a leaf at once),
  * packet_walk in src/render/cpu/packet_trace.h (a packet's union of nodes), and
  * trace_bvh and trace_bvh_cooperative in shaders/intersect.glsl (one primitive a loop pass, per
- * invocation or for the whole subgroup); trace_wide_bvh walks the same tree collapsed by
- * bvh_wide.h, whose boxes hold these. They visit primitives in different orders, and the
- * packet tests spheres beyond a lane's own walk; they agree on every hit because of the tie
- * rule, nearer_hit in shaders/common/ray.h: an exact tie goes to the lower index. Primitives are
- * stored in BVH order with and without the tree, so --no-bvh gives the same images too. */
+ * invocation or for the whole subgroup), the first of these over the same tree collapsed by
+ * bvh_wide.h where the device gains by it, whose boxes hold these. They visit primitives in
+ * different orders, and the packet tests spheres beyond a lane's own walk; they agree on every hit
+ * because of the tie rule, nearer_hit in shaders/common/ray.h: an exact tie goes to the lower
+ * index. Primitives are stored in BVH order with and without the tree, so --no-bvh gives the same
+ * images too. */
 #ifndef TRAZADOR_BVH_H
 #define TRAZADOR_BVH_H
 

@@ -9,6 +9,9 @@
 
 #include "util/log.h"
 
+/* trace_bvh (shaders/intersect.glsl) walks either tree with one stack of TZ_WIDE_STACK. */
+_Static_assert(TZ_WIDE_STACK >= TZ_BVH_MAX_DEPTH, "the wide walk's stack holds the binary one's");
+
 static uint32_t bits_of(float f) {
     uint32_t u;
     memcpy(&u, &f, sizeof u);
