@@ -1,12 +1,14 @@
 /* test_mesh.c: meshes from files (src/scene/mesh_load.c, the `mesh` directive): a unit cube in
  * OBJ and in ASCII PLY, transformed, gives the triangles and the image of six `quad` lines at
  * the transformed corners; an OBJ with MTL materials renders like the same faces written with
- * the mapped materials; every error gives its message at line:col; 1 and 4 parser threads agree;
- * hostile files fail cleanly; a smooth closed mesh keeps the furnace exact. */
+ * the mapped materials; every error gives its message at line:col (a file-size limit too); 1 and 4
+ * parser threads agree; hostile files fail cleanly; a smooth closed mesh keeps the furnace exact.
+ */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 
 #include "check.h"
 #include "render/part.h"
@@ -252,6 +254,13 @@ static void test_errors(void) {
     expect_error(HEADER "mesh lambertian scale 2\n", 6, 1, "missing required key 'file'");
     expect_error(HEADER "mesh lambertian file cube.obj emission 1 1 1\n", 6, 31,
                  "emission needs path mode");
+    /* Under a file-size limit the faces' shared memory cannot grow: a message, not a signal. */
+    struct rlimit limit;
+    getrlimit(RLIMIT_FSIZE, &limit);
+    struct rlimit tiny = {.rlim_cur = 16, .rlim_max = limit.rlim_max};
+    setrlimit(RLIMIT_FSIZE, &tiny);
+    expect_error(HEADER "mesh file cube.obj\n", 6, 11, "(the file-size limit, ulimit -f, caps it)");
+    setrlimit(RLIMIT_FSIZE, &limit);
     /* a degenerate face among good ones: dropped, one warning */
     write_text("one_bad.obj", "v 0 0 5\nv 1 0 5\nv 0 1 5\nv 2 0 5\nf 1 2 3\nf 1 2 4\n");
     scene s;

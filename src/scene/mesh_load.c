@@ -1,7 +1,7 @@
 /* mesh_load.c: model files through assimp's C API (Debian libassimp-dev): import with the
  * post-processing trazador needs, faces gathered with their normals, and the file's materials
  * mapped to trazador's (the table is in scenes/README.md, `mesh`). */
-#define _GNU_SOURCE /* F_SETPIPE_SZ */
+#define _GNU_SOURCE /* memfd_create */
 #include "scene/mesh_load.h"
 
 #include <assimp/ObjMaterial.h>
@@ -19,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -163,8 +164,16 @@ static mesh_material map_material(const struct aiMaterial *m, char *unsupported,
     return out;
 }
 
-/* The import itself, in the child process (mesh_load). */
-static bool import(const char *path, bool smooth, mesh *out, char *error, size_t error_size) {
+/* count faces in shared memory fd, mapped for reading and writing; NULL on failure. */
+static mesh_face *map_faces(int fd, size_t count) {
+    size_t bytes = (count ? count : 1) * sizeof(mesh_face);
+    void *at = mmap(NULL, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    return at == MAP_FAILED ? NULL : at;
+}
+
+/* The import itself, in the child process (mesh_load): the faces go into shared memory fd. */
+static bool import(const char *path, bool smooth, int fd, mesh *out, char *error,
+                   size_t error_size) {
     memset(out, 0, sizeof *out);
     unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices |
                      aiProcess_SortByPType | aiProcess_ValidateDataStructure;
@@ -185,8 +194,14 @@ static bool import(const char *path, bool smooth, mesh *out, char *error, size_t
         ok = fail(error, error_size, "holds no triangles (%u mesh%s of points or lines only)",
                   sc->mNumMeshes, sc->mNumMeshes == 1 ? "" : "es");
     }
+    if (ok && ftruncate(fd, (off_t)(faces * sizeof *out->faces)) != 0) {
+        ok = fail(error, error_size, "cannot hold its %zu faces (%.0f MB) in shared memory: %s%s",
+                  faces, (double)(faces * sizeof *out->faces) / 1e6, strerror(errno),
+                  errno == EFBIG ? " (the file-size limit, ulimit -f, caps it)" : "");
+    }
     if (ok) {
-        out->faces = malloc(faces * sizeof *out->faces);
+        out->faces = map_faces(fd, faces);
+        out->faces_mapped = faces;
         out->materials = calloc(sc->mNumMaterials ? sc->mNumMaterials : 1, sizeof *out->materials);
         if (!out->faces || !out->materials) ok = fail(error, error_size, "out of memory");
     }
@@ -227,7 +242,7 @@ static bool import(const char *path, bool smooth, mesh *out, char *error, size_t
     return ok;
 }
 
-/* What the child sends first: the outcome, then materials and faces follow. */
+/* What the child sends: the outcome, then the materials follow (the faces are in shared memory). */
 typedef struct reply {
     bool ok;
     size_t face_count;
@@ -270,22 +285,24 @@ static bool read_all_by(int fd, void *data, size_t size, double deadline, bool *
     return true;
 }
 
-/* The child: imports and sends the result down fd. A crash in assimp ends this process whatever
- * handlers the parent installed (a sanitizer's or a fuzzer's would report it as the parent's). */
-static void child_run(int fd, const char *path, bool smooth) {
+/* The child: imports into shared memory shm and sends the outcome down fd. A crash in assimp
+ * ends this process whatever handlers the parent installed (a sanitizer's or a fuzzer's would
+ * report it as the parent's); a file-size limit fails the shared memory's growth, not the
+ * process. */
+static void child_run(int fd, int shm, const char *path, bool smooth) {
     const int crashes[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
     for (size_t k = 0; k < sizeof crashes / sizeof crashes[0]; k++) signal(crashes[k], SIG_DFL);
+    signal(SIGXFSZ, SIG_IGN);
     mesh m;
     reply r = {0};
     double start = clock_seconds();
-    r.ok = import(path, smooth, &m, r.error, sizeof r.error);
+    r.ok = import(path, smooth, shm, &m, r.error, sizeof r.error);
     r.import_seconds = clock_seconds() - start;
     r.face_count = m.face_count;
     r.material_count = m.material_count;
     memcpy(r.unsupported, m.unsupported, sizeof r.unsupported);
-    if (write_all(fd, &r, sizeof r) && r.ok &&
-        write_all(fd, m.materials, (size_t)m.material_count * sizeof *m.materials))
-        write_all(fd, m.faces, m.face_count * sizeof *m.faces);
+    if (write_all(fd, &r, sizeof r) && r.ok)
+        write_all(fd, m.materials, (size_t)m.material_count * sizeof *m.materials);
     _exit(0);
 }
 
@@ -303,21 +320,26 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
     }
     /* assimp loops for ever or crashes on some malformed files (a PLY whose vertex count is a
      * word hangs 5.2.5): it runs in a child process, killed past its time. */
+    /* The faces come back in shared memory: through a pipe the 76 MB of a million faces took
+     * longer than assimp's import. */
+    int shm = memfd_create("trazador-mesh", MFD_CLOEXEC);
+    if (shm < 0) return fail(error, error_size, "cannot make shared memory: %s", strerror(errno));
     int fds[2];
-    if (pipe(fds) != 0) return fail(error, error_size, "cannot make a pipe: %s", strerror(errno));
-    /* The largest pipe buffer an unprivileged process may ask for: the faces of a million
-     * triangles (76 MB) came through the default 64 KiB in about twice the time. */
-    fcntl(fds[1], F_SETPIPE_SZ, 1 << 20);
+    if (pipe(fds) != 0) {
+        close(shm);
+        return fail(error, error_size, "cannot make a pipe: %s", strerror(errno));
+    }
     double start = clock_seconds();
     pid_t pid = fork();
     if (pid < 0) {
+        close(shm);
         close(fds[0]);
         close(fds[1]);
         return fail(error, error_size, "cannot fork: %s", strerror(errno));
     }
     if (pid == 0) {
         close(fds[0]);
-        child_run(fds[1], path, smooth);
+        child_run(fds[1], shm, path, smooth);
     }
     close(fds[1]);
     double seconds = LOAD_SECONDS + (double)st.st_size / LOAD_BYTES_PER_SECOND;
@@ -330,16 +352,18 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
         out->material_count = r.material_count;
         memcpy(out->unsupported, r.unsupported, sizeof r.unsupported);
         out->unsupported[sizeof out->unsupported - 1] = '\0';
-        out->faces = malloc(r.face_count * sizeof *out->faces);
+        struct stat shared;
+        bool fits = fstat(shm, &shared) == 0 &&
+                    (uint64_t)shared.st_size >= r.face_count * sizeof *out->faces;
+        out->faces = fits ? map_faces(shm, r.face_count) : NULL;
+        out->faces_mapped = out->faces ? r.face_count : 0;
         out->materials = calloc((size_t)r.material_count + 1, sizeof *out->materials);
         if (!out->faces || !out->materials) {
             fail(error, error_size, "out of memory for %zu faces", r.face_count);
             reported = true;
         } else {
-            ok =
-                read_all_by(fds[0], out->materials,
-                            (size_t)r.material_count * sizeof *out->materials, deadline, &late) &&
-                read_all_by(fds[0], out->faces, r.face_count * sizeof *out->faces, deadline, &late);
+            ok = read_all_by(fds[0], out->materials,
+                             (size_t)r.material_count * sizeof *out->materials, deadline, &late);
         }
     } else if (got) {
         r.error[sizeof r.error - 1] = '\0';
@@ -347,6 +371,7 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
         reported = true;
     }
     close(fds[0]);
+    close(shm);
     if (ok)
         log_debug(
             "mesh %s: %zu faces imported by assimp in %.1f ms (its own process), received "
@@ -422,7 +447,10 @@ bool mesh_closed(const mesh *m) {
 }
 
 void mesh_free(mesh *m) {
-    free(m->faces);
+    if (m->faces_mapped)
+        munmap(m->faces, m->faces_mapped * sizeof *m->faces);
+    else
+        free(m->faces);
     free(m->materials);
     memset(m, 0, sizeof *m);
 }

@@ -27,6 +27,7 @@ typedef struct mesh_face {
 typedef struct mesh {
     mesh_face *faces;
     size_t face_count;
+    size_t faces_mapped; /* faces is a mapping of this many faces (mesh_load's), else 0 */
     mesh_material *materials;
     int material_count;
     /* What the file holds that trazador cannot show ("textures (diffuse), vertex colours"),
