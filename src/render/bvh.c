@@ -9,6 +9,7 @@
 #include "render/bvh.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 
 #include "render/bvh_builder.h"
@@ -17,6 +18,8 @@
 
 /* Tasks per thread: enough that uneven SAH splits still even out across the threads. */
 #define TASKS_PER_THREAD 16
+/* Below this many primitives per thread, the items are made on one. */
+#define MIN_ITEMS_PER_THREAD 65536
 
 /* The item of a sphere: its centre and its radius, padded by a few float ulps of the largest
  * coordinate, so that a hit the sphere test accepts never lies outside its box through
@@ -29,26 +32,83 @@ static item sphere_item(const struct gpu_sphere *sp) {
     return (item){{c->x, c->y, c->z, r}, {r, r, r, r}};
 }
 
+static float smaller(float x, float y) { return y < x ? y : x; }
+static float larger(float x, float y) { return y > x ? y : x; }
+
 /* The item of a triangle: the middle of its corners' box and its half extents, padded as a
- * sphere's. */
+ * sphere's (the coordinates are finite: selects, not fminf's calls). */
 static item triangle_item(const struct gpu_triangle *t) {
     const tz_vec4 *v[3] = {&t->v0, &t->v1, &t->v2};
     float lo[3], hi[3];
     for (int a = 0; a < 3; a++) {
         float x0 = (&v[0]->x)[a], x1 = (&v[1]->x)[a], x2 = (&v[2]->x)[a];
-        lo[a] = fminf(x0, fminf(x1, x2));
-        hi[a] = fmaxf(x0, fmaxf(x1, x2));
+        lo[a] = smaller(x0, smaller(x1, x2));
+        hi[a] = larger(x0, larger(x1, x2));
     }
     item it = {{0}, {0}};
     float m = 0.0f, h = 0.0f;
     for (int a = 0; a < 3; a++) {
         it.centroid[a] = 0.5f * lo[a] + 0.5f * hi[a];
         it.half[a] = 0.5f * hi[a] - 0.5f * lo[a];
-        m = fmaxf(m, fmaxf(fabsf(lo[a]), fabsf(hi[a])));
-        h = fmaxf(h, it.half[a]);
+        m = larger(m, larger(fabsf(lo[a]), fabsf(hi[a])));
+        h = larger(h, it.half[a]);
     }
     for (int a = 0; a < 3; a++) it.half[a] += (m + h) * 4e-6f;
     return it;
+}
+
+/* The items of primitives [begin, end) of in, and their box and centroid box. */
+typedef struct item_share {
+    const bvh_input *in;
+    builder *b;
+    uint32_t begin, end;
+    box bounds, cbox;
+} item_share;
+
+static void *item_share_run(void *arg) {
+    item_share *s = arg;
+    const bvh_input *in = s->in;
+    s->bounds = box_empty(), s->cbox = box_empty();
+    for (uint32_t k = s->begin; k < s->end; k++) {
+        item *it = &s->b->items[k];
+        *it = k < in->sphere_count ? sphere_item(&in->spheres[k])
+                                   : triangle_item(&in->triangles[k - in->sphere_count]);
+        s->b->order[k] = k;
+        box ib = item_box(it);
+        box_grow(&s->bounds, &ib);
+        box_grow_point(&s->cbox, it->centroid);
+    }
+    return NULL;
+}
+
+/* Makes b's count items on its threads into root's boxes: min and max are exact, so the boxes
+ * are a one-thread build's. */
+static void make_items(const bvh_input *in, builder *b, uint32_t count, task *root) {
+    int parts = b->threads;
+    if (count / MIN_ITEMS_PER_THREAD < (uint32_t)parts) parts = (int)(count / MIN_ITEMS_PER_THREAD);
+    if (parts < 1) parts = 1;
+    item_share shares[MAX_THREADS];
+    pthread_t threads[MAX_THREADS];
+    bool started[MAX_THREADS] = {false};
+    for (int t = 0; t < parts; t++) {
+        shares[t] = (item_share){.in = in,
+                                 .b = b,
+                                 .begin = (uint32_t)((uint64_t)count * t / parts),
+                                 .end = (uint32_t)((uint64_t)count * (t + 1) / parts)};
+        if (t > 0) started[t] = pthread_create(&threads[t], NULL, item_share_run, &shares[t]) == 0;
+    }
+    item_share_run(&shares[0]);
+    for (int t = 1; t < parts; t++) {
+        if (started[t])
+            pthread_join(threads[t], NULL);
+        else
+            item_share_run(&shares[t]); /* no thread: on this one */
+    }
+    root->bounds = box_empty(), root->cbox = box_empty();
+    for (int t = 0; t < parts; t++) {
+        box_grow(&root->bounds, &shares[t].bounds);
+        box_grow(&root->cbox, &shares[t].cbox);
+    }
 }
 
 bool bvh_build_primitives(const bvh_input *in, uint32_t max_depth, int threads, bvh *out) {
@@ -67,16 +127,8 @@ bool bvh_build_primitives(const bvh_input *in, uint32_t max_depth, int threads, 
         free(b.items), free(b.nodes), free(b.order), free(flat);
         return false;
     }
-    task root = {.end = count, .bounds = box_empty(), .cbox = box_empty()};
-    for (uint32_t k = 0; k < count; k++) {
-        item *it = &b.items[k];
-        *it = k < in->sphere_count ? sphere_item(&in->spheres[k])
-                                   : triangle_item(&in->triangles[k - in->sphere_count]);
-        b.order[k] = k;
-        box ib = item_box(it);
-        box_grow(&root.bounds, &ib);
-        box_grow_point(&root.cbox, it->centroid);
-    }
+    task root = {.end = count};
+    make_items(in, &b, count, &root);
     uint32_t flat_count = 0, depth = 0;
     if (count > 0) { /* no primitives, no nodes: nothing to traverse */
         b.task_items = b.threads > 1 ? count / ((uint32_t)b.threads * TASKS_PER_THREAD) : count;
