@@ -1,8 +1,8 @@
-/* test_transcendental.c: cos_sin_turn and pow_unit (shaders/common/transcendental.h) against
- * double precision over their whole domains: every turn k / 2^24 and a sweep of the other floats
- * of [0, 1); the power at a sweep of the floats of (0, 1] and every float near 1, times exponents
- * over the parser's whole range [0, FLT_MAX]; the exact values and the flushes to 0. The bounds
- * are a little above what was measured (stated in transcendental.h). */
+/* test_transcendental.c: cos_sin_turn, angle_of and pow_unit (shaders/common/transcendental.h)
+ * against double precision over their whole domains: every turn k / 2^24 and a sweep of the other
+ * floats of [0, 1); the power at a sweep of the floats of (0, 1] and every float near 1, times
+ * exponents over the parser's whole range [0, FLT_MAX]; the exact values and the flushes to 0. The
+ * bounds are a little above what was measured (stated in transcendental.h). */
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -12,6 +12,7 @@
 
 #define TWO_PI 6.283185307179586477
 #define MAX_ABS_ERROR_TURN 1.0e-7
+#define MAX_ABS_ERROR_ANGLE 3.0e-7
 /* pow_unit's relative error where the result is above 1e-3, 1e-30 and the normal range */
 #define MAX_REL_ERROR_POW_1E3 1.6e-6
 #define MAX_REL_ERROR_POW_1E30 1.5e-5
@@ -121,8 +122,37 @@ static void test_pow(void) {
           "pow_unit: 0.5^1 = %.9g, 0.25^0.5 = %.9g", pow_unit(0.5f, 1.0f), pow_unit(0.25f, 0.5f));
 }
 
+/* The largest error of angle_of against double at (x, y), into *worst (and where). */
+static void angle_error(float y, float x, double *worst, float *at_y, float *at_x) {
+    double e = fabs((double)angle_of(y, x) - atan2((double)y, (double)x));
+    if (!(e <= *worst)) *worst = e, *at_y = y, *at_x = x;
+}
+
+/* angle_of depends on y / |x| and the sign of x: every 97th float as y at x = 1 and x = -1 covers
+ * every ratio; a sweep of both coordinates adds the division's rounding; the axes are exact. */
+static void test_angle(void) {
+    double worst = 0.0;
+    float at_y = 0.0f, at_x = 0.0f;
+    for (uint32_t bits = 0; bits < 0x7f800000u; bits += 97u) {
+        angle_error(float_of(bits), 1.0f, &worst, &at_y, &at_x);
+        angle_error(float_of(bits), -1.0f, &worst, &at_y, &at_x);
+    }
+    for (uint32_t i = 0x00800000u; i < 0x7f800000u; i += 0x00800000u / 8u)
+        for (uint32_t j = 0x00800000u; j < 0x7f800000u; j += 0x00800000u / 8u + 1u) {
+            angle_error(float_of(i), float_of(j), &worst, &at_y, &at_x);
+            angle_error(float_of(i), -float_of(j), &worst, &at_y, &at_x);
+        }
+    printf("angle_of: max abs error %.3g at (x, y) = (%.9g, %.9g)\n", worst, at_x, at_y);
+    CHECK(worst <= MAX_ABS_ERROR_ANGLE, "angle_of: error %.3g at (%.9g, %.9g)", worst, at_x, at_y);
+    CHECK(angle_of(0.0f, 1.0f) == 0.0f && angle_of(1.0f, 0.0f) == 1.57079637f &&
+              angle_of(0.0f, -1.0f) == 3.14159274f,
+          "angle_of at the axes: %.9g %.9g %.9g", angle_of(0.0f, 1.0f), angle_of(1.0f, 0.0f),
+          angle_of(0.0f, -1.0f));
+}
+
 int main(void) {
     test_turn();
+    test_angle();
     test_pow();
     return check_summary("test_transcendental");
 }

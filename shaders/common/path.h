@@ -16,6 +16,7 @@
 #include "sampler.h"
 #include "sampling.h"
 #include "shade.h"
+#include "spherical_triangle.h"
 
 /* How light sampling serves a vertex at pos (facing normal n, on sphere id) for the emitter on
  * sphere e of centre c and radius r: by its cone from outside, by its area from inside (or on it
@@ -62,6 +63,47 @@ TZ_LANE_FN float triangle_area_pdf(triangle_corners k, float area, vec3 from, ve
     return pdf;
 }
 
+/* The pdf of a direction uniform within a spherical triangle of solid angle omega. */
+TZ_FN float solid_angle_pdf(float omega) {
+    TZ_PRECISE float pdf = 1.0f / omega;
+    return pdf;
+}
+
+/* The solid-angle pdf with which light sampling from `from` chooses the point pos of triangle k
+ * (of area `area`), reached along d: by solid angle where the triangle is sampled that way
+ * (by_solid_angle), else by area. */
+TZ_FN float triangle_light_pdf(triangle_corners k, float area, vec3 from, vec3 pos, vec3 d) {
+    spherical_triangle st = spherical_triangle_of(k.a, k.b, k.c, from);
+    return by_solid_angle(st.solid_angle) ? solid_angle_pdf(st.solid_angle)
+                                          : triangle_area_pdf(k, area, from, pos, d);
+}
+
+/* A direction of light sampling from o to triangle k (of area `area`) for uniform ua, ub, and
+ * its solid-angle pdf (triangle_light_pdf's). */
+TZ_STRUCT(light_direction) {
+    vec3 wi;
+    float pdf;
+}
+TZ_STRUCT_END(light_direction)
+
+TZ_FN light_direction triangle_light_direction(triangle_corners k, float area, vec3 o, float ua,
+                                               float ub) {
+    light_direction l;
+    spherical_triangle st = spherical_triangle_of(k.a, k.b, k.c, o);
+    if (by_solid_angle(st.solid_angle)) {
+        l.wi = spherical_triangle_direction(st, ua, ub);
+        l.pdf = solid_angle_pdf(st.solid_angle);
+    } else {
+        /* Aimed from the shadow ray's own origin, so that it meets the sampled point: aimed from
+         * the vertex, the offset ray missed faces near their edges (0.1% dark in a furnace). */
+        vec3 q = triangle_area_point(k.a, k.b, k.c, ua, ub);
+        TZ_PRECISE vec3 to_q = v3_sub(q, o);
+        l.wi = v3_normalize(to_q);
+        l.pdf = triangle_area_pdf(k, area, o, q, l.wi);
+    }
+    return l;
+}
+
 /* The solid-angle pdf (the pick included) with which light sampling at vertex v would have
  * chosen the point pos on emitter primitive id, reached along d (a triangle never lights
  * itself). */
@@ -71,7 +113,7 @@ TZ_FN float light_pdf_at(TZ_SCENE_PARAM path_vertex v, int id, vec3 pos, vec3 d)
         float pick = emitter_emission_pick(TZ_SCENE_ARG slot).w;
         float area = emitter_primitive_cdf(TZ_SCENE_ARG slot).z;
         TZ_PRECISE float pdf =
-            pick * triangle_area_pdf(corners_of(TZ_SCENE_ARG id), area, v.origin, pos, d);
+            pick * triangle_light_pdf(corners_of(TZ_SCENE_ARG id), area, v.origin, pos, d);
         return v.id == id ? 0.0f : pdf;
     }
     TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG id);
@@ -113,14 +155,11 @@ TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, surface sf, vec3 n, vec3 ng, vec
     vec3 o = offset_origin(pos, ng);
     if (is_triangle(TZ_SCENE_ARG e)) {
         if (e == id) return v3(0.0f, 0.0f, 0.0f);
-        /* Aimed from the shadow ray's own origin, so that it meets the sampled point: aimed from
-         * pos, the offset ray missed faces near their edges (0.1% dark in a furnace). */
         triangle_corners k = corners_of(TZ_SCENE_ARG e);
-        vec3 q = triangle_area_point(k.a, k.b, k.c, ua, ub);
-        TZ_PRECISE vec3 to_q = v3_sub(q, o);
-        wi = v3_normalize(to_q);
-        pdf = emission_pick.w * triangle_area_pdf(k, primitive_cdf.z, o, q, wi);
-        t_light = triangle_distance(k.a, k.b, k.c, o, wi, ray_eps(o), TZ_FALSE);
+        light_direction l = triangle_light_direction(k, primitive_cdf.z, o, ua, ub);
+        wi = l.wi;
+        pdf = emission_pick.w * l.pdf;
+        t_light = triangle_light_distance(k.a, k.b, k.c, o, wi);
     } else {
         TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG e);
         vec3 c = xyz(cr);

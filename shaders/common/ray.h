@@ -127,6 +127,18 @@ TZ_LANE_FN float triangle_distance(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d, float
     return hit ? t : TZ_INFINITY;
 }
 
+/* The distance from o along wi, a direction drawn toward the triangle (a, b, c) by light
+ * sampling: the watertight test's, or, where rounding puts the direction a hair outside the
+ * triangle (about 1e-4 of the directions drawn within a thin or small one), the distance to its
+ * plane. */
+TZ_FN float triangle_light_distance(vec3 a, vec3 b, vec3 c, vec3 o, vec3 wi) {
+    float t = triangle_distance(a, b, c, o, wi, ray_eps(o), TZ_FALSE);
+    TZ_PRECISE vec3 ng = v3_cross(v3_sub(b, a), v3_sub(c, a));
+    TZ_PRECISE float plane = v3_dot(v3_sub(a, o), ng) / v3_dot(wi, ng);
+    TZ_BOOL meets = (plane > ray_eps(o)) TZ_AND(plane < TZ_INFINITY);
+    return t < TZ_INFINITY ? t : meets ? plane : TZ_INFINITY;
+}
+
 /* The tie rule: true when primitive k at distance t replaces the nearest hit so far (primitive id
  * at distance best, id -1 for none): nearer, or as near with a lower index. */
 TZ_FN TZ_BOOL nearer_hit(float t, int k, float best, int id) {

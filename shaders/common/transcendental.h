@@ -9,7 +9,7 @@
  * precision over the whole domains (tests/test_transcendental.c): cos and sin within 8.9e-8
  * (absolute); pow_unit's relative error at most 1.4e-6 where the result is above 1e-3, 1.3e-5 above
  * 1e-30 and 1.4e-5 down to the normal range: it grows with |log2 of the result|, as the float y
- * log2(x) carries it. */
+ * log2(x) carries it. angle_of within 2.7e-7 (absolute) over every ratio and sign. */
 #ifndef TRAZADOR_COMMON_TRANSCENDENTAL_H
 #define TRAZADOR_COMMON_TRANSCENDENTAL_H
 
@@ -17,6 +17,24 @@
 
 /* The smallest normal float. */
 #define TZ_FLT_MIN 1.17549435e-38f
+
+/* The angle of the point (x, y) from the +x axis for y >= 0, in [0, pi] (atan2(y, x) there);
+ * NaN for (0, 0). The ratio t = y / |x| is reduced to |t| <= tan(pi / 8) around 0, pi / 4 or
+ * pi / 2, and atan there is Cephes' atanf polynomial (S. Moshier). */
+TZ_FN float angle_of(float y, float x) {
+    TZ_PRECISE float t = y / TZ_ABS(x);
+    TZ_BOOL big = t > 2.41421356f, mid = t > 0.414213562f;
+    TZ_PRECISE float r = big ? -1.0f / t : mid ? (t - 1.0f) / (t + 1.0f) : t;
+    float base = big ? 1.57079637f : mid ? 0.785398185f : 0.0f;
+    TZ_PRECISE float z = r * r;
+    TZ_PRECISE float p =
+        ((((0.0805374449538f * z - 0.138776856032f) * z + 0.199777106478f) * z - 0.333329491539f) *
+             z * r +
+         r);
+    TZ_PRECISE float a = base + p;
+    TZ_PRECISE float flipped = 3.14159274f - a;
+    return x < 0.0f ? flipped : a;
+}
 
 /* A cosine and a sine, of one angle. */
 TZ_STRUCT(cos_sin) {

@@ -133,7 +133,7 @@ LANE_FN void shadow_lane_set(shadow_lanes *s, int k, vec3 o, vec3 w, float p, fl
 }
 
 /* emitter_light of path.h for the diffuse lanes (a sphere's strategies both computed and one
- * selected, a triangle's point lane by lane), the shadow rays traced together, added to direct;
+ * selected, a triangle's direction lane by lane), the shadow rays traced together, added to direct;
  * ul, ua, ub the lanes' numbers. */
 LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *v, const float *ul,
                                  const float *ua, const float *ub, lanes3 *direct) {
@@ -203,11 +203,11 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         if (!(v->diffuse[k] & triangle[k])) continue;
         vec3 n = get3(&v->n, k), ng = get3(&v->ng, k), o = offset_origin(get3(&v->pos, k), ng);
         triangle_corners tk = corners_of(scene, e[k]);
-        vec3 q = triangle_area_point(tk.a, tk.b, tk.c, ua[k], ub[k]);
-        vec3 w = v3_normalize(v3_sub(q, o));
         float area = emitter_primitive_cdf(scene, slot[k]).z;
-        float p = pick[k] * triangle_area_pdf(tk, area, o, q, w);
-        float tl = triangle_distance(tk.a, tk.b, tk.c, o, w, ray_eps(o), TZ_FALSE);
+        light_direction l = triangle_light_direction(tk, area, o, ua[k], ub[k]);
+        vec3 w = l.wi;
+        float p = pick[k] * l.pdf;
+        float tl = triangle_light_distance(tk.a, tk.b, tk.c, o, w);
         float ci = v3_dot(n, w);
         int ok = (e[k] != v->id[k]) & (folds[k] | (ci > 0.0f)) & (v3_dot(ng, w) > 0.0f) &
                  (p > 0.0f) & (p < INFINITY);
