@@ -70,37 +70,55 @@ TZ_FN float solid_angle_pdf(float omega) {
 }
 
 /* The solid-angle pdf with which light sampling from `from` chooses the point pos of triangle k
- * (of area `area`), reached along d: by solid angle where the triangle is sampled that way
- * (by_solid_angle), else by area. */
+ * (of area `area`), reached along d: by solid angle where the triangle is sampled that way (near
+ * its plane and by_solid_angle), else by area. */
 TZ_FN float triangle_light_pdf(triangle_corners k, float area, vec3 from, vec3 pos, vec3 d) {
-    spherical_triangle st = spherical_triangle_of(k.a, k.b, k.c, from);
-    return by_solid_angle(st.solid_angle) ? solid_angle_pdf(st.solid_angle)
-                                          : triangle_area_pdf(k, area, from, pos, d);
+    if (near_triangle_plane(k.a, k.b, k.c, from)) {
+        spherical_triangle st = spherical_triangle_of(k.a, k.b, k.c, from);
+        if (by_solid_angle(st.solid_angle)) return solid_angle_pdf(st.solid_angle);
+    }
+    return triangle_area_pdf(k, area, from, pos, d);
 }
 
-/* A direction of light sampling from o to triangle k (of area `area`) for uniform ua, ub, and
- * its solid-angle pdf (triangle_light_pdf's). */
+/* A direction of light sampling from o to a triangle and its solid-angle pdf. */
 TZ_STRUCT(light_direction) {
     vec3 wi;
     float pdf;
 }
 TZ_STRUCT_END(light_direction)
 
-TZ_FN light_direction triangle_light_direction(triangle_corners k, float area, vec3 o, float ua,
-                                               float ub) {
+/* The direction to a point of triangle k (of area `area`) uniform by area for uniform ua, ub,
+ * aimed from the shadow ray's own origin o so that it meets the point: aimed from the vertex, the
+ * offset ray missed faces near their edges (0.1% dark in a furnace). */
+TZ_LANE_FN light_direction area_light_direction(triangle_corners k, float area, vec3 o, float ua,
+                                                float ub) {
     light_direction l;
+    vec3 q = triangle_area_point(k.a, k.b, k.c, ua, ub);
+    TZ_PRECISE vec3 to_q = v3_sub(q, o);
+    l.wi = v3_normalize(to_q);
+    l.pdf = triangle_area_pdf(k, area, o, q, l.wi);
+    return l;
+}
+
+/* The direction uniform in the solid angle of triangle k from o for uniform ua, ub where it is
+ * sampled so (by_solid_angle), else by_area: for the points near its plane. */
+TZ_FN light_direction solid_angle_light_direction(triangle_corners k, vec3 o, float ua, float ub,
+                                                  light_direction by_area) {
     spherical_triangle st = spherical_triangle_of(k.a, k.b, k.c, o);
+    light_direction l = by_area;
     if (by_solid_angle(st.solid_angle)) {
         l.wi = spherical_triangle_direction(st, ua, ub);
         l.pdf = solid_angle_pdf(st.solid_angle);
-    } else {
-        /* Aimed from the shadow ray's own origin, so that it meets the sampled point: aimed from
-         * the vertex, the offset ray missed faces near their edges (0.1% dark in a furnace). */
-        vec3 q = triangle_area_point(k.a, k.b, k.c, ua, ub);
-        TZ_PRECISE vec3 to_q = v3_sub(q, o);
-        l.wi = v3_normalize(to_q);
-        l.pdf = triangle_area_pdf(k, area, o, q, l.wi);
     }
+    return l;
+}
+
+/* Light sampling's direction from o to triangle k (of area `area`) for uniform ua, ub, with
+ * triangle_light_pdf's pdf. */
+TZ_FN light_direction triangle_light_direction(triangle_corners k, float area, vec3 o, float ua,
+                                               float ub) {
+    light_direction l = area_light_direction(k, area, o, ua, ub);
+    if (near_triangle_plane(k.a, k.b, k.c, o)) l = solid_angle_light_direction(k, o, ua, ub, l);
     return l;
 }
 

@@ -3,8 +3,9 @@
  * 1983) and a direction uniform within it (Arvo, "Stratified sampling of spherical triangles",
  * SIGGRAPH 1995, arranged as pbrt-v4's SampleSphericalTriangle), from transcendental.h's
  * functions so that every back end draws the same bits. Light sampling takes a triangle light by
- * solid angle where that measures better than by area (docs/PERF.md); where the float angle sum
- * cancels (tiny solid angles) or nearly covers the sphere, by area. */
+ * solid angle from points near its plane, where that measures better than by area (docs/PERF.md);
+ * farther, and where the float angle sum cancels (tiny solid angles) or nearly covers the
+ * sphere, by area. */
 #ifndef TRAZADOR_COMMON_SPHERICAL_TRIANGLE_H
 #define TRAZADOR_COMMON_SPHERICAL_TRIANGLE_H
 
@@ -14,6 +15,22 @@
 /* The solid angles, in steradians, that are sampled as a spherical triangle (pbrt-v4's). */
 #define TZ_MIN_SPHERICAL_SAMPLE 3e-4f
 #define TZ_MAX_SPHERICAL_SAMPLE 6.22f
+
+/* Light sampling takes a triangle by solid angle from points within this many of its longest
+ * edges from its plane: farther, area sampling's weight varies little over the triangle, and it
+ * costs less (docs/PERF.md). */
+#define TZ_SOLID_ANGLE_REACH 0.5f
+
+/* Whether o is within TZ_SOLID_ANGLE_REACH longest edges of the plane of the triangle (a, b, c):
+ * (normal . (o - a))^2 against reach^2 edge^2 |normal|^2, no root taken. */
+TZ_FN TZ_BOOL near_triangle_plane(vec3 a, vec3 b, vec3 c, vec3 o) {
+    TZ_PRECISE vec3 ab = v3_sub(b, a), ac = v3_sub(c, a), bc = v3_sub(c, b);
+    TZ_PRECISE vec3 normal = v3_cross(ab, ac);
+    TZ_PRECISE float h = v3_dot(normal, v3_sub(o, a));
+    TZ_PRECISE float edge2 = TZ_MAX(TZ_MAX(v3_dot(ab, ab), v3_dot(ac, ac)), v3_dot(bc, bc));
+    TZ_PRECISE float reach2 = TZ_SOLID_ANGLE_REACH * TZ_SOLID_ANGLE_REACH * edge2;
+    return h * h < reach2 * v3_dot(normal, normal);
+}
 
 /* The corners a, b, c as unit directions from the point, and the solid angle they span. */
 TZ_STRUCT(spherical_triangle) {

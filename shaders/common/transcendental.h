@@ -1,15 +1,16 @@
-/* transcendental.h: the cosine and sine of a turn (the azimuths of every sampled direction) and
- * the power of Phong's lobe, one text for C and GLSL (dialect.h) in operations that round alike
- * in both: +, -, *, /, conversions, bit casts, comparisons and selects, every step precise. The C
- * library's and the driver's cos, sin and pow differ by ulps, and a path then takes another turn;
- * these give every back end the same bits. Exact reductions (by octant; by exponent and
- * mantissa), then polynomials fitted by Chebyshev (mpmath.chebyfit) with float coefficients.
- * Below the normal range a Vulkan driver may flush to 0 (SPIR-V leaves it to the driver) and C
- * does not, so inputs and results there are flushed to 0 on both sides. Measured against double
- * precision over the whole domains (tests/test_transcendental.c): cos and sin within 8.9e-8
- * (absolute); pow_unit's relative error at most 1.4e-6 where the result is above 1e-3, 1.3e-5 above
- * 1e-30 and 1.4e-5 down to the normal range: it grows with |log2 of the result|, as the float y
- * log2(x) carries it. angle_of within 2.7e-7 (absolute) over every ratio and sign. */
+/* transcendental.h: the cosine and sine of a turn (the azimuths of every sampled direction), the
+ * angle of a point (a triangle light's solid angle) and the power of Phong's lobe, one text for C
+ * and GLSL (dialect.h) in operations that round alike in both: +, -, *, /, conversions, bit casts,
+ * comparisons and selects, every step precise. The C library's and the driver's cos, sin and pow
+ * differ by ulps, and a path then takes another turn; these give every back end the same bits.
+ * Exact reductions (by octant; by exponent and mantissa), then polynomials fitted by Chebyshev
+ * (mpmath.chebyfit) with float coefficients. Below the normal range a Vulkan driver may flush to 0
+ * (SPIR-V leaves it to the driver) and C does not, so inputs and results there are flushed to 0 on
+ * both sides. Measured against double precision over the whole domains
+ * (tests/test_transcendental.c): cos and sin within 8.9e-8 (absolute); pow_unit's relative error at
+ * most 1.4e-6 where the result is above 1e-3, 1.3e-5 above 1e-30 and 1.4e-5 down to the normal
+ * range: it grows with |log2 of the result|, as the float y log2(x) carries it. angle_of
+ * within 2.7e-7 (absolute) over every ratio and sign. */
 #ifndef TRAZADOR_COMMON_TRANSCENDENTAL_H
 #define TRAZADOR_COMMON_TRANSCENDENTAL_H
 
