@@ -259,15 +259,19 @@ static double square_form_factor(double x, double z, double x0, double x1, doubl
            corner_form_factor(x1 - x, z0 - z, c) + corner_form_factor(x0 - x, z0 - z, c);
 }
 
-/* Direct light (path mode, one bounce) of a square emitter of side s = 1 at height d = 1 over a
+/* Direct light (path mode, one bounce) of a square emitter of side s = 1 at a height over a
  * Lambertian floor of albedo rho: the floor's radiance is rho Le F, F the form factor from the
- * floor point to the square. The ratio of each pixel to its exact value averages to 1. */
-static void test_form_factor(void) {
-    const char *text =
-        "camera position 0 0.5 -2 direction 0 -1 2 up 0 1 0\nplane width 0.5 height 0.5 "
-        "pixel 0.03125\nquad lambertian v0 -10 0 -10 v1 -10 0 10 v2 10 0 10 v3 10 0 -10 color "
-        "0.6 0.6 0.6\nquad lambertian v0 -0.5 1 -0.5 v1 0.5 1 -0.5 v2 0.5 1 0.5 v3 -0.5 1 0.5 "
-        "color 0 0 0 emission 2 2 2\nrender mode path bounces 1 samples 256\n";
+ * floor point to the square. The ratio of each pixel to its exact value averages to 1. At height 1
+ * light sampling takes the emitter by area, at 0.25 (within half its diagonal of its plane)
+ * by solid angle. */
+static void expect_form_factor(double height) {
+    char text[512];
+    snprintf(text, sizeof text,
+             "camera position 0 0.5 -2 direction 0 -1 2 up 0 1 0\nplane width 0.5 height 0.5 "
+             "pixel 0.03125\nquad lambertian v0 -10 0 -10 v1 -10 0 10 v2 10 0 10 v3 10 0 -10 "
+             "color 0.6 0.6 0.6\nquad lambertian v0 -0.5 %g -0.5 v1 0.5 %g -0.5 v2 0.5 %g 0.5 v3 "
+             "-0.5 %g 0.5 color 0 0 0 emission 2 2 2\nrender mode path bounces 1 samples 256\n",
+             height, height, height, height);
     scene s;
     render_opts o;
     if (!parse_scene_text(text, &s, &o)) {
@@ -292,16 +296,22 @@ static void test_form_factor(void) {
             double d[3];
             camera_ray(r, u, fw, 0.5, 0.5, 0.03125, i, j, d);
             double t = -0.5 / d[1], x = t * d[0], z = -2 + t * d[2];
-            double want = 0.6 * 2.0 * square_form_factor(x, z, -0.5, 0.5, -0.5, 0.5, 1.0);
+            double want = 0.6 * 2.0 * square_form_factor(x, z, -0.5, 0.5, -0.5, 0.5, height);
             double ratio = pixel(&f, i, j, 0) / want;
             sum += ratio, sum2 += ratio * ratio, count++;
         }
     }
     double mean = sum / count, se = sqrt(fmax(sum2 / count - mean * mean, 0.0) / (count - 1));
-    CHECK(fabs(mean - 1.0) <= SIGMAS * se + 1e-4, "form factor: ratio %.5f +- %.5f, want 1", mean,
-          se);
-    CHECK(se < 0.01, "form factor: standard error %.4f, too noisy to tell", se);
+    printf("form factor at height %g: ratio %.5f +- %.5f\n", height, mean, se);
+    CHECK(fabs(mean - 1.0) <= SIGMAS * se + 1e-4, "form factor at %g: ratio %.5f +- %.5f, want 1",
+          height, mean, se);
+    CHECK(se < 0.01, "form factor at %g: standard error %.4f, too noisy to tell", height, se);
     film_free(&f);
+}
+
+static void test_form_factor(void) {
+    expect_form_factor(1.0);
+    expect_form_factor(0.25);
 }
 
 int main(int argc, char **argv) {
