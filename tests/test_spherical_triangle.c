@@ -4,8 +4,8 @@
  * (the planar triangle cut into n^2 congruent sub-triangles, each expecting its own solid angle's
  * share), for a triangle seen face on, seen nearly edge on, seen from close by and a small one;
  * the directions meet the triangle under the watertight test (all but a rounding's share) and
- * end on it (triangle_light_distance); and the test's power: a wrong warp
- * is rejected. */
+ * end on it (triangle_light_distance); which points take the solid angle at every scale; and the
+ * test's power: a wrong warp is rejected. */
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -166,8 +166,31 @@ static void test_directions(void) {
     CHECK(wrong > 10.0, "power: ub squared gives z score %.2f", wrong);
 }
 
+/* Which points take the solid angle does not depend on the scene's scale: the same answers with
+ * every coordinate times 2^30 or 2^-30 (exact; cross products near the parser's bounds). */
+static void test_near_plane(void) {
+    vec3 a = v3(-0.5f, 0.0f, -0.5f), b = v3(0.5f, 0.0f, -0.5f), c = v3(0.0f, 0.0f, 0.5f);
+    int near = 0, same = 0, count = 0;
+    for (float y = -1.0f; y <= 1.0f; y += 0.0625f) {
+        for (float x = -2.0f; x <= 2.0f; x += 0.25f) {
+            vec3 o = v3(x, y, 0.25f);
+            int at_one = near_triangle_plane(a, b, c, o);
+            float big = 0x1p30f, small = 0x1p-30f;
+            int at_big = near_triangle_plane(v3_scale(a, big), v3_scale(b, big), v3_scale(c, big),
+                                             v3_scale(o, big));
+            int at_small = near_triangle_plane(v3_scale(a, small), v3_scale(b, small),
+                                               v3_scale(c, small), v3_scale(o, small));
+            near += at_one, same += at_one == at_big && at_one == at_small, count++;
+        }
+    }
+    printf("near the plane: %d of %d points, %d the same at every scale\n", near, count, same);
+    CHECK(same == count && near > 0 && near < count, "near_triangle_plane: %d of %d agree, %d near",
+          same, count, near);
+}
+
 int main(void) {
     test_solid_angle();
+    test_near_plane();
     test_directions();
     return check_summary("test_spherical_triangle");
 }

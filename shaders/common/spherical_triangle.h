@@ -22,14 +22,16 @@
 #define TZ_SOLID_ANGLE_REACH 0.5f
 
 /* Whether o is within TZ_SOLID_ANGLE_REACH longest edges of the plane of the triangle (a, b, c):
- * (normal . (o - a))^2 against reach^2 edge^2 |normal|^2, no root taken. */
+ * its distance along the unit normal, squared, against reach^2 edge^2. Unit, not the cross
+ * product: with it (up to the parser's 1.3e19) the squared distance overflowed in scenes the
+ * parser takes. */
 TZ_FN TZ_BOOL near_triangle_plane(vec3 a, vec3 b, vec3 c, vec3 o) {
     TZ_PRECISE vec3 ab = v3_sub(b, a), ac = v3_sub(c, a), bc = v3_sub(c, b);
-    TZ_PRECISE vec3 normal = v3_cross(ab, ac);
+    vec3 normal = v3_normalize(v3_cross(ab, ac));
     TZ_PRECISE float h = v3_dot(normal, v3_sub(o, a));
     TZ_PRECISE float edge2 = TZ_MAX(TZ_MAX(v3_dot(ab, ab), v3_dot(ac, ac)), v3_dot(bc, bc));
     TZ_PRECISE float reach2 = TZ_SOLID_ANGLE_REACH * TZ_SOLID_ANGLE_REACH * edge2;
-    return h * h < reach2 * v3_dot(normal, normal);
+    return h * h < reach2;
 }
 
 /* The corners a, b, c as unit directions from the point, and the solid angle they span. */
