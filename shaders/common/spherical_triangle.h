@@ -79,7 +79,7 @@ TZ_FN vec3 spherical_triangle_direction(spherical_triangle s, float ua, float ub
     TZ_PRECISE float sin_alpha = v3_length(v3_cross(n_ab, n_ca)) / norms;
     /* the sub-triangle's area plus pi is pi + ua omega: its sine and cosine are -sin, -cos of ua
      * omega, a fraction of a turn below 1 (omega <= TZ_MAX_SPHERICAL_SAMPLE) */
-    cos_sin part = cos_sin_turn(ua * (s.solid_angle * (1.0f / (2.0f * TZ_PI))));
+    cos_sin part = cos_sin_turn(ua * (s.solid_angle * 0.159154937f)); /* 1 / (2 pi) in float */
     TZ_PRECISE float sin_phi = part.c * sin_alpha - part.s * cos_alpha;
     TZ_PRECISE float cos_phi = -part.c * cos_alpha - part.s * sin_alpha;
     TZ_PRECISE float k1 = cos_phi + cos_alpha;
