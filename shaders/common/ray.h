@@ -82,21 +82,42 @@ TZ_FN vec3 shear_axes(vec3 v, int kz, TZ_BOOL swap) {
 TZ_STRUCT(triangle_edges) { float u, v, w, det, t_det; }
 TZ_STRUCT_END(triangle_edges)
 
-/* The watertight ray-triangle test of Woop, Benthin and Wald (JCGT 2(1), 2013), without its
- * double-precision fallback: the corners are moved to the ray origin and sheared so that the
- * ray runs along +z, and the edge functions are 2D cross products of corners. An edge shared by
- * two faces gives them exactly opposite edge functions (the same products, subtracted the other
- * way round), so a ray through it hits at least one of them: no ray slips between faces. */
-TZ_LANE_FN triangle_edges triangle_edge_functions(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d) {
+/* What the watertight test takes from a ray's direction alone: the axis kz of its largest
+ * component, swap (shear_axes), and the shear sx, sy, sz that turns it into +z. */
+TZ_STRUCT(ray_shear) {
+    int kz;
+    TZ_BOOL swap;
+    float sx, sy, sz;
+}
+TZ_STRUCT_END(ray_shear)
+
+/* shear_of's kz and swap alone (sx, sy, sz zero). */
+TZ_LANE_FN ray_shear shear_order_of(vec3 d) {
     float ax = TZ_ABS(d.x), ay = TZ_ABS(d.y), az = TZ_ABS(d.z);
-    int kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
-    float dz = kz == 0 ? d.x : kz == 1 ? d.y : d.z;
-    TZ_BOOL swap = dz < 0.0f;
-    vec3 ds = shear_axes(d, kz, swap);
+    ray_shear s;
+    s.kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+    float dz = s.kz == 0 ? d.x : s.kz == 1 ? d.y : d.z;
+    s.swap = dz < 0.0f;
+    s.sx = 0.0f;
+    s.sy = 0.0f;
+    s.sz = 0.0f;
+    return s;
+}
+
+TZ_LANE_FN ray_shear shear_of(vec3 d) {
+    ray_shear s = shear_order_of(d);
+    vec3 ds = shear_axes(d, s.kz, s.swap);
     TZ_PRECISE float sx = ds.x / ds.z, sy = ds.y / ds.z, sz = 1.0f / ds.z;
-    vec3 pa = shear_axes(v3_sub(a, o), kz, swap);
-    vec3 pb = shear_axes(v3_sub(b, o), kz, swap);
-    vec3 pc = shear_axes(v3_sub(c, o), kz, swap);
+    s.sx = sx;
+    s.sy = sy;
+    s.sz = sz;
+    return s;
+}
+
+/* The edge functions of the watertight test from the corners moved to the ray origin and put in
+ * shear_axes order (pa, pb, pc) and the ray's shear sx, sy, sz (shear_of). */
+TZ_LANE_FN triangle_edges sheared_edge_functions(vec3 pa, vec3 pb, vec3 pc, float sx, float sy,
+                                                 float sz) {
     TZ_PRECISE float ax2 = pa.x - sx * pa.z, ay2 = pa.y - sy * pa.z;
     TZ_PRECISE float bx2 = pb.x - sx * pb.z, by2 = pb.y - sy * pb.z;
     TZ_PRECISE float cx2 = pc.x - sx * pc.z, cy2 = pc.y - sy * pc.z;
@@ -114,17 +135,33 @@ TZ_LANE_FN triangle_edges triangle_edge_functions(vec3 a, vec3 b, vec3 c, vec3 o
     return e;
 }
 
-/* Distance to the triangle (corners a, b, c) along o + t d: t > tmin, infinity for a miss (or
- * when the ray leaves this very triangle, is_self: a plane cannot be met again). Both sides
- * count. Branch-free, as sphere_distance. */
-TZ_LANE_FN float triangle_distance(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d, float tmin,
-                                   TZ_BOOL is_self) {
-    triangle_edges e = triangle_edge_functions(a, b, c, o, d);
+/* The watertight ray-triangle test of Woop, Benthin and Wald (JCGT 2(1), 2013), without its
+ * double-precision fallback: the corners are moved to the ray origin and sheared so that the
+ * ray runs along +z, and the edge functions are 2D cross products of corners. An edge shared by
+ * two faces gives them exactly opposite edge functions (the same products, subtracted the other
+ * way round), so a ray through it hits at least one of them: no ray slips between faces. */
+TZ_LANE_FN triangle_edges triangle_edge_functions(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d) {
+    ray_shear s = shear_of(d);
+    return sheared_edge_functions(shear_axes(v3_sub(a, o), s.kz, s.swap),
+                                  shear_axes(v3_sub(b, o), s.kz, s.swap),
+                                  shear_axes(v3_sub(c, o), s.kz, s.swap), s.sx, s.sy, s.sz);
+}
+
+/* The distance of a triangle test's edge functions e: t > tmin, infinity for a miss (or when
+ * the ray leaves this very triangle, is_self: a plane cannot be met again). Both sides count. */
+TZ_LANE_FN float edges_distance(triangle_edges e, float tmin, TZ_BOOL is_self) {
     TZ_BOOL negative = (e.u < 0.0f) TZ_OR(e.v < 0.0f) TZ_OR(e.w < 0.0f);
     TZ_BOOL positive = (e.u > 0.0f) TZ_OR(e.v > 0.0f) TZ_OR(e.w > 0.0f);
     TZ_PRECISE float t = e.t_det / e.det;
     TZ_BOOL hit = !(negative TZ_AND positive)TZ_AND(e.det != 0.0f) TZ_AND(t > tmin) TZ_AND !is_self;
     return hit ? t : TZ_INFINITY;
+}
+
+/* Distance to the triangle (corners a, b, c) along o + t d, as edges_distance. Branch-free, as
+ * sphere_distance. */
+TZ_LANE_FN float triangle_distance(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d, float tmin,
+                                   TZ_BOOL is_self) {
+    return edges_distance(triangle_edge_functions(a, b, c, o, d), tmin, is_self);
 }
 
 /* The distance from o along wi, a direction drawn toward the triangle (a, b, c) by light

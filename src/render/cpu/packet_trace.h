@@ -108,18 +108,66 @@ LANE_FN void packet_sphere(const packed_scene *p, uint32_t s, const lanes3 *o, c
         keep_nearer_in_order(best, id, ts, (int)s);
 }
 
-/* packet_sphere for triangle primitive s (the triangles' ids follow the spheres'). */
-LANE_FN void packet_triangle(const packed_scene *p, uint32_t s, const lanes3 *o, const lanes3 *d,
-                             const int *self, const float *tmin, int tie, float *best, int *id) {
+/* The lanes' rays as the watertight test takes them (shear_of). Coherent rays share one axis
+ * order: then (uniform) each triangle's corners are put in it once for all lanes and the origins
+ * once a trace, and the lanes do only the test's arithmetic; with mixed orders each lane shears
+ * its own (triangle_distance). The bits are the same either way. */
+typedef struct shear_lanes {
+    int uniform, kz, swap;
+    lanes3 o; /* the origins in shear_axes order, when uniform */
+    float sx[LANES], sy[LANES], sz[LANES];
+} shear_lanes;
+
+/* The shear of the lanes' rays, when uniform: only the active lanes decide (the others' hits are
+ * never taken). Mixed orders cost only the test of the order. */
+LANE_FN void shear_lanes_of(const lanes3 *o, const lanes3 *d, const int *active, shear_lanes *sh) {
+    int kz[LANES], swap[LANES], first = 0, uniform = 0;
+    for (int k = 0; k < LANES; k++) { /* branch-free: vector code */
+        ray_shear r = shear_order_of(get3(d, k));
+        kz[k] = r.kz, swap[k] = r.swap;
+    }
+    while (first < LANES && !active[first]) first++;
+    if (first < LANES) {
+        uniform = 1;
+        for (int k = 0; k < LANES; k++)
+            uniform &= (!active[k]) | ((kz[k] == kz[first]) & (swap[k] == swap[first]));
+    }
+    sh->uniform = uniform;
+    if (!uniform) return;
+    sh->kz = kz[first], sh->swap = swap[first];
+    for (int k = 0; k < LANES; k++) {
+        ray_shear r = shear_of(get3(d, k));
+        sh->sx[k] = r.sx, sh->sy[k] = r.sy, sh->sz[k] = r.sz;
+        set3(&sh->o, k, shear_axes(get3(o, k), sh->kz, sh->swap));
+    }
+}
+
+/* packet_sphere for triangle primitive s (the triangles' ids follow the spheres'), the lanes'
+ * rays sheared by sh. */
+LANE_FN void packet_triangle(const packed_scene *p, uint32_t s, const shear_lanes *sh,
+                             const lanes3 *o, const lanes3 *d, const int *self, const float *tmin,
+                             int tie, float *best, int *id) {
     const triangle_soa *tr = &p->triangle_soa;
     uint32_t k = s - p->frame.sphere_count;
     vec3 a = v3(tr->v[0][k], tr->v[1][k], tr->v[2][k]);
     vec3 b = v3(tr->v[3][k], tr->v[4][k], tr->v[5][k]);
     vec3 c = v3(tr->v[6][k], tr->v[7][k], tr->v[8][k]);
     float ts[LANES];
-    for (int lane = 0; lane < LANES; lane++)
-        ts[lane] = triangle_distance(a, b, c, get3(o, lane), get3(d, lane), tmin[lane],
-                                     (int)s == self[lane]);
+    if (sh->uniform) {
+        vec3 as = shear_axes(a, sh->kz, sh->swap), bs = shear_axes(b, sh->kz, sh->swap);
+        vec3 cs = shear_axes(c, sh->kz, sh->swap);
+        for (int lane = 0; lane < LANES; lane++) {
+            vec3 os = get3(&sh->o, lane);
+            triangle_edges e =
+                sheared_edge_functions(v3_sub(as, os), v3_sub(bs, os), v3_sub(cs, os), sh->sx[lane],
+                                       sh->sy[lane], sh->sz[lane]);
+            ts[lane] = edges_distance(e, tmin[lane], (int)s == self[lane]);
+        }
+    } else {
+        for (int lane = 0; lane < LANES; lane++)
+            ts[lane] = triangle_distance(a, b, c, get3(o, lane), get3(d, lane), tmin[lane],
+                                         (int)s == self[lane]);
+    }
     if (tie)
         keep_nearer(best, id, ts, (int)s);
     else
@@ -141,6 +189,9 @@ LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d
                          const float *tmin, const int *active, int any_hit, float *best, int *id) {
     lanes3 inv;
     for (int k = 0; k < LANES; k++) set3(&inv, k, inverse_direction(get3(d, k)));
+    shear_lanes sh; /* read by triangle leaves alone; its arrays set only when uniform */
+    sh.uniform = 0, sh.kz = 0, sh.swap = 0;
+    if (p->frame.triangle_count > 0) shear_lanes_of(o, d, active, &sh);
     uint32_t stack[TZ_BVH_MAX_DEPTH];
     float stack_t[TZ_BVH_MAX_DEPTH][LANES];
     int top = 0;
@@ -153,7 +204,7 @@ LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d
                     packet_sphere(p, s, o, d, self, tmin, 1, best, id);
             else
                 for (uint32_t s = first; s < first + leaf_count; s++)
-                    packet_triangle(p, s, o, d, self, tmin, 1, best, id);
+                    packet_triangle(p, s, &sh, o, d, self, tmin, 1, best, id);
             if (any_hit && all_hit(id, active)) return;
         } else {
             const struct gpu_bvh_node *n = &p->nodes[first];
@@ -225,7 +276,12 @@ LANE_FN void packet_trace(const packed_scene *p, const lanes3 *o, const lanes3 *
     uint32_t count = p->frame.sphere_count, all = count + p->frame.triangle_count;
     if (!integrator_packet_walks(p)) {
         for (uint32_t s = 0; s < count; s++) packet_sphere(p, s, o, d, self, tmin, 0, t, id);
-        for (uint32_t s = count; s < all; s++) packet_triangle(p, s, o, d, self, tmin, 0, t, id);
+        if (all > count) {
+            shear_lanes sh;
+            shear_lanes_of(o, d, active, &sh);
+            for (uint32_t s = count; s < all; s++)
+                packet_triangle(p, s, &sh, o, d, self, tmin, 0, t, id);
+        }
     } else if (rays >= (any_hit ? SHADOW_WALK_GROUP_MIN : WALK_GROUP_MIN)) {
         if (any_hit)
             packet_walk_shadow(p, o, d, self, tmin, active, t, id);
