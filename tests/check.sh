@@ -15,6 +15,13 @@ run() {
     local rc=$?
     if [ "$rc" = "$want" ]; then ok; else bad "$name: exit $rc, want $want; stderr: $(head -c 600 "$tmp/err")"; fi
 }
+has() { # has NAME FILE TEXT: TEXT is in FILE
+    if grep -qF -- "$3" "$2"; then ok; else bad "$1: '$3' not in $(basename "$2"): $(head -c 400 "$2")"; fi
+}
+device_cuts_loops() { # device_cuts_loops TRAZADOR: "true" when the default device's driver stops
+    # loops silently (lavapipe 22.3; `devices` says what the probe found), else "false"
+    if "$1" devices 2>/dev/null | grep -A1 '^\*' | grep -q "loops stop silently"; then echo true; else echo false; fi
+}
 check_summary() { # check_summary NAME
     echo "$1: $passed passed, $failed failed"
     [ "$failed" = 0 ]

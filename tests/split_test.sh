@@ -7,9 +7,6 @@
 set -u
 tz=$1
 source "$(dirname "$0")/check.sh"
-has() { # has NAME TEXT: TEXT in the last stderr
-    if grep -qF -- "$2" "$tmp/err"; then ok; else bad "$1: '$2' not in stderr: $(head -c 600 "$tmp/err")"; fi
-}
 same() { # same NAME A B
     if cmp -s "$2" "$3"; then ok; else bad "$1: $2 and $3 differ"; fi
 }
@@ -48,7 +45,7 @@ for backend in cpu vulkan; do
     run "$backend stage regions on" 0 $tz merge top.exr region_3.exr region_2.exr -o merged.pfm
     same "$backend staged regions" merged.pfm whole.pfm
     run "$backend stage with a gap" 1 $tz merge region_0.exr region_3.exr --part -o gap.exr
-    has "$backend stage with a gap" "region 17,40,0,11 samples 0:40"
+    has "$backend stage with a gap" "$tmp/err" "region 17,40,0,11 samples 0:40"
     [ ! -e gap.exr ] && ok || bad "$backend: a refused staged merge wrote its output"
     mkdir -p "$backend"
     cp whole.pfm region_*.exr samples_*.exr "$backend/"
@@ -70,49 +67,49 @@ done
 # Refusals.
 cd cpu || exit 1
 run "overlap" 1 $tz merge region_0.exr region_0.exr region_1.exr region_2.exr region_3.exr -o x.pfm
-has "overlap" "region_0.exr and region_0.exr both hold samples 0:40 of region 0,17,0,11"
+has "overlap" "$tmp/err" "region_0.exr and region_0.exr both hold samples 0:40 of region 0,17,0,11"
 run "gap" 1 $tz merge region_0.exr region_1.exr region_3.exr -o x.pfm
-has "gap" "missing (region x0,x1,y0,y1 and samples A:B)"
-has "gap" "region 0,17,11,40 samples 0:40"
+has "gap" "$tmp/err" "missing (region x0,x1,y0,y1 and samples A:B)"
+has "gap" "$tmp/err" "region 0,17,11,40 samples 0:40"
 run "gap in samples" 1 $tz merge samples_0.exr samples_2.exr -o x.pfm
-has "gap in samples" "samples 16:32"
+has "gap in samples" "$tmp/err" "samples 16:32"
 $tz render $scene --backend cpu --seed 7 --region 0,17,0,11 -o seed7.exr
 run "other seed" 1 $tz merge seed7.exr region_1.exr region_2.exr region_3.exr -o x.pfm
-has "other seed" "seed7.exr and region_1.exr are parts of different renders"
-has "other seed" "different renders: seed 7 against 1" # not the digest, which covers it
+has "other seed" "$tmp/err" "seed7.exr and region_1.exr are parts of different renders"
+has "other seed" "$tmp/err" "different renders: seed 7 against 1" # not the digest, which covers it
 $tz render --width 40 --spp 48 --quiet --backend cpu --region 0,17,0,11 -o spp48.exr
 run "other spp" 1 $tz merge region_1.exr spp48.exr region_2.exr region_3.exr -o x.pfm
-has "other spp" "are parts of different renders: 40 against 48 samples per pixel"
+has "other spp" "$tmp/err" "are parts of different renders: 40 against 48 samples per pixel"
 $tz render --width 20 --spp 40 --quiet --backend cpu --region 0,17,0,11 -o width20.exr
 run "other width" 1 $tz merge region_1.exr width20.exr region_2.exr region_3.exr -o x.pfm
-has "other width" "are parts of different renders: image 40x40 against 20x20"
+has "other width" "$tmp/err" "are parts of different renders: image 40x40 against 20x20"
 $tz render $scene --backend cpu --bounces 2 --region 0,17,0,11 -o bounces.exr
 run "other settings" 1 $tz merge region_1.exr bounces.exr region_2.exr region_3.exr -o x.pfm
-has "other settings" "are parts of different renders: scene digest"
+has "other settings" "$tmp/err" "are parts of different renders: scene digest"
 run "not a part" 1 $tz merge whole.pfm region_1.exr -o x.pfm
 [ ! -e x.pfm ] && ok || bad "a refused merge wrote its output"
 run "samples not whole chunks" 2 $tz render $scene --samples 0:20 -o x.exr
-has "samples not whole chunks" "A a multiple of 16 and B one too or 40"
+has "samples not whole chunks" "$tmp/err" "A a multiple of 16 and B one too or 40"
 run "samples past spp" 2 $tz render $scene --samples 32:48 -o x.exr
 run "region outside" 2 $tz render $scene --region 0,41,0,40 -o x.exr
-has "region outside" "0 <= X0 < X1 <= 40"
+has "region outside" "$tmp/err" "0 <= X0 < X1 <= 40"
 run "region as png" 2 $tz render $scene --region 0,20,0,40 -o x.png
-has "region as png" "write an EXR part"
+has "region as png" "$tmp/err" "write an EXR part"
 run "merge nothing" 2 $tz merge -o x.pfm
 # -o - is standard output, with --format, as for render (issue 24, defect 4).
 $tz merge region_*.exr -o - --format pfm >stdout.pfm 2>/dev/null
 same "merge -o -" stdout.pfm whole.pfm
 [ ! -e ./- ] && ok || bad "merge -o - wrote a file named -"
 run "merge -o - without --format" 2 $tz merge region_*.exr -o -
-has "merge -o - without --format" "-o - (standard output) needs --format"
+has "merge -o - without --format" "$tmp/err" "-o - (standard output) needs --format"
 # The output may not be one of the parts, under its name or a hard link (issue 24, defect 3).
 cp region_0.exr region_0.keep
 cp region_1.exr region_1.keep
 ln region_1.exr region_1.link
 run "merge over a part" 2 $tz merge region_0.exr region_1.exr region_2.exr region_3.exr -o region_0.exr
-has "merge over a part" "output 'region_0.exr' is the part 'region_0.exr' being merged"
+has "merge over a part" "$tmp/err" "output 'region_0.exr' is the part 'region_0.exr' being merged"
 run "merge over a link" 2 $tz merge region_*.exr -o region_1.link --format exr
-has "merge over a link" "is the part 'region_1.exr' being merged"
+has "merge over a link" "$tmp/err" "is the part 'region_1.exr' being merged"
 same "merge over a part leaves it" region_0.exr region_0.keep
 same "merge over a link leaves it" region_1.exr region_1.keep
 cd .. || exit 1
@@ -146,7 +143,7 @@ for backend in cpu vulkan; do
     [ $rc = 143 ] && ok || bad "$backend: exit $rc after SIGTERM, want 143: $(tail -n 3 ck.err)"
     grep -q "stopped by SIGTERM at sample" ck.err && ok || bad "$backend: SIGTERM: $(tail -n 3 ck.err)"
     run "$backend resume" 0 $tz render $long --backend $backend --resume ck.exr -o long.pfm
-    has "$backend resume" "ck.exr: resuming at sample"
+    has "$backend resume" "$tmp/err" "ck.exr: resuming at sample"
     same "$backend resume" long.pfm long_whole.pfm
     if [ $backend = vulkan ]; then # through staging copies, as on a discrete GPU
         TRAZADOR_VK_STAGING=1 run "staged resume" 0 $tz render $long --backend vulkan \
@@ -167,31 +164,31 @@ for backend in cpu vulkan; do
     # A checkpoint of other settings is refused.
     run "$backend resume other" 1 $tz render --width 64 --spp 1024 --backend $backend \
         --resume ck.exr -o other.pfm
-    has "$backend resume other" "cannot resume this render from it: it holds other samples per pixel: 4096, this render 1024"
+    has "$backend resume other" "$tmp/err" "cannot resume this render from it: it holds other samples per pixel: 4096, this render 1024"
     run "$backend resume other seed" 1 $tz render $long --seed 9 --backend $backend \
         --resume ck.exr -o other.pfm
-    has "$backend resume other seed" "it holds another seed: 1, this render 9"
+    has "$backend resume other seed" "$tmp/err" "it holds another seed: 1, this render 9"
     run "$backend resume other bounces" 1 $tz render $long --bounces 2 --backend $backend \
         --resume ck.exr -o other.pfm
-    has "$backend resume other bounces" "it holds another scene or other settings: digest"
+    has "$backend resume other bounces" "$tmp/err" "it holds another scene or other settings: digest"
 done
 
 # Parts and checkpoints of the two back ends differ by rounding: a merge or a resume that mixes
 # them is refused naming both; auto resumes on the checkpoint's own back end (issue 24, defect 5).
 run "merge of two back ends" 1 $tz merge cpu/region_0.exr vulkan/region_1.exr cpu/region_2.exr \
     cpu/region_3.exr -o mixed.pfm
-has "merge of two back ends" "cpu/region_0.exr and vulkan/region_1.exr are parts of different renders: back end cpu against vulkan: "
+has "merge of two back ends" "$tmp/err" "cpu/region_0.exr and vulkan/region_1.exr are parts of different renders: back end cpu against vulkan: "
 [ ! -e mixed.pfm ] && ok || bad "merge of two back ends wrote its output"
 run "resume on the other back end" 1 $tz render $long --backend cpu --resume ck.exr -o other.pfm
-has "resume on the other back end" "ck.exr: cannot resume this render from it: it was rendered by the vulkan: "
-has "resume on the other back end" "and --backend cpu asks for the other: the two differ by rounding"
+has "resume on the other back end" "$tmp/err" "ck.exr: cannot resume this render from it: it was rendered by the vulkan: "
+has "resume on the other back end" "$tmp/err" "and --backend cpu asks for the other: the two differ by rounding"
 run "resume on auto" 0 $tz render $long --resume ck.exr -o auto.pfm
 same "resume on auto" auto.pfm long_whole.pfm
 $tz render $long --backend cpu --samples 0:16 -o cpu_ck.exr
 run "resume cpu on vulkan" 1 $tz render $long --backend vulkan --resume cpu_ck.exr -o other.pfm
-has "resume cpu on vulkan" "it was rendered by the cpu back end, and --backend vulkan asks for the other"
+has "resume cpu on vulkan" "$tmp/err" "it was rendered by the cpu back end, and --backend vulkan asks for the other"
 run "resume cpu on a device" 1 $tz render $long --device 0 --resume cpu_ck.exr -o other.pfm
-has "resume cpu on a device" "it was rendered by the cpu back end, and --backend vulkan asks for the other"
+has "resume cpu on a device" "$tmp/err" "it was rendered by the cpu back end, and --backend vulkan asks for the other"
 [ ! -e other.pfm ] && ok || bad "a refused resume wrote its output"
 
 # A finished render removes its checkpoint once the output is written, unless asked to keep it;
@@ -227,7 +224,7 @@ ls .trazador-* >/dev/null 2>&1 && bad "full disk: a temporary file was left" || 
 # it is the very part of that many samples.
 tl="--width 32 --spp 1048576 --backend cpu"
 run "time limit" 0 $tz render $tl --time-limit 0.5 -o tl.pfm
-has "time limit" "time limit: every pixel got samples 0:"
+has "time limit" "$tmp/err" "time limit: every pixel got samples 0:"
 run "time limit part" 0 $tz render $tl --time-limit 0.3 --part -o tl.exr
 n=$(sed -n 's/.*every pixel got samples 0:\([0-9]*\) .*/\1/p' "$tmp/err")
 [ -n "$n" ] && [ $((n % 16)) = 0 ] && [ "$n" -gt 0 ] && ok || bad "time limit: '$n' samples, not whole chunks"
