@@ -164,10 +164,9 @@ static mesh_material map_material(const struct aiMaterial *m, char *unsupported,
     return out;
 }
 
-/* count faces in shared memory fd, mapped for reading and writing; NULL on failure. */
+/* count (> 0) faces in shared memory fd, mapped for reading and writing; NULL on failure. */
 static mesh_face *map_faces(int fd, size_t count) {
-    size_t bytes = (count ? count : 1) * sizeof(mesh_face);
-    void *at = mmap(NULL, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    void *at = mmap(NULL, count * sizeof(mesh_face), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
     return at == MAP_FAILED ? NULL : at;
 }
 
@@ -355,8 +354,8 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
         struct stat shared;
         bool fits = fstat(shm, &shared) == 0 &&
                     (uint64_t)shared.st_size >= r.face_count * sizeof *out->faces;
-        out->faces = fits ? map_faces(shm, r.face_count) : NULL;
-        out->faces_mapped = out->faces ? r.face_count : 0;
+        out->faces = fits && r.face_count > 0 ? map_faces(shm, r.face_count) : NULL;
+        out->faces_mapped = r.face_count;
         out->materials = calloc((size_t)r.material_count + 1, sizeof *out->materials);
         if (!out->faces || !out->materials) {
             fail(error, error_size, "out of memory for %zu faces", r.face_count);
@@ -447,10 +446,7 @@ bool mesh_closed(const mesh *m) {
 }
 
 void mesh_free(mesh *m) {
-    if (m->faces_mapped)
-        munmap(m->faces, m->faces_mapped * sizeof *m->faces);
-    else
-        free(m->faces);
+    if (m->faces) munmap(m->faces, m->faces_mapped * sizeof *m->faces);
     free(m->materials);
     memset(m, 0, sizeof *m);
 }
