@@ -170,10 +170,11 @@ TZ_LANE_FN float triangle_distance(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d, float
  * plane. */
 TZ_FN float triangle_light_distance(vec3 a, vec3 b, vec3 c, vec3 o, vec3 wi) {
     float t = triangle_distance(a, b, c, o, wi, ray_eps(o), TZ_FALSE);
+    if (t < TZ_INFINITY) return t;                                /* the plane is the rare case's */
     vec3 ng = v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a))); /* unit: dot stays finite */
     TZ_PRECISE float plane = v3_dot(v3_sub(a, o), ng) / v3_dot(wi, ng);
     TZ_BOOL meets = (plane > ray_eps(o)) TZ_AND(plane < TZ_INFINITY);
-    return t < TZ_INFINITY ? t : meets ? plane : TZ_INFINITY;
+    return meets ? plane : TZ_INFINITY;
 }
 
 /* The tie rule: true when primitive k at distance t replaces the nearest hit so far (primitive id
