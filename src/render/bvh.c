@@ -9,7 +9,6 @@
 #include "render/bvh.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 
 #include "render/bvh_builder.h"
@@ -88,22 +87,13 @@ static void make_items(const bvh_input *in, builder *b, uint32_t count, task *ro
     if (count / MIN_ITEMS_PER_THREAD < (uint32_t)parts) parts = (int)(count / MIN_ITEMS_PER_THREAD);
     if (parts < 1) parts = 1;
     item_share shares[MAX_THREADS];
-    pthread_t threads[MAX_THREADS];
-    bool started[MAX_THREADS] = {false};
     for (int t = 0; t < parts; t++) {
         shares[t] = (item_share){.in = in,
                                  .b = b,
                                  .begin = (uint32_t)((uint64_t)count * t / parts),
                                  .end = (uint32_t)((uint64_t)count * (t + 1) / parts)};
-        if (t > 0) started[t] = pthread_create(&threads[t], NULL, item_share_run, &shares[t]) == 0;
     }
-    item_share_run(&shares[0]);
-    for (int t = 1; t < parts; t++) {
-        if (started[t])
-            pthread_join(threads[t], NULL);
-        else
-            item_share_run(&shares[t]); /* no thread: on this one */
-    }
+    bvh_run_shares(item_share_run, shares, sizeof *shares, parts);
     root->bounds = box_empty(), root->cbox = box_empty();
     for (int t = 0; t < parts; t++) {
         box_grow(&root->bounds, &shares[t].bounds);

@@ -1,7 +1,6 @@
 /* bvh_sah.c: where the surface area heuristic splits a node: its items binned on three axes
  * (on all threads for the nodes above the tasks: each bins a slice, the bins are merged), then
  * the cheapest split between bins, with the children's boxes. */
-#include <pthread.h>
 #include <stdlib.h>
 
 #include "render/bvh_builder.h"
@@ -140,31 +139,19 @@ static void bin_shared(const builder *b, uint32_t begin, uint32_t end, const bin
         return;
     }
     bin_share *shares = malloc((size_t)parts * sizeof *shares);
-    pthread_t threads[MAX_THREADS];
-    int started = 0;
-    if (shares) {
-        for (int t = 0; t < parts; t++) {
-            shares[t] = (bin_share){.items = b->items,
-                                    .begin = begin + (uint32_t)((uint64_t)n * t / parts),
-                                    .end = begin + (uint32_t)((uint64_t)n * (t + 1) / parts),
-                                    .g = g};
-        }
-        while (started < parts - 1 &&
-               pthread_create(&threads[started], NULL, bin_share_run, &shares[started + 1]) == 0)
-            started++;
-    }
-    if (!shares || started < parts - 1) { /* no memory or no threads: bin on this one */
-        for (int t = 0; t < started; t++) pthread_join(threads[t], NULL);
-        free(shares);
+    if (!shares) { /* no memory: bin on this thread */
         bin_items(b->items, begin, end, g, out);
         return;
     }
-    bin_share_run(&shares[0]);
-    *out = shares[0].out;
-    for (int t = 0; t < started; t++) {
-        pthread_join(threads[t], NULL);
-        bins_merge(out, &shares[t + 1].out);
+    for (int t = 0; t < parts; t++) {
+        shares[t] = (bin_share){.items = b->items,
+                                .begin = begin + (uint32_t)((uint64_t)n * t / parts),
+                                .end = begin + (uint32_t)((uint64_t)n * (t + 1) / parts),
+                                .g = g};
     }
+    bvh_run_shares(bin_share_run, shares, sizeof *shares, parts);
+    *out = shares[0].out;
+    for (int t = 1; t < parts; t++) bins_merge(out, &shares[t].out);
     free(shares);
 }
 
