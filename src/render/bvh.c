@@ -12,6 +12,7 @@
 #include <stdlib.h>
 
 #include "render/bvh_builder.h"
+#include "util/big_memory.h"
 #include "util/log.h"
 #include "util/threads.h"
 
@@ -108,10 +109,10 @@ bool bvh_build_primitives(const bvh_input *in, uint32_t max_depth, int threads, 
                  .threads = thread_count(threads, MAX_THREADS),
                  .first_triangle = in->sphere_count};
     size_t n = count ? count : 1;
-    b.items = malloc(n * sizeof *b.items);
-    b.nodes = malloc(2 * n * sizeof *b.nodes);
-    b.order = malloc(n * sizeof *b.order);
-    struct gpu_bvh_node *flat = malloc(n * sizeof *flat); /* the inner nodes: fewer than n */
+    b.items = big_malloc(n * sizeof *b.items);
+    b.nodes = big_malloc(2 * n * sizeof *b.nodes);
+    b.order = big_malloc(n * sizeof *b.order);
+    struct gpu_bvh_node *flat = big_malloc(n * sizeof *flat); /* the inner nodes: fewer than n */
     if (!b.items || !b.nodes || !b.order || !flat) {
         log_error("out of memory building a BVH over %u primitives", count);
         free(b.items), free(b.nodes), free(b.order), free(flat);

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "render/bvh_builder.h"
+#include "util/big_memory.h"
 
 static float float_of(uint32_t u) {
     float f;
@@ -106,7 +107,7 @@ uint32_t bvh_flatten_all(builder *b, struct gpu_bvh_node *out) {
  * their order, then triangles: each leaf's range (of one kind) maps to consecutive ids. */
 bool bvh_renumber_leaves(const builder *b, uint32_t count, struct gpu_bvh_node *nodes,
                          uint32_t node_count) {
-    uint32_t *id = malloc((count ? count : 1) * sizeof *id);
+    uint32_t *id = big_malloc((count ? count : 1) * sizeof *id);
     if (!id) return false;
     uint32_t spheres = 0, triangles = 0;
     for (uint32_t k = 0; k < count; k++)

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/big_memory.h"
 #include "util/log.h"
 
 /* trace_bvh (shaders/intersect.glsl) walks either tree with one stack of TZ_WIDE_STACK. */
@@ -180,7 +181,7 @@ bool bvh_widen(const struct gpu_bvh_node *nodes, uint32_t count, struct gpu_wide
                uint32_t *out_count) {
     *out = NULL, *out_count = 0;
     if (count == 0) return true;
-    widener w = {.binary = nodes, .out = malloc(count * sizeof *w.out)};
+    widener w = {.binary = nodes, .out = big_malloc(count * sizeof *w.out)};
     if (!w.out || !inner_depth(nodes, count, &w.depth)) {
         free(w.out);
         log_error("out of memory for the wide BVH of %u nodes", count);

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "render/bvh.h"
+#include "util/big_memory.h"
 #include "util/clock.h"
 #include "util/log.h"
 
@@ -82,9 +83,9 @@ static bool pack_bvh(packed_scene *out, uint32_t spheres, uint32_t triangles, bo
     bvh tree;
     bvh_input in = {out->spheres, spheres, out->triangles, triangles};
     if (!bvh_build_primitives(&in, TZ_BVH_MAX_DEPTH, 0, &tree)) return false;
-    struct gpu_sphere *sorted = malloc((spheres ? spheres : 1) * sizeof *sorted);
-    struct gpu_triangle *sorted_t = calloc(triangles ? triangles : 1, sizeof *sorted_t);
-    *triangle_source = malloc((triangles ? triangles : 1) * sizeof **triangle_source);
+    struct gpu_sphere *sorted = big_malloc((spheres ? spheres : 1) * sizeof *sorted);
+    struct gpu_triangle *sorted_t = big_calloc(triangles ? triangles : 1, sizeof *sorted_t);
+    *triangle_source = big_malloc((triangles ? triangles : 1) * sizeof **triangle_source);
     if (!sorted || !sorted_t || !*triangle_source) {
         log_error("out of memory sorting %u primitives into BVH order", spheres + triangles);
         free(sorted), free(sorted_t), free(*triangle_source);
@@ -169,7 +170,7 @@ static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
         double power = triangle_power(&sc->triangles[k]);
         if (power > 0.0) total += power, n++;
     }
-    out->emitters = calloc(n ? n : 1, sizeof *out->emitters);
+    out->emitters = big_calloc(n ? n : 1, sizeof *out->emitters);
     if (!out->emitters) {
         log_error("out of memory packing %u emitters", n);
         return false;
@@ -217,9 +218,9 @@ static bool pack_triangles(packed_scene *out, const scene *s) {
         materials += k == 0 || !same_material(&s->triangles[k], &s->triangles[k - 1]);
         smooth += s->triangles[k].smooth;
     }
-    out->triangles = calloc(count ? count : 1, sizeof *out->triangles);
+    out->triangles = big_calloc(count ? count : 1, sizeof *out->triangles);
     out->materials = calloc(materials ? materials : 1, sizeof *out->materials);
-    out->normals = calloc(smooth ? smooth : 1, sizeof *out->normals);
+    out->normals = big_calloc(smooth ? smooth : 1, sizeof *out->normals);
     if (!out->triangles || !out->materials || !out->normals) return false;
     uint32_t m = 0, n = 0;
     for (uint32_t k = 0; k < count; k++) {
@@ -249,7 +250,7 @@ static bool pack_triangles(packed_scene *out, const scene *s) {
 /* The corners' structure-of-arrays copy, padded as pack_soa's. */
 static bool pack_triangle_soa(packed_scene *out, uint32_t count) {
     size_t n = ((size_t)count + SOA_LANES - 1) / SOA_LANES * SOA_LANES + SOA_LANES;
-    out->triangle_soa.v[0] = calloc(9 * n, sizeof(float));
+    out->triangle_soa.v[0] = big_calloc(9 * n, sizeof(float));
     if (!out->triangle_soa.v[0]) return false;
     for (int a = 1; a < 9; a++) out->triangle_soa.v[a] = out->triangle_soa.v[0] + a * n;
     for (uint32_t k = 0; k < count; k++) {
@@ -266,7 +267,7 @@ static bool pack_triangle_soa(packed_scene *out, uint32_t count) {
 /* The structure-of-arrays copy, padded by SOA_LANES zeros past every array's end. */
 static bool pack_soa(packed_scene *out, uint32_t count) {
     size_t n = ((size_t)count + SOA_LANES - 1) / SOA_LANES * SOA_LANES + SOA_LANES;
-    out->soa.cx = calloc(4 * n, sizeof(float));
+    out->soa.cx = big_calloc(4 * n, sizeof(float));
     if (!out->soa.cx) return false;
     out->soa.cy = out->soa.cx + n;
     out->soa.cz = out->soa.cx + 2 * n;
@@ -285,7 +286,7 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     *out = (packed_scene){0};
     uint32_t count = (uint32_t)s->sphere_count;
     /* One zero element when empty keeps every buffer non-empty for Vulkan. */
-    out->spheres = calloc(count ? count : 1, sizeof *out->spheres);
+    out->spheres = big_calloc(count ? count : 1, sizeof *out->spheres);
     out->lights = calloc(s->light_count ? (size_t)s->light_count : 1, sizeof *out->lights);
     if (!out->spheres || !out->lights || !pack_triangles(out, s)) {
         log_error("out of memory packing %u spheres and %d triangles", count, s->triangle_count);

@@ -164,9 +164,12 @@ static mesh_material map_material(const struct aiMaterial *m, char *unsupported,
     return out;
 }
 
-/* count (> 0) faces in shared memory fd, mapped for reading and writing; NULL on failure. */
+/* count (> 0) faces in shared memory fd, mapped for reading and writing; NULL on failure. Its
+ * pages are mapped at once (MAP_POPULATE): a million faces touched one 4 KB fault at a time cost
+ * the child 0.1 s to write and the parent as much to read on a virtual machine. */
 static mesh_face *map_faces(int fd, size_t count) {
-    void *at = mmap(NULL, count * sizeof(mesh_face), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    void *at = mmap(NULL, count * sizeof(mesh_face), PROT_READ | PROT_WRITE,
+                    MAP_SHARED | MAP_POPULATE, fd, 0);
     return at == MAP_FAILED ? NULL : at;
 }
 

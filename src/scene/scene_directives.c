@@ -8,6 +8,7 @@
 
 #include "scene/directives.h"
 #include "scene/parser.h"
+#include "util/big_memory.h"
 
 void directive_append(char *message, size_t size, const char *fmt, ...) {
     size_t used = strlen(message);
@@ -28,7 +29,7 @@ bool directive_grow(parser *p, void **array, size_t *capacity, int count, int ad
     size_t capacity_new = *capacity ? *capacity * 2 : 64;
     if (capacity_new < (size_t)count + (size_t)adding) capacity_new = (size_t)count + adding;
     if (capacity_new > (size_t)max) capacity_new = (size_t)max;
-    void *grown = realloc(*array, capacity_new * item);
+    void *grown = big_realloc(*array, capacity_new * item);
     if (!grown) {
         if (p->err) p->err->out_of_memory = true;
         return parser_fail(p, p->tokens[0].col, "out of memory after %d %s", count, what);
