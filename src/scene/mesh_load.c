@@ -296,10 +296,6 @@ static bool read_all_by(int fd, void *data, size_t size, double deadline, bool *
     return true;
 }
 
-/* The child: imports into shared memory shm and sends the outcome down fd. A crash in assimp
- * ends this process whatever handlers the parent installed (a sanitizer's or a fuzzer's would
- * report it as the parent's); a file-size limit fails the shared memory's growth, not the
- * process. */
 #if defined(__SANITIZE_ADDRESS__)
 #define HEAP_RESERVE 0
 #elif defined(__has_feature)
@@ -345,6 +341,10 @@ static void heap_reserve(size_t file_bytes) {
     while (n > 0) free(block[--n]);
 }
 
+/* The child: imports into shared memory shm and sends the outcome down fd. A crash in assimp
+ * ends this process whatever handlers the parent installed (a sanitizer's or a fuzzer's would
+ * report it as the parent's); a file-size limit fails the shared memory's growth, not the
+ * process. */
 static void child_run(int fd, int shm, const char *path, bool smooth, size_t file_bytes) {
     const int crashes[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
     for (size_t k = 0; k < sizeof crashes / sizeof crashes[0]; k++) signal(crashes[k], SIG_DFL);
