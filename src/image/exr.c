@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "util/atomic_file.h"
+#include "util/big_memory.h"
 #include "util/log.h"
 
 /* The bytes of a file being encoded or decoded, and the first message the library reported. */
@@ -336,7 +337,7 @@ static bool read_header(exr_context_t ctx, const char *path, const exr_io *io, e
             return false;
         }
         memcpy(ch->name, e->name.str, (size_t)e->name.length);
-        ch->data = calloc((size_t)w * (size_t)h, sample_bytes(ch->type));
+        ch->data = big_calloc((size_t)w * (size_t)h, sample_bytes(ch->type));
         if (!ch->data) {
             log_error("%s: out of memory for channel '%s'", path, ch->name);
             return false;

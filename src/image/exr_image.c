@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "image/exr.h"
+#include "util/big_memory.h"
 #include "util/log.h"
 
 bool exr_write_image(const char *path, const image *img, bool half) {
@@ -12,7 +13,7 @@ bool exr_write_image(const char *path, const image *img, bool half) {
     bool ok = true;
     for (int c = 0; c < 3; c++) {
         channels[c].type = half ? EXR_SAMPLE_HALF : EXR_SAMPLE_FLOAT;
-        channels[c].data = malloc(n * (half ? sizeof(uint16_t) : sizeof(float)));
+        channels[c].data = big_malloc(n * (half ? sizeof(uint16_t) : sizeof(float)));
         if (!channels[c].data) ok = false;
     }
     if (!ok) log_error("%s: out of memory for a %dx%d image", path, img->width, img->height);

@@ -3,9 +3,11 @@
 
 #include <stdlib.h>
 
+#include "util/big_memory.h"
+
 bool film_init(film *f, int width, int height) {
     *f = (film){0};
-    f->accum = calloc((size_t)width * (size_t)height * 4, sizeof(float));
+    f->accum = big_calloc((size_t)width * (size_t)height * 4, sizeof(float));
     if (!f->accum) return false;
     f->width = width;
     f->height = height;

@@ -14,6 +14,7 @@
 #include "image/exr.h"
 #include "image/image_png.h"
 #include "util/atomic_file.h"
+#include "util/big_memory.h"
 #include "util/log.h"
 
 typedef enum image_format {
@@ -57,7 +58,7 @@ bool image_init(image *img, int width, int height) {
         log_error("image size %dx%d is outside 1..%d", width, height, IMAGE_MAX_DIM);
         return false;
     }
-    img->rgb = calloc((size_t)width * (size_t)height * 3, sizeof(float));
+    img->rgb = big_calloc((size_t)width * (size_t)height * 3, sizeof(float));
     if (!img->rgb) {
         log_error("out of memory for a %dx%d image", width, height);
         return false;
@@ -136,7 +137,7 @@ static int write_error(void) { return errno ? errno : EIO; }
 
 static uint8_t *encode_8bit(const image *img, tonemap tm) {
     size_t n = (size_t)img->width * (size_t)img->height * 3;
-    uint8_t *bytes = malloc(n);
+    uint8_t *bytes = big_malloc(n);
     tonemap_table table;
     tonemap_table_init(&table, tm);
     if (bytes)

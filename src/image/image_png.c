@@ -11,6 +11,7 @@
 #include <string.h>
 #include <zlib.h>
 
+#include "util/big_memory.h"
 #include "util/log.h"
 
 /* What libpng's error and warning handlers keep for the caller. */
@@ -147,7 +148,7 @@ bool image_png_read(FILE *fp, const char *path, image *out, tonemap tm) {
     bool wide = bits == 16;
     size_t row_bytes = png_get_rowbytes(png, info);
     /* The whole image, since interlaced rows are filled in over seven passes. */
-    pixels = malloc(row_bytes * h);
+    pixels = big_malloc(row_bytes * h);
     rows = malloc(h * sizeof *rows);
     lut = decode_table(bits, tm);
     if (!pixels || !rows || !lut) {

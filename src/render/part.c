@@ -9,6 +9,7 @@
 
 #include "image/image.h"
 #include "render/part_internal.h"
+#include "util/big_memory.h"
 #include "util/log.h"
 
 bool part_meta_valid(const part_meta *m, const char *where) {
@@ -51,7 +52,7 @@ bool part_init(part *p, const part_meta *meta) {
     p->meta.sample_end = p->meta.sample_begin;
     if (!part_meta_valid(&p->meta, "part")) return false;
     p->stack = chunk_stack_at(chunk_at(&p->meta, p->meta.sample_begin));
-    p->count = calloc(region_pixels(&p->meta), sizeof *p->count);
+    p->count = big_calloc(region_pixels(&p->meta), sizeof *p->count);
     if (!p->count) {
         log_error("out of memory for a part of %zu pixels", region_pixels(&p->meta));
         return false;
@@ -62,12 +63,12 @@ bool part_init(part *p, const part_meta *meta) {
 bool part_copy(const part *src, part *dst) {
     *dst = (part){.meta = src->meta, .stack = src->stack};
     size_t n = region_pixels(&src->meta);
-    bool ok = (dst->count = malloc(n * sizeof *dst->count)) != NULL;
+    bool ok = (dst->count = big_malloc(n * sizeof *dst->count)) != NULL;
     if (ok) memcpy(dst->count, src->count, n * sizeof *dst->count);
     for (int k = 0; ok && k < src->stack.count; k++)
-        if ((ok = (dst->block[k] = malloc(n * 3 * sizeof(float))) != NULL))
+        if ((ok = (dst->block[k] = big_malloc(n * 3 * sizeof(float))) != NULL))
             memcpy(dst->block[k], src->block[k], n * 3 * sizeof(float));
-    if (ok && src->open && (ok = (dst->open = malloc(n * 6 * sizeof(float))) != NULL))
+    if (ok && src->open && (ok = (dst->open = big_malloc(n * 6 * sizeof(float))) != NULL))
         memcpy(dst->open, src->open, n * 6 * sizeof(float));
     if (!ok) {
         log_error("out of memory for a copy of a part of %zu pixels", n);
@@ -92,7 +93,7 @@ bool part_push_chunk(part *p, const float *rgb, const uint32_t *count) {
     }
     size_t n = region_pixels(m);
     int top = p->stack.count;
-    float *plane = malloc(n * 3 * sizeof *plane);
+    float *plane = big_malloc(n * 3 * sizeof *plane);
     if (!plane) {
         log_error("out of memory for a part of %zu pixels", n);
         return false;

@@ -7,6 +7,7 @@
 
 #include "image/exr.h"
 #include "render/part_internal.h"
+#include "util/big_memory.h"
 #include "util/log.h"
 
 /* The file's channels: R G B mean, count, each block's RGB, the open chunk's sums. */
@@ -109,11 +110,11 @@ bool part_write(const char *path, const part *p) {
     size_t n = region_pixels(m);
     part_channels pc;
     name_channels(p, &pc);
-    float *mean = malloc(n * 3 * sizeof *mean);
+    float *mean = big_malloc(n * 3 * sizeof *mean);
     float *open[6] = {NULL};
     bool has_open = p->open && !chunk_aligned(m, m->sample_end), ok = mean != NULL;
     for (int c = 0; ok && has_open && c < 6; c++)
-        ok = (open[c] = malloc(n * sizeof(float))) != NULL;
+        ok = (open[c] = big_malloc(n * sizeof(float))) != NULL;
     if (!ok) log_error("%s: out of memory for a part of %zu pixels", path, n);
     for (size_t i = 0; ok && i < n; i++) {
         float total[3];
@@ -128,7 +129,7 @@ bool part_write(const char *path, const part *p) {
         }
     }
     /* Block planes are interleaved RGB; the file's channels are planar. */
-    float *planes = ok ? malloc((size_t)p->stack.count * 3 * n * sizeof *planes) : NULL;
+    float *planes = ok ? big_malloc((size_t)p->stack.count * 3 * n * sizeof *planes) : NULL;
     if (ok && p->stack.count && !planes) {
         log_error("%s: out of memory for a part of %zu pixels", path, n);
         ok = false;
@@ -271,7 +272,7 @@ bool part_read(const char *path, part *out) {
             ok = false;
         }
     for (int k = 0; ok && k < out->stack.count; k++) {
-        ok = (out->block[k] = malloc(n * 3 * sizeof(float))) != NULL;
+        ok = (out->block[k] = big_malloc(n * 3 * sizeof(float))) != NULL;
         if (!ok) log_error("%s: out of memory for a part of %zu pixels", path, n);
         for (int c = 0; ok && c < 3; c++) {
             const exr_channel *ch =
@@ -281,7 +282,7 @@ bool part_read(const char *path, part *out) {
                 out->block[k][3 * i + c] = ((const float *)ch->data)[i];
         }
     }
-    if (ok && open && !(out->open = malloc(n * 6 * sizeof(float)))) {
+    if (ok && open && !(out->open = big_malloc(n * 6 * sizeof(float)))) {
         log_error("%s: out of memory for a part of %zu pixels", path, n);
         ok = false;
     }

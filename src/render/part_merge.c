@@ -7,6 +7,7 @@
 
 #include "render/chunk_values.h"
 #include "render/part_internal.h"
+#include "util/big_memory.h"
 #include "util/log.h"
 
 /* Most missing pieces a refused merge lists. */
@@ -306,7 +307,7 @@ static bool merge_parts(const part *parts, const char *const *names, int n, bool
         chunk_stack_of(chunk_at(&m, m.sample_begin), chunk_at(&m, end), &out->stack);
         size_t pixels = region_pixels(&m);
         for (int k = 0; ok && k < out->stack.count; k++)
-            ok = (out->block[k] = malloc(pixels * 3 * sizeof(float))) != NULL;
+            ok = (out->block[k] = big_malloc(pixels * 3 * sizeof(float))) != NULL;
         if (!ok) log_error("merge: out of memory for a %dx%d image", m.x1 - m.x0, m.y1 - m.y0);
     }
     ok = ok && merge_sums(parts, n, &g, out);

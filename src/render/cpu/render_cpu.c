@@ -17,6 +17,7 @@
 #include "render/part.h"
 #include "render/pass_loop.h"
 #include "render/render.h"
+#include "util/big_memory.h"
 #include "util/clock.h"
 #include "util/log.h"
 #include "util/threads.h"
@@ -181,7 +182,7 @@ static bool plan_pass(cpu_job *job, chunk_stack *shape, uint32_t chunks, int *to
     }
     job->new_count = shape->count;
     for (int b = 0; b < shape->count; b++)
-        if (!p->block[b] && !(p->block[b] = malloc(n * 3 * sizeof(float)))) {
+        if (!p->block[b] && !(p->block[b] = big_malloc(n * 3 * sizeof(float)))) {
             log_error("out of memory for a part of %zu pixels", n);
             return false;
         }
@@ -189,11 +190,11 @@ static bool plan_pass(cpu_job *job, chunk_stack *shape, uint32_t chunks, int *to
     job->out_count = p->count;
     if (!job->stop) return true;
     for (int b = 0; b < shape->count; b++)
-        if (!job->spare[b] && !(job->spare[b] = malloc(n * 3 * sizeof(float)))) {
+        if (!job->spare[b] && !(job->spare[b] = big_malloc(n * 3 * sizeof(float)))) {
             log_error("out of memory for a part of %zu pixels", n);
             return false;
         }
-    if (!job->spare_count && !(job->spare_count = malloc(n * sizeof *job->spare_count))) {
+    if (!job->spare_count && !(job->spare_count = big_malloc(n * sizeof *job->spare_count))) {
         log_error("out of memory for a part of %zu pixels", n);
         return false;
     }

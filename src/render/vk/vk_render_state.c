@@ -7,6 +7,7 @@
 
 #include "render/bvh_wide.h"
 #include "render/vk/vk_strategy.h"
+#include "util/big_memory.h"
 #include "util/clock.h"
 #include "util/log.h"
 
@@ -233,7 +234,7 @@ static bool sync_part(const pass_plan *plan, const char *sums, const char *stack
         if (k >= shape->count) {
             free(p->block[k]);
             p->block[k] = NULL;
-        } else if (!p->block[k] && !(p->block[k] = malloc(n * STACK_BLOCK_BYTES))) {
+        } else if (!p->block[k] && !(p->block[k] = big_malloc(n * STACK_BLOCK_BYTES))) {
             log_error("out of memory for a part of %zu pixels", n);
             return false;
         }
