@@ -26,6 +26,8 @@ static void *advise(void *p, size_t bytes) {
     return p;
 }
 
+void big_memory_advise(void *p, size_t bytes) { advise(p, bytes); }
+
 void *big_malloc(size_t bytes) { return advise(malloc(bytes), bytes); }
 
 void *big_calloc(size_t count, size_t size) {

@@ -6,6 +6,7 @@
 
 #include "render/render.h"
 #include "render/vk/vk_context.h"
+#include "util/big_memory.h"
 #include "util/log.h"
 
 #ifdef __linux__
@@ -130,6 +131,8 @@ bool vk_buffer_create(vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usa
         vk_buffer_destroy(ctx, out);
         return false;
     }
+    /* lavapipe's memory is the process's own: untouched, it faults 2 MB at a time if advised. */
+    if (map) big_memory_advise(out->mapped, req.size);
     return true;
 }
 
