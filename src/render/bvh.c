@@ -94,7 +94,7 @@ static void make_items(const bvh_input *in, builder *b, uint32_t count, task *ro
                                  .begin = (uint32_t)((uint64_t)count * t / parts),
                                  .end = (uint32_t)((uint64_t)count * (t + 1) / parts)};
     }
-    bvh_run_shares(item_share_run, shares, sizeof *shares, parts);
+    threads_run(item_share_run, shares, sizeof *shares, parts);
     root->bounds = box_empty(), root->cbox = box_empty();
     for (int t = 0; t < parts; t++) {
         box_grow(&root->bounds, &shares[t].bounds);

@@ -153,24 +153,6 @@ static inline binning binning_of(const box *cbox) {
     return g;
 }
 
-/* Runs run(&shares[t]) for each of the count shares of `size` bytes, share 0 on this thread and
- * the others on threads of their own, or on this one where a thread cannot start: a slice's work
- * is the same wherever it runs. */
-static inline void bvh_run_shares(void *(*run)(void *), void *shares, size_t size, int count) {
-    pthread_t threads[MAX_THREADS];
-    bool started[MAX_THREADS] = {false};
-    char *at = shares;
-    for (int t = 1; t < count; t++)
-        started[t] = pthread_create(&threads[t], NULL, run, at + (size_t)t * size) == 0;
-    run(at);
-    for (int t = 1; t < count; t++) {
-        if (started[t])
-            pthread_join(threads[t], NULL);
-        else
-            run(at + (size_t)t * size);
-    }
-}
-
 /* The cheapest SAH split of items [begin, end) binned by g, on all of b's threads when shared. */
 split bvh_sah_split(const builder *b, uint32_t begin, uint32_t end, const binning *g, bool shared);
 /* Builds t's subtree into its slots, or when top all but its tasks; returns its inner nodes. */

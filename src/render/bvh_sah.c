@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "render/bvh_builder.h"
+#include "util/threads.h"
 
 /* Below this many spheres per thread, sharing one node's binning costs more than it saves. */
 #define MIN_SHARED_ITEMS 16384
@@ -149,7 +150,7 @@ static void bin_shared(const builder *b, uint32_t begin, uint32_t end, const bin
                                 .end = begin + (uint32_t)((uint64_t)n * (t + 1) / parts),
                                 .g = g};
     }
-    bvh_run_shares(bin_share_run, shares, sizeof *shares, parts);
+    threads_run(bin_share_run, shares, sizeof *shares, parts);
     *out = shares[0].out;
     for (int t = 1; t < parts; t++) bins_merge(out, &shares[t].out);
     free(shares);
