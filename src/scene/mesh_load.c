@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -385,6 +386,14 @@ static void heap_reserve(size_t file_bytes) {
     if (pages > 0 && page > 0 && want > (size_t)pages / 4 * (size_t)page)
         want = (size_t)pages / 4 * (size_t)page;
     if (want < HEAP_MIN) want = HEAP_MIN;
+    /* Under a limit on address space or data (ulimit -v, -d) the reserve takes a quarter of it
+     * at most, so that it never leaves assimp short of what it would have had. */
+    const int limits[] = {RLIMIT_AS, RLIMIT_DATA};
+    for (size_t k = 0; k < sizeof limits / sizeof limits[0]; k++) {
+        struct rlimit l;
+        if (getrlimit(limits[k], &l) == 0 && l.rlim_cur != RLIM_INFINITY && want > l.rlim_cur / 4)
+            want = (size_t)(l.rlim_cur / 4);
+    }
     mallopt(M_TRIM_THRESHOLD, INT_MAX);             /* the reserve stays in the heap once freed */
     mallopt(M_MMAP_THRESHOLD, (int)HEAP_BLOCK * 2); /* blocks to 32 MB come from the heap */
     enum { BLOCKS = HEAP_MAX / HEAP_BLOCK };
