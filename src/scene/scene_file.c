@@ -12,6 +12,7 @@
 
 #include "scene/parser.h"
 #include "scene/scene.h"
+#include "util/big_memory.h"
 
 /* A file-level error has no position: line and col are 0. */
 static bool fail_file(const char *path, scene_error *err, const char *fmt, ...)
@@ -85,7 +86,7 @@ static bool read_all(int fd, const char *path, char **data, size_t *length, bool
         }
         capacity = (size_t)st.st_size + 1; /* +1 so a regular file ends in one short read */
     }
-    char *buffer = malloc(capacity);
+    char *buffer = big_malloc(capacity);
     if (!buffer) {
         if (err) err->out_of_memory = true;
         return fail_file(path, err, "out of memory reading %zu bytes", capacity);
@@ -101,7 +102,7 @@ static bool read_all(int fd, const char *path, char **data, size_t *length, bool
                 return fail_file(path, err, "file is too large (the limit is %zu bytes)",
                                  MAX_TEXT_BYTES);
             }
-            char *grown = realloc(buffer, capacity * 2);
+            char *grown = big_realloc(buffer, capacity * 2);
             if (!grown) {
                 free(buffer);
                 stream_check_free(&check);

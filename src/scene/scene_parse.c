@@ -27,6 +27,7 @@
 #include "scene/parser.h"
 #include "scene/scene.h"
 #include "shared_layout.h"
+#include "util/big_memory.h"
 #include "util/threads.h"
 
 /* Chunks are no shorter than this: a chunk costs a parser and a copy of its primitives. */
@@ -148,10 +149,12 @@ static bool append_items(void **array, int *used, size_t *capacity, const void *
                          size_t item) {
     size_t total = (size_t)*used + (size_t)count;
     if (total > *capacity) {
-        void *grown = realloc(*array, total * item);
+        /* Doubling: each growth may move the array, whose huge pages a move splits. */
+        size_t capacity_new = total > 2 * *capacity ? total : 2 * *capacity;
+        void *grown = big_realloc(*array, capacity_new * item);
         if (!grown) return false;
         *array = grown;
-        *capacity = total;
+        *capacity = capacity_new;
     }
     if (count > 0) memcpy((char *)*array + (size_t)*used * item, items, (size_t)count * item);
     *used += count;
