@@ -52,27 +52,29 @@ TZ_FN TZ_UINT sobol_second_reversed(TZ_UINT i) {
     return i;
 }
 
-/* The number of a Sobol point given with its bits reversed, Owen-scrambled by seed: a float in
- * [0, 1) from the top 24 bits (exact), as rng_next's. */
+/* A float in [0, 1) from the top 24 bits of x (exact), as rng_next's. */
+TZ_FN float number_of_bits(TZ_UINT x) { return TZ_FLOAT(x >> 8u) * (1.0f / 16777216.0f); }
+
+/* The number of a Sobol point given with its bits reversed, Owen-scrambled by seed. */
 TZ_FN float owen_number(TZ_UINT reversed_point, TZ_UINT seed) {
-    return TZ_FLOAT(bit_reverse(owen_hash(reversed_point, seed)) >> 8u) * (1.0f / 16777216.0f);
+    return number_of_bits(bit_reverse(owen_hash(reversed_point, seed)));
 }
 
-/* The shuffled index of the next sobol draw (an Owen scramble of the index, which maps the first
- * 2^m indices onto an aligned block of 2^m, so every power-of-two prefix is still a net); key
- * gets the draw's own hash for the points' scrambles. */
-TZ_FN TZ_UINT sobol_draw_index(TZ_INOUT(sampler_state) s, TZ_INOUT(TZ_UINT) key) {
+/* The next sobol draw's shuffled index with its bits reversed (an Owen scramble of the index,
+ * which maps the first 2^m indices onto an aligned block of 2^m, so every power-of-two prefix is
+ * still a net); key gets the draw's own hash for the points' scrambles. */
+TZ_FN TZ_UINT sobol_draw_reversed(TZ_INOUT(sampler_state) s, TZ_INOUT(TZ_UINT) key) {
     TZ_UINT k = rng_hash(TZ_DEREF(s).state ^ rng_hash(TZ_DEREF(s).dimension));
     TZ_DEREF(s).dimension += 1u;
     TZ_DEREF(key) = rng_hash(k);
-    return bit_reverse(owen_hash(TZ_DEREF(s).reversed, k));
+    return owen_hash(TZ_DEREF(s).reversed, k);
 }
 
 /* The next number in [0, 1). */
 TZ_FN float sample_1d(TZ_UINT flags, TZ_INOUT(sampler_state) s) {
     if ((flags & TZ_FLAG_SOBOL) == 0u) return rng_next(TZ_REF(TZ_DEREF(s).state));
     TZ_UINT key;
-    TZ_UINT i = sobol_draw_index(s, TZ_REF(key));
+    TZ_UINT i = bit_reverse(sobol_draw_reversed(s, TZ_REF(key)));
     return owen_number(i, key);
 }
 
@@ -85,7 +87,7 @@ TZ_FN void sample_2d(TZ_UINT flags, TZ_INOUT(sampler_state) s, TZ_INOUT(float) u
         return;
     }
     TZ_UINT key;
-    TZ_UINT i = sobol_draw_index(s, TZ_REF(key));
+    TZ_UINT i = bit_reverse(sobol_draw_reversed(s, TZ_REF(key)));
     TZ_DEREF(u) = owen_number(i, key);
     TZ_DEREF(v) = owen_number(sobol_second_reversed(i), rng_hash(key));
 }
