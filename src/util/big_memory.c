@@ -11,6 +11,8 @@
 #include <sys/mman.h>
 
 #define HUGE_PAGE ((uintptr_t)2 << 20)
+/* madvise's ranges start at a page (a larger page is a run of these). */
+#define PAGE ((uintptr_t)4096)
 /* Below two huge pages a block holds at most one whole one: not worth a system call. */
 #define BIG_BYTES (2 * HUGE_PAGE)
 
@@ -26,7 +28,15 @@ static void *advise(void *p, size_t bytes) {
     return p;
 }
 
-void big_memory_advise(void *p, size_t bytes) { advise(p, bytes); }
+void big_memory_advise(void *p, size_t bytes) {
+    advise(p, bytes);
+#ifdef MADV_POPULATE_WRITE /* Linux 5.14 */
+    if (p && bytes >= BIG_BYTES) {
+        uintptr_t begin = (uintptr_t)p & ~(uintptr_t)(PAGE - 1);
+        madvise((void *)begin, (uintptr_t)p + bytes - begin, MADV_POPULATE_WRITE); /* advice */
+    }
+#endif
+}
 
 void *big_malloc(size_t bytes) { return advise(malloc(bytes), bytes); }
 

@@ -16,8 +16,9 @@ void *big_calloc(size_t count, size_t size);
 /* realloc(p, bytes), advised as huge pages when it is big; NULL (p kept) when out of memory. */
 void *big_realloc(void *p, size_t bytes);
 
-/* Advises the whole huge pages within [p, p + bytes) (memory mapped from elsewhere: a Vulkan
- * driver's host memory); the kernel may refuse, nothing else happens then. */
+/* Memory mapped from elsewhere (a Vulkan driver's host memory) that is about to be written
+ * whole: its whole huge pages advised, and every page of it mapped at once (MADV_POPULATE_WRITE)
+ * instead of a fault at each first touch; the kernel may refuse either, nothing else happens. */
 void big_memory_advise(void *p, size_t bytes);
 
 #endif

@@ -131,7 +131,9 @@ bool vk_buffer_create(vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usa
         vk_buffer_destroy(ctx, out);
         return false;
     }
-    /* lavapipe's memory is the process's own: untouched, it faults 2 MB at a time if advised. */
+    /* lavapipe's memory is the process's own, untouched, and written whole (uploads, the
+     * part's sums): mapped at once, on huge pages where they apply (Mesa 22.3's; 25's is shared
+     * memory). */
     if (map) big_memory_advise(out->mapped, req.size);
     return true;
 }
