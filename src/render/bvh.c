@@ -16,8 +16,10 @@
 #include "util/log.h"
 #include "util/threads.h"
 
-/* Tasks per thread: enough that uneven SAH splits still even out across the threads. */
-#define TASKS_PER_THREAD 16
+/* Tasks per thread: enough that uneven SAH splits still even out across the threads, few enough
+ * that the nodes above them, whose partitions run on one thread, stay few (docs/PERF.md, "Huge
+ * pages": 4 built a million faces 15-20% faster than 16). */
+#define TASKS_PER_THREAD 4
 /* Below this many primitives per thread, the items are made on one. */
 #define MIN_ITEMS_PER_THREAD 65536
 
