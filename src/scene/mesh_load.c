@@ -11,8 +11,6 @@
 #include <assimp/scene.h>
 #include <errno.h>
 #include <fcntl.h>
-#include <limits.h>
-#include <malloc.h>
 #include <math.h>
 #include <poll.h>
 #include <signal.h>
@@ -22,11 +20,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
-#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "util/big_memory.h"
 #include "util/clock.h"
 #include "util/log.h"
 #include "util/threads.h"
@@ -37,13 +35,10 @@
 /* The import's time limit: this, plus the file's size over the rate below. */
 #define LOAD_SECONDS 2.0
 #define LOAD_BYTES_PER_SECOND 1e6
-/* The child's heap is reserved (heap_reserve) at this many bytes per byte of the file, within
- * the bounds below and a quarter of the memory, in blocks that malloc serves from the heap. */
+/* The child's heap is reserved (heap_reserve) at this many bytes per byte of the file, and at
+ * least HEAP_MIN. */
 #define HEAP_PER_FILE_BYTE 32
 #define HEAP_MIN ((size_t)64 << 20)
-#define HEAP_MAX ((size_t)1 << 30)
-#define HEAP_BLOCK ((size_t)16 << 20)
-#define HUGE_PAGE ((uintptr_t)2 << 20)
 /* From this many faces the child gathers them on every core. */
 #define GATHER_MIN_FACES 65536
 /* A mean specular colour at least this, over a black diffuse colour, is a mirror. */
@@ -360,57 +355,14 @@ static bool read_all_by(int fd, void *data, size_t size, double deadline, bool *
     return true;
 }
 
-#if defined(__SANITIZE_ADDRESS__)
-#define HEAP_RESERVE 0
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define HEAP_RESERVE 0
-#endif
-#endif
-#ifndef HEAP_RESERVE
-#define HEAP_RESERVE 1
-#endif
-
 /* assimp allocates a small block per face and vertex list, and every first touch of a 4 KB page
- * of the heap is a fault (microseconds on a virtual machine): the child's heap is grown once to
- * about what the import of file_bytes will use, advised as transparent huge pages, and kept
- * (never trimmed), so that assimp's blocks come from 2 MB pages (a 1e6-face PLY imported in
- * 0.14 s against 0.28 s, docs/PERF.md "Huge pages"). Nothing is touched that assimp does not
- * use; without the kernel's huge pages the advice is refused and only the trimming changes.
- * Not under AddressSanitizer, whose allocator would poison the whole reserve. */
+ * of the heap is a fault (microseconds on a virtual machine): the child's heap is reserved on
+ * huge pages at about what the import of file_bytes will use (a 1e6-face PLY imported in 0.14 s
+ * against 0.28 s, docs/PERF.md "Huge pages"). */
 static void heap_reserve(size_t file_bytes) {
-    if (!HEAP_RESERVE) return;
     size_t want =
-        file_bytes < HEAP_MAX / HEAP_PER_FILE_BYTE ? file_bytes * HEAP_PER_FILE_BYTE : HEAP_MAX;
-    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
-    if (pages > 0 && page > 0 && want > (size_t)pages / 4 * (size_t)page)
-        want = (size_t)pages / 4 * (size_t)page;
-    if (want < HEAP_MIN) want = HEAP_MIN;
-    /* Under a limit on address space or data (ulimit -v, -d) the reserve takes a quarter of it
-     * at most, so that it never leaves assimp short of what it would have had. */
-    const int limits[] = {RLIMIT_AS, RLIMIT_DATA};
-    for (size_t k = 0; k < sizeof limits / sizeof limits[0]; k++) {
-        struct rlimit l;
-        if (getrlimit(limits[k], &l) == 0 && l.rlim_cur != RLIM_INFINITY && want > l.rlim_cur / 4)
-            want = (size_t)(l.rlim_cur / 4);
-    }
-    mallopt(M_TRIM_THRESHOLD, INT_MAX);             /* the reserve stays in the heap once freed */
-    mallopt(M_MMAP_THRESHOLD, (int)HEAP_BLOCK * 2); /* blocks to 32 MB come from the heap */
-    enum { BLOCKS = HEAP_MAX / HEAP_BLOCK };
-    void *block[BLOCKS];
-    size_t n = 0;
-    uintptr_t low = UINTPTR_MAX, high = 0;
-    for (; n < want / HEAP_BLOCK && (block[n] = malloc(HEAP_BLOCK - 64)); n++) {
-        uintptr_t at = (uintptr_t)block[n];
-        if (at < low) low = at;
-        if (at + HEAP_BLOCK > high) high = at + HEAP_BLOCK;
-    }
-    low = (low + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1);
-    high &= ~(HUGE_PAGE - 1);
-#ifdef MADV_HUGEPAGE
-    if (n > 0 && high > low) madvise((void *)low, high - low, MADV_HUGEPAGE); /* advice only */
-#endif
-    while (n > 0) free(block[--n]);
+        file_bytes < SIZE_MAX / HEAP_PER_FILE_BYTE ? file_bytes * HEAP_PER_FILE_BYTE : SIZE_MAX;
+    big_memory_reserve_heap(want < HEAP_MIN ? HEAP_MIN : want);
 }
 
 /* The child: imports into shared memory shm and sends the outcome down fd. A crash in assimp
