@@ -89,7 +89,7 @@ static void make_items(const bvh_input *in, builder *b, uint32_t count, task *ro
     int parts = b->threads;
     if (count / MIN_ITEMS_PER_THREAD < (uint32_t)parts) parts = (int)(count / MIN_ITEMS_PER_THREAD);
     if (parts < 1) parts = 1;
-    item_share shares[MAX_THREADS];
+    item_share shares[THREADS_MAX];
     for (int t = 0; t < parts; t++) {
         shares[t] = (item_share){.in = in,
                                  .b = b,
@@ -108,7 +108,7 @@ bool bvh_build_primitives(const bvh_input *in, uint32_t max_depth, int threads, 
     *out = (bvh){0};
     uint32_t count = in->sphere_count + in->triangle_count;
     builder b = {.max_depth = max_depth,
-                 .threads = thread_count(threads, MAX_THREADS),
+                 .threads = thread_count(threads, THREADS_MAX),
                  .first_triangle = in->sphere_count};
     size_t n = count ? count : 1;
     b.items = big_malloc(n * sizeof *b.items);

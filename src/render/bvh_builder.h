@@ -12,6 +12,7 @@
 #include <stdint.h>
 
 #include "render/bvh.h"
+#include "util/threads.h" /* the build uses THREADS_MAX threads at most */
 
 #ifdef __SSE2__
 #include <emmintrin.h>
@@ -21,9 +22,6 @@
  * ends render faster (docs/PERF.md, BVH build). */
 #define BIN_COUNT 32
 #define TRAVERSAL_COST 2.0f /* relative to one sphere test */
-/* Threads the build uses at most. */
-#define MAX_THREADS 64
-
 /* Boxes hold a fourth lane, always finite, so that growing one compiles to vector min and max. */
 typedef struct box {
     float lo[4], hi[4];

@@ -93,7 +93,7 @@ uint32_t bvh_flatten_all(builder *b, struct gpu_bvh_node *out) {
     atomic_uint next;
     atomic_init(&next, 0);
     flattener f = {.b = b, .out = out, .next = &next};
-    pthread_t threads[MAX_THREADS];
+    pthread_t threads[THREADS_MAX];
     int started = 0;
     while (started < b->threads - 1 &&
            pthread_create(&threads[started], NULL, flattener_run, &f) == 0)

@@ -174,8 +174,8 @@ static int task_larger(const void *x, const void *y) {
 uint32_t bvh_build_tasks(builder *b) {
     if (b->task_count > 1) qsort(b->tasks, b->task_count, sizeof *b->tasks, task_larger);
     atomic_init(&b->next_task, 0);
-    worker workers[MAX_THREADS];
-    pthread_t threads[MAX_THREADS];
+    worker workers[THREADS_MAX];
+    pthread_t threads[THREADS_MAX];
     int started = 0;
     for (int t = 0; t < b->threads; t++) workers[t] = (worker){.b = b};
     while (started < b->threads - 1 &&
