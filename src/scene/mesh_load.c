@@ -19,7 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
+#include <sys/mman.h> /* memfd_create */
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -172,13 +172,33 @@ static mesh_material map_material(const struct aiMaterial *m, char *unsupported,
     return out;
 }
 
-/* count (> 0) faces in shared memory fd, mapped for reading and writing; NULL on failure. Its
- * pages are mapped at once (MAP_POPULATE): a million faces touched one 4 KB fault at a time cost
- * the child 0.1 s to write and the parent as much to read on a virtual machine. */
-static mesh_face *map_faces(int fd, size_t count) {
-    void *at = mmap(NULL, count * sizeof(mesh_face), PROT_READ | PROT_WRITE,
-                    MAP_SHARED | MAP_POPULATE, fd, 0);
-    return at == MAP_FAILED ? NULL : at;
+/* Room for count (> 0) faces in private memory, on huge pages mapped at once: the faces cross
+ * between the processes by copies into and out of shared memory (pwrite, pread), not through a
+ * mapping of it, whose 4 KB pages a virtual machine charges microseconds each at their first
+ * touch (a million faces: written in 0.1 s and read in 0.08 s through mappings, copied in 0.01 s
+ * each way; docs/PERF.md, "Faces by copy"). NULL when out of memory. */
+static mesh_face *faces_room(size_t count) {
+    mesh_face *faces = count <= SIZE_MAX / sizeof *faces ? big_malloc(count * sizeof *faces) : NULL;
+    big_memory_advise(faces, faces ? count * sizeof *faces : 0);
+    return faces;
+}
+
+/* Copies count faces between memory and shared memory fd from its start: pwrite when `to`,
+ * else pread; false (errno set) when fd holds fewer or refuses them. */
+static bool copy_faces(int fd, mesh_face *faces, size_t count, bool to) {
+    char *at = (char *)faces;
+    size_t done = 0, size = count * sizeof *faces;
+    while (done < size) {
+        ssize_t n = to ? pwrite(fd, at + done, size - done, (off_t)done)
+                       : pread(fd, at + done, size - done, (off_t)done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            if (n == 0) errno = EIO;
+            return false;
+        }
+        done += (size_t)n;
+    }
+    return true;
 }
 
 /* One thread's share of the faces gathered (gather_faces): faces [begin, end) of the triangle
@@ -232,8 +252,8 @@ static void *gather_run(void *arg) {
 
 /* The triangle faces of sc into out->faces (room for all of them), in order: on every core when
  * there are many and every triangle mesh holds triangles alone (so a share knows where its faces
- * go: the 2 MB a share writes, the pages shared memory faults, and the reads of assimp's arrays
- * took the child 0.1 s for a million faces on one); false (error) at the first non-finite corner,
+ * go: the reads of assimp's arrays and the 76 MB written took the child 0.1 s for a million
+ * faces on one); false (error) at the first non-finite corner,
  * the one a single pass would meet first. */
 static bool gather_faces(const struct aiScene *sc, mesh *out, char *error, size_t error_size) {
     size_t total = 0;
@@ -295,8 +315,7 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
                   errno == EFBIG ? " (the file-size limit, ulimit -f, caps it)" : "");
     }
     if (ok) {
-        out->faces = map_faces(fd, faces);
-        out->faces_mapped = faces;
+        out->faces = faces_room(faces);
         out->materials = calloc(sc->mNumMaterials ? sc->mNumMaterials : 1, sizeof *out->materials);
         if (!out->faces || !out->materials) ok = fail(error, error_size, "out of memory");
     }
@@ -307,6 +326,11 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
     if (ok) ok = gather_faces(sc, out, error, error_size);
     if (ok && out->face_count == 0)
         ok = fail(error, error_size, "holds no triangles (its faces are points or lines)");
+    if (ok && !copy_faces(fd, out->faces, out->face_count, true)) {
+        ok = fail(error, error_size, "cannot put its %zu faces (%.0f MB) in shared memory: %s%s",
+                  out->face_count, (double)(out->face_count * sizeof *out->faces) / 1e6,
+                  strerror(errno), errno == EFBIG ? " (the file-size limit, ulimit -f, caps it)" : "");
+    }
     aiReleaseImport(sc);
     if (!ok) mesh_free(out);
     return ok;
@@ -401,8 +425,8 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
     }
     /* assimp loops for ever or crashes on some malformed files (a PLY whose vertex count is a
      * word hangs 5.2.5): it runs in a child process, killed past its time. */
-    /* The faces come back in shared memory: through a pipe the 76 MB of a million faces took
-     * longer than assimp's import. */
+    /* The faces come back in shared memory (copy_faces): through a pipe the 76 MB of a million
+     * faces took longer than assimp's import. */
     int shm = memfd_create("trazador-mesh", MFD_CLOEXEC);
     if (shm < 0) return fail(error, error_size, "cannot make shared memory: %s", strerror(errno));
     int fds[2];
@@ -436,11 +460,14 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
         struct stat shared;
         bool fits = fstat(shm, &shared) == 0 &&
                     (uint64_t)shared.st_size >= r.face_count * sizeof *out->faces;
-        out->faces = fits && r.face_count > 0 ? map_faces(shm, r.face_count) : NULL;
-        out->faces_mapped = r.face_count;
+        out->faces = fits && r.face_count > 0 ? faces_room(r.face_count) : NULL;
         out->materials = calloc((size_t)r.material_count + 1, sizeof *out->materials);
         if (!out->faces || !out->materials) {
             fail(error, error_size, "out of memory for %zu faces", r.face_count);
+            reported = true;
+        } else if (!copy_faces(shm, out->faces, r.face_count, false)) {
+            fail(error, error_size, "cannot read its %zu faces back from shared memory: %s",
+                 r.face_count, strerror(errno));
             reported = true;
         } else {
             ok = read_all_by(fds[0], out->materials,
@@ -477,7 +504,7 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
 }
 
 void mesh_free(mesh *m) {
-    if (m->faces) munmap(m->faces, m->faces_mapped * sizeof *m->faces);
+    free(m->faces);
     free(m->materials);
     memset(m, 0, sizeof *m);
 }

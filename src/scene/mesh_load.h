@@ -27,7 +27,6 @@ typedef struct mesh_face {
 typedef struct mesh {
     mesh_face *faces;
     size_t face_count;
-    size_t faces_mapped; /* the faces the mapping of faces holds (mesh_load's shared memory) */
     mesh_material *materials;
     int material_count;
     /* What the file holds that trazador cannot show ("textures (diffuse), vertex colours"),
