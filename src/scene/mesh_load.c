@@ -329,7 +329,8 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
     if (ok && !copy_faces(fd, out->faces, out->face_count, true)) {
         ok = fail(error, error_size, "cannot put its %zu faces (%.0f MB) in shared memory: %s%s",
                   out->face_count, (double)(out->face_count * sizeof *out->faces) / 1e6,
-                  strerror(errno), errno == EFBIG ? " (the file-size limit, ulimit -f, caps it)" : "");
+                  strerror(errno),
+                  errno == EFBIG ? " (the file-size limit, ulimit -f, caps it)" : "");
     }
     aiReleaseImport(sc);
     if (!ok) mesh_free(out);
