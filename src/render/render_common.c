@@ -2,11 +2,13 @@
  * line, and the metadata (scene digest included) of the parts they render. */
 #include <inttypes.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "render/part.h"
 #include "render/render.h"
 #include "util/clock.h"
+#include "util/threads.h"
 
 void render_opts_from_scene(const scene *s, render_opts *opts) {
     *opts = (render_opts){0};
@@ -50,6 +52,77 @@ static uint64_t digest_int(uint64_t h, int64_t v) { return digest_bytes(h, &v, s
 /* FNV-1a's step over a 32-bit word at once. */
 static uint64_t digest_word(uint64_t h, uint32_t w) { return (h ^ w) * 0x100000001b3u; }
 
+/* Triangles a block of the triangles' digest holds. */
+#define DIGEST_BLOCK 16384
+/* The words a triangle is hashed as. */
+#define TRIANGLE_WORDS 29
+
+/* The words of triangle t, in a fixed order. */
+static void triangle_words(const triangle *t, uint32_t out[TRIANGLE_WORDS]) {
+    float f[] = {t->v[0].x,     t->v[0].y,     t->v[0].z,    t->v[1].x, t->v[1].y, t->v[1].z,
+                 t->v[2].x,     t->v[2].y,     t->v[2].z,    t->n[0].x, t->n[0].y, t->n[0].z,
+                 t->n[1].x,     t->n[1].y,     t->n[1].z,    t->n[2].x, t->n[2].y, t->n[2].z,
+                 t->color.x,    t->color.y,    t->color.z,   t->ks,     t->alpha,  t->ior,
+                 t->emission.x, t->emission.y, t->emission.z};
+    _Static_assert(sizeof f / sizeof f[0] + 2 == TRIANGLE_WORDS, "a triangle's words");
+    memcpy(out, f, sizeof f);
+    out[TRIANGLE_WORDS - 2] = (uint32_t)t->smooth;
+    out[TRIANGLE_WORDS - 1] = (uint32_t)t->material;
+}
+
+/* Blocks [begin, end) of a scene's triangles, block b hashed into digests[b - begin]. */
+typedef struct digest_share {
+    const scene *s;
+    uint64_t *digests;
+    size_t begin, end;
+} digest_share;
+
+/* A block's words go to four FNV-1a streams in turn (one stream waits on each multiply), which
+ * are then folded into one. */
+static void *digest_share_run(void *arg) {
+    const digest_share *d = arg;
+    size_t count = (size_t)d->s->triangle_count;
+    for (size_t block = d->begin; block < d->end; block++) {
+        uint64_t lane[4] = {0xcbf29ce484222325u, 0x84222325cbf29ce4u, 0xcbf29ce4u, 0x84222325u};
+        size_t last = (block + 1) * DIGEST_BLOCK < count ? (block + 1) * DIGEST_BLOCK : count;
+        for (size_t k = block * DIGEST_BLOCK; k < last; k++) {
+            uint32_t w[TRIANGLE_WORDS];
+            triangle_words(&d->s->triangles[k], w);
+            for (int c = 0; c < TRIANGLE_WORDS; c++) lane[c & 3] = digest_word(lane[c & 3], w[c]);
+        }
+        uint64_t h = 0xcbf29ce484222325u;
+        for (int c = 0; c < 4; c++) h = digest_int(h, (int64_t)lane[c]);
+        d->digests[block - d->begin] = h;
+    }
+    return NULL;
+}
+
+/* h continued by every triangle of s: blocks hashed on every core, their digests folded in
+ * order, the same whatever the thread count (30 ms for a million faces on one stream). */
+static uint64_t digest_triangles(uint64_t h, const scene *s) {
+    size_t blocks = ((size_t)s->triangle_count + DIGEST_BLOCK - 1) / DIGEST_BLOCK;
+    uint64_t *digests = malloc(blocks * sizeof *digests);
+    if (!digests) { /* no memory: block by block on this thread */
+        for (size_t b = 0; b < blocks; b++) {
+            uint64_t one;
+            digest_share_run(&(digest_share){s, &one, b, b + 1});
+            h = digest_int(h, (int64_t)one);
+        }
+        return h;
+    }
+    int shares = thread_count(0, THREADS_MAX);
+    if ((size_t)shares > blocks) shares = (int)blocks;
+    digest_share d[THREADS_MAX];
+    for (int t = 0; t < shares; t++) {
+        size_t begin = blocks * (size_t)t / (size_t)shares;
+        d[t] = (digest_share){s, digests + begin, begin, blocks * (size_t)(t + 1) / (size_t)shares};
+    }
+    threads_run(digest_share_run, d, sizeof d[0], shares);
+    for (size_t b = 0; b < blocks; b++) h = digest_int(h, (int64_t)digests[b]);
+    free(digests);
+    return h;
+}
+
 /* The scene's digest: every field of the scene and every setting that changes a sample, in a
  * fixed order, field by field (no padding bytes). */
 static uint64_t render_digest(const scene *s, const render_opts *o) {
@@ -84,26 +157,10 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
         h = digest_vec3(h, s->lights[k].color);
     }
     /* Only scenes with triangles hash them, so that sphere-only scenes keep their digest (and
-     * their part files stay mergeable with ones rendered before triangles existed); a word at a
-     * time, a quarter of the bytewise multiplications (0.1 s for a million faces). */
+     * their part files stay mergeable with ones rendered before triangles existed). */
     if (s->triangle_count > 0) {
         h = digest_int(h, s->triangle_count);
-        for (int k = 0; k < s->triangle_count; k++) {
-            const triangle *t = &s->triangles[k];
-            float f[] = {t->v[0].x,     t->v[0].y,    t->v[0].z, t->v[1].x,  t->v[1].y,
-                         t->v[1].z,     t->v[2].x,    t->v[2].y, t->v[2].z,  t->n[0].x,
-                         t->n[0].y,     t->n[0].z,    t->n[1].x, t->n[1].y,  t->n[1].z,
-                         t->n[2].x,     t->n[2].y,    t->n[2].z, t->color.x, t->color.y,
-                         t->color.z,    t->ks,        t->alpha,  t->ior,     t->emission.x,
-                         t->emission.y, t->emission.z};
-            for (size_t c = 0; c < sizeof f / sizeof f[0]; c++) {
-                uint32_t bits;
-                memcpy(&bits, &f[c], sizeof bits);
-                h = digest_word(h, bits);
-            }
-            h = digest_word(h, (uint32_t)t->smooth);
-            h = digest_word(h, (uint32_t)t->material);
-        }
+        h = digest_triangles(h, s);
     }
     int64_t settings[] = {o->spp,      o->seed,      o->mode,     o->bounces,
                           o->indirect, o->no_jitter, o->roulette, o->strategy};
