@@ -115,38 +115,37 @@ LANE_FN void packet_sphere(const packed_scene *p, uint32_t s, const lanes3 *o, c
 typedef struct shear_lanes {
     int uniform, kz, swap;
     lanes3 o; /* the origins in shear_axes order, when uniform */
+    int lane_kz[LANES], lane_swap[LANES]; /* each lane's order, when not */
     float sx[LANES], sy[LANES], sz[LANES];
 } shear_lanes;
 
-/* The shear of the lanes' rays, when uniform: only the active lanes decide (the others' hits are
- * never taken). Mixed orders cost only the test of the order. */
+/* The shear of the lanes' rays, once a trace: whether their order is uniform is decided by the
+ * active lanes alone (the others' hits are never taken). */
 LANE_FN void shear_lanes_of(const lanes3 *o, const lanes3 *d, const int *active, shear_lanes *sh) {
-    int kz[LANES], swap[LANES], first = 0, uniform = 0;
+    int first = 0, uniform = 0;
     for (int k = 0; k < LANES; k++) { /* branch-free: vector code */
-        ray_shear r = shear_order_of(get3(d, k));
-        kz[k] = r.kz, swap[k] = r.swap;
+        ray_shear r = shear_of(get3(d, k));
+        sh->lane_kz[k] = r.kz, sh->lane_swap[k] = r.swap;
+        sh->sx[k] = r.sx, sh->sy[k] = r.sy, sh->sz[k] = r.sz;
     }
     while (first < LANES && !active[first]) first++;
     if (first < LANES) {
         uniform = 1;
         for (int k = 0; k < LANES; k++)
-            uniform &= (!active[k]) | ((kz[k] == kz[first]) & (swap[k] == swap[first]));
+            uniform &= (!active[k]) | ((sh->lane_kz[k] == sh->lane_kz[first]) &
+                                       (sh->lane_swap[k] == sh->lane_swap[first]));
     }
     sh->uniform = uniform;
     if (!uniform) return;
-    sh->kz = kz[first], sh->swap = swap[first];
-    for (int k = 0; k < LANES; k++) {
-        ray_shear r = shear_of(get3(d, k));
-        sh->sx[k] = r.sx, sh->sy[k] = r.sy, sh->sz[k] = r.sz;
-        set3(&sh->o, k, shear_axes(get3(o, k), sh->kz, sh->swap));
-    }
+    sh->kz = sh->lane_kz[first], sh->swap = sh->lane_swap[first];
+    for (int k = 0; k < LANES; k++) set3(&sh->o, k, shear_axes(get3(o, k), sh->kz, sh->swap));
 }
 
 /* packet_sphere for triangle primitive s (the triangles' ids follow the spheres'), the lanes'
  * rays sheared by sh. */
 LANE_FN void packet_triangle(const packed_scene *p, uint32_t s, const shear_lanes *sh,
-                             const lanes3 *o, const lanes3 *d, const int *self, const float *tmin,
-                             int tie, float *best, int *id) {
+                             const lanes3 *o, const int *self, const float *tmin, int tie,
+                             float *best, int *id) {
     const triangle_soa *tr = &p->triangle_soa;
     uint32_t k = s - p->frame.sphere_count;
     vec3 a = v3(tr->v[0][k], tr->v[1][k], tr->v[2][k]);
@@ -163,10 +162,15 @@ LANE_FN void packet_triangle(const packed_scene *p, uint32_t s, const shear_lane
                                        sh->sy[lane], sh->sz[lane]);
             ts[lane] = edges_distance(e, tmin[lane], (int)s == self[lane]);
         }
-    } else {
-        for (int lane = 0; lane < LANES; lane++)
-            ts[lane] = triangle_distance(a, b, c, get3(o, lane), get3(d, lane), tmin[lane],
-                                         (int)s == self[lane]);
+    } else { /* triangle_distance with each lane's shear of the trace */
+        for (int lane = 0; lane < LANES; lane++) {
+            vec3 ol = get3(o, lane);
+            int kz = sh->lane_kz[lane], swap = sh->lane_swap[lane];
+            triangle_edges e = sheared_edge_functions(
+                shear_axes(v3_sub(a, ol), kz, swap), shear_axes(v3_sub(b, ol), kz, swap),
+                shear_axes(v3_sub(c, ol), kz, swap), sh->sx[lane], sh->sy[lane], sh->sz[lane]);
+            ts[lane] = edges_distance(e, tmin[lane], (int)s == self[lane]);
+        }
     }
     if (tie)
         keep_nearer(best, id, ts, (int)s);
@@ -189,7 +193,7 @@ LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d
                          const float *tmin, const int *active, int any_hit, float *best, int *id) {
     lanes3 inv;
     for (int k = 0; k < LANES; k++) set3(&inv, k, inverse_direction(get3(d, k)));
-    shear_lanes sh; /* read by triangle leaves alone; its arrays set only when uniform */
+    shear_lanes sh; /* read by triangle leaves alone */
     sh.uniform = 0, sh.kz = 0, sh.swap = 0;
     if (p->frame.triangle_count > 0) shear_lanes_of(o, d, active, &sh);
     uint32_t stack[TZ_BVH_MAX_DEPTH];
@@ -204,7 +208,7 @@ LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d
                     packet_sphere(p, s, o, d, self, tmin, 1, best, id);
             else
                 for (uint32_t s = first; s < first + leaf_count; s++)
-                    packet_triangle(p, s, &sh, o, d, self, tmin, 1, best, id);
+                    packet_triangle(p, s, &sh, o, self, tmin, 1, best, id);
             if (any_hit && all_hit(id, active)) return;
         } else {
             const struct gpu_bvh_node *n = &p->nodes[first];
@@ -280,7 +284,7 @@ LANE_FN void packet_trace(const packed_scene *p, const lanes3 *o, const lanes3 *
             shear_lanes sh;
             shear_lanes_of(o, d, active, &sh);
             for (uint32_t s = count; s < all; s++)
-                packet_triangle(p, s, &sh, o, d, self, tmin, 0, t, id);
+                packet_triangle(p, s, &sh, o, self, tmin, 0, t, id);
         }
     } else if (rays >= (any_hit ? SHADOW_WALK_GROUP_MIN : WALK_GROUP_MIN)) {
         if (any_hit)
