@@ -146,11 +146,10 @@ LANE_FN void shear_lanes_of(const lanes3 *o, const lanes3 *d, const int *active,
 LANE_FN void packet_triangle(const packed_scene *p, uint32_t s, const shear_lanes *sh,
                              const lanes3 *o, const int *self, const float *tmin, int tie,
                              float *best, int *id) {
-    const triangle_soa *tr = &p->triangle_soa;
-    uint32_t k = s - p->frame.sphere_count;
-    vec3 a = v3(tr->v[0][k], tr->v[1][k], tr->v[2][k]);
-    vec3 b = v3(tr->v[3][k], tr->v[4][k], tr->v[5][k]);
-    vec3 c = v3(tr->v[6][k], tr->v[7][k], tr->v[8][k]);
+    const struct gpu_triangle *tr = &p->triangles[s - p->frame.sphere_count];
+    vec3 a = v3(tr->v0.x, tr->v0.y, tr->v0.z);
+    vec3 b = v3(tr->v1.x, tr->v1.y, tr->v1.z);
+    vec3 c = v3(tr->v2.x, tr->v2.y, tr->v2.z);
     float ts[LANES];
     if (sh->uniform) {
         vec3 as = shear_axes(a, sh->kz, sh->swap), bs = shear_axes(b, sh->kz, sh->swap);
