@@ -35,7 +35,7 @@ static uint32_t flatten(const builder *tasks, const binary_node *tree, uint32_t 
     uint32_t id = (*count)++;
     /* A box at +infinity, which no ray enters. */
     static const binary_node empty = {
-        {{INFINITY, INFINITY, INFINITY, 0.0f}, {INFINITY, INFINITY, INFINITY, 0.0f}}, 0, 0};
+        {INFINITY, INFINITY, INFINITY}, {INFINITY, INFINITY, INFINITY}, 0, 0};
     const binary_node *kids[2] = {&tree[k], &empty};
     uint32_t at[2] = {k, 0};
     if (tree[k].count == 0) {
@@ -55,9 +55,8 @@ static uint32_t flatten(const builder *tasks, const binary_node *tree, uint32_t 
                        : kid->count > 0 ? kid->count << TZ_BVH_COUNT_SHIFT | kid->index
                        : t              ? t->flat_at
                                         : flatten(tasks, tree, at[c], out, count);
-        const box *bx = &kid->bounds;
-        *lo[c] = (tz_vec4){bx->lo[0], bx->lo[1], bx->lo[2], float_of(ref)};
-        *hi[c] = (tz_vec4){bx->hi[0], bx->hi[1], bx->hi[2], 0.0f};
+        *lo[c] = (tz_vec4){kid->lo[0], kid->lo[1], kid->lo[2], float_of(ref)};
+        *hi[c] = (tz_vec4){kid->hi[0], kid->hi[1], kid->hi[2], 0.0f};
     }
     return id;
 }

@@ -88,7 +88,9 @@ uint32_t bvh_build_node(builder *b, const task *t, bool top, uint32_t *depth) {
     item *items = b->items;
     uint32_t id = t->slot, begin = t->begin, end = t->end, n = end - begin;
     if (t->depth > *depth) *depth = t->depth;
-    b->nodes[id] = (binary_node){.bounds = t->bounds};
+    const box *bx = &t->bounds;
+    b->nodes[id] =
+        (binary_node){{bx->lo[0], bx->lo[1], bx->lo[2]}, {bx->hi[0], bx->hi[1], bx->hi[2]}, 0, 0};
 
     /* Near the depth limit only median splits, which halve the count, are sure to fit. */
     bool must_median = t->depth + 1 + median_levels(n) >= b->max_depth;
