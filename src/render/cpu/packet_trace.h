@@ -114,7 +114,7 @@ LANE_FN void packet_sphere(const packed_scene *p, uint32_t s, const lanes3 *o, c
  * its own (triangle_distance). The bits are the same either way. */
 typedef struct shear_lanes {
     int uniform, kz, swap;
-    lanes3 o; /* the origins in shear_axes order, when uniform */
+    lanes3 o;                             /* the origins in shear_axes order, when uniform */
     int lane_kz[LANES], lane_swap[LANES]; /* each lane's order, when not */
     float sx[LANES], sy[LANES], sz[LANES];
 } shear_lanes;
