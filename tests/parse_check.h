@@ -104,8 +104,20 @@ static inline void replace_line(char *text, const size_t *line_at, int k, const 
     memset(text + line_at[k - 1] + n, ' ', room - n); /* trailing blanks are whitespace */
 }
 
+/* Whether scenes a and b hold the same triangles, materials and normals, byte for byte. */
+static inline bool same_faces(const scene *a, const scene *b) {
+    return a->triangle_count == b->triangle_count && a->material_count == b->material_count &&
+           a->normals_count == b->normals_count &&
+           (!a->triangle_count || !memcmp(a->triangles, b->triangles,
+                                          (size_t)a->triangle_count * sizeof *a->triangles)) &&
+           (!a->material_count || !memcmp(a->materials, b->materials,
+                                          (size_t)a->material_count * sizeof *a->materials)) &&
+           (!a->normals_count ||
+            !memcmp(a->normals, b->normals, (size_t)a->normals_count * sizeof *a->normals));
+}
+
 /* Parses text on 1 and on several threads: both fail or succeed alike, with the same error or
- * the same spheres, triangles (bytes: the parser zeroes their padding), lights and warnings;
+ * the same spheres, triangles with their materials and normals (bytes), lights and warnings;
  * returns the one-thread result (*err set on failure). */
 static inline bool parse_all_threads(const char *name, const char *text, size_t length,
                                      scene_error *err, scene *s) {
@@ -125,17 +137,13 @@ static inline bool parse_all_threads(const char *name, const char *text, size_t 
                   e.message, err->line, err->col, err->message);
             continue;
         }
-        check(
-            t.sphere_count == s->sphere_count && t.light_count == s->light_count &&
-                !memcmp(t.spheres, s->spheres, (size_t)s->sphere_count * sizeof *s->spheres) &&
-                t.triangle_count == s->triangle_count &&
-                (!s->triangle_count || !memcmp(t.triangles, s->triangles,
-                                               (size_t)s->triangle_count * sizeof *s->triangles)) &&
-                t.warning_count == s->warning_count &&
-                !memcmp(t.warnings, s->warnings, (size_t)s->warning_count * sizeof *t.warnings),
-            name, "%d threads: %d spheres, %d triangles, %d warnings; one thread: %d, %d, %d",
-            counts[k], t.sphere_count, t.triangle_count, t.warning_count, s->sphere_count,
-            s->triangle_count, s->warning_count);
+        check(t.sphere_count == s->sphere_count && t.light_count == s->light_count &&
+                  !memcmp(t.spheres, s->spheres, (size_t)s->sphere_count * sizeof *s->spheres) &&
+                  same_faces(&t, s) && t.warning_count == s->warning_count &&
+                  !memcmp(t.warnings, s->warnings, (size_t)s->warning_count * sizeof *t.warnings),
+              name, "%d threads: %d spheres, %d triangles, %d warnings; one thread: %d, %d, %d",
+              counts[k], t.sphere_count, t.triangle_count, t.warning_count, s->sphere_count,
+              s->triangle_count, s->warning_count);
         scene_free(&t);
     }
     return ok;

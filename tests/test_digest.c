@@ -34,20 +34,23 @@ static void test_digest(void) {
     scene_digest(&s, spheres);
     /* the value the digest had before the scene gained triangles (commit adbf42e) */
     CHECK(!strcmp(spheres, "f73fd51f075a1740"), "sphere-only digest %s", spheres);
-    triangle t = {.v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},
-                  .material = TZ_MATERIAL_LAMBERTIAN,
-                  .color = {0.8f, 0.8f, 0.8f},
-                  .ior = 1.0f};
+    shape_material m = {
+        .material = TZ_MATERIAL_LAMBERTIAN, .color = {0.8f, 0.8f, 0.8f}, .ior = 1.0f};
+    face_normals n = {{{0, 0, 1}, {0, 0, 1}, {0, 0, 1}}};
+    triangle t = {.v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, .material = 0, .normals = TRIANGLE_FLAT};
     s.triangles = &t;
     s.triangle_count = 1;
+    s.materials = &m;
+    s.material_count = 1;
+    s.normals = &n;
+    s.normals_count = 1;
     scene_digest(&s, faces);
     CHECK(strcmp(faces, spheres), "a triangle leaves the digest %s", faces);
-    /* every float of the triangle, then smooth and material */
-    float *fields[] = {&t.v[0].x,     &t.v[0].y,     &t.v[0].z,    &t.v[1].x, &t.v[1].y, &t.v[1].z,
-                       &t.v[2].x,     &t.v[2].y,     &t.v[2].z,    &t.n[0].x, &t.n[0].y, &t.n[0].z,
-                       &t.n[1].x,     &t.n[1].y,     &t.n[1].z,    &t.n[2].x, &t.n[2].y, &t.n[2].z,
-                       &t.color.x,    &t.color.y,    &t.color.z,   &t.ks,     &t.alpha,  &t.ior,
-                       &t.emission.x, &t.emission.y, &t.emission.z};
+    /* every float of the face and its material */
+    float *fields[] = {&t.v[0].x,     &t.v[0].y,     &t.v[0].z,    &t.v[1].x, &t.v[1].y,
+                       &t.v[1].z,     &t.v[2].x,     &t.v[2].y,    &t.v[2].z, &m.color.x,
+                       &m.color.y,    &m.color.z,    &m.ks,        &m.alpha,  &m.ior,
+                       &m.emission.x, &m.emission.y, &m.emission.z};
     for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++) {
         float kept = *fields[k];
         *fields[k] = kept + 0.5f;
@@ -55,19 +58,31 @@ static void test_digest(void) {
         CHECK(strcmp(other, faces), "triangle float %zu leaves the digest", k);
         *fields[k] = kept;
     }
-    t.smooth = true;
-    scene_digest(&s, other);
-    CHECK(strcmp(other, faces), "smooth leaves the digest");
-    t.smooth = false;
-    t.material = TZ_MATERIAL_PHONG;
+    m.material = TZ_MATERIAL_PHONG;
     scene_digest(&s, other);
     CHECK(strcmp(other, faces), "material leaves the digest");
-    t.material = TZ_MATERIAL_LAMBERTIAN;
+    m.material = TZ_MATERIAL_LAMBERTIAN;
+    /* shading normals, then each of their floats */
+    char smooth[sizeof spheres];
+    t.normals = 0;
+    scene_digest(&s, smooth);
+    CHECK(strcmp(smooth, faces), "smooth leaves the digest");
+    for (int c = 0; c < 3; c++) {
+        float *axis[] = {&n.n[c].x, &n.n[c].y, &n.n[c].z};
+        for (int a = 0; a < 3; a++) {
+            float kept = *axis[a];
+            *axis[a] = kept + 0.5f;
+            scene_digest(&s, other);
+            CHECK(strcmp(other, smooth), "normal %d axis %d leaves the digest", c, a);
+            *axis[a] = kept;
+        }
+    }
+    t.normals = TRIANGLE_FLAT;
     scene_digest(&s, other);
     CHECK(!strcmp(other, faces), "the digest is not a function of the fields: %s, %s", other,
           faces);
-    s.triangles = NULL;
-    s.triangle_count = 0;
+    s.triangles = NULL, s.materials = NULL, s.normals = NULL;
+    s.triangle_count = s.material_count = s.normals_count = 0;
     scene_free(&s);
 }
 

@@ -119,9 +119,10 @@ static bool same_triangles(const scene *a, const scene *b) {
         bool found = false;
         for (int j = 0; j < b->triangle_count && !found; j++) {
             const triangle *t = &a->triangles[i], *u = &b->triangles[j];
-            found = same_corners(t, u, 1e-5) && t->material == u->material &&
-                    fabsf(t->color.x - u->color.x) < 1e-6f && fabsf(t->ks - u->ks) < 1e-6f &&
-                    fabsf(t->alpha - u->alpha) < 1e-6f && fabsf(t->ior - u->ior) < 1e-6f;
+            const shape_material *tm = triangle_material(a, t), *um = triangle_material(b, u);
+            found = same_corners(t, u, 1e-5) && tm->material == um->material &&
+                    fabsf(tm->color.x - um->color.x) < 1e-6f && fabsf(tm->ks - um->ks) < 1e-6f &&
+                    fabsf(tm->alpha - um->alpha) < 1e-6f && fabsf(tm->ior - um->ior) < 1e-6f;
         }
         if (!found) return false;
     }
@@ -368,6 +369,8 @@ static void test_threads(void) {
         CHECK(
             a.triangle_count == b.triangle_count && a.triangle_count == 5 * 18 &&
                 !memcmp(a.triangles, b.triangles, (size_t)a.triangle_count * sizeof *a.triangles) &&
+                a.material_count == b.material_count &&
+                !memcmp(a.materials, b.materials, (size_t)a.material_count * sizeof *a.materials) &&
                 a.sphere_count == b.sphere_count,
             "threads: %d and %d triangles", a.triangle_count, b.triangle_count);
     }

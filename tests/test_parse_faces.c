@@ -31,39 +31,54 @@ static void test_faces(void) {
         return;
     }
     const triangle *t = s.triangles;
-    check(triangle_at(&t[0], v3(0, 0, 0), v3(1, 0, 0), v3(0, 1, 0)) && !t[0].smooth &&
-              vec_is(t[0].n[0], 0, 0, 0) && vec_is(t[0].n[1], 0, 0, 0) &&
-              vec_is(t[0].n[2], 0, 0, 0) && t[0].material == TZ_MATERIAL_LAMBERTIAN &&
-              vec_is(t[0].color, 0.8f, 0.8f, 0.8f) && t[0].ks == 0 && t[0].alpha == 0 &&
-              t[0].ior == 1.0f && vec_is(t[0].emission, 0, 0, 0) && !triangle_emits(&t[0]),
+    check(triangle_at(&t[0], v3(0, 0, 0), v3(1, 0, 0), v3(0, 1, 0)) &&
+              t[0].normals == TRIANGLE_FLAT &&
+              triangle_material(&s, &t[0])->material == TZ_MATERIAL_LAMBERTIAN &&
+              vec_is(triangle_material(&s, &t[0])->color, 0.8f, 0.8f, 0.8f) &&
+              triangle_material(&s, &t[0])->ks == 0 && triangle_material(&s, &t[0])->alpha == 0 &&
+              triangle_material(&s, &t[0])->ior == 1.0f &&
+              vec_is(triangle_material(&s, &t[0])->emission, 0, 0, 0) && !triangle_emits(&s, &t[0]),
           n, "lambertian triangle and its defaults");
     /* Keys in any order; normals of any length normalized, their direction kept. */
-    check(triangle_at(&t[1], v3(-1, 0, 2), v3(1, 0, 2), v3(0, 1, 2)) && t[1].smooth &&
-              vec_is(t[1].n[0], 0, 0, -1) && vec_is(t[1].n[1], 0.6f, 0.8f, 0) &&
-              vec_is(t[1].n[2], 0, 0, -1) && t[1].material == TZ_MATERIAL_PHONG &&
-              vec_is(t[1].color, 0.5f, 0.25f, 1) && t[1].ks == 0.1f && t[1].alpha == 8.0f &&
-              t[1].ior == 1.0f,
-          n, "phong triangle with normals: n1 %g %g %g", t[1].n[1].x, t[1].n[1].y, t[1].n[1].z);
+    check(triangle_at(&t[1], v3(-1, 0, 2), v3(1, 0, 2), v3(0, 1, 2)) &&
+              (t[1].normals != TRIANGLE_FLAT) && vec_is(s.normals[t[1].normals].n[0], 0, 0, -1) &&
+              vec_is(s.normals[t[1].normals].n[1], 0.6f, 0.8f, 0) &&
+              vec_is(s.normals[t[1].normals].n[2], 0, 0, -1) &&
+              triangle_material(&s, &t[1])->material == TZ_MATERIAL_PHONG &&
+              vec_is(triangle_material(&s, &t[1])->color, 0.5f, 0.25f, 1) &&
+              triangle_material(&s, &t[1])->ks == 0.1f &&
+              triangle_material(&s, &t[1])->alpha == 8.0f &&
+              triangle_material(&s, &t[1])->ior == 1.0f,
+          n, "phong triangle with normals");
     /* A quad is (v0 v1 v2) then (v0 v2 v3), both with its material. */
     check(triangle_at(&t[2], v3(0, 0, 0), v3(2, 0, 0), v3(2, 0, 2)) &&
               triangle_at(&t[3], v3(0, 0, 0), v3(2, 0, 2), v3(0, 0, 2)),
           n, "quad split");
     for (int k = 2; k <= 3; k++)
-        check(t[k].material == TZ_MATERIAL_MIRROR && vec_is(t[k].color, 0.9f, 0.5f, 0.1f) &&
-                  !t[k].smooth && vec_is(t[k].n[0], 0, 0, 0) && t[k].ks == 0 && t[k].ior == 1.0f,
+        check(triangle_material(&s, &t[k])->material == TZ_MATERIAL_MIRROR &&
+                  vec_is(triangle_material(&s, &t[k])->color, 0.9f, 0.5f, 0.1f) &&
+                  t[k].normals == TRIANGLE_FLAT && triangle_material(&s, &t[k])->ks == 0 &&
+                  triangle_material(&s, &t[k])->ior == 1.0f,
               n, "espejo quad half %d", k - 2);
-    check(t[4].material == TZ_MATERIAL_LAMBERTIAN && vec_is(t[4].color, 0.8f, 0.8f, 0.8f) &&
-              vec_is(t[4].emission, 1, 2, 3) && triangle_emits(&t[4]),
+    check(triangle_material(&s, &t[4])->material == TZ_MATERIAL_LAMBERTIAN &&
+              vec_is(triangle_material(&s, &t[4])->color, 0.8f, 0.8f, 0.8f) &&
+              vec_is(triangle_material(&s, &t[4])->emission, 1, 2, 3) && triangle_emits(&s, &t[4]),
           n, "lambertiana triangle with emission");
     check(triangle_at(&t[5], v3(-1, -1, 5), v3(1, -1, 5), v3(1, 1, 5)) &&
               triangle_at(&t[6], v3(-1, -1, 5), v3(1, 1, 5), v3(-1, 1, 5)) &&
-              t[5].material == TZ_MATERIAL_MIRROR && vec_is(t[5].color, 1, 1, 1),
+              triangle_material(&s, &t[5])->material == TZ_MATERIAL_MIRROR &&
+              vec_is(triangle_material(&s, &t[5])->color, 1, 1, 1),
           n, "mirror quad");
-    check(t[7].material == TZ_MATERIAL_MIRROR && vec_is(t[7].color, 1, 1, 1), n, "espejo triangle");
+    check(triangle_material(&s, &t[7])->material == TZ_MATERIAL_MIRROR &&
+              vec_is(triangle_material(&s, &t[7])->color, 1, 1, 1),
+          n, "espejo triangle");
     for (int k = 8; k <= 9; k++)
-        check(t[k].material == TZ_MATERIAL_PHONG && t[k].ks == 1.0f && t[k].alpha == 0.0f &&
-                  vec_is(t[k].color, 0.8f, 0.8f, 0.8f) && vec_is(t[k].emission, 0, 0, 0.5f) &&
-                  triangle_emits(&t[k]),
+        check(triangle_material(&s, &t[k])->material == TZ_MATERIAL_PHONG &&
+                  triangle_material(&s, &t[k])->ks == 1.0f &&
+                  triangle_material(&s, &t[k])->alpha == 0.0f &&
+                  vec_is(triangle_material(&s, &t[k])->color, 0.8f, 0.8f, 0.8f) &&
+                  vec_is(triangle_material(&s, &t[k])->emission, 0, 0, 0.5f) &&
+                  triangle_emits(&s, &t[k]),
               n, "phong quad half %d", k - 8);
     check(vec_is(s.spheres[0].center, 0, 0, 9) && vec_is(s.spheres[1].center, 0, 0, -9), n,
           "spheres among the faces");

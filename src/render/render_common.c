@@ -57,17 +57,21 @@ static uint64_t digest_word(uint64_t h, uint32_t w) { return (h ^ w) * 0x1000000
 /* The words a triangle is hashed as. */
 #define TRIANGLE_WORDS 29
 
-/* The words of triangle t, in a fixed order. */
-static void triangle_words(const triangle *t, uint32_t out[TRIANGLE_WORDS]) {
+/* The words of triangle t of s, in a fixed order (a flat face's normals zero). */
+static void triangle_words(const scene *s, const triangle *t, uint32_t out[TRIANGLE_WORDS]) {
+    static const face_normals flat = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    const face_normals *nf = t->normals != TRIANGLE_FLAT ? &s->normals[t->normals] : &flat;
+    const shape_material *m = triangle_material(s, t);
+    const vec3 *n = nf->n;
     float f[] = {t->v[0].x,     t->v[0].y,     t->v[0].z,    t->v[1].x, t->v[1].y, t->v[1].z,
-                 t->v[2].x,     t->v[2].y,     t->v[2].z,    t->n[0].x, t->n[0].y, t->n[0].z,
-                 t->n[1].x,     t->n[1].y,     t->n[1].z,    t->n[2].x, t->n[2].y, t->n[2].z,
-                 t->color.x,    t->color.y,    t->color.z,   t->ks,     t->alpha,  t->ior,
-                 t->emission.x, t->emission.y, t->emission.z};
+                 t->v[2].x,     t->v[2].y,     t->v[2].z,    n[0].x,    n[0].y,    n[0].z,
+                 n[1].x,        n[1].y,        n[1].z,       n[2].x,    n[2].y,    n[2].z,
+                 m->color.x,    m->color.y,    m->color.z,   m->ks,     m->alpha,  m->ior,
+                 m->emission.x, m->emission.y, m->emission.z};
     _Static_assert(sizeof f / sizeof f[0] + 2 == TRIANGLE_WORDS, "a triangle's words");
     memcpy(out, f, sizeof f);
-    out[TRIANGLE_WORDS - 2] = (uint32_t)t->smooth;
-    out[TRIANGLE_WORDS - 1] = (uint32_t)t->material;
+    out[TRIANGLE_WORDS - 2] = (uint32_t)(t->normals != TRIANGLE_FLAT);
+    out[TRIANGLE_WORDS - 1] = (uint32_t)m->material;
 }
 
 /* Blocks [begin, end) of a scene's triangles, block b hashed into digests[b - begin]. */
@@ -87,7 +91,7 @@ static void *digest_share_run(void *arg) {
         size_t last = (block + 1) * DIGEST_BLOCK < count ? (block + 1) * DIGEST_BLOCK : count;
         for (size_t k = block * DIGEST_BLOCK; k < last; k++) {
             uint32_t w[TRIANGLE_WORDS];
-            triangle_words(&d->s->triangles[k], w);
+            triangle_words(d->s, &d->s->triangles[k], w);
             for (int c = 0; c < TRIANGLE_WORDS; c++) lane[c & 3] = digest_word(lane[c & 3], w[c]);
         }
         uint64_t h = 0xcbf29ce484222325u;

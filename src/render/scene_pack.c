@@ -138,8 +138,9 @@ static double triangle_area(const triangle *t) {
 static double sphere_power(const sphere *sp) {
     return (double)sp->radius * sp->radius * emission_mean(sp->emission);
 }
-static double triangle_power(const triangle *t) {
-    return triangle_area(t) * emission_mean(t->emission) / (2.0 * 3.14159265358979323846);
+static double triangle_power(const scene *s, const triangle *t) {
+    return triangle_area(t) * emission_mean(triangle_material(s, t)->emission) /
+           (2.0 * 3.14159265358979323846);
 }
 
 /* Appends emitter slot `slot` for primitive id (uint bits in primitive_cdf.x). */
@@ -168,7 +169,7 @@ static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
         if (power > 0.0) total += power, n++;
     }
     for (uint32_t k = 0; path_mode && k < triangles; k++) {
-        double power = triangle_power(&sc->triangles[k]);
+        double power = triangle_power(sc, &sc->triangles[k]);
         if (power > 0.0) total += power, n++;
     }
     out->emitters = big_calloc(n ? n : 1, sizeof *out->emitters);
@@ -192,23 +193,30 @@ static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
      * million faces in BVH order are scattered reads: 18 ms). */
     for (uint32_t k = 0; path_mode && k < triangles; k++) {
         const triangle *t = &sc->triangles[triangle_source[k]];
-        double power = triangle_power(t);
+        double power = triangle_power(sc, t);
         if (!(power > 0.0)) continue;
         running += power;
-        put_emitter(out, slot, count + k, t->emission, power, running, total, n,
-                    (float)triangle_area(t));
+        put_emitter(out, slot, count + k, triangle_material(sc, t)->emission, power, running, total,
+                    n, (float)triangle_area(t));
         out->triangles[k].v2.w = (float)++slot;
     }
     out->frame.emitter_count = n;
     return true;
 }
 
-/* Whether two triangles have one material (the same fields, bit for bit). */
-static bool same_material(const triangle *a, const triangle *b) {
+/* Whether two materials render the same (the fields a gpu_material holds, bit for bit). */
+static bool same_material(const shape_material *a, const shape_material *b) {
     return a->material == b->material && !memcmp(&a->color, &b->color, sizeof a->color) &&
            !memcmp(&a->ks, &b->ks, sizeof a->ks) &&
            !memcmp(&a->alpha, &b->alpha, sizeof a->alpha) &&
            !memcmp(&a->ior, &b->ior, sizeof a->ior);
+}
+
+/* Whether triangle k of s starts a run of another material than triangle k - 1's. */
+static bool new_material(const scene *s, uint32_t k) {
+    const triangle *t = &s->triangles[k];
+    return k == 0 || (t->material != t[-1].material &&
+                      !same_material(triangle_material(s, t), triangle_material(s, t - 1)));
 }
 
 /* The triangles in scene order, their materials (one per run of triangles that share one: a
@@ -217,8 +225,8 @@ static bool same_material(const triangle *a, const triangle *b) {
 static bool pack_triangles(packed_scene *out, const scene *s) {
     uint32_t count = (uint32_t)s->triangle_count, materials = 0, smooth = 0;
     for (uint32_t k = 0; k < count; k++) {
-        materials += k == 0 || !same_material(&s->triangles[k], &s->triangles[k - 1]);
-        smooth += s->triangles[k].smooth;
+        materials += new_material(s, k);
+        smooth += s->triangles[k].normals != TRIANGLE_FLAT;
     }
     out->triangles = big_calloc(count ? count : 1, sizeof *out->triangles);
     out->materials = calloc(materials ? materials : 1, sizeof *out->materials);
@@ -227,16 +235,19 @@ static bool pack_triangles(packed_scene *out, const scene *s) {
     uint32_t m = 0, n = 0;
     for (uint32_t k = 0; k < count; k++) {
         const triangle *t = &s->triangles[k];
-        if (k == 0 || !same_material(t, &s->triangles[k - 1])) {
+        if (new_material(s, k)) {
+            const shape_material *sm = triangle_material(s, t);
             out->materials[m++] = (struct gpu_material){
-                .color_ks = vec4_from(t->color, t->ks),
-                .params = {t->alpha, t->ior, (float)t->material, 0.0f},
+                .color_ks = vec4_from(sm->color, sm->ks),
+                .params = {sm->alpha, sm->ior, (float)sm->material, 0.0f},
             };
         }
-        uint32_t material = m - 1, normals = t->smooth ? n : TZ_FLAT;
-        if (t->smooth)
-            out->normals[n++] = (struct gpu_normals){
-                vec4_from(t->n[0], 0.0f), vec4_from(t->n[1], 0.0f), vec4_from(t->n[2], 0.0f)};
+        uint32_t material = m - 1, normals = t->normals != TRIANGLE_FLAT ? n : TZ_FLAT;
+        if (t->normals != TRIANGLE_FLAT) {
+            const vec3 *sn = s->normals[t->normals].n;
+            out->normals[n++] = (struct gpu_normals){vec4_from(sn[0], 0.0f), vec4_from(sn[1], 0.0f),
+                                                     vec4_from(sn[2], 0.0f)};
+        }
         float material_bits, normals_bits;
         memcpy(&material_bits, &material, sizeof material_bits);
         memcpy(&normals_bits, &normals, sizeof normals_bits);

@@ -53,14 +53,6 @@ typedef struct material_spec {
     bool alias; /* one of the seed's Spanish names */
 } material_spec;
 
-/* A surface's material as its line gives it, defaults filled in. */
-typedef struct surface {
-    material_kind material;
-    vec3 color;
-    float ks, alpha, ior;
-    vec3 emission;
-} surface;
-
 /* Double-precision vectors: the face checks must not overflow or cancel where float would. */
 typedef struct dvec3 {
     double x, y, z;
@@ -103,15 +95,23 @@ void material_list(char *out, size_t size, const shape_spec *shape, const char *
 bool shape_read(parser *p, const shape_spec *shape, const material_spec **material, key_values *kv);
 /* The material of a shape's line, defaults filled in; records the line's emission for report mode.
  */
-surface shape_surface(parser *p, const shape_spec *shape, const material_spec *m,
-                      const key_values *kv);
+shape_material shape_material_of(parser *p, const shape_spec *shape, const material_spec *m,
+                                 const key_values *kv);
 
 /* True, with the reason in why, unless face a b c is one the renderer can normalize in single
  * precision; `what` names the face in the reason. */
 bool face_problem(vec3 a, vec3 b, vec3 c, const char *what, char *why, size_t size);
 /* Room for `adding` triangles; false (reported) past the limits or out of memory. */
 bool faces_reserve(parser *p, int adding);
-/* Appends one face to the scene's triangles (room reserved by faces_reserve). */
-void face_add(parser *p, vec3 a, vec3 b, vec3 c, const surface *f);
+/* Appends one face of material `material` and shading normals `normals` (TRIANGLE_FLAT: none)
+ * to the scene's triangles (room reserved by faces_reserve). */
+void face_add(parser *p, vec3 a, vec3 b, vec3 c, uint32_t material, uint32_t normals);
+/* The index in the scene's materials of m: the last one's when it is the same, else a new one;
+ * false (reported) out of memory. */
+bool face_material(parser *p, const shape_material *m, uint32_t *index);
+/* Room for `adding` sets of shading normals; false (reported) past the limits or out of memory. */
+bool normals_reserve(parser *p, int adding);
+/* Appends shading normals n (room reserved by normals_reserve); returns their index. */
+uint32_t normals_add(parser *p, const vec3 n[3]);
 
 #endif

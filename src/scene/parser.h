@@ -65,7 +65,7 @@ typedef struct parser {
     token tokens[MAX_TOKENS];
     int token_count;
     scene s;
-    size_t sphere_capacity, triangle_capacity, light_capacity;
+    size_t sphere_capacity, triangle_capacity, light_capacity, material_capacity, normals_capacity;
     /* line of the first camera, plane, background and render directive; 0 while unseen */
     int camera_line, plane_line, background_line, render_line;
     int camera_col;        /* of the camera position, for the near-clip warning */

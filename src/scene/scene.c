@@ -7,12 +7,18 @@
 void scene_free(scene *s) {
     free(s->spheres);
     free(s->triangles);
+    free(s->materials);
+    free(s->normals);
     free(s->lights);
     s->spheres = NULL;
     s->triangles = NULL;
+    s->materials = NULL;
+    s->normals = NULL;
     s->lights = NULL;
     s->sphere_count = 0;
     s->triangle_count = 0;
+    s->material_count = 0;
+    s->normals_count = 0;
     s->light_count = 0;
 }
 

@@ -1,6 +1,6 @@
 /* scene_material.c: a shape's material (DESIGN section 2; scenes/README.md): the material words
  * and the keys each takes, and the reading of a shape's line, its material and keys, into the
- * surface it gets (defaults filled in) for spheres, triangles, quads and meshes alike. */
+ * material it gets (defaults filled in) for spheres, triangles, quads and meshes alike. */
 #include <stdio.h>
 #include <string.h>
 
@@ -78,8 +78,8 @@ bool shape_read(parser *p, const shape_spec *shape, const material_spec **materi
 
 /* The material of a shape's line, defaults filled in; records the first emission, which seed
  * mode refuses once the whole text is read (render mode may come later). */
-surface shape_surface(parser *p, const shape_spec *shape, const material_spec *m,
-                      const key_values *kv) {
+shape_material shape_material_of(parser *p, const shape_spec *shape, const material_spec *m,
+                                 const key_values *kv) {
     int k = shape->material_first;
     bool phong = m->kind == TZ_MATERIAL_PHONG;
     float c = m->default_color;
@@ -87,7 +87,7 @@ surface shape_surface(parser *p, const shape_spec *shape, const material_spec *m
         p->emission_line = p->line;
         p->emission_col = p->tokens[kv->key_token[k + MAT_EMISSION]].col;
     }
-    return (surface){
+    return (shape_material){
         .material = m->kind,
         .color = parser_vec3(kv, k + MAT_COLOR, v3(c, c, c)),
         .ks = phong ? (float)parser_value_or(kv, k + MAT_KS, 0.5) : 0.0f,

@@ -3,7 +3,9 @@
  * glass only when it is closed, appended to the scene's triangles. */
 #include <limits.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "scene/directives.h"
@@ -173,19 +175,19 @@ static bool read_mesh_keys(parser *p, const material_spec *m, int next, key_valu
     return true;
 }
 
-/* The surface of a mapped file material (a lambertian grey when the face has none). */
-static surface mapped_surface(const mesh *me, int material) {
+/* A file material as trazador's (a lambertian grey when the face has none). */
+static shape_material mapped_material(const mesh *me, int material) {
     if (material < 0 || material >= me->material_count) {
-        return (surface){
+        return (shape_material){
             .material = TZ_MATERIAL_LAMBERTIAN, .color = v3(0.8f, 0.8f, 0.8f), .ior = 1};
     }
     const mesh_material *mm = &me->materials[material];
-    return (surface){.material = mm->kind,
-                     .color = mm->color,
-                     .ks = mm->ks,
-                     .alpha = mm->alpha,
-                     .ior = mm->ior,
-                     .emission = mm->emission};
+    return (shape_material){.material = mm->kind,
+                            .color = mm->color,
+                            .ks = mm->ks,
+                            .alpha = mm->alpha,
+                            .ior = mm->ior,
+                            .emission = mm->emission};
 }
 
 /* One thread's share of transform_faces: faces [begin, end), its kept ones first. */
@@ -251,6 +253,45 @@ static bool transform_faces(mesh *me, const mesh_transform *xf, bool smooth, siz
     return true;
 }
 
+/* Appends the mesh's first `kept` faces, of material *given or else each of its file's, a file
+ * material added to the scene's when a face first takes it; *emits says whether one emits. False
+ * (reported) out of memory. */
+static bool add_faces(parser *p, const mesh *me, size_t kept, const shape_material *given,
+                      bool *emits) {
+    uint32_t material = 0, *mapped = NULL; /* mapped[k]: the scene's index of file material k */
+    if (given && !face_material(p, given, &material)) return false;
+    if (!given) {
+        mapped = malloc(((size_t)me->material_count + 1) * sizeof *mapped);
+        if (!mapped) {
+            if (p->err) p->err->out_of_memory = true;
+            return parser_fail(p, p->tokens[0].col, "out of memory");
+        }
+        for (int k = 0; k <= me->material_count; k++) mapped[k] = UINT32_MAX; /* none yet */
+    }
+    for (size_t f = 0; f < kept; f++) {
+        const mesh_face *face = &me->faces[f];
+        if (!given) {
+            int slot = face->material >= 0 && face->material < me->material_count
+                           ? face->material
+                           : me->material_count; /* the last: no material */
+            if (mapped[slot] == UINT32_MAX) {
+                shape_material s = mapped_material(me, face->material);
+                *emits |= s.emission.x > 0.0f || s.emission.y > 0.0f || s.emission.z > 0.0f;
+                if (!face_material(p, &s, &mapped[slot])) {
+                    free(mapped);
+                    return false;
+                }
+            }
+            material = mapped[slot];
+        }
+        bool flat = face->n[0].x == 0.0f && face->n[0].y == 0.0f && face->n[0].z == 0.0f;
+        face_add(p, face->v[0], face->v[1], face->v[2], material,
+                 flat ? TRIANGLE_FLAT : normals_add(p, face->n));
+    }
+    free(mapped);
+    return true;
+}
+
 /* A mesh from a model file (mesh_load.c): transformed, its degenerate faces dropped (one
  * warning), glass only when it is closed. */
 bool directive_mesh(parser *p) {
@@ -284,8 +325,8 @@ bool directive_mesh(parser *p) {
     for (int k = 0; k < 3 && (kv.given & BIT(MESH_TRANSLATE)); k++)
         translate[k] = kv.value[MESH_TRANSLATE][k];
     mesh_transform xf = make_transform(scale, rotate, translate);
-    surface given = {0};
-    if (m) given = shape_surface(p, &mesh_shape, m, &kv);
+    shape_material given = {0};
+    if (m) given = shape_material_of(p, &mesh_shape, m, &kv);
     bool glass = m && m->kind == TZ_MATERIAL_REFRACTIVE, emits = false;
     for (int k = 0; !m && k < me.material_count; k++)
         glass |= me.materials[k].kind == TZ_MATERIAL_REFRACTIVE;
@@ -328,18 +369,11 @@ bool directive_mesh(parser *p) {
         face->v[1] = face->v[2], face->n[1] = face->n[2];
         face->v[2] = v, face->n[2] = n;
     }
-    if (!faces_reserve(p, kept > (size_t)INT_MAX / 2 ? INT_MAX / 2 : (int)kept)) {
+    int room = kept > (size_t)INT_MAX / 2 ? INT_MAX / 2 : (int)kept;
+    if (!faces_reserve(p, room) || (smooth && !normals_reserve(p, room)) ||
+        !add_faces(p, &me, kept, m ? &given : NULL, &emits)) {
         mesh_free(&me);
         return false;
-    }
-    for (size_t f = 0; f < kept; f++) {
-        const mesh_face *face = &me.faces[f];
-        surface s = m ? given : mapped_surface(&me, face->material);
-        emits |= s.emission.x > 0.0f || s.emission.y > 0.0f || s.emission.z > 0.0f;
-        face_add(p, face->v[0], face->v[1], face->v[2], &s);
-        triangle *t = &p->s.triangles[p->s.triangle_count - 1];
-        t->smooth = face->n[0].x != 0.0f || face->n[0].y != 0.0f || face->n[0].z != 0.0f;
-        for (int k = 0; k < 3; k++) t->n[k] = face->n[k];
     }
     if (emits && !m && !p->emission_line) {
         p->emission_line = p->line;

@@ -98,7 +98,7 @@ bool directive_sphere(parser *p) {
                              SCENE_MAX_SPHERES, sizeof(sphere), "spheres");
     p->s.spheres = array;
     if (!ok || !reserve_primitives(p, 1)) return false;
-    surface f = shape_surface(p, &sphere_shape, m, &kv);
+    shape_material f = shape_material_of(p, &sphere_shape, m, &kv);
     p->s.spheres[p->s.sphere_count++] = (sphere){
         .center = parser_vec3(&kv, SPHERE_CENTER, v3(0, 0, 0)),
         .radius = (float)parser_value_or(&kv, SPHERE_RADIUS, 0.0),
@@ -165,19 +165,47 @@ static bool check_face(parser *p, vec3 a, vec3 b, vec3 c, const char *what) {
     return true;
 }
 
-/* Appends one face to the scene's triangles (room reserved by the caller). */
-void face_add(parser *p, vec3 a, vec3 b, vec3 c, const surface *f) {
-    triangle *t = &p->s.triangles[p->s.triangle_count++];
-    memset(t, 0, sizeof *t); /* padding too: equal faces are equal bytes */
-    t->v[0] = a;
-    t->v[1] = b;
-    t->v[2] = c;
-    t->material = f->material;
-    t->color = f->color;
-    t->ks = f->ks;
-    t->alpha = f->alpha;
-    t->ior = f->ior;
-    t->emission = f->emission;
+void face_add(parser *p, vec3 a, vec3 b, vec3 c, uint32_t material, uint32_t normals) {
+    p->s.triangles[p->s.triangle_count++] = (triangle){{a, b, c}, material, normals};
+}
+
+/* Whether two materials are the same, field by field (no padding bytes). */
+static bool same_material(const shape_material *a, const shape_material *b) {
+    return a->material == b->material && !memcmp(&a->color, &b->color, sizeof a->color) &&
+           !memcmp(&a->ks, &b->ks, sizeof a->ks) &&
+           !memcmp(&a->alpha, &b->alpha, sizeof a->alpha) &&
+           !memcmp(&a->ior, &b->ior, sizeof a->ior) &&
+           !memcmp(&a->emission, &b->emission, sizeof a->emission);
+}
+
+bool face_material(parser *p, const shape_material *m, uint32_t *index) {
+    int n = p->s.material_count;
+    if (n > 0 && same_material(&p->s.materials[n - 1], m)) {
+        *index = (uint32_t)n - 1;
+        return true;
+    }
+    void *array = p->s.materials;
+    bool ok = directive_grow(p, &array, &p->material_capacity, n, 1, PARSER_MAX_PRIMITIVES,
+                             sizeof(shape_material), "materials");
+    p->s.materials = array;
+    if (!ok) return false;
+    p->s.materials[n] = *m;
+    p->s.material_count = n + 1;
+    *index = (uint32_t)n;
+    return true;
+}
+
+bool normals_reserve(parser *p, int adding) {
+    void *array = p->s.normals;
+    bool ok = directive_grow(p, &array, &p->normals_capacity, p->s.normals_count, adding,
+                             PARSER_MAX_PRIMITIVES, sizeof(face_normals), "shading normals");
+    p->s.normals = array;
+    return ok;
+}
+
+uint32_t normals_add(parser *p, const vec3 n[3]) {
+    p->s.normals[p->s.normals_count] = (face_normals){{n[0], n[1], n[2]}};
+    return (uint32_t)p->s.normals_count++;
 }
 
 /* Room for `adding` triangles; false (reported) past the limits or out of memory. */
@@ -218,12 +246,13 @@ bool directive_triangle(parser *p) {
         }
         n[k] = v3((float)(x / length), (float)(y / length), (float)(z / length));
     }
-    if (!check_face(p, v[0], v[1], v[2], "triangle") || !faces_reserve(p, 1)) return false;
-    surface f = shape_surface(p, &triangle_shape, m, &kv);
-    face_add(p, v[0], v[1], v[2], &f);
-    triangle *t = &p->s.triangles[p->s.triangle_count - 1];
-    t->smooth = normals != 0;
-    for (int k = 0; k < 3; k++) t->n[k] = n[k];
+    if (!check_face(p, v[0], v[1], v[2], "triangle") || !faces_reserve(p, 1) ||
+        (normals && !normals_reserve(p, 1)))
+        return false;
+    shape_material f = shape_material_of(p, &triangle_shape, m, &kv);
+    uint32_t material;
+    if (!face_material(p, &f, &material)) return false;
+    face_add(p, v[0], v[1], v[2], material, normals ? normals_add(p, n) : TRIANGLE_FLAT);
     return true;
 }
 
@@ -259,8 +288,10 @@ bool directive_quad(parser *p) {
         }
     }
     if (!faces_reserve(p, 2)) return false;
-    surface f = shape_surface(p, &quad_shape, m, &kv);
-    face_add(p, v[0], v[1], v[2], &f);
-    face_add(p, v[0], v[2], v[3], &f);
+    shape_material f = shape_material_of(p, &quad_shape, m, &kv);
+    uint32_t material;
+    if (!face_material(p, &f, &material)) return false;
+    face_add(p, v[0], v[1], v[2], material, TRIANGLE_FLAT);
+    face_add(p, v[0], v[2], v[3], material, TRIANGLE_FLAT);
     return true;
 }

@@ -223,7 +223,7 @@ vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const rend
     for (int k = 0; opts->mode == RENDER_MODE_PATH && k < s->sphere_count; k++)
         emitters += sphere_emits(&s->spheres[k]);
     for (int k = 0; opts->mode == RENDER_MODE_PATH && k < s->triangle_count; k++)
-        emitters += triangle_emits(&s->triangles[k]);
+        emitters += triangle_emits(s, &s->triangles[k]);
     /* Only spheres are unrolled (their data become specialization constants). */
     if (walk == RENDER_WALK_RAY_QUERY) {
         /* The device's walk: no loop of trazador's own to bound, a guessed 64 tests a ray. */
