@@ -21,10 +21,11 @@ void *big_realloc(void *p, size_t bytes);
  * instead of a fault at each first touch; the kernel may refuse either, nothing else happens. */
 void big_memory_advise(void *p, size_t bytes);
 
-/* For a process about to make many small allocations (assimp's child): its heap grown by up to
- * `bytes` (at most 1 GB, a quarter of the memory and a quarter of an address-space or data
- * limit) in blocks, advised as huge pages, freed and never trimmed, so that its allocations
- * fault 2 MB pages; nothing is touched, and nothing happens under AddressSanitizer. */
+/* For a process about to make many small allocations (assimp's child, a Vulkan driver opening a
+ * device and compiling a pipeline): its heap grown by up to `bytes` (at most 1 GB, a quarter of
+ * the memory and a quarter of an address-space or data limit) in blocks, advised as huge pages,
+ * freed and never trimmed, so that its allocations fault 2 MB pages; only the blocks' headers are
+ * touched, and nothing happens under AddressSanitizer. */
 void big_memory_reserve_heap(size_t bytes);
 
 #endif

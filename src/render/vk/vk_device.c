@@ -1,5 +1,6 @@
 /* vk_device.c: physical devices (what each offers, which is the default, the listing the user
  * sees) and the logical device, queue and command pool of a context. */
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -135,14 +136,56 @@ static VkInstance open_listing_instance(void) {
     return instance;
 }
 
-int vk_context_device_count(void) {
-    VkInstance instance = open_listing_instance();
-    if (!instance) return 0;
-    uint32_t count = 0;
-    if (vkEnumeratePhysicalDevices(instance, &count, NULL) < 0) count = 0;
-    vkDestroyInstance(instance, NULL);
-    return (int)count;
+/* The devices, counted and typed once for each driver setting of the loader's environment: each
+ * listing opens an instance, which costs lavapipe tens of milliseconds, and auto asks for both. */
+typedef struct device_census {
+    bool taken;
+    char drivers[1024]; /* the variables that choose the drivers, when it was taken */
+    int count;
+    bool cpu_only; /* every device a CPU; false with none */
+} device_census;
+static device_census census;
+static pthread_mutex_t census_lock = PTHREAD_MUTEX_INITIALIZER;
+
+/* The loader's driver variables, joined (cut to size: a census retaken in vain at worst). */
+static void driver_setting(char *out, size_t size) {
+    const char *names[] = {"VK_DRIVER_FILES", "VK_ICD_FILENAMES", "VK_ADD_DRIVER_FILES"};
+    size_t at = 0;
+    out[0] = '\0';
+    for (size_t k = 0; k < sizeof names / sizeof names[0] && at < size; k++) {
+        const char *v = getenv(names[k]);
+        int n = snprintf(out + at, size - at, "%s\n", v ? v : "-");
+        at += n > 0 ? (size_t)n : 0;
+    }
 }
+
+static device_census take_census(void) {
+    char drivers[sizeof census.drivers];
+    driver_setting(drivers, sizeof drivers);
+    pthread_mutex_lock(&census_lock);
+    if (!census.taken || strcmp(census.drivers, drivers)) {
+        census = (device_census){.taken = true};
+        memcpy(census.drivers, drivers, sizeof drivers);
+        VkInstance instance = open_listing_instance();
+        VkPhysicalDevice *devices = NULL;
+        uint32_t count = 0;
+        bool cpu = instance && list_devices(instance, &devices, &count);
+        for (uint32_t k = 0; k < count && cpu; k++) {
+            device_info info;
+            query_device(devices[k], &info);
+            cpu = info.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+        }
+        census.count = (int)count;
+        census.cpu_only = cpu;
+        free(devices);
+        if (instance) vkDestroyInstance(instance, NULL);
+    }
+    device_census taken = census;
+    pthread_mutex_unlock(&census_lock);
+    return taken;
+}
+
+int vk_context_device_count(void) { return take_census().count; }
 
 static const char *device_type_name(VkPhysicalDeviceType type) {
     switch (type) {
@@ -337,18 +380,4 @@ bool vk_context_has_subgroup_walk(const vk_context *ctx) {
            ctx->subgroup.subgroupSize >= 1u && ctx->subgroup.subgroupSize <= 63u;
 }
 
-bool vk_context_cpu_only(void) {
-    VkInstance instance = open_listing_instance();
-    VkPhysicalDevice *devices = NULL;
-    uint32_t count = 0;
-    if (!instance) return false;
-    bool cpu = list_devices(instance, &devices, &count);
-    for (uint32_t k = 0; k < count && cpu; k++) {
-        device_info info;
-        query_device(devices[k], &info);
-        cpu = info.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
-    }
-    free(devices);
-    vkDestroyInstance(instance, NULL);
-    return cpu;
-}
+bool vk_context_cpu_only(void) { return take_census().cpu_only; }
