@@ -189,8 +189,8 @@ static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
         put_emitter(out, slot, k, sp->emission, power, running, total, n, 0.0f);
         g->params.w = (float)++slot;
     }
-    /* A triangle's v2.w is 0 from pack_triangles; report mode has no emitters to look up (a
-     * million faces in BVH order are scattered reads: 18 ms). */
+    /* A triangle's v2.w is 0 from pack_triangles; report mode has no emitters to look up (the
+     * scene's triangles in BVH order are scattered reads). */
     for (uint32_t k = 0; path_mode && k < triangles; k++) {
         const triangle *t = &sc->triangles[triangle_source[k]];
         double power = triangle_power(sc, t);

@@ -175,8 +175,7 @@ static mesh_material map_material(const struct aiMaterial *m, char *unsupported,
 /* Room for count (> 0) faces in private memory, on huge pages mapped at once: the faces cross
  * between the processes by copies into and out of shared memory (pwrite, pread), not through a
  * mapping of it, whose 4 KB pages a virtual machine charges microseconds each at their first
- * touch (a million faces: written in 0.1 s and read in 0.08 s through mappings, copied in 0.01 s
- * each way; docs/PERF.md, "Faces by copy"). NULL when out of memory. */
+ * touch (docs/PERF.md, "Faces by copy"). NULL when out of memory. */
 static mesh_face *faces_room(size_t count) {
     mesh_face *faces = count <= SIZE_MAX / sizeof *faces ? big_malloc(count * sizeof *faces) : NULL;
     big_memory_advise(faces, faces ? count * sizeof *faces : 0);

@@ -92,8 +92,7 @@ static void pin_loaded_libraries(void) {
 
 /* The heap reserved before the first instance: lavapipe makes many small allocations setting up
  * llvmpipe, opening a device and compiling a pipeline, each first touch of a 4 KB page a fault
- * that a virtual machine charges microseconds (a 1-spp render of smallpt's scene: 0.27 -> 0.23 s
- * on Mesa 22.3, 0.25 -> 0.20 s on 25.0; docs/PERF.md, "Vulkan set-up"). */
+ * that a virtual machine charges microseconds (docs/PERF.md, "Vulkan set-up"). */
 #define DRIVER_HEAP_RESERVE ((size_t)128 << 20)
 
 static void reserve_driver_heap(void) { big_memory_reserve_heap(DRIVER_HEAP_RESERVE); }
