@@ -12,7 +12,6 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
-#include <poll.h>
 #include <signal.h>
 #include <stdarg.h>
 #include <stdint.h>
@@ -26,6 +25,7 @@
 
 #include "util/big_memory.h"
 #include "util/clock.h"
+#include "util/fd_io.h"
 #include "util/log.h"
 #include "util/threads.h"
 
@@ -182,22 +182,9 @@ static mesh_face *faces_room(size_t count) {
     return faces;
 }
 
-/* Copies count faces between memory and shared memory fd from its start: pwrite when `to`,
- * else pread; false (errno set) when fd holds fewer or refuses them. */
+/* Copies count faces between memory and shared memory fd (fd_copy_at). */
 static bool copy_faces(int fd, mesh_face *faces, size_t count, bool to) {
-    char *at = (char *)faces;
-    size_t done = 0, size = count * sizeof *faces;
-    while (done < size) {
-        ssize_t n = to ? pwrite(fd, at + done, size - done, (off_t)done)
-                       : pread(fd, at + done, size - done, (off_t)done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) {
-            if (n == 0) errno = EIO;
-            return false;
-        }
-        done += (size_t)n;
-    }
-    return true;
+    return fd_copy_at(fd, faces, count * sizeof *faces, to);
 }
 
 /* One thread's share of the faces gathered (gather_faces): faces [begin, end) of the triangle
@@ -346,39 +333,6 @@ typedef struct reply {
     char error[512];
 } reply;
 
-static bool write_all(int fd, const void *data, size_t size) {
-    const char *at = data;
-    while (size > 0) {
-        ssize_t n = write(fd, at, size);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) return false;
-        at += n;
-        size -= (size_t)n;
-    }
-    return true;
-}
-
-/* Reads size bytes before the deadline (clock_seconds()); false on end of file or time out. */
-static bool read_all_by(int fd, void *data, size_t size, double deadline, bool *late) {
-    char *at = data;
-    while (size > 0) {
-        double left = deadline - clock_seconds();
-        struct pollfd pfd = {.fd = fd, .events = POLLIN};
-        int ready = left > 0 ? poll(&pfd, 1, (int)(left * 1000) + 1) : 0;
-        if (ready < 0 && errno == EINTR) continue;
-        if (ready == 0) {
-            *late = true;
-            return false;
-        }
-        ssize_t n = read(fd, at, size > (1u << 20) ? (1u << 20) : size);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) return false;
-        at += n;
-        size -= (size_t)n;
-    }
-    return true;
-}
-
 /* assimp allocates a small block per face and vertex list, and every first touch of a 4 KB page
  * of the heap is a fault (microseconds on a virtual machine): the child's heap is reserved on
  * huge pages at about what the import of file_bytes will use (a 1e6-face PLY imported in 0.14 s
@@ -406,8 +360,8 @@ static void child_run(int fd, int shm, const char *path, bool smooth, size_t fil
     r.face_count = m.face_count;
     r.material_count = m.material_count;
     memcpy(r.unsupported, m.unsupported, sizeof r.unsupported);
-    if (write_all(fd, &r, sizeof r) && r.ok)
-        write_all(fd, m.materials, (size_t)m.material_count * sizeof *m.materials);
+    if (fd_write_all(fd, &r, sizeof r) && r.ok)
+        fd_write_all(fd, m.materials, (size_t)m.material_count * sizeof *m.materials);
     _exit(0);
 }
 
@@ -451,7 +405,7 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
     double deadline = clock_seconds() + seconds;
     reply r = {0};
     bool late = false, reported = false, ok = false;
-    bool got = read_all_by(fds[0], &r, sizeof r, deadline, &late);
+    bool got = fd_read_all_by(fds[0], &r, sizeof r, deadline, &late);
     if (got && r.ok) {
         out->face_count = r.face_count;
         out->material_count = r.material_count;
@@ -470,8 +424,8 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
                  r.face_count, strerror(errno));
             reported = true;
         } else {
-            ok = read_all_by(fds[0], out->materials,
-                             (size_t)r.material_count * sizeof *out->materials, deadline, &late);
+            ok = fd_read_all_by(fds[0], out->materials,
+                                (size_t)r.material_count * sizeof *out->materials, deadline, &late);
         }
     } else if (got) {
         r.error[sizeof r.error - 1] = '\0';
