@@ -156,8 +156,14 @@ void main() {
         bool last = c + 1u == pass.chunk_count;
         uint n = last ? left : TZ_CHUNK_SAMPLES - s % TZ_CHUNK_SAMPLES;
         for (uint k = 0u; k < n; k++) {
+#if defined(TZ_PATH_MODULE) /* a module of one mode: less for the driver to compile */
+            vec3 l = path_sample(i, j, s + k);
+#elif defined(TZ_REPORT_MODULE)
+            vec3 l = report_sample(i, j, s + k);
+#else
             vec3 l = (FLAGS & TZ_FLAG_PATH) != 0u ? path_sample(i, j, s + k)
                                                   : report_sample(i, j, s + k);
+#endif
             if (loop_overflow) { /* a walk was cut short: the sample would be wrong */
                 overflowed++;
                 loop_overflow = false;

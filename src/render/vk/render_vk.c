@@ -23,8 +23,9 @@
 #include "render/vk/vk_render_state.h"
 #include "render/vk/vk_strategy.h"
 #include "trace_coop_spv.h"
+#include "trace_path_spv.h"
+#include "trace_report_spv.h"
 #include "trace_rq_spv.h"
-#include "trace_spv.h"
 #include "util/clock.h"
 #include "util/log.h"
 
@@ -240,14 +241,17 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
         entries[k] =
             (VkSpecializationMapEntry){k, k * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
     const VkSpecializationInfo spec = {SPEC_COUNT, entries, sizeof constants, &constants};
+    bool path = (packed->frame.flags & TZ_FLAG_PATH) != 0u;
     vk_kernel_desc kernel = {
         .spec = &spec,
         .code = st->ray_query     ? trace_rq_spv
                 : st->cooperative ? trace_coop_spv
-                                  : trace_spv,
+                : path            ? trace_path_spv
+                                  : trace_report_spv,
         .code_size = st->ray_query     ? sizeof trace_rq_spv
                      : st->cooperative ? sizeof trace_coop_spv
-                                       : sizeof trace_spv,
+                     : path            ? sizeof trace_path_spv
+                                       : sizeof trace_report_spv,
         .types = types,
         .binding_count = st->ray_query ? TZ_BINDING_ACCEL + 1u : TZ_BINDING_COUNT,
         .push_size = sizeof(struct gpu_pass),
