@@ -6,7 +6,6 @@
 #define TRAZADOR_BVH_BUILDER_H
 
 #include <math.h>
-#include <pthread.h>
 #include <stdatomic.h>
 #include <stdbool.h>
 #include <stdint.h>

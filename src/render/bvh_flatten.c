@@ -2,7 +2,6 @@
  * each node holding its two children's boxes: the nodes above the tasks first, keeping each
  * task's place, then the tasks' subtrees at their places on all threads; then the leaves'
  * positions turned into primitive ids. */
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -91,14 +90,9 @@ uint32_t bvh_flatten_all(builder *b, struct gpu_bvh_node *out) {
     flatten(b, b->nodes, 0, out, &count);
     atomic_uint next;
     atomic_init(&next, 0);
-    flattener f = {.b = b, .out = out, .next = &next};
-    pthread_t threads[THREADS_MAX];
-    int started = 0;
-    while (started < b->threads - 1 &&
-           pthread_create(&threads[started], NULL, flattener_run, &f) == 0)
-        started++;
-    flattener_run(&f);
-    for (int t = 0; t < started; t++) pthread_join(threads[t], NULL);
+    flattener f[THREADS_MAX]; /* alike: each thread takes tasks from the shared list */
+    for (int t = 0; t < b->threads; t++) f[t] = (flattener){.b = b, .out = out, .next = &next};
+    threads_run(flattener_run, f, sizeof *f, b->threads);
     return count;
 }
 

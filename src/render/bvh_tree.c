@@ -1,7 +1,6 @@
 /* bvh_tree.c: the binary tree by binned SAH: the nodes over many primitives split one at a
  * time with their binning shared among the threads, the subtrees below them built as tasks that
  * the threads take from a shared list, largest first. */
-#include <pthread.h>
 #include <stdlib.h>
 
 #include "render/bvh_builder.h"
@@ -177,17 +176,10 @@ uint32_t bvh_build_tasks(builder *b) {
     if (b->task_count > 1) qsort(b->tasks, b->task_count, sizeof *b->tasks, task_larger);
     atomic_init(&b->next_task, 0);
     worker workers[THREADS_MAX];
-    pthread_t threads[THREADS_MAX];
-    int started = 0;
     for (int t = 0; t < b->threads; t++) workers[t] = (worker){.b = b};
-    while (started < b->threads - 1 &&
-           pthread_create(&threads[started], NULL, worker_run, &workers[started + 1]) == 0)
-        started++;
-    worker_run(&workers[0]);
-    uint32_t depth = workers[0].depth;
-    for (int t = 0; t < started; t++) {
-        pthread_join(threads[t], NULL);
-        if (workers[t + 1].depth > depth) depth = workers[t + 1].depth;
-    }
+    threads_run(worker_run, workers, sizeof *workers, b->threads);
+    uint32_t depth = 0;
+    for (int t = 0; t < b->threads; t++)
+        if (workers[t].depth > depth) depth = workers[t].depth;
     return depth;
 }
