@@ -205,7 +205,7 @@ static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
 }
 
 /* Whether two materials render the same (the fields a gpu_material holds, bit for bit). */
-static bool same_material(const shape_material *a, const shape_material *b) {
+static bool same_gpu_material(const shape_material *a, const shape_material *b) {
     return a->material == b->material && !memcmp(&a->color, &b->color, sizeof a->color) &&
            !memcmp(&a->ks, &b->ks, sizeof a->ks) &&
            !memcmp(&a->alpha, &b->alpha, sizeof a->alpha) &&
@@ -216,7 +216,7 @@ static bool same_material(const shape_material *a, const shape_material *b) {
 static bool new_material(const scene *s, uint32_t k) {
     const triangle *t = &s->triangles[k];
     return k == 0 || (t->material != t[-1].material &&
-                      !same_material(triangle_material(s, t), triangle_material(s, t - 1)));
+                      !same_gpu_material(triangle_material(s, t), triangle_material(s, t - 1)));
 }
 
 /* The triangles in scene order, their materials (one per run of triangles that share one: a

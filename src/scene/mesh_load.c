@@ -177,8 +177,8 @@ static mesh_material map_material(const struct aiMaterial *m, char *unsupported,
  * mapping of it, whose 4 KB pages a virtual machine charges microseconds each at their first
  * touch (docs/PERF.md, "Faces by copy"). NULL when out of memory. */
 static mesh_face *faces_room(size_t count) {
-    mesh_face *faces = count <= SIZE_MAX / sizeof *faces ? big_malloc(count * sizeof *faces) : NULL;
-    big_memory_advise(faces, faces ? count * sizeof *faces : 0);
+    mesh_face *faces = count <= SIZE_MAX / sizeof *faces ? malloc(count * sizeof *faces) : NULL;
+    big_memory_advise(faces, faces ? count * sizeof *faces : 0); /* huge pages, mapped at once */
     return faces;
 }
 

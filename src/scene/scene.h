@@ -5,6 +5,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "shared_layout.h"
 #include "util/vec3.h"
@@ -184,10 +185,21 @@ static inline bool sphere_emits(const sphere *sp) {
 static inline const shape_material *triangle_material(const scene *s, const triangle *t) {
     return &s->materials[t->material];
 }
+/* Whether two materials are the same, field by field, bit for bit. */
+static inline bool shape_material_same(const shape_material *a, const shape_material *b) {
+    return a->material == b->material && !memcmp(&a->color, &b->color, sizeof a->color) &&
+           !memcmp(&a->ks, &b->ks, sizeof a->ks) &&
+           !memcmp(&a->alpha, &b->alpha, sizeof a->alpha) &&
+           !memcmp(&a->ior, &b->ior, sizeof a->ior) &&
+           !memcmp(&a->emission, &b->emission, sizeof a->emission);
+}
+/* Whether faces of material m emit light (path mode's emitters); never fails. */
+static inline bool shape_material_emits(const shape_material *m) {
+    return m->emission.x > 0.0f || m->emission.y > 0.0f || m->emission.z > 0.0f;
+}
 /* Whether triangle t of scene s emits light (path mode's emitters); never fails. */
 static inline bool triangle_emits(const scene *s, const triangle *t) {
-    vec3 e = triangle_material(s, t)->emission;
-    return e.x > 0.0f || e.y > 0.0f || e.z > 0.0f;
+    return shape_material_emits(triangle_material(s, t));
 }
 /* Releases the arrays of a parsed scene; safe on a zeroed scene. */
 void scene_free(scene *s);

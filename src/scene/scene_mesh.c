@@ -276,7 +276,7 @@ static bool add_faces(parser *p, const mesh *me, size_t kept, const shape_materi
                            : me->material_count; /* the last: no material */
             if (mapped[slot] == UINT32_MAX) {
                 shape_material s = mapped_material(me, face->material);
-                *emits |= s.emission.x > 0.0f || s.emission.y > 0.0f || s.emission.z > 0.0f;
+                *emits |= shape_material_emits(&s);
                 if (!face_material(p, &s, &mapped[slot])) {
                     free(mapped);
                     return false;

@@ -167,9 +167,8 @@ static bool append_items(void **array, int *used, size_t *capacity, const void *
 static bool append_faces(parser *p, const scene *cs) {
     int materials = p->s.material_count, normals = p->s.normals_count;
     int triangles = p->s.triangle_count;
-    bool shared =
-        materials > 0 && cs->material_count > 0 &&
-        !memcmp(&p->s.materials[materials - 1], &cs->materials[0], sizeof cs->materials[0]);
+    bool shared = materials > 0 && cs->material_count > 0 &&
+                  shape_material_same(&p->s.materials[materials - 1], &cs->materials[0]);
     int skip = shared ? 1 : 0;
     void *m = p->s.materials, *n = p->s.normals, *t = p->s.triangles;
     bool ok = append_items(&m, &p->s.material_count, &p->material_capacity, cs->materials + skip,

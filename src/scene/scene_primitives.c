@@ -169,18 +169,9 @@ void face_add(parser *p, vec3 a, vec3 b, vec3 c, uint32_t material, uint32_t nor
     p->s.triangles[p->s.triangle_count++] = (triangle){{a, b, c}, material, normals};
 }
 
-/* Whether two materials are the same, field by field (no padding bytes). */
-static bool same_material(const shape_material *a, const shape_material *b) {
-    return a->material == b->material && !memcmp(&a->color, &b->color, sizeof a->color) &&
-           !memcmp(&a->ks, &b->ks, sizeof a->ks) &&
-           !memcmp(&a->alpha, &b->alpha, sizeof a->alpha) &&
-           !memcmp(&a->ior, &b->ior, sizeof a->ior) &&
-           !memcmp(&a->emission, &b->emission, sizeof a->emission);
-}
-
 bool face_material(parser *p, const shape_material *m, uint32_t *index) {
     int n = p->s.material_count;
-    if (n > 0 && same_material(&p->s.materials[n - 1], m)) {
+    if (n > 0 && shape_material_same(&p->s.materials[n - 1], m)) {
         *index = (uint32_t)n - 1;
         return true;
     }
