@@ -132,6 +132,21 @@ void chunk_stack_store(uint slot, uint k, vec3 v) {
 #define CHUNK_STACK_ARG slot,
 #include "common/chunk_push.h"
 
+/* Sample l into the chunk's compensated sums, or counted: dropped where it is not finite,
+ * overflowed where a walk was cut short (the sample would be wrong). */
+void add_sample(vec3 l, inout vec4 sum, inout vec3 comp, inout uint dropped, inout uint overflowed) {
+    if (loop_overflow) {
+        overflowed++;
+        loop_overflow = false;
+    } else if (sample_finite(l)) {
+        vec3 rgb = sum.xyz;
+        film_sum_add(rgb, comp, l);
+        sum = vec4(rgb, sum.w + 1.0);
+    } else {
+        dropped++;
+    }
+}
+
 void main() {
     uvec2 at = tile_pixel();
     uint ri = pass.x0 + at.x, rj = pass.y0 + at.y; /* in the region */
@@ -155,6 +170,18 @@ void main() {
         }
         bool last = c + 1u == pass.chunk_count;
         uint n = last ? left : TZ_CHUNK_SAMPLES - s % TZ_CHUNK_SAMPLES;
+#if defined(TZ_PATH_REGENERATE_MODULE)
+        /* A pass a vertex, a lane whose path ended starting its pixel's next sample at once: the
+         * batch's loop runs its longest lane's vertices, not each sample's longest path. For the
+         * scenes walked without a BVH: lanes at different vertices walk a BVH less alike. */
+        path_state p = path_start(i, j, s);
+        for (uint k = 0u; k < n;) {
+            p = path_step(p);
+            if (p.k != 0u) continue;
+            add_sample(p.radiance, sum, comp, dropped, overflowed);
+            if (++k < n) p = path_start(i, j, s + k);
+        }
+#else
         for (uint k = 0u; k < n; k++) {
 #if defined(TZ_PATH_MODULE) /* a module of one mode: less for the driver to compile */
             vec3 l = path_sample(i, j, s + k);
@@ -164,19 +191,9 @@ void main() {
             vec3 l = (FLAGS & TZ_FLAG_PATH) != 0u ? path_sample(i, j, s + k)
                                                   : report_sample(i, j, s + k);
 #endif
-            if (loop_overflow) { /* a walk was cut short: the sample would be wrong */
-                overflowed++;
-                loop_overflow = false;
-                continue;
-            }
-            if (sample_finite(l)) {
-                vec3 rgb = sum.xyz;
-                film_sum_add(rgb, comp, l);
-                sum = vec4(rgb, sum.w + 1.0);
-            } else {
-                dropped++;
-            }
+            add_sample(l, sum, comp, dropped, overflowed);
         }
+#endif
         s += n;
         left -= n;
         if (!last || (pass.chunk_flags & TZ_CHUNK_CLOSE) != 0u) {

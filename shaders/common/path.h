@@ -226,123 +226,169 @@ TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, surface sf, vec3 n, vec3 ng, vec
     return l;
 }
 
+/* A path between two of its vertices (path_sample's locals), so that a caller may run paths a
+ * vertex at a time: trace.comp starts a pixel's next sample in a lane whose path has ended while
+ * the other lanes of its batch go on. */
+TZ_STRUCT(path_state) {
+    sampler_state rng;
+    vec3 o; /* the next ray */
+    vec3 d;
+    TZ_PRECISE vec3 beta;
+    TZ_PRECISE vec3 radiance;
+    path_vertex last;
+    int self; /* the primitive the next ray leaves */
+    TZ_BOOL specular;
+    TZ_UINT k; /* the number of the next vertex, from 1; 0 once the path has ended */
+}
+TZ_STRUCT_END(path_state)
+
+/* The path of sample `sample_index` of pixel (i, j), i to the right, j down, before its first
+ * vertex. */
+TZ_FN path_state path_start(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index) {
+    path_state p;
+    p.rng = sampler_start(TZ_FLAGS, TZ_FRAME.seed, j * TZ_FRAME.width + i, sample_index);
+    next_ray camera = camera_ray(TZ_SCENE_ARG i, j, TZ_REF(p.rng));
+    p.o = camera.o;
+    p.d = camera.d;
+    p.beta = v3(1.0f, 1.0f, 1.0f);
+    p.radiance = v3(0.0f, 0.0f, 0.0f);
+    p.self = -1;
+    p.specular = TZ_TRUE;
+    p.last.pos = p.o;
+    p.last.n = p.d;
+    p.last.origin = p.o;
+    p.last.id = -1;
+    p.last.bsdf_pdf = 0.0f;
+    p.k = 1u;
+    return p;
+}
+
+/* p after its next vertex: the light found there added to p.radiance, and p.k 0 where the path
+ * ends. */
+TZ_FN path_state path_step(TZ_SCENE_PARAM path_state p) {
+    TZ_UINT flags = TZ_FLAGS;
+    float t;
+    int id = integrator_nearest(TZ_SCENE_ARG p.o, p.d, p.self, TZ_REF(t));
+    if (id < 0) {
+        p.radiance = v3_add(p.radiance, v3_mul(p.beta, xyz(TZ_FRAME.background)));
+        p.k = 0u;
+        return p;
+    }
+    surface sf = surface_at(TZ_SCENE_ARG id, p.o, p.d, t);
+    TZ_VEC4 params = sf.params;
+    TZ_VEC4 color_ks = sf.color_ks;
+    vec3 pos = sf.pos;
+    vec3 nout = sf.nout;
+    vec3 d = p.d;
+    int slot = TZ_INT(params.w) - 1;
+    if (slot >= 0) {
+        TZ_BOOL full = p.specular || (flags & TZ_FLAG_BSDF_ONLY) != 0u;
+        float w =
+            full ? 1.0f
+            : (flags & TZ_FLAG_LIGHTS_ONLY) != 0u
+                ? 0.0f
+                : power_heuristic(p.last.bsdf_pdf, light_pdf_at(TZ_SCENE_ARG p.last, id, pos, d));
+        TZ_PRECISE vec3 emitted =
+            v3_scale(v3_mul(p.beta, xyz(emitter_emission_pick(TZ_SCENE_ARG slot))), w);
+        p.radiance = v3_add(p.radiance, emitted);
+    }
+    if (p.k > TZ_FRAME.bounces) {
+        p.k = 0u;
+        return p;
+    }
+    int material = TZ_INT(params.z);
+    if (material == TZ_MATERIAL_LAMBERTIAN || material == TZ_MATERIAL_PHONG) {
+        vec3 n = facing_shading(sf, d);
+        vec3 ng = facing_normal(nout, d);
+        TZ_PRECISE vec3 wo = v3_scale(d, -1.0f);
+        float share = diffuse_share(xyz(color_ks), color_ks.w);
+        TZ_PRECISE vec3 direct = point_lights(TZ_SCENE_ARG sf, id, n, ng, wo);
+        if (TZ_FRAME.emitter_count > 0u) {
+            float ul = sample_1d(flags, TZ_REF(p.rng));
+            float ua, ub;
+            sample_2d(flags, TZ_REF(p.rng), TZ_REF(ua), TZ_REF(ub));
+            if ((flags & TZ_FLAG_BSDF_ONLY) == 0u)
+                direct = v3_add(direct,
+                                emitter_light(TZ_SCENE_ARG id, sf, n, ng, wo, share, ul, ua, ub));
+        }
+        p.radiance = v3_add(p.radiance, v3_mul(p.beta, direct));
+        float us = sample_1d(flags, TZ_REF(p.rng));
+        float u1, u2;
+        sample_2d(flags, TZ_REF(p.rng), TZ_REF(u1), TZ_REF(u2));
+        if (share < 0.0f) {
+            p.k = 0u;
+            return p;
+        }
+        vec3 wi;
+        if (us < share) {
+            wi = cosine_direction(n, u1, u2);
+        } else {
+            TZ_PRECISE vec3 wr = v3_sub(v3_scale(n, 2.0f * v3_dot(n, wo)), wo);
+            wi = phong_lobe_direction(wr, params.x, u1, u2);
+        }
+        /* A smooth face folds a direction below it above it (folds_at); on any other a
+         * direction below the face ends the path. */
+        TZ_BOOL folds = folds_at(n, ng);
+        if (folds && !(v3_dot(ng, wi) > 0.0f)) wi = mirror_in_plane(wi, ng);
+        float cos_i = v3_dot(n, wi), x = phong_lobe_cos(n, wi, wo);
+        float pdf = bsdf_pdf(share, params.x, cos_i, x);
+        vec3 fv = brdf_at(color_ks, params.x, x);
+        float f_scale = cos_i; /* fv times f_scale: f cos */
+        if (folds) {
+            folded_bsdf fb = fold_at(n, ng, wi, wo, color_ks, params.x, share, fv, cos_i, pdf);
+            fv = fb.f_cos;
+            f_scale = 1.0f;
+            pdf = fb.pdf;
+        }
+        if (!(folds || cos_i > 0.0f) || !(v3_dot(ng, wi) > 0.0f) || !(pdf > 0.0f)) {
+            p.k = 0u;
+            return p;
+        }
+        TZ_PRECISE vec3 f = v3_scale(fv, f_scale / pdf);
+        p.beta = v3_mul(p.beta, f);
+        p.last.pos = pos;
+        p.last.n = n;
+        p.last.origin = offset_origin(pos, ng);
+        p.last.id = id;
+        p.last.bsdf_pdf = pdf;
+        p.specular = TZ_FALSE;
+        p.o = offset_origin(pos, ng);
+        p.d = wi;
+    } else {
+        TZ_BOOL refractive = material == TZ_MATERIAL_REFRACTIVE;
+        TZ_BOOL transmits = refractive;
+        if (refractive) {
+            float uf = sample_1d(flags, TZ_REF(p.rng));
+            TZ_BOOL entering = v3_dot(d, nout) < 0.0f;
+            TZ_PRECISE float eta = entering ? 1.0f / params.y : params.y;
+            TZ_PRECISE float c1 = entering ? -v3_dot(d, nout) : v3_dot(d, nout);
+            TZ_PRECISE float kk = 1.0f - eta * eta * (1.0f - c1 * c1);
+            transmits = !(uf < fresnel_dielectric(eta, c1, kk));
+        }
+        p.beta = v3_mul(p.beta, xyz(color_ks));
+        next_ray next = specular_next(pos, nout, d, transmits, params.y);
+        p.o = next.o;
+        p.d = next.d;
+        p.specular = TZ_TRUE;
+    }
+    p.self = id;
+    if (p.k >= 4u && (flags & TZ_FLAG_ROULETTE) != 0u) {
+        TZ_PRECISE float q = TZ_MIN(TZ_MAX(TZ_MAX(p.beta.x, p.beta.y), p.beta.z), 1.0f);
+        if (sample_1d(flags, TZ_REF(p.rng)) >= q) {
+            p.k = 0u;
+            return p;
+        }
+        p.beta = v3_scale(p.beta, 1.0f / q);
+    }
+    p.k++;
+    return p;
+}
+
 /* Radiance of path-mode sample `sample_index` of pixel (i, j), i to the right, j down. */
 TZ_FN vec3 path_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sample_index) {
-    TZ_UINT flags = TZ_FLAGS;
-    sampler_state rng = sampler_start(flags, TZ_FRAME.seed, j * TZ_FRAME.width + i, sample_index);
-    next_ray camera = camera_ray(TZ_SCENE_ARG i, j, TZ_REF(rng));
-    vec3 o = camera.o, d = camera.d;
-    TZ_PRECISE vec3 beta = v3(1.0f, 1.0f, 1.0f), radiance = v3(0.0f, 0.0f, 0.0f);
-    int self = -1;
-    TZ_BOOL specular = TZ_TRUE;
-    path_vertex last;
-    last.pos = o;
-    last.n = d;
-    last.origin = o;
-    last.id = -1;
-    last.bsdf_pdf = 0.0f;
-    for (TZ_UINT k = 1u;; k++) {
-        float t;
-        int id = integrator_nearest(TZ_SCENE_ARG o, d, self, TZ_REF(t));
-        if (id < 0) {
-            radiance = v3_add(radiance, v3_mul(beta, xyz(TZ_FRAME.background)));
-            break;
-        }
-        surface sf = surface_at(TZ_SCENE_ARG id, o, d, t);
-        TZ_VEC4 params = sf.params;
-        TZ_VEC4 color_ks = sf.color_ks;
-        vec3 pos = sf.pos;
-        vec3 nout = sf.nout;
-        int slot = TZ_INT(params.w) - 1;
-        if (slot >= 0) {
-            TZ_BOOL full = specular || (flags & TZ_FLAG_BSDF_ONLY) != 0u;
-            float w =
-                full ? 1.0f
-                : (flags & TZ_FLAG_LIGHTS_ONLY) != 0u
-                    ? 0.0f
-                    : power_heuristic(last.bsdf_pdf, light_pdf_at(TZ_SCENE_ARG last, id, pos, d));
-            TZ_PRECISE vec3 emitted =
-                v3_scale(v3_mul(beta, xyz(emitter_emission_pick(TZ_SCENE_ARG slot))), w);
-            radiance = v3_add(radiance, emitted);
-        }
-        if (k > TZ_FRAME.bounces) break;
-        int material = TZ_INT(params.z);
-        if (material == TZ_MATERIAL_LAMBERTIAN || material == TZ_MATERIAL_PHONG) {
-            vec3 n = facing_shading(sf, d);
-            vec3 ng = facing_normal(nout, d);
-            TZ_PRECISE vec3 wo = v3_scale(d, -1.0f);
-            float share = diffuse_share(xyz(color_ks), color_ks.w);
-            TZ_PRECISE vec3 direct = point_lights(TZ_SCENE_ARG sf, id, n, ng, wo);
-            if (TZ_FRAME.emitter_count > 0u) {
-                float ul = sample_1d(flags, TZ_REF(rng));
-                float ua, ub;
-                sample_2d(flags, TZ_REF(rng), TZ_REF(ua), TZ_REF(ub));
-                if ((flags & TZ_FLAG_BSDF_ONLY) == 0u)
-                    direct = v3_add(
-                        direct, emitter_light(TZ_SCENE_ARG id, sf, n, ng, wo, share, ul, ua, ub));
-            }
-            radiance = v3_add(radiance, v3_mul(beta, direct));
-            float us = sample_1d(flags, TZ_REF(rng));
-            float u1, u2;
-            sample_2d(flags, TZ_REF(rng), TZ_REF(u1), TZ_REF(u2));
-            if (share < 0.0f) break;
-            vec3 wi;
-            if (us < share) {
-                wi = cosine_direction(n, u1, u2);
-            } else {
-                TZ_PRECISE vec3 wr = v3_sub(v3_scale(n, 2.0f * v3_dot(n, wo)), wo);
-                wi = phong_lobe_direction(wr, params.x, u1, u2);
-            }
-            /* A smooth face folds a direction below it above it (folds_at); on any other a
-             * direction below the face ends the path. */
-            TZ_BOOL folds = folds_at(n, ng);
-            if (folds && !(v3_dot(ng, wi) > 0.0f)) wi = mirror_in_plane(wi, ng);
-            float cos_i = v3_dot(n, wi), x = phong_lobe_cos(n, wi, wo);
-            float pdf = bsdf_pdf(share, params.x, cos_i, x);
-            vec3 fv = brdf_at(color_ks, params.x, x);
-            float f_scale = cos_i; /* fv times f_scale: f cos */
-            if (folds) {
-                folded_bsdf fb = fold_at(n, ng, wi, wo, color_ks, params.x, share, fv, cos_i, pdf);
-                fv = fb.f_cos;
-                f_scale = 1.0f;
-                pdf = fb.pdf;
-            }
-            if (!(folds || cos_i > 0.0f) || !(v3_dot(ng, wi) > 0.0f) || !(pdf > 0.0f)) break;
-            TZ_PRECISE vec3 f = v3_scale(fv, f_scale / pdf);
-            beta = v3_mul(beta, f);
-            last.pos = pos;
-            last.n = n;
-            last.origin = offset_origin(pos, ng);
-            last.id = id;
-            last.bsdf_pdf = pdf;
-            specular = TZ_FALSE;
-            o = offset_origin(pos, ng);
-            d = wi;
-        } else {
-            TZ_BOOL refractive = material == TZ_MATERIAL_REFRACTIVE;
-            TZ_BOOL transmits = refractive;
-            if (refractive) {
-                float uf = sample_1d(flags, TZ_REF(rng));
-                TZ_BOOL entering = v3_dot(d, nout) < 0.0f;
-                TZ_PRECISE float eta = entering ? 1.0f / params.y : params.y;
-                TZ_PRECISE float c1 = entering ? -v3_dot(d, nout) : v3_dot(d, nout);
-                TZ_PRECISE float kk = 1.0f - eta * eta * (1.0f - c1 * c1);
-                transmits = !(uf < fresnel_dielectric(eta, c1, kk));
-            }
-            beta = v3_mul(beta, xyz(color_ks));
-            next_ray next = specular_next(pos, nout, d, transmits, params.y);
-            o = next.o;
-            d = next.d;
-            specular = TZ_TRUE;
-        }
-        self = id;
-        if (k >= 4u && (flags & TZ_FLAG_ROULETTE) != 0u) {
-            TZ_PRECISE float q = TZ_MIN(TZ_MAX(TZ_MAX(beta.x, beta.y), beta.z), 1.0f);
-            if (sample_1d(flags, TZ_REF(rng)) >= q) break;
-            beta = v3_scale(beta, 1.0f / q);
-        }
-    }
-    return radiance;
+    path_state p = path_start(TZ_SCENE_ARG i, j, sample_index);
+    while (p.k != 0u) p = path_step(TZ_SCENE_ARG p);
+    return p.radiance;
 }
 
 #endif

@@ -23,6 +23,7 @@
 #include "render/vk/vk_render_state.h"
 #include "render/vk/vk_strategy.h"
 #include "trace_coop_spv.h"
+#include "trace_path_regenerate_spv.h"
 #include "trace_path_spv.h"
 #include "trace_report_spv.h"
 #include "trace_rq_spv.h"
@@ -242,14 +243,18 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
             (VkSpecializationMapEntry){k, k * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
     const VkSpecializationInfo spec = {SPEC_COUNT, entries, sizeof constants, &constants};
     bool path = (packed->frame.flags & TZ_FLAG_PATH) != 0u;
+    /* trace.comp says why paths restart lane by lane only where no BVH is walked. */
+    bool regenerate = path && !st->use_bvh;
     vk_kernel_desc kernel = {
         .spec = &spec,
         .code = st->ray_query     ? trace_rq_spv
                 : st->cooperative ? trace_coop_spv
+                : regenerate      ? trace_path_regenerate_spv
                 : path            ? trace_path_spv
                                   : trace_report_spv,
         .code_size = st->ray_query     ? sizeof trace_rq_spv
                      : st->cooperative ? sizeof trace_coop_spv
+                     : regenerate      ? sizeof trace_path_regenerate_spv
                      : path            ? sizeof trace_path_spv
                                        : sizeof trace_report_spv,
         .types = types,
