@@ -14,10 +14,10 @@
 /* Loop passes a ray's BVH walk must be allowed at least, where loops are cut, for a scene to be
  * tried. */
 #define MIN_WALK_BUDGET 256u
-/* Spheres from which lavapipe before Mesa 25 walks the wide BVH faster than the binary one
+/* Primitives from which lavapipe before Mesa 25 walks the wide BVH faster than the binary one
  * (docs/PERF.md, "Wide BVH"): below, its shallower trees save fewer node visits than the wide
- * node's decoding costs; with triangles it measured slower at every size. */
-#define WIDE_BVH_MIN_SPHERES_MESA22 50000u
+ * node's decoding costs. */
+#define WIDE_BVH_MIN_PRIMITIVES_MESA22 50000u
 
 /* The walk TRAZADOR_VK_WALK names (the alias of --walk), auto when it names none. */
 static render_walk walk_from_environment(void) {
@@ -104,15 +104,15 @@ static int mesa_major(const vk_context *ctx) {
 
 /* Whether the walk per invocation reads the wide BVH: as TRAZADOR_VK_BVH says (wide or binary,
  * for tests and measurements), else wherever it measured faster: everywhere but lavapipe of Mesa
- * 22-24, where only big scenes of spheres gain. */
+ * 22-24, where only big scenes gain. */
 static bool wide_bvh_pays(const vk_context *ctx, const scene *s) {
     const char *forced = getenv("TRAZADOR_VK_BVH");
     if (forced && !strcmp(forced, "wide")) return true;
     if (forced && !strcmp(forced, "binary")) return false;
     int mesa = mesa_major(ctx);
     bool old_lavapipe = vk_context_is_lavapipe(ctx) && mesa > 0 && mesa < 25;
-    return !old_lavapipe ||
-           (s->triangle_count == 0 && (uint32_t)s->sphere_count >= WIDE_BVH_MIN_SPHERES_MESA22);
+    return !old_lavapipe || (uint64_t)s->sphere_count + (uint64_t)s->triangle_count >=
+                                WIDE_BVH_MIN_PRIMITIVES_MESA22;
 }
 
 /* TZ_SPEC_WALK_BUDGET: the passes each walk loop may take. A cooperative ray may run both walks
