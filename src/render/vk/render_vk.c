@@ -444,7 +444,9 @@ static render_status vk_render_part(const scene *s, const render_opts *opts, par
     if (resumed && !vk_render_load_part(&r, p, depth)) goto done;
     double t_upload = clock_seconds();
     log_debug("vulkan: buffers and upload in %.1f ms (%s)", (t_upload - t_buffers) * 1e3,
-              r.accum.mapped ? "mapped device memory" : "staging copies");
+              r.accum.host     ? "the process's memory imported"
+              : r.accum.mapped ? "mapped device memory"
+                               : "staging copies");
     if (st.ray_query) {
         if (!vk_accel_build(&r.ctx, &packed, &r.accel)) goto done;
         double t_accel = clock_seconds();

@@ -2,6 +2,7 @@
  * the file-size limit check of drivers that keep device memory in a file. */
 #include <inttypes.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "render/render.h"
@@ -77,11 +78,76 @@ static int find_memory_type(const vk_context *ctx, uint32_t type_bits,
     return -1;
 }
 
+/* Whether the device imports the process's memory as a buffer of this usage. */
+static bool imports_host_memory(const vk_context *ctx, VkBufferUsageFlags usage) {
+    VkPhysicalDeviceExternalBufferInfo info = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_EXTERNAL_BUFFER_INFO,
+        .usage = usage,
+        .handleType = VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_EXT};
+    VkExternalBufferProperties props = {.sType = VK_STRUCTURE_TYPE_EXTERNAL_BUFFER_PROPERTIES};
+    vkGetPhysicalDeviceExternalBufferProperties(ctx->physical, &info, &props);
+    return (props.externalMemoryProperties.externalMemoryFeatures &
+            VK_EXTERNAL_MEMORY_FEATURE_IMPORTABLE_BIT) != 0;
+}
+
+/* Binds memory of the process's to out (created for host allocations), on huge pages where it is
+ * big enough to hold one: a CPU device reads it in place. */
+static bool bind_host_memory(vk_context *ctx, const VkMemoryRequirements *req, vk_buffer *out) {
+    const VkDeviceSize huge_page = (VkDeviceSize)2 << 20;
+    VkDeviceSize align = ctx->host_import > req->alignment ? ctx->host_import : req->alignment;
+    if (req->size >= 2 * huge_page && align < huge_page) align = huge_page;
+    VkDeviceSize bytes = (req->size + align - 1) / align * align;
+    out->host = aligned_alloc((size_t)align, (size_t)bytes);
+    if (!out->host) {
+        log_error("out of memory for a buffer of %" PRIu64 " bytes", (uint64_t)bytes);
+        return false;
+    }
+    big_memory_advise(out->host, (size_t)bytes);
+    VkMemoryHostPointerPropertiesEXT props = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_HOST_POINTER_PROPERTIES_EXT};
+    if (!VK_CHECK(ctx->host_pointer_properties(
+            ctx->device, VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_EXT, out->host,
+            &props)))
+        return false;
+    int type =
+        find_memory_type(ctx, req->memoryTypeBits & props.memoryTypeBits,
+                         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                         VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+    if (type < 0) {
+        log_error("no Vulkan memory type imports a buffer of %" PRIu64 " bytes", (uint64_t)bytes);
+        return false;
+    }
+    VkImportMemoryHostPointerInfoEXT import = {
+        .sType = VK_STRUCTURE_TYPE_IMPORT_MEMORY_HOST_POINTER_INFO_EXT,
+        .handleType = VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_EXT,
+        .pHostPointer = out->host};
+    VkMemoryAllocateInfo alloc = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+                                  .pNext = &import,
+                                  .allocationSize = bytes,
+                                  .memoryTypeIndex = (uint32_t)type};
+    if (!VK_CHECK(vkAllocateMemory(ctx->device, &alloc, NULL, &out->memory)) ||
+        !VK_CHECK(vkBindBufferMemory(ctx->device, out->buffer, out->memory, 0)))
+        return false;
+    out->mapped = out->host;
+    return true;
+}
+
 bool vk_buffer_create(vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usage,
                       vk_memory_use use, vk_buffer *out) {
     *out = (vk_buffer){.size = size};
+    /* A CPU device's device memory may sit in shared memory (Mesa 25's lavapipe: a memfd),
+     * which gets no huge pages where the kernel keeps them from shared memory (Debian's
+     * default): the walks' scattered reads of a big scene then miss the TLB, so the process's
+     * own memory is imported instead (docs/PERF.md). */
+    bool import = use == VK_MEMORY_DEVICE && ctx->host_import && !ctx->force_staging &&
+                  (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) == 0 &&
+                  imports_host_memory(ctx, usage);
+    VkExternalMemoryBufferCreateInfo external = {
+        .sType = VK_STRUCTURE_TYPE_EXTERNAL_MEMORY_BUFFER_CREATE_INFO,
+        .handleTypes = VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_EXT};
     VkBufferCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO,
+        .pNext = import ? &external : NULL,
         .size = size,
         .usage = usage,
         .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
@@ -89,6 +155,11 @@ bool vk_buffer_create(vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usa
     if (!VK_CHECK(vkCreateBuffer(ctx->device, &info, NULL, &out->buffer))) return false;
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(ctx->device, out->buffer, &req);
+    if (import) {
+        if (bind_host_memory(ctx, &req, out)) return true;
+        vk_buffer_destroy(ctx, out);
+        return false;
+    }
     const VkMemoryPropertyFlags host =
         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
     int type =
@@ -150,8 +221,9 @@ bool vk_buffer_create_view(vk_context *ctx, vk_buffer *b, VkFormat format) {
 
 void vk_buffer_destroy(vk_context *ctx, vk_buffer *b) {
     if (b->view) vkDestroyBufferView(ctx->device, b->view, NULL);
-    if (b->mapped) vkUnmapMemory(ctx->device, b->memory);
+    if (b->mapped && !b->host) vkUnmapMemory(ctx->device, b->memory);
     if (b->buffer) vkDestroyBuffer(ctx->device, b->buffer, NULL);
     if (b->memory) vkFreeMemory(ctx->device, b->memory, NULL);
+    free(b->host); /* after the memory imported from it */
     *b = (vk_buffer){0};
 }

@@ -20,58 +20,59 @@
     X(vkEnumerateInstanceVersion)         \
     X(vkEnumerateInstanceLayerProperties) \
     X(vkEnumerateInstanceExtensionProperties)
-#define VK_CONTEXT_INSTANCE_FUNCTIONS(X)        \
-    X(vkDestroyInstance)                        \
-    X(vkEnumeratePhysicalDevices)               \
-    X(vkGetPhysicalDeviceProperties)            \
-    X(vkGetPhysicalDeviceProperties2)           \
-    X(vkGetPhysicalDeviceFeatures2)             \
-    X(vkGetPhysicalDeviceQueueFamilyProperties) \
-    X(vkGetPhysicalDeviceMemoryProperties)      \
-    X(vkEnumerateDeviceExtensionProperties)     \
-    X(vkCreateDevice)                           \
-    X(vkDestroyDevice)                          \
-    X(vkGetDeviceQueue)                         \
-    X(vkDeviceWaitIdle)                         \
-    X(vkQueueSubmit)                            \
-    X(vkCreateCommandPool)                      \
-    X(vkDestroyCommandPool)                     \
-    X(vkAllocateCommandBuffers)                 \
-    X(vkFreeCommandBuffers)                     \
-    X(vkBeginCommandBuffer)                     \
-    X(vkEndCommandBuffer)                       \
-    X(vkCreateFence)                            \
-    X(vkDestroyFence)                           \
-    X(vkWaitForFences)                          \
-    X(vkResetFences)                            \
-    X(vkCreateBuffer)                           \
-    X(vkDestroyBuffer)                          \
-    X(vkCreateBufferView)                       \
-    X(vkDestroyBufferView)                      \
-    X(vkGetBufferMemoryRequirements)            \
-    X(vkAllocateMemory)                         \
-    X(vkFreeMemory)                             \
-    X(vkBindBufferMemory)                       \
-    X(vkMapMemory)                              \
-    X(vkUnmapMemory)                            \
-    X(vkCreateShaderModule)                     \
-    X(vkDestroyShaderModule)                    \
-    X(vkCreateDescriptorSetLayout)              \
-    X(vkDestroyDescriptorSetLayout)             \
-    X(vkCreatePipelineLayout)                   \
-    X(vkDestroyPipelineLayout)                  \
-    X(vkCreateComputePipelines)                 \
-    X(vkDestroyPipeline)                        \
-    X(vkCreateDescriptorPool)                   \
-    X(vkDestroyDescriptorPool)                  \
-    X(vkAllocateDescriptorSets)                 \
-    X(vkUpdateDescriptorSets)                   \
-    X(vkCmdBindPipeline)                        \
-    X(vkCmdBindDescriptorSets)                  \
-    X(vkCmdPushConstants)                       \
-    X(vkCmdDispatch)                            \
-    X(vkCmdPipelineBarrier)                     \
-    X(vkCmdFillBuffer)                          \
+#define VK_CONTEXT_INSTANCE_FUNCTIONS(X)           \
+    X(vkDestroyInstance)                           \
+    X(vkEnumeratePhysicalDevices)                  \
+    X(vkGetPhysicalDeviceProperties)               \
+    X(vkGetPhysicalDeviceProperties2)              \
+    X(vkGetPhysicalDeviceExternalBufferProperties) \
+    X(vkGetPhysicalDeviceFeatures2)                \
+    X(vkGetPhysicalDeviceQueueFamilyProperties)    \
+    X(vkGetPhysicalDeviceMemoryProperties)         \
+    X(vkEnumerateDeviceExtensionProperties)        \
+    X(vkCreateDevice)                              \
+    X(vkDestroyDevice)                             \
+    X(vkGetDeviceQueue)                            \
+    X(vkDeviceWaitIdle)                            \
+    X(vkQueueSubmit)                               \
+    X(vkCreateCommandPool)                         \
+    X(vkDestroyCommandPool)                        \
+    X(vkAllocateCommandBuffers)                    \
+    X(vkFreeCommandBuffers)                        \
+    X(vkBeginCommandBuffer)                        \
+    X(vkEndCommandBuffer)                          \
+    X(vkCreateFence)                               \
+    X(vkDestroyFence)                              \
+    X(vkWaitForFences)                             \
+    X(vkResetFences)                               \
+    X(vkCreateBuffer)                              \
+    X(vkDestroyBuffer)                             \
+    X(vkCreateBufferView)                          \
+    X(vkDestroyBufferView)                         \
+    X(vkGetBufferMemoryRequirements)               \
+    X(vkAllocateMemory)                            \
+    X(vkFreeMemory)                                \
+    X(vkBindBufferMemory)                          \
+    X(vkMapMemory)                                 \
+    X(vkUnmapMemory)                               \
+    X(vkCreateShaderModule)                        \
+    X(vkDestroyShaderModule)                       \
+    X(vkCreateDescriptorSetLayout)                 \
+    X(vkDestroyDescriptorSetLayout)                \
+    X(vkCreatePipelineLayout)                      \
+    X(vkDestroyPipelineLayout)                     \
+    X(vkCreateComputePipelines)                    \
+    X(vkDestroyPipeline)                           \
+    X(vkCreateDescriptorPool)                      \
+    X(vkDestroyDescriptorPool)                     \
+    X(vkAllocateDescriptorSets)                    \
+    X(vkUpdateDescriptorSets)                      \
+    X(vkCmdBindPipeline)                           \
+    X(vkCmdBindDescriptorSets)                     \
+    X(vkCmdPushConstants)                          \
+    X(vkCmdDispatch)                               \
+    X(vkCmdPipelineBarrier)                        \
+    X(vkCmdFillBuffer)                             \
     X(vkCmdCopyBuffer)
 
 #define VK_CONTEXT_DECLARE_FUNCTION(name) extern PFN_##name name;
@@ -103,7 +104,10 @@ typedef struct vk_context {
     char driver_name[VK_MAX_DRIVER_NAME_SIZE];
     char driver_info[VK_MAX_DRIVER_INFO_SIZE];   /* the version string, e.g. "Mesa 25.0.7" */
     VkPhysicalDeviceSubgroupProperties subgroup; /* size, operations and stages (Vulkan 1.1) */
-    bool ray_query;      /* ray queries and acceleration structures enabled (vk_context_desc) */
+    bool ray_query; /* ray queries and acceleration structures enabled (vk_context_desc) */
+    VkDeviceSize host_import; /* VK_EXT_external_memory_host enabled on a CPU device: the
+                                 alignment of imported host memory; 0 when not */
+    PFN_vkGetMemoryHostPointerPropertiesEXT host_pointer_properties;
     uint32_t loop_limit; /* loop passes an invocation completes before the driver stops its loops
                             silently (lavapipe 22.3: 65,535); 0 where they run to the end
                             (vk_probe_loop_limit) */
@@ -159,6 +163,8 @@ typedef struct vk_buffer {
     VkDeviceMemory memory;
     VkDeviceSize size;
     void *mapped;      /* NULL when the host cannot see the memory: copy through staging */
+    void *host;        /* the process's memory imported as the buffer's (vk_context.host_import),
+                          freed with it; NULL otherwise */
     VkBufferView view; /* for texel-buffer bindings, from vk_buffer_create_view */
 } vk_buffer;
 

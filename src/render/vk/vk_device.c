@@ -331,11 +331,27 @@ bool vk_device_open(vk_context *ctx, int requested, bool ray_query) {
         .pQueuePriorities = &priority,
     };
     /* A portability (MoltenVK) device must have its subset extension enabled when it offers it. */
-    const char *extensions[1 + RAY_QUERY_EXTENSION_COUNT];
+    const char *extensions[2 + RAY_QUERY_EXTENSION_COUNT];
     uint32_t extension_count = 0;
     const char *portability = "VK_KHR_portability_subset";
     if (has_device_extension(ctx->physical, portability))
         extensions[extension_count++] = portability;
+    /* A CPU device reads the process's own memory: memory of the process's imported for the
+     * scene's buffers can be on huge pages, which Mesa 25's memfd-backed device memory is not. */
+    ctx->host_import = 0;
+    if (info.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU &&
+        has_device_extension(ctx->physical, VK_EXT_EXTERNAL_MEMORY_HOST_EXTENSION_NAME)) {
+        VkPhysicalDeviceExternalMemoryHostPropertiesEXT host = {
+            .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_EXTERNAL_MEMORY_HOST_PROPERTIES_EXT};
+        VkPhysicalDeviceProperties2 props2 = {
+            .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, .pNext = &host};
+        vkGetPhysicalDeviceProperties2(ctx->physical, &props2);
+        VkDeviceSize a = host.minImportedHostPointerAlignment;
+        if (a > 0 && (a & (a - 1)) == 0) {
+            ctx->host_import = a;
+            extensions[extension_count++] = VK_EXT_EXTERNAL_MEMORY_HOST_EXTENSION_NAME;
+        }
+    }
     ctx->ray_query = ray_query && vk_device_has_ray_query(ctx->physical);
     for (int k = 0; ctx->ray_query && k < RAY_QUERY_EXTENSION_COUNT; k++)
         extensions[extension_count++] = RAY_QUERY_EXTENSIONS[k];
@@ -358,6 +374,11 @@ bool vk_device_open(vk_context *ctx, int requested, bool ray_query) {
         .ppEnabledExtensionNames = extensions,
     };
     if (!VK_CHECK(vkCreateDevice(ctx->physical, &create_info, NULL, &ctx->device))) return false;
+    if (ctx->host_import) {
+        ctx->host_pointer_properties = (PFN_vkGetMemoryHostPointerPropertiesEXT)vk_loader_proc(
+            ctx->instance, "vkGetMemoryHostPointerPropertiesEXT");
+        if (!ctx->host_pointer_properties) ctx->host_import = 0;
+    }
     vkGetDeviceQueue(ctx->device, ctx->queue_family, 0, &ctx->queue);
     VkCommandPoolCreateInfo pool = {
         .sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
