@@ -82,6 +82,7 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
     float tmin = ray_eps(o), best = tmax;
     int id = -1;
     vec3 inv = inverse_direction(d);
+    ray_shear sh = shear_of(d); /* the triangles', once a walk */
     uint stack[TZ_WIDE_STACK]; /* >= TZ_BVH_MAX_DEPTH: the binary walk's too */
     float stack_t[TZ_WIDE_STACK];
     int top = 0;
@@ -129,7 +130,8 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
             }
         }
         if (sphere < leaf_end) {
-            keep_nearer(int(sphere), primitive_distance(int(sphere), o, d, tmin, self), best, id);
+            keep_nearer(int(sphere), primitive_distance(int(sphere), o, d, sh, tmin, self), best,
+                        id);
             sphere++;
             if (any_hit && id >= 0) break;
         }
@@ -163,6 +165,7 @@ int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, ou
     float tmin = ray_eps(o), best = tmax;
     int id = -1;
     vec3 inv = inverse_direction(d);
+    ray_shear sh = shear_of(d); /* the triangles', once a walk */
     uint stack[TZ_BVH_MAX_DEPTH];
     float stack_t[TZ_BVH_MAX_DEPTH]; /* per lane: where its ray enters the pending child */
     int top = 0;
@@ -184,7 +187,7 @@ int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, ou
         float tl = box_entry(uintBitsToFloat(left_lo), uintBitsToFloat(left_hi), o, inv, reach);
         float tr = box_entry(uintBitsToFloat(right_lo), uintBitsToFloat(right_hi), o, inv, reach);
         if (test) {
-            float t = primitive_distance(int(sphere), o, d, tmin, self);
+            float t = primitive_distance(int(sphere), o, d, sh, tmin, self);
             keep_nearer(int(sphere), t, best, id);
             sphere++;
         }
@@ -248,10 +251,11 @@ int trace_ray_query(vec3 o, vec3 d, int self, float tmax, bool any_hit, out floa
     int id = -1;
     rayQueryEXT query;
     uint flags = any_hit ? gl_RayFlagsTerminateOnFirstHitEXT : gl_RayFlagsNoneEXT;
+    ray_shear sh = shear_of(d);
     rayQueryInitializeEXT(query, scene_accel, flags, 0xffu, o, tmin, d, min(tmax, RAY_QUERY_FAR));
     while (rayQueryProceedEXT(query)) {
         int k = rayQueryGetIntersectionPrimitiveIndexEXT(query, false);
-        float t = primitive_distance(k, o, d, tmin, self);
+        float t = primitive_distance(k, o, d, sh, tmin, self);
         bool nearer = t < best;
         keep_nearer(k, t, best, id);
         if (nearer) rayQueryGenerateIntersectionEXT(query, t);
@@ -287,11 +291,13 @@ int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
     int id = -1;
     [[unroll]] for (uint k = 0u; k < sphere_count(); k++)
         keep_nearer(int(k), sphere_distance_at(int(k), o, d, tmin, self), best, id);
-    if (TZ_HAS_TRIANGLES)
+    if (TZ_HAS_TRIANGLES) {
+        ray_shear sh = shear_of(d);
         for (uint k = 0u; k < frame.triangle_count; k++) {
             int t = int(frame.sphere_count + k);
-            keep_nearer(t, triangle_distance_at(t, o, d, tmin, self), best, id);
+            keep_nearer(t, triangle_distance_at(t, o, sh, tmin, self), best, id);
         }
+    }
     t_out = best;
     return id;
 #endif
@@ -309,11 +315,13 @@ bool integrator_occluded(vec3 o, vec3 d, float dist, int self) {
     float tmin = ray_eps(o);
     [[unroll]] for (uint k = 0u; k < sphere_count();
                     k++) if (sphere_distance_at(int(k), o, d, tmin, self) < dist) return true;
-    if (TZ_HAS_TRIANGLES)
+    if (TZ_HAS_TRIANGLES) {
+        ray_shear sh = shear_of(d);
         for (uint k = 0u; k < frame.triangle_count; k++) {
             int t = int(frame.sphere_count + k);
-            if (triangle_distance_at(t, o, d, tmin, self) < dist) return true;
+            if (triangle_distance_at(t, o, sh, tmin, self) < dist) return true;
         }
+    }
     return false;
 #endif
 }

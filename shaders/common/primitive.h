@@ -35,17 +35,19 @@ TZ_FN triangle_corners corners_of(TZ_SCENE_PARAM int id) {
     return k;
 }
 
-/* Distance to triangle primitive id along o + t d (triangle_distance). */
-TZ_FN float triangle_distance_at(TZ_SCENE_PARAM int id, vec3 o, vec3 d, float tmin, int self) {
+/* Distance to triangle primitive id along o + t d, sh the ray's shear_of(d) (triangle_distance). */
+TZ_FN float triangle_distance_at(TZ_SCENE_PARAM int id, vec3 o, ray_shear sh, float tmin,
+                                 int self) {
     triangle_corners k = corners_of(TZ_SCENE_ARG id);
-    return triangle_distance(k.a, k.b, k.c, o, d, tmin, id == self);
+    return sheared_triangle_distance(k.a, k.b, k.c, o, sh, tmin, id == self);
 }
 
 /* Distance to primitive id along o + t d: the nearest t > tmin, infinity for a miss; self is
- * the primitive the ray leaves. */
-TZ_FN float primitive_distance(TZ_SCENE_PARAM int id, vec3 o, vec3 d, float tmin, int self) {
+ * the primitive the ray leaves, sh the ray's shear_of(d), made once a walk. */
+TZ_FN float primitive_distance(TZ_SCENE_PARAM int id, vec3 o, vec3 d, ray_shear sh, float tmin,
+                               int self) {
     if (is_triangle(TZ_SCENE_ARG id))
-        return triangle_distance_at(TZ_SCENE_ARG id, o, d, tmin, self);
+        return triangle_distance_at(TZ_SCENE_ARG id, o, sh, tmin, self);
     TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG id);
     return sphere_distance(cr.x, cr.y, cr.z, cr.w, o, d, tmin, id == self);
 }

@@ -157,11 +157,21 @@ TZ_LANE_FN float edges_distance(triangle_edges e, float tmin, TZ_BOOL is_self) {
     return hit ? t : TZ_INFINITY;
 }
 
+/* triangle_distance with the ray's shear s = shear_of(d) given: a walk makes it once for all the
+ * triangles it tests. */
+TZ_LANE_FN float sheared_triangle_distance(vec3 a, vec3 b, vec3 c, vec3 o, ray_shear s, float tmin,
+                                           TZ_BOOL is_self) {
+    triangle_edges e = sheared_edge_functions(
+        shear_axes(v3_sub(a, o), s.kz, s.swap), shear_axes(v3_sub(b, o), s.kz, s.swap),
+        shear_axes(v3_sub(c, o), s.kz, s.swap), s.sx, s.sy, s.sz);
+    return edges_distance(e, tmin, is_self);
+}
+
 /* Distance to the triangle (corners a, b, c) along o + t d, as edges_distance. Branch-free, as
  * sphere_distance. */
 TZ_LANE_FN float triangle_distance(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d, float tmin,
                                    TZ_BOOL is_self) {
-    return edges_distance(triangle_edge_functions(a, b, c, o, d), tmin, is_self);
+    return sheared_triangle_distance(a, b, c, o, shear_of(d), tmin, is_self);
 }
 
 /* The distance from o along wi, a direction drawn toward the triangle (a, b, c) by light
