@@ -90,8 +90,8 @@ static bool imports_host_memory(const vk_context *ctx, VkBufferUsageFlags usage)
             VK_EXTERNAL_MEMORY_FEATURE_IMPORTABLE_BIT) != 0;
 }
 
-/* Binds memory of the process's to out (created for host allocations), on huge pages where it is
- * big enough to hold one: a CPU device reads it in place. */
+/* Binds the process's own memory to out (created for host allocations), on huge pages where it
+ * is big enough to hold one: a CPU device reads it in place. */
 static bool bind_host_memory(vk_context *ctx, const VkMemoryRequirements *req, vk_buffer *out) {
     const VkDeviceSize huge_page = (VkDeviceSize)2 << 20;
     VkDeviceSize align = ctx->host_import > req->alignment ? ctx->host_import : req->alignment;
@@ -137,8 +137,8 @@ bool vk_buffer_create(vk_context *ctx, VkDeviceSize size, VkBufferUsageFlags usa
     *out = (vk_buffer){.size = size};
     /* A CPU device's device memory may sit in shared memory (Mesa 25's lavapipe: a memfd),
      * which gets no huge pages where the kernel keeps them from shared memory (Debian's
-     * default): the walks' scattered reads of a big scene then miss the TLB, so the process's
-     * own memory is imported instead (docs/PERF.md). */
+     * default), so that filling a big scene's buffers costs set-up time, and which the
+     * file-size limit caps: the process's own memory is imported instead (docs/PERF.md). */
     bool import = use == VK_MEMORY_DEVICE && ctx->host_import && !ctx->force_staging &&
                   (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) == 0 &&
                   imports_host_memory(ctx, usage);

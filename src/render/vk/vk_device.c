@@ -336,8 +336,8 @@ bool vk_device_open(vk_context *ctx, int requested, bool ray_query) {
     const char *portability = "VK_KHR_portability_subset";
     if (has_device_extension(ctx->physical, portability))
         extensions[extension_count++] = portability;
-    /* A CPU device reads the process's own memory: memory of the process's imported for the
-     * scene's buffers can be on huge pages, which Mesa 25's memfd-backed device memory is not. */
+    /* A CPU device reads the process's own memory: imported as the scene's buffers, it can be
+     * on huge pages, which Mesa 25's memfd-backed device memory is not (vk_buffer.c). */
     ctx->host_import = 0;
     if (info.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU &&
         has_device_extension(ctx->physical, VK_EXT_EXTERNAL_MEMORY_HOST_EXTENSION_NAME)) {
