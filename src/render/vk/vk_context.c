@@ -22,6 +22,7 @@ static bool open_context(vk_context *ctx, const vk_context_desc *desc) {
     atomic_init(&ctx->validation_errors, 0u);
     ctx->validate = desc->validate || env_flag("TRAZADOR_VALIDATE");
     ctx->force_staging = env_flag("TRAZADOR_VK_STAGING");
+    ctx->no_import = env_flag("TRAZADOR_VK_NO_IMPORT");
     if (!vk_loader_ready()) {
         vk_loader_report();
         return false;

@@ -119,6 +119,9 @@ typedef struct vk_context {
     bool validate;
     bool force_staging; /* TRAZADOR_VK_STAGING=1: copy through staging buffers even when
                            device memory is mappable, to exercise the discrete-GPU path */
+    bool no_import;     /* TRAZADOR_VK_NO_IMPORT=1: the driver's own device memory even where the
+                           process's could be imported (host_import), for the path of devices
+                           without the extension */
     atomic_uint validation_errors;
     char loader_error[512]; /* the loader's first complaint while the instance was created */
 } vk_context;

@@ -339,7 +339,7 @@ bool vk_device_open(vk_context *ctx, int requested, bool ray_query) {
     /* A CPU device reads the process's own memory: imported as the scene's buffers, it can be
      * on huge pages, which Mesa 25's memfd-backed device memory is not (vk_buffer.c). */
     ctx->host_import = 0;
-    if (info.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU &&
+    if (!ctx->no_import && info.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU &&
         has_device_extension(ctx->physical, VK_EXT_EXTERNAL_MEMORY_HOST_EXTENSION_NAME)) {
         VkPhysicalDeviceExternalMemoryHostPropertiesEXT host = {
             .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_EXTERNAL_MEMORY_HOST_PROPERTIES_EXT};
