@@ -96,7 +96,7 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
         int id[LANES];
         float t[LANES];
         hit_lanes h;
-        packet_trace(p, o, d, self, tmax, active, 0, id, t);
+        packet_trace(p, o, d, self, tmax, active, 0, NULL, id, t);
         packet_surfaces(p, o, d, id, t, &h);
         int onward[LANES];
         for (int k = 0; k < LANES; k++) {
@@ -182,7 +182,7 @@ LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lan
             facing[k] = active[k] & !(ls.cos_i <= 0.0f) & !(v3_dot(get3(ng, k), ls.wi) <= 0.0f);
         }
         if (!any_lane(facing)) continue;
-        packet_trace(p, &o, &wi, id, dist, facing, 1, blocker, blocker_t);
+        packet_trace(p, &o, &wi, id, dist, facing, 1, NULL, blocker, blocker_t);
         packet_phong(m, n, &wi, wo, facing, &f);
         for (int k = 0; k < LANES; k++) {
             int lit = facing[k] & (blocker[k] < 0);

@@ -34,6 +34,7 @@ typedef struct path_lanes {
     uint32_t vertex[LANES]; /* path_sample's k */
     int job[LANES];         /* the sample the lane runs (out's index), -1 none */
     int active[LANES], self[LANES], specular[LANES], last_id[LANES];
+    uint32_t blocker; /* the sphere that last blocked every shadow ray of the lanes */
     float last_pdf[LANES];
     lanes3 o, d, beta, radiance, last_pos, last_n, last_origin;
 } path_lanes;
@@ -156,7 +157,7 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s) {
     float tmax[LANES];
     int emit[LANES], any_emit = 0;
     for (int k = 0; k < LANES; k++) tmax[k] = INFINITY;
-    trace_lanes(scene, &s->o, &s->d, s->self, tmax, s->active, 0, v.id, v.t);
+    trace_lanes(scene, &s->o, &s->d, s->self, tmax, s->active, 0, NULL, v.id, v.t);
     int triangle[LANES];
     for (int k = 0; k < LANES; k++) { /* gather the hit spheres */
         triangle[k] = v.id[k] >= 0 && is_triangle(scene, v.id[k]);
@@ -220,7 +221,7 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s) {
             draw_lanes_1d(flags, &s->rng, v.diffuse, ul);
             draw_lanes_2d(flags, &s->rng, v.diffuse, ua, ub);
             if ((flags & TZ_FLAG_BSDF_ONLY) == 0u)
-                lanes_emitter_light(scene, &v, ul, ua, ub, &direct);
+                lanes_emitter_light(scene, &v, ul, ua, ub, &s->blocker, &direct);
         }
         float us[LANES], u1[LANES], u2[LANES];
         for (int k = 0; k < LANES; k++) {

@@ -184,6 +184,29 @@ LANE_FN int all_hit(const int *id, const int *active) {
     return all;
 }
 
+/* Every sphere against the lanes' shadow rays (any hit, ids in t and id as packet_sphere's) until
+ * every active lane is blocked; with hint, *hint first: the sphere whose test blocked the last
+ * whole packet, which it becomes again. Whether a lane is blocked does not depend on the order.
+ * Returns whether every active lane is blocked. */
+LANE_FN int packet_shadow_spheres(const packed_scene *p, const lanes3 *o, const lanes3 *d,
+                                  const int *self, const float *tmin, const int *active,
+                                  uint32_t *hint, float *t, int *id) {
+    uint32_t count = p->frame.sphere_count, first = hint && *hint < count ? *hint : count;
+    if (first < count) {
+        packet_sphere(p, first, o, d, self, tmin, 0, t, id);
+        if (all_hit(id, active)) return 1;
+    }
+    for (uint32_t s = 0; s < count; s++) {
+        if (s == first) continue;
+        packet_sphere(p, s, o, d, self, tmin, 0, t, id);
+        if (all_hit(id, active)) {
+            if (hint) *hint = s;
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* The whole packet walks the BVH, as integrator_trace walks it with one ray: a node is entered
  * when a lane's ray enters its box before that lane's hit so far, nearer child (over the lanes)
  * first, each level pushing at most one node; every entered leaf is tested against every lane.
@@ -263,10 +286,12 @@ WALK_FN void packet_walk_shadow(const packed_scene *p, const lanes3 *o, const la
 }
 
 /* Hits of the active lanes' rays below tmax: id[k] the nearest sphere (-1 none) at t[k], or with
- * any_hit some sphere nearer than tmax[k]. Small scenes test every sphere for all lanes at once;
- * in others the lanes walk the BVH together (WALK_GROUP_MIN) or one by one. */
+ * any_hit some sphere nearer than tmax[k]. Small scenes test every sphere for all lanes at once
+ * (shadow rays until all are blocked, hint as packet_shadow_spheres'); in others the lanes walk
+ * the BVH together (WALK_GROUP_MIN) or one by one. */
 LANE_FN void packet_trace(const packed_scene *p, const lanes3 *o, const lanes3 *d, const int *self,
-                          const float *tmax, const int *active, int any_hit, int *id, float *t) {
+                          const float *tmax, const int *active, int any_hit, uint32_t *hint,
+                          int *id, float *t) {
     float tmin[LANES];
     int rays = 0;
     for (int k = 0; k < LANES; k++) {
@@ -278,8 +303,12 @@ LANE_FN void packet_trace(const packed_scene *p, const lanes3 *o, const lanes3 *
     integrator_count_rays((uint64_t)rays);
     uint32_t count = p->frame.sphere_count, all = count + p->frame.triangle_count;
     if (!integrator_packet_walks(p)) {
-        for (uint32_t s = 0; s < count; s++) packet_sphere(p, s, o, d, self, tmin, 0, t, id);
-        if (all > count) {
+        int blocked = 0;
+        if (any_hit)
+            blocked = packet_shadow_spheres(p, o, d, self, tmin, active, hint, t, id);
+        else
+            for (uint32_t s = 0; s < count; s++) packet_sphere(p, s, o, d, self, tmin, 0, t, id);
+        if (all > count && !blocked) {
             shear_lanes sh;
             shear_lanes_of(o, d, active, &sh);
             for (uint32_t s = count; s < all; s++)

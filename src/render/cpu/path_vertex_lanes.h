@@ -7,14 +7,15 @@
 #define TRAZADOR_RENDER_CPU_PATH_VERTEX_LANES_H
 
 /* What the lanes' rays hit: id[k] the sphere (-1 none), through the packet trace; a shadow ray
- * (any_hit) is blocked when id[k] >= 0. Lanes not in active get -1; nothing is traced when no
- * lane is active. Out of line: inlined at its four calls it was slower (docs/PERF.md). */
+ * (any_hit) is blocked when id[k] >= 0, hint as packet_trace's. Lanes not in active get -1;
+ * nothing is traced when no lane is active. Out of line: inlined at its four calls it was slower
+ * (docs/PERF.md). */
 static __attribute__((noinline)) void trace_lanes(const packed_scene *p, const lanes3 *o,
                                                   const lanes3 *d, const int *self,
                                                   const float *tmax, const int *active, int any_hit,
-                                                  int *id, float *t) {
+                                                  uint32_t *hint, int *id, float *t) {
     if (any_lane(active)) {
-        packet_trace(p, o, d, self, tmax, active, any_hit, id, t);
+        packet_trace(p, o, d, self, tmax, active, any_hit, hint, id, t);
         return;
     }
     for (int k = 0; k < LANES; k++) {
@@ -78,7 +79,7 @@ LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v
             dist[k] = s.dist;
             want[k] = v->diffuse[k] & !(s.cos_i <= 0.0f) & !(v3_dot(get3(&v->ng, k), s.wi) <= 0.0f);
         }
-        trace_lanes(scene, &so, &wi, v->id, dist, want, 1, blocked, t);
+        trace_lanes(scene, &so, &wi, v->id, dist, want, 1, NULL, blocked, t);
         for (int k = 0; k < LANES; k++) {
             if (!want[k] || blocked[k] >= 0) continue;
             float x = phong_lobe_cos(get3(&v->n, k), get3(&wi, k), get3(&v->wo, k));
@@ -141,10 +142,10 @@ static __attribute__((noinline)) light_direction lanes_solid_angle(triangle_corn
 }
 
 /* emitter_light of path.h for the diffuse lanes (a sphere's strategies both computed and one
- * selected, a triangle's direction lane by lane), the shadow rays traced together, added to direct;
- * ul, ua, ub the lanes' numbers. */
+ * selected, a triangle's direction lane by lane), the shadow rays traced together (hint as
+ * packet_trace's), added to direct; ul, ua, ub the lanes' numbers. */
 LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *v, const float *ul,
-                                 const float *ua, const float *ub, lanes3 *direct) {
+                                 const float *ua, const float *ub, uint32_t *hint, lanes3 *direct) {
     int e[LANES], slot[LANES], triangle[LANES], strategy[LANES], blocked[LANES];
     float r[LANES], pick[LANES], cos_phi[LANES], sin_phi[LANES]; /* arrays of cos_sin: scalar */
     float t[LANES], x[LANES], lobe[LANES];
@@ -223,7 +224,7 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
                  (p > 0.0f) & (p < INFINITY);
         shadow_lane_set(&s, k, o, w, p, ci, tl, ok);
     }
-    trace_lanes(scene, &s.origin, &s.dir, v->id, s.t_light, s.want, 1, blocked, t);
+    trace_lanes(scene, &s.origin, &s.dir, v->id, s.t_light, s.want, 1, hint, blocked, t);
     int any_fold = 0;
     for (int k = 0; k < LANES; k++) {
         s.want[k] = s.want[k] & (blocked[k] < 0);
