@@ -96,11 +96,11 @@ uvec4 wide_node_field(uint k, uint f) { return texelFetch(wide_node_texels, int(
 /* Loop counts: a specialization constant when small enough to unroll, else the frame's. */
 uint sphere_count() { return UNROLLED_SPHERES > 0u ? UNROLLED_SPHERES : frame.sphere_count; }
 uint light_count() { return UNROLLED_LIGHTS > 0u ? UNROLLED_LIGHTS : frame.light_count; }
-/* The BVH serves the scenes too big to unroll, when it was built (frame.node_count nodes). */
 #ifdef TZ_PATH_REGENERATE_MODULE
 /* This module serves the scenes walked without a BVH alone (render_vk.c): no walk to compile. */
 bool use_bvh() { return false; }
 #else
+/* The BVH serves the scenes too big to unroll, when it was built (frame.node_count nodes). */
 bool use_bvh() { return UNROLLED_SPHERES == 0u && frame.node_count > 0u; }
 #endif
 

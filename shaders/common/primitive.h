@@ -100,7 +100,7 @@ TZ_FN surface triangle_surface(TZ_SCENE_PARAM int id, vec3 pos, vec3 o, vec3 d) 
     s.params.w = v2.w;
     if (normals != TZ_FLAT) {
         /* Barycentric weights of the hit from the very edge functions the walk tested. */
-        triangle_edges e = triangle_edge_functions(k.a, k.b, k.c, o, d);
+        triangle_edges e = triangle_edge_functions(k.a, k.b, k.c, o, shear_of(d));
         TZ_PRECISE float inv = 1.0f / e.det;
         TZ_PRECISE vec3 n =
             v3_add(v3_add(v3_scale(xyz(normals_n0(TZ_SCENE_ARG TZ_INT(normals))), e.u * inv),

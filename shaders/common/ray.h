@@ -136,12 +136,12 @@ TZ_LANE_FN triangle_edges sheared_edge_functions(vec3 pa, vec3 pb, vec3 pc, floa
 }
 
 /* The watertight ray-triangle test of Woop, Benthin and Wald (JCGT 2(1), 2013), without its
- * double-precision fallback: the corners are moved to the ray origin and sheared so that the
- * ray runs along +z, and the edge functions are 2D cross products of corners. An edge shared by
- * two faces gives them exactly opposite edge functions (the same products, subtracted the other
- * way round), so a ray through it hits at least one of them: no ray slips between faces. */
-TZ_LANE_FN triangle_edges triangle_edge_functions(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d) {
-    ray_shear s = shear_of(d);
+ * double-precision fallback, for the ray from o whose direction's shear is s (shear_of): the
+ * corners are moved to the ray origin and sheared so that the ray runs along +z, and the edge
+ * functions are 2D cross products of corners. An edge shared by two faces gives them exactly
+ * opposite edge functions (the same products, subtracted the other way round), so a ray through it
+ * hits at least one of them: no ray slips between faces. */
+TZ_LANE_FN triangle_edges triangle_edge_functions(vec3 a, vec3 b, vec3 c, vec3 o, ray_shear s) {
     return sheared_edge_functions(shear_axes(v3_sub(a, o), s.kz, s.swap),
                                   shear_axes(v3_sub(b, o), s.kz, s.swap),
                                   shear_axes(v3_sub(c, o), s.kz, s.swap), s.sx, s.sy, s.sz);
@@ -161,10 +161,7 @@ TZ_LANE_FN float edges_distance(triangle_edges e, float tmin, TZ_BOOL is_self) {
  * triangles it tests. */
 TZ_LANE_FN float sheared_triangle_distance(vec3 a, vec3 b, vec3 c, vec3 o, ray_shear s, float tmin,
                                            TZ_BOOL is_self) {
-    triangle_edges e = sheared_edge_functions(
-        shear_axes(v3_sub(a, o), s.kz, s.swap), shear_axes(v3_sub(b, o), s.kz, s.swap),
-        shear_axes(v3_sub(c, o), s.kz, s.swap), s.sx, s.sy, s.sz);
-    return edges_distance(e, tmin, is_self);
+    return edges_distance(triangle_edge_functions(a, b, c, o, s), tmin, is_self);
 }
 
 /* Distance to the triangle (corners a, b, c) along o + t d, as edges_distance. Branch-free, as

@@ -163,12 +163,10 @@ LANE_FN void packet_triangle(const packed_scene *p, uint32_t s, const shear_lane
         }
     } else { /* triangle_distance with each lane's shear of the trace */
         for (int lane = 0; lane < LANES; lane++) {
-            vec3 ol = get3(o, lane);
-            int kz = sh->lane_kz[lane], swap = sh->lane_swap[lane];
-            triangle_edges e = sheared_edge_functions(
-                shear_axes(v3_sub(a, ol), kz, swap), shear_axes(v3_sub(b, ol), kz, swap),
-                shear_axes(v3_sub(c, ol), kz, swap), sh->sx[lane], sh->sy[lane], sh->sz[lane]);
-            ts[lane] = edges_distance(e, tmin[lane], (int)s == self[lane]);
+            ray_shear r = {sh->lane_kz[lane], sh->lane_swap[lane], sh->sx[lane], sh->sy[lane],
+                           sh->sz[lane]};
+            ts[lane] = sheared_triangle_distance(a, b, c, get3(o, lane), r, tmin[lane],
+                                                 (int)s == self[lane]);
         }
     }
     if (tie)
