@@ -260,36 +260,57 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s) {
     for (int k = 0; k < LANES; k++) s->vertex[k]++;
 }
 
-/* The lanes of start begin sample sample[k] of pixel (x[k], y) (path_sample's start); the other
- * lanes are left as they are. */
-LANE_FN void lanes_start(const packed_scene *p, path_lanes *s, const int *start, const uint32_t *x,
-                         uint32_t y, const uint32_t *sample) {
+/* The first rays of LANES consecutive samples of a run (path_start's costly part: the sampler's
+ * start and the camera's draw and ray), made at once; a lane whose path ended then takes the
+ * next one from it alone, so that a restart costs no vector pass of its own. */
+typedef struct start_batch {
+    uint32_t first; /* the sample (out's index) of slot 0 */
+    sampler_lanes rng;
+    lanes3 o, d;
+} start_batch;
+
+/* Fills b with samples first, first + 1, ... of the run over pixels (i + n % lanes, y), sample
+ * sample0 + n / lanes of each. */
+LANE_FN void start_batch_make(const packed_scene *p, start_batch *b, uint32_t first, uint32_t i,
+                              uint32_t y, uint32_t lanes, uint32_t sample0) {
     const struct gpu_frame fr = p->frame; /* a copy: the loop below then compiles to SIMD */
     int jitter = (fr.flags & TZ_FLAG_JITTER) != 0u;
+    uint32_t x[LANES], sample[LANES];
     for (int k = 0; k < LANES; k++) {
-        int on = start[k];
+        x[k] = i + (first + (uint32_t)k) % lanes;
+        sample[k] = sample0 + (first + (uint32_t)k) / lanes;
+    }
+    for (int k = 0; k < LANES; k++) {
         sampler_state rng = sampler_start(fr.flags, fr.seed, y * fr.width + x[k], sample[k]);
         float u, v;
         sample_2d(fr.flags, &rng, &u, &v);
         u = jitter ? u : 0.5f;
         v = jitter ? v : 0.5f;
         vec3 d = camera_direction(fr.right, fr.up, fr.forward, fr.origin.w, x[k], y, u, v);
-        vec3 o = camera_origin(fr.origin, fr.near_distance, d);
-        lane_sampler_set(&s->rng, k, on, rng);
-        s->active[k] = on ? 1 : s->active[k];
-        s->vertex[k] = on ? 1u : s->vertex[k];
-        set3(&s->o, k, select3(on, o, get3(&s->o, k)));
-        set3(&s->d, k, select3(on, d, get3(&s->d, k)));
-        set3(&s->beta, k, select3(on, v3(1.0f, 1.0f, 1.0f), get3(&s->beta, k)));
-        set3(&s->radiance, k, select3(on, v3(0.0f, 0.0f, 0.0f), get3(&s->radiance, k)));
-        set3(&s->last_pos, k, select3(on, o, get3(&s->last_pos, k)));
-        set3(&s->last_n, k, select3(on, d, get3(&s->last_n, k)));
-        set3(&s->last_origin, k, select3(on, o, get3(&s->last_origin, k)));
-        s->self[k] = on ? -1 : s->self[k];
-        s->specular[k] = on ? 1 : s->specular[k];
-        s->last_id[k] = on ? -1 : s->last_id[k];
-        s->last_pdf[k] = on ? 0.0f : s->last_pdf[k];
+        lane_sampler_set(&b->rng, k, 1, rng);
+        set3(&b->o, k, camera_origin(fr.origin, fr.near_distance, d));
+        set3(&b->d, k, d);
     }
+    b->first = first;
+}
+
+/* Lane k begins the path of slot n of b (path_start). */
+LANE_FN void lane_start(path_lanes *s, int k, const start_batch *b, int n) {
+    vec3 o = get3(&b->o, n), d = get3(&b->d, n);
+    lane_sampler_set(&s->rng, k, 1, lane_sampler(&b->rng, n));
+    s->active[k] = 1;
+    s->vertex[k] = 1u;
+    set3(&s->o, k, o);
+    set3(&s->d, k, d);
+    set3(&s->beta, k, v3(1.0f, 1.0f, 1.0f));
+    set3(&s->radiance, k, v3(0.0f, 0.0f, 0.0f));
+    set3(&s->last_pos, k, o);
+    set3(&s->last_n, k, d);
+    set3(&s->last_origin, k, o);
+    s->self[k] = -1;
+    s->specular[k] = 1;
+    s->last_id[k] = -1;
+    s->last_pdf[k] = 0.0f;
 }
 
 /* Samples [first, first + count) of pixels (i + k, j), k < lanes, into out[s * lanes + k]: each
@@ -297,28 +318,25 @@ LANE_FN void lanes_start(const packed_scene *p, path_lanes *s, const int *start,
 LANE_FN void run_samples(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
                          uint32_t first, uint32_t count, vec3 *out) {
     path_lanes s;
+    start_batch batch;
     memset(&s, 0, sizeof s);
     uint32_t next = 0, total = lanes * count;
+    int made = 0; /* whether batch holds any */
     for (int k = 0; k < LANES; k++) s.job[k] = -1;
     for (;;) {
-        int start[LANES], any_start = 0;
-        uint32_t x[LANES], sample[LANES];
         for (int k = 0; k < LANES; k++) {
-            start[k] = 0;
-            x[k] = i;
-            sample[k] = first;
             if (s.active[k]) continue;
             if (s.job[k] >= 0) out[s.job[k]] = get3(&s.radiance, k);
             s.job[k] = -1;
             if (next < total) {
+                if (!made || next - batch.first >= (uint32_t)LANES)
+                    start_batch_make(p, &batch, next, i, j, lanes, first);
+                made = 1;
                 s.job[k] = (int)next;
-                x[k] = i + next % lanes;
-                sample[k] = first + next / lanes;
-                start[k] = any_start = 1;
+                lane_start(&s, k, &batch, (int)(next - batch.first));
                 next++;
             }
         }
-        if (any_start) lanes_start(p, &s, start, x, j, sample);
         if (!any_lane(s.active)) return;
         lanes_vertex(p, &s);
     }

@@ -62,10 +62,9 @@ LANE_FN vec3 brdf_of_lobe(const vertex_lanes *v, int k, float lobe) {
 /* The light of the point lights at the diffuse lanes' vertices into direct (point_lights). */
 LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v, lanes3 *direct) {
     lanes3 so;
-    for (int k = 0; k < LANES; k++) {
-        set3(&so, k, offset_origin(get3(&v->pos, k), get3(&v->ng, k)));
-        set3(direct, k, v3(0.0f, 0.0f, 0.0f));
-    }
+    for (int k = 0; k < LANES; k++) set3(direct, k, v3(0.0f, 0.0f, 0.0f));
+    if (light_count(scene) == 0u) return; /* path mode's usual case: emitters alone */
+    for (int k = 0; k < LANES; k++) set3(&so, k, offset_origin(get3(&v->pos, k), get3(&v->ng, k)));
     for (uint32_t l = 0; l < light_count(scene); l++) {
         lanes3 wi, rad;
         float dist[LANES], t[LANES];
