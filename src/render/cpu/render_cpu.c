@@ -55,6 +55,10 @@ typedef struct cpu_job {
     atomic_ullong rays;
 } cpu_job;
 
+/* The most chunks a path build's run takes at once: the longer a run, the less of it goes by
+ * with lanes idle at its end. */
+#define RUN_CHUNKS 4
+
 /* Renders the pass's chunks of `lanes` pixels of region row j from column i: loads their stacks,
  * pushes each chunk's compensated sum, stores the stacks back. The sums build up in locals and
  * reach the part once: a line of the part can hold pixels of two tiles that two threads render
@@ -71,18 +75,26 @@ static unsigned long long render_lanes(cpu_job *job, int i, int j, uint32_t lane
     uint32_t x = (uint32_t)(p->meta.x0 + i), y = (uint32_t)(p->meta.y0 + j);
     unsigned long long dropped = 0;
     uint32_t counted[PACKET_LANES_MAX] = {0};
+    /* A path build renders up to RUN_CHUNKS chunks' samples as one run (a lane whose path ends
+     * takes the next sample); they are summed in sample order, chunk by chunk, all the same. */
+    vec3 run[RUN_CHUNKS * TZ_CHUNK_SAMPLES * PACKET_LANES_MAX];
+    uint32_t run_first = 0;
     for (uint32_t n = 0; n < job->chunks; n++) {
         uint32_t first = (job->first_chunk + n) * TZ_CHUNK_SAMPLES;
         uint32_t end =
             p->meta.spp - first < TZ_CHUNK_SAMPLES ? p->meta.spp : first + TZ_CHUNK_SAMPLES;
         vec3 sum[PACKET_LANES_MAX], comp[PACKET_LANES_MAX];
         for (uint32_t k = 0; k < lanes; k++) sum[k] = comp[k] = v3(0.0f, 0.0f, 0.0f);
-        /* A path build renders the chunk's samples as one run (a lane whose path ends takes the
-         * next sample); they are summed in sample order all the same. */
-        vec3 run[TZ_CHUNK_SAMPLES * PACKET_LANES_MAX];
-        if (pk->samples) pk->samples(job->packed, x, y, lanes, first, end - first, run);
+        if (!pk->samples) run_first = first; /* one sample of all lanes at a time */
+        if (pk->samples && n % RUN_CHUNKS == 0) {
+            uint32_t last = n + RUN_CHUNKS < job->chunks ? n + RUN_CHUNKS : job->chunks;
+            uint32_t run_end = (job->first_chunk + last) * TZ_CHUNK_SAMPLES;
+            run_end = run_end < p->meta.spp ? run_end : p->meta.spp;
+            run_first = first;
+            pk->samples(job->packed, x, y, lanes, first, run_end - first, run);
+        }
         for (uint32_t s = first; s < end; s++) {
-            vec3 *l = run + (size_t)(s - first) * lanes;
+            vec3 *l = run + (size_t)(s - run_first) * lanes;
             if (!pk->samples) pk->sample(job->packed, x, y, lanes, s, l);
             for (uint32_t k = 0; k < lanes; k++) {
                 if (!sample_finite(l[k])) {
