@@ -264,13 +264,12 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s) {
  * start and the camera's draw and ray), made at once; a lane whose path ended then takes the
  * next one from it alone, so that a restart costs no vector pass of its own. */
 typedef struct start_batch {
-    uint32_t first; /* the sample (out's index) of slot 0 */
     sampler_lanes rng;
     lanes3 o, d;
 } start_batch;
 
-/* Fills b with samples first, first + 1, ... of the run over pixels (i + n % lanes, y), sample
- * sample0 + n / lanes of each. */
+/* Fills b with samples first, first + 1, ... (first a multiple of LANES, slot n its sample
+ * first + n) of the run over pixels (i + m % lanes, y), sample sample0 + m / lanes of each. */
 LANE_FN void start_batch_make(const packed_scene *p, start_batch *b, uint32_t first, uint32_t i,
                               uint32_t y, uint32_t lanes, uint32_t sample0) {
     const struct gpu_frame fr = p->frame; /* a copy: the loop below then compiles to SIMD */
@@ -291,7 +290,6 @@ LANE_FN void start_batch_make(const packed_scene *p, start_batch *b, uint32_t fi
         set3(&b->o, k, camera_origin(fr.origin, fr.near_distance, d));
         set3(&b->d, k, d);
     }
-    b->first = first;
 }
 
 /* Lane k begins the path of slot n of b (path_start). */
@@ -321,7 +319,6 @@ LANE_FN void run_samples(const packed_scene *p, uint32_t i, uint32_t j, uint32_t
     start_batch batch;
     memset(&s, 0, sizeof s);
     uint32_t next = 0, total = lanes * count;
-    int made = 0; /* whether batch holds any */
     for (int k = 0; k < LANES; k++) s.job[k] = -1;
     for (;;) {
         for (int k = 0; k < LANES; k++) {
@@ -329,11 +326,9 @@ LANE_FN void run_samples(const packed_scene *p, uint32_t i, uint32_t j, uint32_t
             if (s.job[k] >= 0) out[s.job[k]] = get3(&s.radiance, k);
             s.job[k] = -1;
             if (next < total) {
-                if (!made || next - batch.first >= (uint32_t)LANES)
-                    start_batch_make(p, &batch, next, i, j, lanes, first);
-                made = 1;
+                if (next % LANES == 0u) start_batch_make(p, &batch, next, i, j, lanes, first);
                 s.job[k] = (int)next;
-                lane_start(&s, k, &batch, (int)(next - batch.first));
+                lane_start(&s, k, &batch, (int)(next % LANES));
                 next++;
             }
         }
