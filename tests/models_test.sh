@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # models_test.sh TRAZADOR: real models of Debian's assimp-testmodels through the mesh directive.
-# Eleven files in nine formats (OBJ with its MTL, FBX, ASCII STL, binary and ASCII PLY, glTF
+# Eleven files in ten formats (OBJ with its MTL, FBX, ASCII STL, binary and ASCII PLY, glTF
 # binary, COLLADA, 3DS, Blender, DirectX, OFF) load with the face count assimp 5.2 gives them (the
 # spider holds the same 1312 faces in OBJ, FBX and STL), are seen from a camera framed for each,
 # and render the very same file on the CPU back end and on Vulkan with validation on. Malformed
