@@ -153,8 +153,9 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
     shadow_lanes s;
     for (int k = 0; k < LANES; k++) folds[k] = folds_at(get3(&v->n, k), get3(&v->ng, k));
     int one_emitter = scene->frame.emitter_count == 1u; /* pick_emitter's 0, whatever ul */
-    for (int k = 0; k < LANES; k++) {
+    for (int k = 0; k < LANES; k++) { /* with one emitter, lane 0's look-ups serve every lane */
         slot[k] = v->diffuse[k] && !one_emitter ? pick_emitter(scene, ul[k]) : 0;
+        if (one_emitter && k > 0) break;
         tz_vec4 emission_pick = emitter_emission_pick(scene, slot[k]);
         e[k] = (int)uint_bits(emitter_primitive_cdf(scene, slot[k]).x);
         triangle[k] = is_triangle(scene, e[k]);
@@ -163,6 +164,11 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         r[k] = cr.w;
         set3(&emission, k, xyz(emission_pick));
         pick[k] = emission_pick.w;
+    }
+    for (int k = 1; one_emitter && k < LANES; k++) {
+        slot[k] = 0, e[k] = e[0], triangle[k] = triangle[0], r[k] = r[0], pick[k] = pick[0];
+        set3(&c, k, get3(&c, 0));
+        set3(&emission, k, get3(&emission, 0));
     }
     for (int k = 0; k < LANES; k++) {
         strategy[k] =
