@@ -48,6 +48,10 @@ static void *advise(void *p, size_t bytes) {
     return p;
 }
 
+size_t big_alignment(size_t bytes, size_t align) {
+    return bytes >= BIG_BYTES && align < HUGE_PAGE ? (size_t)HUGE_PAGE : align;
+}
+
 void big_memory_advise(void *p, size_t bytes) {
     advise(p, bytes);
 #ifdef MADV_POPULATE_WRITE /* Linux 5.14 */

@@ -16,6 +16,10 @@ void *big_calloc(size_t count, size_t size);
 /* realloc(p, bytes), advised as huge pages when it is big; NULL (p kept) when out of memory. */
 void *big_realloc(void *p, size_t bytes);
 
+/* The alignment for an aligned block of `bytes` that must be aligned to `align` (a power of
+ * two): a huge page where the block is big, so that it starts on one; `align` otherwise. */
+size_t big_alignment(size_t bytes, size_t align);
+
 /* Memory mapped from elsewhere (a Vulkan driver's host memory) that is about to be written
  * whole: its whole huge pages advised, and every page of it mapped at once (MADV_POPULATE_WRITE)
  * instead of a fault at each first touch; the kernel may refuse either, nothing else happens. */

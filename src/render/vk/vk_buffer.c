@@ -93,9 +93,9 @@ static bool imports_host_memory(const vk_context *ctx, VkBufferUsageFlags usage)
 /* Binds the process's own memory to out (created for host allocations), on huge pages where it
  * is big enough to hold one: a CPU device reads it in place. */
 static bool bind_host_memory(vk_context *ctx, const VkMemoryRequirements *req, vk_buffer *out) {
-    const VkDeviceSize huge_page = (VkDeviceSize)2 << 20;
-    VkDeviceSize align = ctx->host_import > req->alignment ? ctx->host_import : req->alignment;
-    if (req->size >= 2 * huge_page && align < huge_page) align = huge_page;
+    VkDeviceSize align = big_alignment(
+        (size_t)req->size,
+        (size_t)(ctx->host_import > req->alignment ? ctx->host_import : req->alignment));
     VkDeviceSize bytes = (req->size + align - 1) / align * align;
     out->host = aligned_alloc((size_t)align, (size_t)bytes);
     if (!out->host) {
