@@ -149,8 +149,72 @@ LANE_FN void lanes_emission(const packed_scene *scene, const vertex_lanes *v, co
     }
 }
 
-/* One vertex of every active lane's path (an iteration of path_sample's loop). */
-LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s) {
+/* The fields of a scene's spheres that a hit reads, one array each, where the scene has at most
+ * SMALL_SPHERES of them: a hit's are then picked for all lanes by vector permutes, not loaded
+ * lane by lane from the sphere array. */
+#define SMALL_SPHERES (2 * LANES)
+enum { FIELD_CX, FIELD_CY, FIELD_CZ, FIELD_R, FIELD_KR, FIELD_KG, FIELD_KB, FIELD_KS, FIELD_ALPHA,
+       FIELD_IOR, FIELD_MATERIAL, FIELD_SLOT, SPHERE_FIELDS };
+typedef struct small_spheres {
+    float field[SPHERE_FIELDS][SMALL_SPHERES];
+} small_spheres;
+
+/* Fills t from the scene's spheres; false (t unused) when it has more than SMALL_SPHERES. */
+LANE_FN int small_spheres_of(const packed_scene *scene, small_spheres *t) {
+    uint32_t count = scene->frame.sphere_count;
+    if (count > SMALL_SPHERES) return 0;
+    memset(t, 0, sizeof *t);
+    for (uint32_t k = 0; k < count; k++) {
+        const struct gpu_sphere *g = &scene->spheres[k];
+        float f[SPHERE_FIELDS] = {g->center_radius.x, g->center_radius.y, g->center_radius.z,
+                                  g->center_radius.w, g->color_ks.x,     g->color_ks.y,
+                                  g->color_ks.z,      g->color_ks.w,     g->params.x,
+                                  g->params.y,        g->params.z,       g->params.w};
+        for (int n = 0; n < SPHERE_FIELDS; n++) t->field[n][k] = f[n];
+    }
+    return 1;
+}
+
+/* out[k] = table[index[k]] for index[k] < SMALL_SPHERES: GCC's two-vector shuffle, a few
+ * permutes (vpermps and a blend with AVX2, vpermt2ps with AVX-512). */
+LANE_FN void lanes_pick(const float *table, const int *index, float *out) {
+#if defined(__GNUC__) && !defined(__clang__)
+    float_lanes low, high, picked;
+    int_lanes i;
+    memcpy(&low, table, sizeof low);
+    memcpy(&high, table + LANES, sizeof high);
+    memcpy(&i, index, sizeof i);
+    picked = __builtin_shuffle(low, high, i);
+    memcpy(out, &picked, sizeof picked);
+#else
+    for (int k = 0; k < LANES; k++) out[k] = table[index[k]];
+#endif
+}
+
+/* The gather of lanes_vertex from a small_spheres table: sphere index[k]'s fields. */
+LANE_FN void lanes_pick_spheres(const small_spheres *t, const int *index, vertex_lanes *v) {
+    float material[LANES], slot[LANES];
+    lanes_pick(t->field[FIELD_CX], index, v->c.x);
+    lanes_pick(t->field[FIELD_CY], index, v->c.y);
+    lanes_pick(t->field[FIELD_CZ], index, v->c.z);
+    lanes_pick(t->field[FIELD_R], index, v->r);
+    lanes_pick(t->field[FIELD_KR], index, v->kd.x);
+    lanes_pick(t->field[FIELD_KG], index, v->kd.y);
+    lanes_pick(t->field[FIELD_KB], index, v->kd.z);
+    lanes_pick(t->field[FIELD_KS], index, v->ks);
+    lanes_pick(t->field[FIELD_ALPHA], index, v->alpha);
+    lanes_pick(t->field[FIELD_IOR], index, v->ior);
+    lanes_pick(t->field[FIELD_MATERIAL], index, material);
+    lanes_pick(t->field[FIELD_SLOT], index, slot);
+    for (int k = 0; k < LANES; k++) {
+        v->material[k] = (int)material[k];
+        v->slot[k] = (int)slot[k] - 1;
+    }
+}
+
+/* One vertex of every active lane's path (an iteration of path_sample's loop); small the
+ * scene's small_spheres table, or NULL. */
+LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small, path_lanes *s) {
     const struct gpu_frame *fr = &scene->frame;
     uint32_t flags = fr->flags;
     vertex_lanes v;
@@ -159,8 +223,13 @@ LANE_FN void lanes_vertex(const packed_scene *scene, path_lanes *s) {
     for (int k = 0; k < LANES; k++) tmax[k] = INFINITY;
     trace_lanes(scene, &s->o, &s->d, s->self, tmax, s->active, 0, NULL, v.id, v.t);
     int triangle[LANES];
-    for (int k = 0; k < LANES; k++) { /* gather the hit spheres */
-        triangle[k] = v.id[k] >= 0 && is_triangle(scene, v.id[k]);
+    for (int k = 0; k < LANES; k++) triangle[k] = v.id[k] >= 0 && is_triangle(scene, v.id[k]);
+    if (small) {
+        int index[LANES];
+        for (int k = 0; k < LANES; k++) index[k] = v.id[k] >= 0 && !triangle[k] ? v.id[k] : 0;
+        lanes_pick_spheres(small, index, &v);
+    }
+    for (int k = 0; !small && k < LANES; k++) { /* gather the hit spheres */
         const struct gpu_sphere *g = &scene->spheres[v.id[k] >= 0 && !triangle[k] ? v.id[k] : 0];
         set3(&v.c, k, xyz(g->center_radius));
         v.r[k] = g->center_radius.w;
@@ -317,6 +386,8 @@ LANE_FN void run_samples(const packed_scene *p, uint32_t i, uint32_t j, uint32_t
                          uint32_t first, uint32_t count, vec3 *out) {
     path_lanes s;
     start_batch batch;
+    small_spheres table;
+    const small_spheres *small = small_spheres_of(p, &table) ? &table : NULL;
     memset(&s, 0, sizeof s);
     uint32_t next = 0, total = lanes * count;
     for (int k = 0; k < LANES; k++) s.job[k] = -1;
@@ -333,7 +404,7 @@ LANE_FN void run_samples(const packed_scene *p, uint32_t i, uint32_t j, uint32_t
             }
         }
         if (!any_lane(s.active)) return;
-        lanes_vertex(p, &s);
+        lanes_vertex(p, small, &s);
     }
 }
 
