@@ -153,8 +153,21 @@ LANE_FN void lanes_emission(const packed_scene *scene, const vertex_lanes *v, co
  * SMALL_SPHERES of them: a hit's are then picked for all lanes by vector permutes, not loaded
  * lane by lane from the sphere array. */
 #define SMALL_SPHERES (2 * LANES)
-enum { FIELD_CX, FIELD_CY, FIELD_CZ, FIELD_R, FIELD_KR, FIELD_KG, FIELD_KB, FIELD_KS, FIELD_ALPHA,
-       FIELD_IOR, FIELD_MATERIAL, FIELD_SLOT, SPHERE_FIELDS };
+enum {
+    FIELD_CX,
+    FIELD_CY,
+    FIELD_CZ,
+    FIELD_R,
+    FIELD_KR,
+    FIELD_KG,
+    FIELD_KB,
+    FIELD_KS,
+    FIELD_ALPHA,
+    FIELD_IOR,
+    FIELD_MATERIAL,
+    FIELD_SLOT,
+    SPHERE_FIELDS
+};
 typedef struct small_spheres {
     float field[SPHERE_FIELDS][SMALL_SPHERES];
 } small_spheres;
@@ -167,9 +180,9 @@ LANE_FN int small_spheres_of(const packed_scene *scene, small_spheres *t) {
     for (uint32_t k = 0; k < count; k++) {
         const struct gpu_sphere *g = &scene->spheres[k];
         float f[SPHERE_FIELDS] = {g->center_radius.x, g->center_radius.y, g->center_radius.z,
-                                  g->center_radius.w, g->color_ks.x,     g->color_ks.y,
-                                  g->color_ks.z,      g->color_ks.w,     g->params.x,
-                                  g->params.y,        g->params.z,       g->params.w};
+                                  g->center_radius.w, g->color_ks.x,      g->color_ks.y,
+                                  g->color_ks.z,      g->color_ks.w,      g->params.x,
+                                  g->params.y,        g->params.z,        g->params.w};
         for (int n = 0; n < SPHERE_FIELDS; n++) t->field[n][k] = f[n];
     }
     return 1;
