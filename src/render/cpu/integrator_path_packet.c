@@ -153,23 +153,10 @@ LANE_FN void lanes_emission(const packed_scene *scene, const vertex_lanes *v, co
  * SMALL_SPHERES of them: a hit's are then picked for all lanes by vector permutes, not loaded
  * lane by lane from the sphere array. */
 #define SMALL_SPHERES (2 * LANES)
-enum {
-    FIELD_CX,
-    FIELD_CY,
-    FIELD_CZ,
-    FIELD_R,
-    FIELD_KR,
-    FIELD_KG,
-    FIELD_KB,
-    FIELD_KS,
-    FIELD_ALPHA,
-    FIELD_IOR,
-    FIELD_MATERIAL,
-    FIELD_SLOT,
-    SPHERE_FIELDS
-};
 typedef struct small_spheres {
-    float field[SPHERE_FIELDS][SMALL_SPHERES];
+    float cx[SMALL_SPHERES], cy[SMALL_SPHERES], cz[SMALL_SPHERES], r[SMALL_SPHERES];
+    float kr[SMALL_SPHERES], kg[SMALL_SPHERES], kb[SMALL_SPHERES], ks[SMALL_SPHERES];
+    float alpha[SMALL_SPHERES], ior[SMALL_SPHERES], material[SMALL_SPHERES], slot[SMALL_SPHERES];
 } small_spheres;
 
 /* Fills t from the scene's spheres; false (t unused) when it has more than SMALL_SPHERES. */
@@ -179,11 +166,11 @@ LANE_FN int small_spheres_of(const packed_scene *scene, small_spheres *t) {
     memset(t, 0, sizeof *t);
     for (uint32_t k = 0; k < count; k++) {
         const struct gpu_sphere *g = &scene->spheres[k];
-        float f[SPHERE_FIELDS] = {g->center_radius.x, g->center_radius.y, g->center_radius.z,
-                                  g->center_radius.w, g->color_ks.x,      g->color_ks.y,
-                                  g->color_ks.z,      g->color_ks.w,      g->params.x,
-                                  g->params.y,        g->params.z,        g->params.w};
-        for (int n = 0; n < SPHERE_FIELDS; n++) t->field[n][k] = f[n];
+        t->cx[k] = g->center_radius.x, t->cy[k] = g->center_radius.y;
+        t->cz[k] = g->center_radius.z, t->r[k] = g->center_radius.w;
+        t->kr[k] = g->color_ks.x, t->kg[k] = g->color_ks.y, t->kb[k] = g->color_ks.z;
+        t->ks[k] = g->color_ks.w, t->alpha[k] = g->params.x, t->ior[k] = g->params.y;
+        t->material[k] = g->params.z, t->slot[k] = g->params.w;
     }
     return 1;
 }
@@ -207,18 +194,18 @@ LANE_FN void lanes_pick(const float *table, const int *index, float *out) {
 /* The gather of lanes_vertex from a small_spheres table: sphere index[k]'s fields. */
 LANE_FN void lanes_pick_spheres(const small_spheres *t, const int *index, vertex_lanes *v) {
     float material[LANES], slot[LANES];
-    lanes_pick(t->field[FIELD_CX], index, v->c.x);
-    lanes_pick(t->field[FIELD_CY], index, v->c.y);
-    lanes_pick(t->field[FIELD_CZ], index, v->c.z);
-    lanes_pick(t->field[FIELD_R], index, v->r);
-    lanes_pick(t->field[FIELD_KR], index, v->kd.x);
-    lanes_pick(t->field[FIELD_KG], index, v->kd.y);
-    lanes_pick(t->field[FIELD_KB], index, v->kd.z);
-    lanes_pick(t->field[FIELD_KS], index, v->ks);
-    lanes_pick(t->field[FIELD_ALPHA], index, v->alpha);
-    lanes_pick(t->field[FIELD_IOR], index, v->ior);
-    lanes_pick(t->field[FIELD_MATERIAL], index, material);
-    lanes_pick(t->field[FIELD_SLOT], index, slot);
+    lanes_pick(t->cx, index, v->c.x);
+    lanes_pick(t->cy, index, v->c.y);
+    lanes_pick(t->cz, index, v->c.z);
+    lanes_pick(t->r, index, v->r);
+    lanes_pick(t->kr, index, v->kd.x);
+    lanes_pick(t->kg, index, v->kd.y);
+    lanes_pick(t->kb, index, v->kd.z);
+    lanes_pick(t->ks, index, v->ks);
+    lanes_pick(t->alpha, index, v->alpha);
+    lanes_pick(t->ior, index, v->ior);
+    lanes_pick(t->material, index, material);
+    lanes_pick(t->slot, index, slot);
     for (int k = 0; k < LANES; k++) {
         v->material[k] = (int)material[k];
         v->slot[k] = (int)slot[k] - 1;
