@@ -23,11 +23,6 @@ static int edge_compare(const void *x, const void *y) {
     return c ? c : corner_compare(e->b, f->b);
 }
 
-static void corner_bits(vec3 v, uint32_t out[3]) {
-    float c[3] = {v.x + 0.0f, v.y + 0.0f, v.z + 0.0f}; /* -0 and +0 are one corner */
-    memcpy(out, c, sizeof c);
-}
-
 bool mesh_closed(const mesh *m) {
     size_t count = m->face_count * 3;
     edge *edges = malloc(count * sizeof *edges);
@@ -36,8 +31,8 @@ bool mesh_closed(const mesh *m) {
         for (int k = 0; k < 3; k++) {
             edge *e = &edges[f * 3 + k];
             uint32_t p[3], q[3];
-            corner_bits(m->faces[f].v[k], p);
-            corner_bits(m->faces[f].v[(k + 1) % 3], q);
+            mesh_corner_bits(m->faces[f].v[k], p);
+            mesh_corner_bits(m->faces[f].v[(k + 1) % 3], q);
             bool swap = corner_compare(p, q) > 0;
             memcpy(e->a, swap ? q : p, sizeof p);
             memcpy(e->b, swap ? p : q, sizeof q);

@@ -278,12 +278,7 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
     memset(out, 0, sizeof *out);
     unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices |
                      aiProcess_SortByPType | aiProcess_ValidateDataStructure;
-    if (smooth) flags |= aiProcess_GenSmoothNormals;
-    struct aiPropertyStore *props = aiCreatePropertyStore();
-    if (!props) return fail(error, error_size, "out of memory");
-    aiSetImportPropertyFloat(props, AI_CONFIG_PP_GSN_MAX_SMOOTHING_ANGLE, SMOOTHING_ANGLE);
-    const struct aiScene *sc = aiImportFileExWithProperties(path, flags, NULL, props);
-    aiReleasePropertyStore(props);
+    const struct aiScene *sc = aiImportFile(path, flags);
     if (!sc) return fail(error, error_size, "cannot load: %s", aiGetErrorString());
     size_t faces = 0;
     for (unsigned i = 0; i < sc->mNumMeshes; i++) {
@@ -312,6 +307,8 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
     if (ok) ok = gather_faces(sc, out, error, error_size);
     if (ok && out->face_count == 0)
         ok = fail(error, error_size, "holds no triangles (its faces are points or lines)");
+    if (ok && smooth && !mesh_smooth_normals(out, SMOOTHING_ANGLE))
+        ok = fail(error, error_size, "out of memory generating its normals");
     if (ok && !copy_faces(fd, out->faces, out->face_count, true)) {
         ok = fail(error, error_size, "cannot put its %zu faces (%.0f MB) in shared memory: %s%s",
                   out->face_count, (double)(out->face_count * sizeof *out->faces) / 1e6,

@@ -6,6 +6,8 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
+#include <string.h>
 
 #include "scene/scene.h"
 
@@ -38,10 +40,20 @@ typedef struct mesh {
  * (assimp's own where it failed) in error on a file that cannot be read, holds no triangles or
  * a non-finite position; *out is then empty. */
 bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t error_size);
+/* A corner's position as its coordinates' bits, -0 and +0 one position: corners are the same
+ * where these are (mesh_closed, mesh_smooth_normals). */
+static inline void mesh_corner_bits(vec3 v, uint32_t out[3]) {
+    float c[3] = {v.x + 0.0f, v.y + 0.0f, v.z + 0.0f};
+    memcpy(out, c, sizeof c);
+}
+
 /* Whether every edge is shared by exactly two faces that run along it in opposite directions
  * (corners compared by position): only a closed, consistently wound surface bounds a medium for
  * glass. */
 bool mesh_closed(const mesh *m);
+/* Gives the corners that have no normal (zero) the mean normal of the faces at their position
+ * that meet their own face at under max_angle_degrees; false out of memory. */
+bool mesh_smooth_normals(mesh *m, float max_angle_degrees);
 /* Releases a loaded mesh; safe on a zeroed one. */
 void mesh_free(mesh *m);
 
