@@ -305,6 +305,7 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
             map_material(sc->mMaterials[i], out->unsupported, sizeof out->unsupported);
     out->material_count = (int)sc->mNumMaterials;
     if (ok) ok = gather_faces(sc, out, error, error_size);
+    aiReleaseImport(sc); /* before the normals' tables: the peak is then one of the two */
     if (ok && out->face_count == 0)
         ok = fail(error, error_size, "holds no triangles (its faces are points or lines)");
     if (ok && smooth && !mesh_smooth_normals(out, SMOOTHING_ANGLE))
@@ -315,7 +316,6 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
                   strerror(errno),
                   errno == EFBIG ? " (the file-size limit, ulimit -f, caps it)" : "");
     }
-    aiReleaseImport(sc);
     if (!ok) mesh_free(out);
     return ok;
 }
