@@ -78,10 +78,10 @@ static bool big_ring(const uint32_t *next, uint32_t c) {
     return d != c;
 }
 
-/* A big ring (a fan's centre: smooth_corner's loop is quadratic in its size, and a fan of 200,000
- * faces did not load in 10 s) whose faces' normals all lie within half the angle of their mean:
- * every two then meet at under the angle, so each corner without a normal takes that mean.
- * False, nothing written, when they do not. */
+/* A big ring (a fan's centre, where smooth_corner's loops would be quadratic in the fan's faces)
+ * whose faces' normals all lie within half the angle of their mean: every two then meet at under
+ * the angle, so each corner without a normal takes that mean. False, nothing written, when they
+ * do not. */
 static bool smooth_coherent_ring(mesh *m, const vec3 *normals, const uint32_t *next, uint32_t c,
                                  float half_cos) {
     vec3 sum = normals[c / 3];
