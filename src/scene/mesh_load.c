@@ -5,7 +5,6 @@
 #include "scene/mesh_load.h"
 
 #include <assimp/ObjMaterial.h>
-#include <assimp/cimport.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -23,6 +22,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "scene/assimp_lib.h"
 #include "util/big_memory.h"
 #include "util/clock.h"
 #include "util/fd_io.h"
@@ -48,6 +48,9 @@
 /* The largest Phong exponent a roughness maps to (roughness 0 would be infinite). */
 #define MAX_ALPHA 10000.0f
 
+/* assimp, opened by mesh_load before it forks the child that imports (which inherits it). */
+static const assimp_lib *ai;
+
 static bool fail(char *error, size_t size, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 static bool fail(char *error, size_t size, const char *fmt, ...) {
@@ -63,7 +66,7 @@ static float clamp01(float x) { return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x; }
 static vec3 color_of(const struct aiMaterial *m, const char *key, unsigned type, unsigned index,
                      bool *found) {
     struct aiColor4D c;
-    *found = aiGetMaterialColor(m, key, type, index, &c) == aiReturn_SUCCESS;
+    *found = ai->get_material_color(m, key, type, index, &c) == aiReturn_SUCCESS;
     if (!*found) return v3(0, 0, 0);
     return v3(isfinite(c.r) ? c.r : 0.0f, isfinite(c.g) ? c.g : 0.0f, isfinite(c.b) ? c.b : 0.0f);
 }
@@ -72,7 +75,7 @@ static float float_of(const struct aiMaterial *m, const char *key, unsigned type
                       float fallback, bool *found) {
     ai_real value;
     unsigned one = 1;
-    *found = aiGetMaterialFloatArray(m, key, type, index, &value, &one) == aiReturn_SUCCESS &&
+    *found = ai->get_material_float_array(m, key, type, index, &value, &one) == aiReturn_SUCCESS &&
              one == 1 && isfinite(value);
     return *found ? (float)value : fallback;
 }
@@ -106,7 +109,7 @@ static void note_textures(const struct aiMaterial *m, char *list, size_t size) {
         {aiTextureType_UNKNOWN, "other texture"},
     };
     for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
-        if (aiGetMaterialTextureCount(m, kinds[k].type) > 0) note(list, size, kinds[k].name);
+        if (ai->get_material_texture_count(m, kinds[k].type) > 0) note(list, size, kinds[k].name);
     }
 }
 
@@ -124,7 +127,7 @@ static mesh_material map_material(const struct aiMaterial *m, char *unsupported,
     float roughness = float_of(m, AI_MATKEY_ROUGHNESS_FACTOR, 1.0f, &has_rough);
     float transmission = float_of(m, AI_MATKEY_TRANSMISSION_FACTOR, 0.0f, &has_trans);
     int illum = 2;
-    aiGetMaterialIntegerArray(m, AI_MATKEY_OBJ_ILLUM, &illum, NULL);
+    ai->get_material_integer_array(m, AI_MATKEY_OBJ_ILLUM, &illum, NULL);
     note_textures(m, unsupported, size);
     vec3 color = has_base ? base : has_kd ? kd : v3(0.8f, 0.8f, 0.8f);
     color = v3(clamp01(color.x), clamp01(color.y), clamp01(color.z));
@@ -278,8 +281,8 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
     memset(out, 0, sizeof *out);
     unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices |
                      aiProcess_SortByPType | aiProcess_ValidateDataStructure;
-    const struct aiScene *sc = aiImportFile(path, flags);
-    if (!sc) return fail(error, error_size, "cannot load: %s", aiGetErrorString());
+    const struct aiScene *sc = ai->import_file(path, flags);
+    if (!sc) return fail(error, error_size, "cannot load: %s", ai->get_error_string());
     size_t faces = 0;
     for (unsigned i = 0; i < sc->mNumMeshes; i++) {
         const struct aiMesh *me = sc->mMeshes[i];
@@ -305,7 +308,7 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
             map_material(sc->mMaterials[i], out->unsupported, sizeof out->unsupported);
     out->material_count = (int)sc->mNumMaterials;
     if (ok) ok = gather_faces(sc, out, error, error_size);
-    aiReleaseImport(sc); /* before the normals' tables: the peak is then one of the two */
+    ai->release_import(sc); /* before the normals' tables: the peak is then one of the two */
     if (ok && out->face_count == 0)
         ok = fail(error, error_size, "holds no triangles (its faces are points or lines)");
     if (ok && smooth && !mesh_smooth_normals(out, SMOOTHING_ANGLE))
@@ -368,8 +371,10 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
     struct stat st;
     if (stat(path, &st) != 0) return fail(error, error_size, "cannot open: %s", strerror(errno));
     if (!S_ISREG(st.st_mode)) return fail(error, error_size, "not a regular file");
+    ai = assimp_lib_open(error, error_size);
+    if (!ai) return false;
     const char *dot = strrchr(path, '.');
-    if (!dot || strchr(dot, '/') || !aiIsExtensionSupported(dot)) {
+    if (!dot || strchr(dot, '/') || !ai->is_extension_supported(dot)) {
         return fail(error, error_size,
                     "unsupported format: this assimp reads no '%s' files (see `assimp listext`)",
                     dot && !strchr(dot, '/') ? dot : "extensionless");
