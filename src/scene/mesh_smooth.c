@@ -32,8 +32,6 @@ static vec3 face_normal(const mesh_face *f) {
     return length > 0.0f && isfinite(length) ? v3_scale(n, 1.0f / length) : v3(0, 0, 0);
 }
 
-static bool is_zero(vec3 v) { return v.x == 0.0f && v.y == 0.0f && v.z == 0.0f; }
-
 /* Links the corners of each position into a ring (next), through a hash table of each
  * position's first corner (capacity a power of two, NO_CORNER where empty). */
 static void link_positions(const mesh *m, uint32_t corners, uint32_t *table, uint32_t mask,
@@ -91,12 +89,13 @@ static bool smooth_coherent_ring(mesh *m, const vec3 *normals, const uint32_t *n
     vec3 mean = v3_scale(sum, 1.0f / length);
     uint32_t d = c;
     do {
-        if (!is_zero(normals[d / 3]) && !(v3_dot(normals[d / 3], mean) >= half_cos)) return false;
+        if (!v3_is_zero(normals[d / 3]) && !(v3_dot(normals[d / 3], mean) >= half_cos))
+            return false;
         d = next[d];
     } while (d != c);
     do {
         vec3 *n = &m->faces[d / 3].n[d % 3];
-        if (is_zero(*n) && !is_zero(normals[d / 3])) *n = mean;
+        if (v3_is_zero(*n) && !v3_is_zero(normals[d / 3])) *n = mean;
         d = next[d];
     } while (d != c);
     return true;
@@ -118,7 +117,7 @@ bool mesh_smooth_normals(mesh *m, float max_angle_degrees) {
         float min_cos = (float)cos(radians), half_cos = (float)cos(radians / 2.0);
         for (uint32_t c = 0; c < corners; c++) {
             vec3 *n = &m->faces[c / 3].n[c % 3];
-            if (!is_zero(*n) || is_zero(normals[c / 3])) continue;
+            if (!v3_is_zero(*n) || v3_is_zero(normals[c / 3])) continue;
             if (big_ring(next, c) && smooth_coherent_ring(m, normals, next, c, half_cos)) continue;
             *n = smooth_corner(normals, next, c, min_cos);
         }

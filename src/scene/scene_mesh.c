@@ -284,7 +284,7 @@ static bool add_faces(parser *p, const mesh *me, size_t kept, const shape_materi
             }
             material = mapped[slot];
         }
-        bool flat = face->n[0].x == 0.0f && face->n[0].y == 0.0f && face->n[0].z == 0.0f;
+        bool flat = v3_is_zero(face->n[0]);
         face_add(p, face->v[0], face->v[1], face->v[2], material,
                  flat ? TRIANGLE_FLAT : normals_add(p, face->n));
     }

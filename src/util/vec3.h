@@ -19,6 +19,7 @@ static inline vec3 v3_normalize(vec3 a) { return v3_scale(a, 1.0f / v3_length(a)
 static inline vec3 v3_cross(vec3 a, vec3 b) {
     return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
 }
+static inline int v3_is_zero(vec3 a) { return a.x == 0.0f && a.y == 0.0f && a.z == 0.0f; }
 static inline float v3_max_abs(vec3 a) {
     float x = fabsf(a.x), y = fabsf(a.y), z = fabsf(a.z);
     float m = x > y ? x : y;
