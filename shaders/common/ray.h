@@ -56,8 +56,7 @@ TZ_LANE_FN float sphere_distance(float cx, float cy, float cz, float r, vec3 o, 
     float other1 = x_big ? yy : xx, other2 = (x_big TZ_OR y_big) ? zz : yy;
     TZ_PRECISE float c = (big - r) * (big + r) + other1 + other2;
     TZ_PRECISE float fx = ocx - b * d.x, fy = ocy - b * d.y, fz = ocz - b * d.z;
-    TZ_PRECISE float l = TZ_SQRT(fx * fx + fy * fy + fz * fz);
-    TZ_PRECISE float disc = (r - l) * (r + l);
+    TZ_PRECISE float disc = r * r - (fx * fx + fy * fy + fz * fz);
     TZ_PRECISE float root = TZ_SQRT(disc < 0.0f ? 0.0f : disc);
     TZ_PRECISE float q = b > 0.0f ? -b - root : -b + root;
     TZ_PRECISE float cq = c / q;
