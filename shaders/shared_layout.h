@@ -170,7 +170,7 @@ struct gpu_frame {
     float near_distance;    /* camera rays start this far along their direction (`near`) */
     TZ_UINT emitter_count;  /* path mode's emissive spheres and triangles */
     TZ_UINT triangle_count; /* primitives sphere_count to sphere_count + triangle_count - 1 */
-    TZ_UINT pad0;           /* 0 */
+    TZ_UINT light_samples;  /* path mode: emitter samples a diffuse vertex, at least 1 */
 };
 
 /* One emissive sphere or triangle of path mode, 32 bytes: emitters are picked in proportion to

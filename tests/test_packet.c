@@ -197,6 +197,9 @@ static void compare_path_variants(const char *name, scene *s) {
                                                                             : RENDER_SAMPLER_SOBOL;
     check_runs = true;
     compare(name, s, &v, false);
+    v = o;
+    v.light_samples = 3;
+    compare(name, s, &v, false);
     check_runs = false;
 }
 

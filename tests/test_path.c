@@ -199,6 +199,44 @@ static void test_strategies_agree(void) {
     film_free(&bsdf2);
 }
 
+/* light_samples 4 estimates the image light_samples 1 does (with MIS and with light sampling
+ * alone, whose weights both divide by the sample count), with less noise at equal samples. The
+ * emitter is big and near, so that BSDF sampling finds it often and a weight that left out the
+ * count (either strategy's) would show. */
+static void test_light_samples(void) {
+    const char *scene =
+        "camera position 0 3 -6 look_at 0 0 0\nplane width 2 height 1.5 pixel 0.05\n"
+        "sphere lambertian center 0 -1000 0 radius 1000 color 0.6 0.6 0.6\n"
+        "sphere lambertian center 0 4.5 0 radius 3 color 0 0 0 emission 1 1 1\n"
+        "sphere phong center 0.5 0.6 0 radius 0.6 color 0.3 0.3 0.3 ks 0.5 alpha 30\n"
+        "render mode path bounces 3 samples 64 light_samples %d seed %d\n";
+    char one[1024], four[1024], one2[1024], four2[1024];
+    snprintf(one, sizeof one, scene, 1, 1);
+    snprintf(four, sizeof four, scene, 4, 1);
+    snprintf(one2, sizeof one2, scene, 1, 2);
+    snprintf(four2, sizeof four2, scene, 4, 2);
+    film a = {0}, b = {0}, lights = {0}, a2 = {0}, b2 = {0};
+    bool ok = render_text(one, PATH_MIS, &a) && render_text(four, PATH_MIS, &b) &&
+              render_text(four, PATH_LIGHTS_ONLY, &lights) && render_text(one2, PATH_MIS, &a2) &&
+              render_text(four2, PATH_MIS, &b2);
+    CHECK(ok, "light samples: render failed");
+    if (ok) {
+        estimate e1 = whole(&a, 0), e4 = whole(&b, 0), el = whole(&lights, 0);
+        CHECK(fabs(e1.mean - e4.mean) <= SIGMAS * hypot(e1.se, e4.se),
+              "1 light sample %.5f+-%.5f vs 4 %.5f+-%.5f", e1.mean, e1.se, e4.mean, e4.se);
+        CHECK(fabs(e4.mean - el.mean) <= SIGMAS * hypot(e4.se, el.se),
+              "4 light samples: MIS %.5f+-%.5f vs lights alone %.5f+-%.5f", e4.mean, e4.se, el.mean,
+              el.se);
+        double n1 = pixel_noise(&a, &a2), n4 = pixel_noise(&b, &b2);
+        CHECK(n4 < n1, "4 light samples (noise %.5f) no less noisy than 1 (%.5f)", n4, n1);
+    }
+    film_free(&a);
+    film_free(&b);
+    film_free(&lights);
+    film_free(&a2);
+    film_free(&b2);
+}
+
 /* A tiny emitting sphere of radius r and radiance Le lights a floor as a point light of
  * intensity Le pi r^2 (trazador's point-light power) does: the same to (r / d)^2 and noise. */
 static void test_tiny_emitter(void) {
@@ -273,6 +311,7 @@ int main(int argc, char **argv) {
         CHECK_CASE(test_phong_furnace);
         CHECK_CASE(test_glass_in_field);
         CHECK_CASE(test_strategies_agree);
+        CHECK_CASE(test_light_samples);
         CHECK_CASE(test_tiny_emitter);
         if (use_vulkan) CHECK_CASE(test_agrees_with_cpu);
     }

@@ -219,9 +219,11 @@ TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, surface sf, vec3 n, vec3 ng, vec
         f_scale = 1.0f;
         b = fb.pdf;
     }
-    /* the MIS weight over the pdf, or 1 / pdf with light sampling alone */
-    TZ_PRECISE float mis = pdf / (pdf * pdf + b * b);
-    TZ_PRECISE float weight = (TZ_FRAME.flags & TZ_FLAG_LIGHTS_ONLY) != 0u ? 1.0f / pdf : mis;
+    /* the MIS weight over the pdf and the sample count, or 1 / pdf with light sampling alone */
+    float n_light = TZ_FLOAT(TZ_FRAME.light_samples);
+    TZ_PRECISE float weight = (TZ_FRAME.flags & TZ_FLAG_LIGHTS_ONLY) != 0u
+                                  ? 1.0f / (n_light * pdf)
+                                  : light_mis_over_pdf(n_light, pdf, b);
     TZ_PRECISE vec3 l = v3_scale(v3_mul(f, xyz(emission_pick)), f_scale * weight);
     return l;
 }
@@ -283,11 +285,12 @@ TZ_FN path_state path_step(TZ_SCENE_PARAM path_state p) {
     int slot = TZ_INT(params.w) - 1;
     if (slot >= 0) {
         TZ_BOOL full = p.specular || (flags & TZ_FLAG_BSDF_ONLY) != 0u;
-        float w =
-            full ? 1.0f
-            : (flags & TZ_FLAG_LIGHTS_ONLY) != 0u
-                ? 0.0f
-                : power_heuristic(p.last.bsdf_pdf, light_pdf_at(TZ_SCENE_ARG p.last, id, pos, d));
+        float w = full ? 1.0f
+                  : (flags & TZ_FLAG_LIGHTS_ONLY) != 0u
+                      ? 0.0f
+                      : power_heuristic(p.last.bsdf_pdf,
+                                        TZ_FLOAT(TZ_FRAME.light_samples) *
+                                            light_pdf_at(TZ_SCENE_ARG p.last, id, pos, d));
         TZ_PRECISE vec3 emitted =
             v3_scale(v3_mul(p.beta, xyz(emitter_emission_pick(TZ_SCENE_ARG slot))), w);
         p.radiance = v3_add(p.radiance, emitted);
@@ -303,7 +306,7 @@ TZ_FN path_state path_step(TZ_SCENE_PARAM path_state p) {
         TZ_PRECISE vec3 wo = v3_scale(d, -1.0f);
         float share = diffuse_share(xyz(color_ks), color_ks.w);
         TZ_PRECISE vec3 direct = point_lights(TZ_SCENE_ARG sf, id, n, ng, wo);
-        if (TZ_FRAME.emitter_count > 0u) {
+        for (TZ_UINT l = 0u; TZ_FRAME.emitter_count > 0u && l < TZ_FRAME.light_samples; l++) {
             float ul = sample_1d(flags, TZ_REF(p.rng));
             float ua, ub;
             sample_2d(flags, TZ_REF(p.rng), TZ_REF(ua), TZ_REF(ub));

@@ -136,6 +136,15 @@ TZ_FN float fresnel_dielectric(float eta, float c1, float k) {
     return k < 0.0f ? 1.0f : f;
 }
 
+/* The power heuristic's weight of one of n light samples of pdf a against a BSDF sample of pdf b,
+ * divided by that sample's share n a: (n a) / ((n a)^2 + b^2), Veach's multi-sample weight over
+ * the light estimator's denominator. */
+TZ_FN float light_mis_over_pdf(float n, float a, float b) {
+    TZ_PRECISE float na = n * a;
+    TZ_PRECISE float w = na / (na * na + b * b);
+    return w;
+}
+
 /* Veach's power heuristic: the weight of a strategy of pdf a against one of pdf b. */
 TZ_FN float power_heuristic(float a, float b) {
     TZ_PRECISE float a2 = a * a;

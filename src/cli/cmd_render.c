@@ -29,6 +29,7 @@ typedef struct render_args {
     int backend;        /* backend_choice */
     int tm;             /* tonemap */
     long long spp, seed, bounces, threads, device, width; /* -1: not given */
+    long long light_samples;                              /* -1: not given */
     int indirect;                                         /* -1 not given, 0 off, 1 on */
     int mode;                                             /* -1 not given, else render_mode */
     int no_jitter, validate, verbose, quiet, no_bvh, force;
@@ -73,6 +74,10 @@ static const opt_spec render_specs[] = {
               "report mode: the longest chain of specular events; path mode: the most scattering "
               "events of a path; 0 to " CLI_AS_TEXT(
                   SCENE_MAX_BOUNCES) " (default: the scene's, else 5 in report mode, 16 in path)"),
+    OPT_WHOLE("--light-samples", NULL, ARG(light_samples), 1, SCENE_MAX_LIGHT_SAMPLES,
+              "path mode: emitter samples at each diffuse vertex, 1 to " CLI_AS_TEXT(
+                  SCENE_MAX_LIGHT_SAMPLES) ", each with its shadow ray (default: the scene's, else "
+                                           "1)"),
     OPT_SET("--indirect", NULL, ARG(indirect), 1,
             "one diffuse bounce of indirect light (default: the scene's, else on)"),
     OPT_SET("--no-indirect", NULL, ARG(indirect), 0,
@@ -162,6 +167,7 @@ static opt_result parse_render_args(int argc, char **argv, render_args *a,
                        .spp = -1,
                        .seed = -1,
                        .bounces = -1,
+                       .light_samples = -1,
                        .threads = -1,
                        .device = -1,
                        .width = -1,
@@ -316,6 +322,7 @@ static void apply_overrides(const render_args *a, const scene *s, render_opts *o
     if (a->mode >= 0 && !s->bounces_given) o->bounces = scene_default_bounces(o->mode);
     if (a->bounces >= 0) o->bounces = (int)a->bounces;
     if (a->sampler != RENDER_SAMPLER_AUTO) o->sampler = (render_sampler)a->sampler;
+    if (a->light_samples >= 0) o->light_samples = (int)a->light_samples;
     if (a->threads >= 0) o->threads = (int)a->threads;
     if (a->device >= 0) o->device = (int)a->device, o->device_given = true;
     if (a->indirect >= 0) o->indirect = a->indirect;
@@ -355,9 +362,14 @@ static int render_and_write(const render_args *a, const scene *s) {
     render_opts_from_scene(s, &opts);
     apply_overrides(a, s, &opts);
     log_debug(
-        "render: %s mode, %d samples a pixel, %d bounces, %s sampler",
+        "render: %s mode, %d samples a pixel, %d bounces, %s sampler, %d light samples a vertex",
         opts.mode == RENDER_MODE_PATH ? "path" : "report", opts.spp, opts.bounces,
-        scene_sampler_of(opts.sampler, opts.mode) == RENDER_SAMPLER_SOBOL ? "sobol" : "random");
+        scene_sampler_of(opts.sampler, opts.mode) == RENDER_SAMPLER_SOBOL ? "sobol" : "random",
+        render_light_samples(&opts));
+    if (a->light_samples > 1 && opts.mode != RENDER_MODE_PATH)
+        log_warn(
+            "--light-samples does nothing in report mode: it is path mode's emitter samples "
+            "a vertex");
     render_stats stats = {0};
     opts.stats = &stats;
     part_meta meta;

@@ -70,7 +70,7 @@ static void resume_difference(const part_meta *m, const part_meta *want, uint32_
     else if (strcmp(m->digest, want->digest))
         snprintf(why, size,
                  "another scene or other settings: digest %s, this render %s (the scene, bounces, "
-                 "indirect, jitter, roulette or sampler)",
+                 "indirect, jitter, roulette, sampler or light_samples)",
                  m->digest, want->digest);
     else if (m->x0 != want->x0 || m->x1 != want->x1 || m->y0 != want->y0 || m->y1 != want->y1)
         snprintf(why, size, "another region: this render %d,%d,%d,%d", want->x0, want->x1, want->y0,

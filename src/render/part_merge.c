@@ -37,7 +37,7 @@ static void meta_difference(const part_meta *a, const part_meta *b, char *why, s
     else if (strcmp(a->digest, b->digest))
         snprintf(why, size,
                  "scene digest %s against %s (the scene or a setting that changes "
-                 "samples: bounces, indirect, jitter, roulette, sampler)",
+                 "samples: bounces, indirect, jitter, roulette, sampler, light_samples)",
                  a->digest, b->digest);
 }
 

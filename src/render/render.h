@@ -63,6 +63,7 @@ typedef struct render_opts {
     bool indirect;          /* report mode: the one bounce of indirect light */
     render_mode mode;       /* seed (the course report's model) or path (DESIGN section 3.2) */
     bool roulette;          /* path mode: Russian roulette from the fourth vertex */
+    int light_samples;      /* path mode: emitter samples a diffuse vertex (0 as 1) */
     render_sampler sampler; /* auto: scene_sampler_of the mode */
     path_strategy strategy; /* path mode: MIS (the default), or one strategy alone (tests) */
     int bounces;            /* seed: longest chain of specular events; path: scattering events */
@@ -81,6 +82,12 @@ typedef struct render_opts {
 
 /* Fills opts from the scene's `render` settings (flags override afterwards); never fails. */
 void render_opts_from_scene(const scene *s, render_opts *opts);
+
+/* The emitter samples a diffuse vertex of path mode takes: opts' light_samples, 1 for 0, and 1 in
+ * report mode. */
+static inline int render_light_samples(const render_opts *o) {
+    return o->mode == RENDER_MODE_PATH && o->light_samples > 1 ? o->light_samples : 1;
+}
 
 /* Prints the progress line on stderr: share done, time so far, samples per second and the time
  * left (samples: of the whole render), at most what is left until `deadline` (clock_seconds(),

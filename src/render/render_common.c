@@ -18,6 +18,7 @@ void render_opts_from_scene(const scene *s, render_opts *opts) {
     opts->bounces = s->bounces;
     opts->mode = s->mode;
     opts->roulette = s->roulette;
+    opts->light_samples = s->light_samples;
     opts->sampler = s->sampler;
 }
 
@@ -172,6 +173,8 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
         h = digest_int(h, settings[k]);
     /* random keeps the digests of before the sampler existed (their parts still merge) */
     if (scene_sampler_of(o->sampler, o->mode) == RENDER_SAMPLER_SOBOL) h = digest_int(h, 1);
+    /* one emitter sample keeps the digests of before light_samples existed */
+    if (render_light_samples(o) > 1) h = digest_int(h, render_light_samples(o));
     return h;
 }
 

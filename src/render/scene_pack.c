@@ -354,6 +354,7 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         .bounces = (uint32_t)opts->bounces,
         .flags = flags,
         .near_distance = s->camera_near,
+        .light_samples = (uint32_t)render_light_samples(opts),
     };
     uint32_t *triangle_source = NULL;
     bool sorted =

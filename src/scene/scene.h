@@ -28,6 +28,7 @@
 #define SCENE_MAX_LIGHTS 4096
 #define SCENE_MAX_SAMPLES 1048576
 #define SCENE_MAX_BOUNCES 64
+#define SCENE_MAX_LIGHT_SAMPLES 16
 #define SCENE_MAX_LINE 4096 /* longer lines are an error, not a slowdown */
 /* Rays leaving a sphere start TZ_EPS times its largest |coordinate| (at least 1) off it: a
  * sphere whose radius is under this many offsets is shaded wrongly (a closed one renders black),
@@ -139,6 +140,7 @@ typedef struct scene {
     int bounces; /* scene_default_bounces(mode) unless the scene names it */
     bool bounces_given;
     bool roulette;          /* path mode: Russian roulette from the fourth vertex */
+    int light_samples;      /* path mode: emitter samples a diffuse vertex (`light_samples`) */
     render_sampler sampler; /* auto unless the scene names one */
     uint32_t seed;
     render_mode mode;

@@ -330,6 +330,10 @@ static bool parse_text(parser *p, int threads) {
     if (p->roulette_col && mode == RENDER_MODE_REPORT)
         parser_warn(p, p->render_line, p->roulette_col,
                     "roulette does nothing in report mode: it is path mode's Russian roulette");
+    if (p->light_samples_col && mode == RENDER_MODE_REPORT)
+        parser_warn(p, p->render_line, p->light_samples_col,
+                    "light_samples does nothing in report mode: it is path mode's emitter samples "
+                    "a vertex");
     warn_near_surfaces(p);
     return true;
 }
@@ -344,6 +348,7 @@ scene parser_scene_defaults(void) {
         .seed = 1,
         .mode = RENDER_MODE_REPORT,
         .roulette = true,
+        .light_samples = 1,
     };
 }
 

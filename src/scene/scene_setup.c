@@ -63,6 +63,7 @@ enum {
     RENDER_MODE,
     RENDER_ROULETTE,
     RENDER_SAMPLER,
+    RENDER_LIGHT_SAMPLES,
     RENDER_KEY_COUNT
 };
 /* The words of `render mode`, in render_mode order, then "seed", report's old name. */
@@ -77,6 +78,7 @@ static const key_spec render_keys[RENDER_KEY_COUNT] = {
     {"mode", RENDER_MODE_WORDS, VALUE_WORD, 0.0, 2.0, false},
     {"roulette", NULL, VALUE_SWITCH, 0.0, 1.0, false},
     {"sampler", RENDER_SAMPLER_WORDS, VALUE_WORD, 0.0, 1.0, false},
+    {"light_samples", NULL, VALUE_INTEGER, 1.0, SCENE_MAX_LIGHT_SAMPLES, false},
 };
 
 /* background takes three numbers and no key; this spec names them in messages. */
@@ -353,7 +355,10 @@ bool directive_render(parser *p) {
     if (kv.given & BIT(RENDER_SAMPLER))
         p->s.sampler =
             (render_sampler)(RENDER_SAMPLER_RANDOM + (int)parser_value_or(&kv, RENDER_SAMPLER, 0));
+    p->s.light_samples = (int)parser_value_or(&kv, RENDER_LIGHT_SAMPLES, 1);
     if (kv.given & BIT(RENDER_ROULETTE))
         p->roulette_col = p->tokens[kv.key_token[RENDER_ROULETTE]].col;
+    if (kv.given & BIT(RENDER_LIGHT_SAMPLES))
+        p->light_samples_col = p->tokens[kv.key_token[RENDER_LIGHT_SAMPLES]].col;
     return true;
 }

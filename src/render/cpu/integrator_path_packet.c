@@ -140,9 +140,10 @@ LANE_FN void lanes_emission(const packed_scene *scene, const vertex_lanes *v, co
         float w = full ? 1.0f
                   : (flags & TZ_FLAG_LIGHTS_ONLY) != 0u
                       ? 0.0f
-                      : power_heuristic(
-                            last.bsdf_pdf,
-                            light_pdf_at(scene, last, v->id[k], get3(&v->pos, k), get3(&s->d, k)));
+                      : power_heuristic(last.bsdf_pdf,
+                                        (float)scene->frame.light_samples *
+                                            light_pdf_at(scene, last, v->id[k], get3(&v->pos, k),
+                                                         get3(&s->d, k)));
         vec3 emitted =
             v3_scale(v3_mul(get3(&s->beta, k), xyz(emitter_emission_pick(scene, v->slot[k]))), w);
         set3(&s->radiance, k, v3_add(get3(&s->radiance, k), emitted));
@@ -285,7 +286,7 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
     if (any_lane(v.diffuse)) {
         lanes3 direct;
         lanes_point_lights(scene, &v, &direct);
-        if (fr->emitter_count > 0u) {
+        for (uint32_t l = 0; fr->emitter_count > 0u && l < fr->light_samples; l++) {
             float ul[LANES], ua[LANES], ub[LANES];
             draw_lanes_1d(flags, &s->rng, v.diffuse, ul);
             draw_lanes_2d(flags, &s->rng, v.diffuse, ua, ub);

@@ -247,9 +247,10 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
     }
     if (any_fold) lanes_fold(v, folds, &s.dir, s.cos_i, &f, f_scale, b); /* emitter_light's */
     int lights_only = (scene->frame.flags & TZ_FLAG_LIGHTS_ONLY) != 0u;
+    float n_light = (float)scene->frame.light_samples;
     for (int k = 0; k < LANES; k++) {
-        float mis = s.pdf[k] / (s.pdf[k] * s.pdf[k] + b[k] * b[k]);
-        float weight = lights_only ? 1.0f / s.pdf[k] : mis;
+        float weight =
+            lights_only ? 1.0f / (n_light * s.pdf[k]) : light_mis_over_pdf(n_light, s.pdf[k], b[k]);
         vec3 l = v3_scale(v3_mul(get3(&f, k), get3(&emission, k)), f_scale[k] * weight);
         l = select3(s.want[k], l, v3(0.0f, 0.0f, 0.0f));
         vec3 dk = get3(direct, k);

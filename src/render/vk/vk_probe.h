@@ -35,9 +35,9 @@ uint64_t vk_probe_safe_iterations(uint32_t limit);
 uint64_t vk_probe_sample_iterations(uint32_t sphere_count, uint32_t light_count, uint32_t bounces,
                                     bool indirect);
 /* The same for a path-mode sample (shaders/common/path.h): at most bounces + 1 rays, and at each
- * of at most `bounces` diffuse vertices a shadow ray per light, the emitter's binary search and
- * its shadow ray. Never fails. */
+ * of at most `bounces` diffuse vertices a shadow ray per light and, light_samples times, the
+ * emitter's binary search and its shadow ray. Never fails. */
 uint64_t vk_probe_path_iterations(uint32_t sphere_count, uint32_t light_count, uint32_t bounces,
-                                  uint32_t emitter_count);
+                                  uint32_t light_samples, uint32_t emitter_count);
 
 #endif

@@ -196,7 +196,8 @@ static uint64_t sample_iterations(const scene *s, const render_opts *opts, uint3
     uint32_t lights = (uint32_t)s->light_count, bounces = (uint32_t)opts->bounces;
     if (opts->mode != RENDER_MODE_PATH)
         return vk_probe_sample_iterations(spheres, lights, bounces, opts->indirect);
-    return vk_probe_path_iterations(spheres, lights, bounces, emitters);
+    return vk_probe_path_iterations(spheres, lights, bounces, (uint32_t)render_light_samples(opts),
+                                    emitters);
 }
 
 /* The most passes one ray's BVH walk may take under a loop limit of `limit` so that a sample,
