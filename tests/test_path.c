@@ -280,6 +280,12 @@ static void test_agrees_with_cpu(void) {
         "sphere phong center 0 -1.6 -1 radius 0.4 color 0.3 0.3 0.6 ks 0.5 alpha 30\n"
         "light position 1 1.5 -1 power 2\n"
         "render mode path samples 4 bounces 8\n",
+        /* three light samples a vertex */
+        "camera position 0 3 -6 look_at 0 0 0\nplane width 2 height 1.5 pixel 0.05\n"
+        "sphere lambertian center 0 -1000 0 radius 1000 color 0.6 0.6 0.6\n"
+        "sphere lambertian center 0 4.5 0 radius 3 color 0 0 0 emission 1 1 1\n"
+        "sphere phong center 0.5 0.6 0 radius 0.6 color 0.3 0.3 0.3 ks 0.5 alpha 30\n"
+        "render mode path samples 4 bounces 3 light_samples 3\n",
     };
     for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; k++) {
         film gpu = {0}, cpu = {0};
