@@ -173,7 +173,7 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
         h = digest_int(h, settings[k]);
     /* random keeps the digests of before the sampler existed (their parts still merge) */
     if (scene_sampler_of(o->sampler, o->mode) == RENDER_SAMPLER_SOBOL) h = digest_int(h, 1);
-    /* one emitter sample keeps the digests of before light_samples existed */
+    /* one light sample keeps the digests of before light_samples existed */
     if (render_light_samples(o) > 1) h = digest_int(h, render_light_samples(o));
     return h;
 }

@@ -114,14 +114,14 @@ uint64_t vk_probe_sample_iterations(uint32_t sphere_count, uint32_t light_count,
 uint64_t vk_probe_path_iterations(uint32_t sphere_count, uint32_t light_count, uint32_t bounces,
                                   uint32_t light_samples, uint32_t emitter_count) {
     /* A ray costs as in report mode. The path loop runs a pass a vertex (bounces + 1, and one
-     * spare); a diffuse vertex adds its light loop's passes and exit pass, and for each emitter
-     * sample a pass of its loop, the binary search's passes (ceil(log2(emitters)) and its exit)
-     * and the emitter's shadow ray. */
+     * spare); a diffuse vertex adds its light loop's passes and exit pass, the emitter loop's exit
+     * pass, and for each emitter sample a pass of that loop, the binary search's passes
+     * (ceil(log2(emitters)) and its exit) and the emitter's shadow ray. */
     uint64_t per_ray = (uint64_t)sphere_count + 2u;
     uint32_t search = 1u;
     while (emitter_count > 1u && (1u << (search - 1u)) < emitter_count && search < 32u) search++;
     uint64_t samples = emitter_count ? (light_samples > 1u ? light_samples : 1u) : 0u;
-    uint64_t vertex = ((uint64_t)light_count + samples) * per_ray + 1u + samples * (search + 1u);
+    uint64_t vertex = ((uint64_t)light_count + samples) * per_ray + 2u + samples * (search + 1u);
     return ((uint64_t)bounces + 2u) + ((uint64_t)bounces + 1u) * per_ray +
            (uint64_t)bounces * vertex + 1u;
 }
