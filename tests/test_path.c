@@ -166,6 +166,20 @@ static double pixel_noise(const film *a, const film *b) {
     return sqrt(sum / n / 2.0);
 }
 
+/* Two renders of the same expectation: their means within SIGMAS combined standard errors. */
+static void expect_same_image(const char *what, const film *a, const film *b) {
+    estimate x = whole(a, 0), y = whole(b, 0);
+    CHECK(fabs(x.mean - y.mean) <= SIGMAS * hypot(x.se, y.se), "%s: %.5f+-%.5f against %.5f+-%.5f",
+          what, x.mean, x.se, y.mean, y.se);
+}
+
+/* The estimator of a and a2 (two seeds) is less noisy than that of b and b2. */
+static void expect_less_noise(const char *what, const film *a, const film *a2, const film *b,
+                              const film *b2) {
+    double na = pixel_noise(a, a2), nb = pixel_noise(b, b2);
+    CHECK(na < nb, "%s: noise %.5f, not below %.5f", what, na, nb);
+}
+
 /* A floor lit by an emitting sphere behind a blocker (penumbrae): light sampling alone, BSDF
  * sampling alone and MIS estimate the same image, MIS with less noise than BSDF sampling. */
 static void test_strategies_agree(void) {
@@ -178,25 +192,20 @@ static void test_strategies_agree(void) {
     char text[1024], other[1024];
     snprintf(text, sizeof text, "%s1\n", scene);
     snprintf(other, sizeof other, "%s2\n", scene);
-    film mis = {0}, lights = {0}, bsdf = {0}, mis2 = {0}, bsdf2 = {0};
-    bool ok = render_text(text, PATH_MIS, &mis) && render_text(text, PATH_LIGHTS_ONLY, &lights) &&
-              render_text(text, PATH_BSDF_ONLY, &bsdf) && render_text(other, PATH_MIS, &mis2) &&
-              render_text(other, PATH_BSDF_ONLY, &bsdf2);
+    enum { MIS, LIGHTS, BSDF, MIS2, BSDF2, FILMS };
+    film f[FILMS] = {{0}};
+    bool ok =
+        render_text(text, PATH_MIS, &f[MIS]) && render_text(text, PATH_LIGHTS_ONLY, &f[LIGHTS]) &&
+        render_text(text, PATH_BSDF_ONLY, &f[BSDF]) && render_text(other, PATH_MIS, &f[MIS2]) &&
+        render_text(other, PATH_BSDF_ONLY, &f[BSDF2]);
     CHECK(ok, "strategies: render failed");
     if (ok) {
-        estimate m = whole(&mis, 0), l = whole(&lights, 0), b = whole(&bsdf, 0);
-        CHECK(fabs(m.mean - l.mean) <= SIGMAS * hypot(m.se, l.se),
-              "MIS %.5f+-%.5f vs lights %.5f+-%.5f", m.mean, m.se, l.mean, l.se);
-        CHECK(fabs(m.mean - b.mean) <= SIGMAS * hypot(m.se, b.se),
-              "MIS %.5f+-%.5f vs BSDF %.5f+-%.5f", m.mean, m.se, b.mean, b.se);
-        double mn = pixel_noise(&mis, &mis2), bn = pixel_noise(&bsdf, &bsdf2);
-        CHECK(mn < bn, "MIS (noise %.5f) is no less noisy than BSDF sampling (%.5f)", mn, bn);
+        expect_same_image("MIS against light sampling alone", &f[MIS], &f[LIGHTS]);
+        expect_same_image("MIS against BSDF sampling alone", &f[MIS], &f[BSDF]);
+        expect_less_noise("MIS against BSDF sampling alone", &f[MIS], &f[MIS2], &f[BSDF],
+                          &f[BSDF2]);
     }
-    film_free(&mis);
-    film_free(&lights);
-    film_free(&bsdf);
-    film_free(&mis2);
-    film_free(&bsdf2);
+    for (int k = 0; k < FILMS; k++) film_free(&f[k]);
 }
 
 /* light_samples 4 estimates the image light_samples 1 does (with MIS and with light sampling
@@ -215,26 +224,19 @@ static void test_light_samples(void) {
     snprintf(four, sizeof four, scene, 4, 1);
     snprintf(one2, sizeof one2, scene, 1, 2);
     snprintf(four2, sizeof four2, scene, 4, 2);
-    film a = {0}, b = {0}, lights = {0}, a2 = {0}, b2 = {0};
-    bool ok = render_text(one, PATH_MIS, &a) && render_text(four, PATH_MIS, &b) &&
-              render_text(four, PATH_LIGHTS_ONLY, &lights) && render_text(one2, PATH_MIS, &a2) &&
-              render_text(four2, PATH_MIS, &b2);
+    enum { ONE, FOUR, FOUR_LIGHTS, ONE2, FOUR2, FILMS };
+    film f[FILMS] = {{0}};
+    bool ok = render_text(one, PATH_MIS, &f[ONE]) && render_text(four, PATH_MIS, &f[FOUR]) &&
+              render_text(four, PATH_LIGHTS_ONLY, &f[FOUR_LIGHTS]) &&
+              render_text(one2, PATH_MIS, &f[ONE2]) && render_text(four2, PATH_MIS, &f[FOUR2]);
     CHECK(ok, "light samples: render failed");
     if (ok) {
-        estimate e1 = whole(&a, 0), e4 = whole(&b, 0), el = whole(&lights, 0);
-        CHECK(fabs(e1.mean - e4.mean) <= SIGMAS * hypot(e1.se, e4.se),
-              "1 light sample %.5f+-%.5f vs 4 %.5f+-%.5f", e1.mean, e1.se, e4.mean, e4.se);
-        CHECK(fabs(e4.mean - el.mean) <= SIGMAS * hypot(e4.se, el.se),
-              "4 light samples: MIS %.5f+-%.5f vs lights alone %.5f+-%.5f", e4.mean, e4.se, el.mean,
-              el.se);
-        double n1 = pixel_noise(&a, &a2), n4 = pixel_noise(&b, &b2);
-        CHECK(n4 < n1, "4 light samples (noise %.5f) no less noisy than 1 (%.5f)", n4, n1);
+        expect_same_image("1 light sample against 4", &f[ONE], &f[FOUR]);
+        expect_same_image("4 light samples: MIS against light sampling alone", &f[FOUR],
+                          &f[FOUR_LIGHTS]);
+        expect_less_noise("4 light samples against 1", &f[FOUR], &f[FOUR2], &f[ONE], &f[ONE2]);
     }
-    film_free(&a);
-    film_free(&b);
-    film_free(&lights);
-    film_free(&a2);
-    film_free(&b2);
+    for (int k = 0; k < FILMS; k++) film_free(&f[k]);
 }
 
 /* A tiny emitting sphere of radius r and radiance Le lights a floor as a point light of
