@@ -285,6 +285,18 @@ run roulette-seed 0 "$tz" render roulette.scene --backend cpu --spp 1 -q -o roul
 has roulette-seed err "roulette.scene:3:8: roulette does nothing in report mode: it is path mode's Russian roulette"
 run roulette-path 0 "$tz" render roulette.scene --backend cpu --spp 1 -q --mode path -o roulette.png
 [ -s "$tmp/err" ] && bad "roulette-path: warned: $(cat "$tmp/err")" || ok
+printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nrender light_samples 2\n' >ls.scene
+run light-samples-report 0 "$tz" render ls.scene --backend cpu --spp 1 -q -o ls.png
+has light-samples-report err "ls.scene:3:8: light_samples does nothing in report mode: it is path mode's emitter samples a vertex"
+run light-samples-flag-report 0 "$tz" render --backend cpu --spp 1 --width 8 --light-samples 2 -q -o ls.png
+has light-samples-flag-report err "--light-samples does nothing in report mode"
+printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nrender mode path indirect off\n' >ind.scene
+run indirect-path 0 "$tz" render ind.scene --backend cpu --spp 1 -q -o ind.png
+has indirect-path err "ind.scene:3:18: indirect does nothing in path mode: paths bounce until \`bounces\`"
+run no-indirect-path 0 "$tz" render --backend cpu --spp 1 --width 8 --mode path --no-indirect -q -o ind.png
+has no-indirect-path err "--no-indirect does nothing in path mode: paths bounce until --bounces"
+run checkpoint-every-alone 0 "$tz" render --backend cpu --spp 1 --width 8 --checkpoint-every 5 -q -o ce.png
+has checkpoint-every-alone err "--checkpoint-every does nothing without --checkpoint"
 
 # Every example scene parses and renders.
 for scene in "$src"/scenes/*.scene; do

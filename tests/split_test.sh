@@ -202,6 +202,13 @@ same "checkpoint removed, the image whole" removed.pfm cpu/whole.pfm
 run "checkpoint kept" 0 $tz render $scene --backend cpu --resume kept.exr --checkpoint kept.exr \
     --keep-checkpoint -o kept.pfm
 [ -s kept.exr ] && ok || bad "--keep-checkpoint: the checkpoint was removed"
+# A kept checkpoint holds the finished part even when the render ended before its first
+# periodic checkpoint: merged alone, it is the whole image.
+rm -f short_ck.exr
+run "checkpoint kept, none periodic" 0 $tz render $scene --backend cpu --checkpoint short_ck.exr \
+    --keep-checkpoint -o short.pfm
+run "checkpoint kept, merged" 0 $tz merge short_ck.exr -o short_merged.pfm
+same "checkpoint kept, the whole image" short_merged.pfm cpu/whole.pfm
 tl_ck="render --width 32 --spp 1048576 --backend cpu --quiet"
 $tz $tl_ck --samples 0:16 -o tl_ck.exr
 run "checkpoint of a time limit" 0 $tz $tl_ck --time-limit 0.3 --resume tl_ck.exr \

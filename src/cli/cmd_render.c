@@ -37,7 +37,7 @@ typedef struct render_args {
     int sampler;                     /* render_sampler */
     const char *region, *samples;    /* "x0,x1,y0,y1", "A:B"; NULL: all */
     const char *checkpoint, *resume; /* part files; NULL: none */
-    double checkpoint_every;         /* seconds */
+    double checkpoint_every;         /* seconds; -1: not given (CHECKPOINT_EVERY) */
     double time_limit;               /* seconds; -1: none */
     int exr_type;                    /* 0 half, 1 float */
     int part;                        /* an EXR output is a part file */
@@ -45,6 +45,8 @@ typedef struct render_args {
 } render_args;
 
 #define FORMATS "png|ppm|pfm|exr"
+/* Seconds between checkpoints unless --checkpoint-every says. */
+#define CHECKPOINT_EVERY 60.0
 static const char *const format_names[] = {"png", "ppm", "pfm", "exr"};
 static const char *const default_outputs[] = {"render.png", "render.ppm", "render.pfm",
                                               "render.exr"};
@@ -173,7 +175,7 @@ static opt_result parse_render_args(int argc, char **argv, render_args *a,
                        .width = -1,
                        .indirect = -1,
                        .mode = -1,
-                       .checkpoint_every = 60.0,
+                       .checkpoint_every = -1.0,
                        .time_limit = -1.0};
     int count;
     *scene_path = NULL;
@@ -361,15 +363,26 @@ static int render_and_write(const render_args *a, const scene *s) {
     render_opts opts;
     render_opts_from_scene(s, &opts);
     apply_overrides(a, s, &opts);
+    bool path = opts.mode == RENDER_MODE_PATH;
+    char light_samples[48] = "";
+    if (path)
+        snprintf(light_samples, sizeof light_samples, ", light samples a vertex %d",
+                 render_light_samples(&opts));
     log_debug(
-        "render: %s mode, %d samples a pixel, %d bounces, %s sampler, %d light samples a vertex",
-        opts.mode == RENDER_MODE_PATH ? "path" : "report", opts.spp, opts.bounces,
+        "render: %s mode, %d samples a pixel, %d bounces, %s sampler%s", path ? "path" : "report",
+        opts.spp, opts.bounces,
         scene_sampler_of(opts.sampler, opts.mode) == RENDER_SAMPLER_SOBOL ? "sobol" : "random",
-        render_light_samples(&opts));
-    if (a->light_samples > 1 && opts.mode != RENDER_MODE_PATH)
+        light_samples);
+    /* flags the render's mode has no use for are said once, as the scene's keys are */
+    if (a->light_samples > 1 && !path)
         log_warn(
             "--light-samples does nothing in report mode: it is path mode's emitter samples "
             "a vertex");
+    if (a->indirect >= 0 && path)
+        log_warn("--%sindirect does nothing in path mode: paths bounce until --bounces",
+                 a->indirect ? "" : "no-");
+    if (!a->checkpoint && a->checkpoint_every > 0.0)
+        log_warn("--checkpoint-every does nothing without --checkpoint");
     render_stats stats = {0};
     opts.stats = &stats;
     part_meta meta;
@@ -386,7 +399,9 @@ static int render_and_write(const render_args *a, const scene *s) {
         return 1;
     uint32_t begin = p.meta.sample_end;
     render_pacer pacer = {
-        .checkpoint = a->checkpoint, .every = a->checkpoint_every, .time_limit = a->time_limit};
+        .checkpoint = a->checkpoint,
+        .every = a->checkpoint_every > 0.0 ? a->checkpoint_every : CHECKPOINT_EVERY,
+        .time_limit = a->time_limit};
     render_control control;
     bool paced = a->checkpoint || a->time_limit > 0.0;
     if (paced) {
@@ -434,8 +449,13 @@ static int render_and_write(const render_args *a, const scene *s) {
         ok = ok && write_image(a, &f);
     }
     if (ok) log_debug("output: written in %.1f ms", (clock_seconds() - write_start) * 1e3);
-    if (ok && a->checkpoint && !a->keep_checkpoint && p.meta.sample_end == end)
-        render_remove_checkpoint(a->checkpoint);
+    /* a kept checkpoint holds the finished part, even of a render too short for a periodic one */
+    if (ok && a->checkpoint && p.meta.sample_end == end) {
+        if (a->keep_checkpoint)
+            ok = part_write(a->checkpoint, &p);
+        else
+            render_remove_checkpoint(a->checkpoint);
+    }
     if (ok && pacer.time_up)
         log_info("time limit: every pixel got samples %u:%u (%u of %u)", p.meta.sample_begin,
                  p.meta.sample_end, p.meta.sample_end - p.meta.sample_begin, end);

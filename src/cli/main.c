@@ -9,7 +9,9 @@
 static const char usage_text[] =
     "usage: trazador render [SCENE] [-o OUT] [--backend auto|vulkan|cpu] [--spp N] [--seed N]\n"
     "                       [--mode report|path] [--no-jitter] [--no-indirect] [--indirect]\n"
-    "                       [--bounces N] [--threads N] [--device N] [--validate] [--quiet]\n"
+    "                       [--bounces N] [--sampler auto|random|sobol] [--light-samples N]\n"
+    "                       [--threads N] [--device N] [--walk auto|compute|cooperative|rayquery]\n"
+    "                       [--validate] [--quiet]\n"
     "                       [--verbose] [--tonemap srgb|linear] [--width N] [--no-bvh]\n"
     "                       [--format F] [--force] [--region X0,X1,Y0,Y1] [--samples A:B]\n"
     "                       [--part] [--checkpoint FILE] [--checkpoint-every S]\n"

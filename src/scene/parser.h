@@ -72,6 +72,7 @@ typedef struct parser {
     int fov_line, fov_col; /* of the camera's fov, 0 without one */
     int roulette_col;      /* of render's roulette key, 0 without one (on render_line) */
     int light_samples_col; /* of render's light_samples key, the same */
+    int indirect_col;      /* of render's indirect key, the same */
     bool tiny_warned;
     int emission_line, emission_col; /* the first emission (sphere or face): report mode refuses */
     int mode_given;                  /* the render's mode from the command line; -1: the scene's */

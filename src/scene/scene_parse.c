@@ -330,6 +330,9 @@ static bool parse_text(parser *p, int threads) {
     if (p->roulette_col && mode == RENDER_MODE_REPORT)
         parser_warn(p, p->render_line, p->roulette_col,
                     "roulette does nothing in report mode: it is path mode's Russian roulette");
+    if (p->indirect_col && mode == RENDER_MODE_PATH)
+        parser_warn(p, p->render_line, p->indirect_col,
+                    "indirect does nothing in path mode: paths bounce until `bounces`");
     if (p->light_samples_col && mode == RENDER_MODE_REPORT)
         parser_warn(p, p->render_line, p->light_samples_col,
                     "light_samples does nothing in report mode: it is path mode's emitter samples "

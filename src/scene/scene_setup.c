@@ -358,6 +358,8 @@ bool directive_render(parser *p) {
     p->s.light_samples = (int)parser_value_or(&kv, RENDER_LIGHT_SAMPLES, 1);
     if (kv.given & BIT(RENDER_ROULETTE))
         p->roulette_col = p->tokens[kv.key_token[RENDER_ROULETTE]].col;
+    if (kv.given & BIT(RENDER_INDIRECT))
+        p->indirect_col = p->tokens[kv.key_token[RENDER_INDIRECT]].col;
     if (kv.given & BIT(RENDER_LIGHT_SAMPLES))
         p->light_samples_col = p->tokens[kv.key_token[RENDER_LIGHT_SAMPLES]].col;
     return true;

@@ -19,13 +19,19 @@
  * node's decoding costs. */
 #define WIDE_BVH_MIN_PRIMITIVES_MESA22 50000u
 
-/* The walk TRAZADOR_VK_WALK names (the alias of --walk), auto when it names none. */
+/* The walk TRAZADOR_VK_WALK names (the alias of --walk), auto when it names none; a name that is
+ * no walk is warned about, once a process (the strategy asks more than once). */
 static render_walk walk_from_environment(void) {
+    static bool warned;
     const char *name = getenv("TRAZADOR_VK_WALK");
-    if (!name) return RENDER_WALK_AUTO;
+    if (!name || !*name || !strcmp(name, "auto")) return RENDER_WALK_AUTO;
     if (!strcmp(name, "compute") || !strcmp(name, "invocation")) return RENDER_WALK_COMPUTE;
     if (!strcmp(name, "cooperative")) return RENDER_WALK_COOPERATIVE;
     if (!strcmp(name, "rayquery")) return RENDER_WALK_RAY_QUERY;
+    if (!warned)
+        log_warn("TRAZADOR_VK_WALK=%s is no walk (auto, compute, cooperative or rayquery): auto",
+                 name);
+    warned = true;
     return RENDER_WALK_AUTO;
 }
 
