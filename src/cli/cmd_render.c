@@ -281,33 +281,6 @@ static int check_checkpoint(const render_args *a, const char *scene_path) {
     return atomic_file_check_force(a->checkpoint, a->force) ? 0 : 1;
 }
 
-/* Warns about what the film cannot show as rendered: samples dropped as non-finite (and the
- * pixels they left with no sample, black), and finite samples that summed past the float range
- * (radiance near 3.4e38), written as infinity (PFM) or white. One pass over the film. */
-static void warn_film_problems(const film *f) {
-    size_t pixels = (size_t)f->width * (size_t)f->height, empty = 0, overflowed = 0;
-    for (size_t k = 0; k < pixels; k++) {
-        const float *px = &f->accum[4 * k];
-        empty += !(px[3] > 0.0f);
-        overflowed += !isfinite(px[0]) || !isfinite(px[1]) || !isfinite(px[2]);
-    }
-    if (f->nonfinite) {
-        char black[96] = "";
-        if (empty)
-            snprintf(black, sizeof black, "; %zu pixel%s kept no sample and %s black", empty,
-                     empty == 1 ? "" : "s", empty == 1 ? "is" : "are");
-        log_warn("%llu sample%s had non-finite radiance and %s not accumulated%s",
-                 (unsigned long long)f->nonfinite, f->nonfinite == 1 ? "" : "s",
-                 f->nonfinite == 1 ? "was" : "were", black);
-    }
-    if (overflowed)
-        log_warn(
-            "%zu pixel%s summed %s samples past the float range (radiance near 3.4e38): "
-            "%s infinite in PFM and white in 8-bit images",
-            overflowed, overflowed == 1 ? "" : "s", overflowed == 1 ? "its" : "their",
-            overflowed == 1 ? "it is" : "they are");
-}
-
 /* An interrupted render clears its progress line, so the shell's prompt starts a clean line. */
 static void clear_progress(int sig) {
     static const char clear[] = "\r\033[K";
@@ -445,17 +418,12 @@ static int render_and_write(const render_args *a, const scene *s) {
         ok = part_write(a->output, &p);
     } else if (ok) {
         ok = part_film_so_far(&p, &f);
-        if (ok) warn_film_problems(&f);
+        if (ok) film_warn_problems(&f);
         ok = ok && write_image(a, &f);
     }
     if (ok) log_debug("output: written in %.1f ms", (clock_seconds() - write_start) * 1e3);
-    /* a kept checkpoint holds the finished part, even of a render too short for a periodic one */
-    if (ok && a->checkpoint && p.meta.sample_end == end) {
-        if (a->keep_checkpoint)
-            ok = part_write(a->checkpoint, &p);
-        else
-            render_remove_checkpoint(a->checkpoint);
-    }
+    if (ok && a->checkpoint && p.meta.sample_end == end)
+        ok = render_finish_checkpoint(a->checkpoint, a->keep_checkpoint, &p);
     if (ok && pacer.time_up)
         log_info("time limit: every pixel got samples %u:%u (%u of %u)", p.meta.sample_begin,
                  p.meta.sample_end, p.meta.sample_end - p.meta.sample_begin, end);

@@ -120,10 +120,12 @@ bool render_load_resume(const char *path, const part_meta *want, uint32_t end, i
     return true;
 }
 
-void render_remove_checkpoint(const char *path) {
+bool render_finish_checkpoint(const char *path, bool keep, const part *p) {
+    if (keep) return part_write(path, p);
     if (unlink(path) == 0) {
         log_debug("checkpoint: %s removed, the render being complete", path);
     } else if (errno != ENOENT) {
         log_warn("%s: cannot remove the finished render's checkpoint: %s", path, strerror(errno));
     }
+    return true;
 }

@@ -1,6 +1,6 @@
 /* render_part_args.h: the part `trazador render` makes: --region and --samples parsed into its
  * metadata, the checkpoint it resumes from checked against it, the checkpoint of a finished
- * render removed. */
+ * render kept or removed. */
 #ifndef TRAZADOR_RENDER_PART_ARGS_H
 #define TRAZADOR_RENDER_PART_ARGS_H
 
@@ -19,8 +19,9 @@ bool render_parse_samples(const char *text, part_meta *m, uint32_t *end);
  * asked for. */
 bool render_load_resume(const char *path, const part_meta *want, uint32_t end, int backend,
                         part *p);
-/* Removes the checkpoint of a render whose output holds all it had; a failure only warns, as the
- * output is written. */
-void render_remove_checkpoint(const char *path);
+/* The checkpoint of a render whose output holds all it had: with keep, written once more with the
+ * finished part p (so that it exists even when the render ended before its first periodic one),
+ * false (said) when it cannot be; else removed, a failure only warned, as the output is written. */
+bool render_finish_checkpoint(const char *path, bool keep, const part *p);
 
 #endif

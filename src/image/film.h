@@ -16,5 +16,9 @@ typedef struct film {
 bool film_init(film *f, int width, int height);
 /* Frees the film; safe on a zeroed film. */
 void film_free(film *f);
+/* Warns of what f cannot show as rendered: samples dropped as non-finite (and the pixels they
+ * left with no sample, black), and pixels whose finite samples summed past the float range
+ * (radiance near 3.4e38), written as infinity (PFM) or white. One pass over the film. */
+void film_warn_problems(const film *f);
 
 #endif
