@@ -111,6 +111,16 @@ done
 run output-is-stdin 2 "$tz" render - --backend cpu --width 20 -o same.scene --format png <same.scene
 has output-is-stdin err "is the scene being rendered (<stdin>)"
 cmp -s same.scene "$src/scenes/shadows.scene" && ok || bad "output-is-scene: the scene was changed"
+# So are the files the scene's meshes read: the model and the MTL it names.
+printf 'mtllib tri.mtl\nv 0 0 5\nv 1 0 5\nv 0 1 5\nusemtl m\nf 1 2 3\n' >tri.obj
+printf 'newmtl m\nKd 0.5 0.2 0.1\n' >tri.mtl
+cp tri.obj tri.obj.kept && cp tri.mtl tri.mtl.kept
+{ sed -n '/^camera/,/^light/p' same.scene; echo 'mesh file tri.obj'; } >mesh.scene
+for out in tri.obj tri.mtl; do
+    run "output-is-mesh-file $out" 2 "$tz" render mesh.scene --backend cpu --width 20 -o "$out" --format png
+    has "output-is-mesh-file $out" err "is a file the scene's meshes read ($out)"
+    cmp -s "$out" "$out.kept" && ok || bad "output-is-mesh-file: $out was changed"
+done
 # A write-protected output is refused as the shell's > refuses it, even for root; --force
 # replaces it, keeping its mode (defect 9).
 echo precious >ro.png

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 
 #include "check.h"
 #include "render/part.h"
@@ -276,6 +277,68 @@ static void test_errors(void) {
     }
 }
 
+/* An MTL value that is not finite or a negative colour is an error naming the material, not a
+ * zero (an emitter that vanished); the limit of assimp's time can be given. */
+static void test_material_values(void) {
+    static const struct {
+        const char *line, *want;
+    } bad[] = {
+        {"Ke 1e39 1 1", "material 'm': its emission (Ke) is not finite: inf 1 1"},
+        {"Ke -1 0 0", "its emission (Ke) is negative: -1 0 0"},
+        {"Kd 0.5 nan 0.5", "its diffuse colour (Kd) is not finite"},
+        {"Ns inf", "its shininess (Ns) is not finite"},
+    };
+    write_text("m.obj", "mtllib m.mtl\nv 0 0 5\nv 1 0 5\nv 0 1 5\nusemtl m\nf 1 2 3\n");
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        char mtl[128];
+        snprintf(mtl, sizeof mtl, "newmtl m\n%s\n", bad[k].line);
+        write_text("m.mtl", mtl);
+        expect_error(HEADER "mesh file m.obj\n", 6, 11, bad[k].want);
+    }
+    write_text("m.mtl", "newmtl m\nKd 0.2 0.3 0.4\nKe 0 0 0\n");
+    scene s;
+    scene_error err;
+    bool ok = parse(HEADER "mesh file m.obj\n", 1, &s, &err);
+    CHECK(ok && s.material_count == 1 && s.materials[0].color.y == 0.3f, "good mtl: %s",
+          ok ? "wrong material" : err.message);
+    if (ok) scene_free(&s);
+    setenv("TRAZADOR_MESH_SECONDS", "soon", 1);
+    expect_error(HEADER "mesh file m.obj\n", 6, 11, "TRAZADOR_MESH_SECONDS='soon' is not a time");
+    setenv("TRAZADOR_MESH_SECONDS", "1e-9", 1);
+    expect_error(HEADER "mesh file m.obj\n", 6, 11, "did not finish within its time limit");
+    setenv("TRAZADOR_MESH_SECONDS", "60", 1);
+    ok = parse(HEADER "mesh file m.obj\n", 1, &s, &err);
+    CHECK(ok, "a limit of 60 s: %s", err.message);
+    if (ok) scene_free(&s);
+    unsetenv("TRAZADOR_MESH_SECONDS");
+}
+
+/* The scene keeps the identity of every file its meshes read, each once (the CLI refuses to
+ * write over them): the OBJ and its MTL, whichever mesh line named them. */
+static void test_inputs(void) {
+    scene s;
+    scene_error err;
+    bool ok = parse(HEADER
+                    "mesh file three.obj\nmesh file three.obj translate 0 0 1\n"
+                    "mesh file cube.ply translate 0 0 9\n",
+                    1, &s, &err);
+    CHECK(ok, "inputs: %s", err.message);
+    if (!ok) return;
+    static const char *files[] = {"three.obj", "three.mtl", "cube.ply"};
+    CHECK(s.input_count == 3, "inputs: %d, want 3", s.input_count);
+    for (size_t f = 0; f < sizeof files / sizeof files[0]; f++) {
+        struct stat st;
+        bool found = false;
+        if (stat(tmp_path(files[f]), &st) == 0)
+            for (int k = 0; k < s.input_count; k++)
+                found |= s.inputs[k].device == (uint64_t)st.st_dev &&
+                         s.inputs[k].inode == (uint64_t)st.st_ino &&
+                         strstr(s.inputs[k].path, files[f]) != NULL;
+        CHECK(found, "inputs: %s not among them", files[f]);
+    }
+    scene_free(&s);
+}
+
 /* What trazador cannot show is named once in a warning: textures, whatever their count. */
 static void test_unsupported(void) {
     write_text("textured.mtl",
@@ -455,6 +518,8 @@ int main(void) {
     CHECK_CASE(test_cube);
     CHECK_CASE(test_mtl);
     CHECK_CASE(test_errors);
+    CHECK_CASE(test_material_values);
+    CHECK_CASE(test_inputs);
     CHECK_CASE(test_unsupported);
     CHECK_CASE(test_digest);
     CHECK_CASE(test_hostile);

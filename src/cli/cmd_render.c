@@ -251,12 +251,22 @@ static bool apply_width(long long width, scene *s) {
     return true;
 }
 
-/* True (logged) when the file `what` names (the output, the checkpoint) is the scene file
- * itself, the same file on the same device (through another name or a link): writing it would
- * replace the scene. */
-static bool is_scene(const char *what, const char *path, const char *scene_path) {
+/* True (logged) when the file `what` names (the output, the checkpoint) is one the render reads,
+ * the same file on the same device (through another name or a link): the scene file itself or a
+ * file of its meshes (s->inputs). Writing it would replace it. */
+static bool is_input(const char *what, const char *path, const char *scene_path, const scene *s) {
     struct stat out, in;
-    if (!scene_path || stat(path, &out) != 0 || !S_ISREG(out.st_mode)) return false;
+    if (stat(path, &out) != 0 || !S_ISREG(out.st_mode)) return false;
+    for (int k = 0; k < s->input_count; k++) {
+        const scene_input *mesh_file = &s->inputs[k];
+        if (mesh_file->device != (uint64_t)out.st_dev || mesh_file->inode != (uint64_t)out.st_ino)
+            continue;
+        fprintf(stderr,
+                "trazador: render: %s '%s' is a file the scene's meshes read (%s): give another\n",
+                what, path, mesh_file->path);
+        return true;
+    }
+    if (!scene_path) return false;
     bool is_stdin = !strcmp(scene_path, "-");
     if ((is_stdin ? fstat(STDIN_FILENO, &in) : stat(scene_path, &in)) != 0) return false;
     if (in.st_dev != out.st_dev || in.st_ino != out.st_ino) return false;
@@ -268,9 +278,9 @@ static bool is_scene(const char *what, const char *path, const char *scene_path)
 /* The checks the output gets, for the checkpoint, before rendering (a checkpoint that cannot be
  * written would otherwise fail the run only at the first checkpoint, its work lost): 0 to go
  * on, else the exit code (said). The checkpoint may be the file resumed, not the output. */
-static int check_checkpoint(const render_args *a, const char *scene_path) {
+static int check_checkpoint(const render_args *a, const char *scene_path, const scene *s) {
     if (!a->checkpoint) return 0;
-    if (is_scene("--checkpoint", a->checkpoint, scene_path)) return 2;
+    if (is_input("--checkpoint", a->checkpoint, scene_path, s)) return 2;
     if (atomic_file_same(a->checkpoint, a->output)) {
         fprintf(stderr,
                 "trazador: render: --checkpoint '%s' is the output '%s': give another (the "
@@ -470,10 +480,10 @@ int cmd_render(int argc, char **argv) {
         log_warn("%s:%d:%d: %s", w->file, w->line, w->col, w->message);
     }
     /* An output that cannot be written is said before the render, not after it. */
-    int rc = !apply_width(a.width, &s)                     ? 2
-             : is_scene("output", a.output, scene_path)    ? 2
-             : !atomic_file_check_force(a.output, a.force) ? 1
-                                                           : check_checkpoint(&a, scene_path);
+    int rc = !apply_width(a.width, &s)                      ? 2
+             : is_input("output", a.output, scene_path, &s) ? 2
+             : !atomic_file_check_force(a.output, a.force)  ? 1
+                                                            : check_checkpoint(&a, scene_path, &s);
     if (rc == 0) rc = check_device(a.device);
     if (rc == 0) rc = render_and_write(&a, &s);
     scene_free(&s);

@@ -31,11 +31,12 @@ static void open_library(void) {
         snprintf(why, sizeof why, "cannot open assimp: %s", e ? e : TRAZADOR_ASSIMP_SONAME);
         return;
     }
-    opened = find(handle, "aiImportFile", &lib.import_file) &&
+    opened = find(handle, "aiImportFileEx", &lib.import_file_ex) &&
              find(handle, "aiReleaseImport", &lib.release_import) &&
              find(handle, "aiGetErrorString", &lib.get_error_string) &&
              find(handle, "aiIsExtensionSupported", &lib.is_extension_supported) &&
              find(handle, "aiGetMaterialColor", &lib.get_material_color) &&
+             find(handle, "aiGetMaterialString", &lib.get_material_string) &&
              find(handle, "aiGetMaterialFloatArray", &lib.get_material_float_array) &&
              find(handle, "aiGetMaterialIntegerArray", &lib.get_material_integer_array) &&
              find(handle, "aiGetMaterialTextureCount", &lib.get_material_texture_count);

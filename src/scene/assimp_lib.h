@@ -4,17 +4,19 @@
 #ifndef TRAZADOR_ASSIMP_LIB_H
 #define TRAZADOR_ASSIMP_LIB_H
 
+#include <assimp/cfileio.h>
 #include <assimp/cimport.h>
 #include <assimp/material.h>
 #include <stddef.h>
 
 /* Each member has the type of a pointer to the assimp function it is named after. */
 typedef struct assimp_lib {
-    __typeof__(&aiImportFile) import_file;
+    __typeof__(&aiImportFileEx) import_file_ex;
     __typeof__(&aiReleaseImport) release_import;
     __typeof__(&aiGetErrorString) get_error_string;
     __typeof__(&aiIsExtensionSupported) is_extension_supported;
     __typeof__(&aiGetMaterialColor) get_material_color;
+    __typeof__(&aiGetMaterialString) get_material_string;
     __typeof__(&aiGetMaterialFloatArray) get_material_float_array;
     __typeof__(&aiGetMaterialIntegerArray) get_material_integer_array;
     __typeof__(&aiGetMaterialTextureCount) get_material_texture_count;

@@ -32,9 +32,11 @@
 /* Normals are generated across edges whose faces meet at less than this (degrees): a cube stays
  * flat, a tessellated sphere turns smooth. */
 #define SMOOTHING_ANGLE 60.0f
-/* The import's time limit: this, plus the file's size over the rate below. */
+/* The import's time limit: this, plus the file's size over the rate below, unless
+ * TRAZADOR_MESH_SECONDS gives one (at most LOAD_SECONDS_MAX). */
 #define LOAD_SECONDS 2.0
 #define LOAD_BYTES_PER_SECOND 1e6
+#define LOAD_SECONDS_MAX 86400.0
 /* The child's heap is reserved (heap_reserve) at this many bytes per byte of the file, and at
  * least HEAP_MIN. */
 #define HEAP_PER_FILE_BYTE 32
@@ -63,20 +65,35 @@ static bool fail(char *error, size_t size, const char *fmt, ...) {
 
 static float clamp01(float x) { return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x; }
 
-static vec3 color_of(const struct aiMaterial *m, const char *key, unsigned type, unsigned index,
-                     bool *found) {
+/* A material's values as the mapping reads them; the first value it refuses (a colour that is
+ * not finite or has a negative channel, a number that is not finite) named in `bad`. */
+typedef struct material_reader {
+    const struct aiMaterial *m;
+    char bad[160];
+} material_reader;
+
+static vec3 color_of(material_reader *r, const char *name, const char *key, unsigned type,
+                     unsigned index, bool *found) {
     struct aiColor4D c;
-    *found = ai->get_material_color(m, key, type, index, &c) == aiReturn_SUCCESS;
+    *found = ai->get_material_color(r->m, key, type, index, &c) == aiReturn_SUCCESS;
     if (!*found) return v3(0, 0, 0);
-    return v3(isfinite(c.r) ? c.r : 0.0f, isfinite(c.g) ? c.g : 0.0f, isfinite(c.b) ? c.b : 0.0f);
+    bool finite = isfinite(c.r) && isfinite(c.g) && isfinite(c.b);
+    if ((!finite || c.r < 0.0f || c.g < 0.0f || c.b < 0.0f) && !r->bad[0])
+        snprintf(r->bad, sizeof r->bad, "its %s is %s: %g %g %g", name,
+                 finite ? "negative" : "not finite", (double)c.r, (double)c.g, (double)c.b);
+    return finite ? v3(c.r, c.g, c.b) : v3(0, 0, 0);
 }
 
-static float float_of(const struct aiMaterial *m, const char *key, unsigned type, unsigned index,
-                      float fallback, bool *found) {
+static float float_of(material_reader *r, const char *name, const char *key, unsigned type,
+                      unsigned index, float fallback, bool *found) {
     ai_real value;
     unsigned one = 1;
-    *found = ai->get_material_float_array(m, key, type, index, &value, &one) == aiReturn_SUCCESS &&
-             one == 1 && isfinite(value);
+    *found =
+        ai->get_material_float_array(r->m, key, type, index, &value, &one) == aiReturn_SUCCESS &&
+        one == 1;
+    if (*found && !isfinite(value) && !r->bad[0])
+        snprintf(r->bad, sizeof r->bad, "its %s is not finite: %g", name, (double)value);
+    *found = *found && isfinite(value);
     return *found ? (float)value : fallback;
 }
 
@@ -113,19 +130,22 @@ static void note_textures(const struct aiMaterial *m, char *list, size_t size) {
     }
 }
 
-/* The file's material as trazador's (scenes/README.md, `mesh`, has the table). */
-static mesh_material map_material(const struct aiMaterial *m, char *unsupported, size_t size) {
+/* The file's material as trazador's (scenes/README.md, `mesh`, has the table); a value it
+ * refuses is said in r->bad. */
+static mesh_material map_material(material_reader *r, char *unsupported, size_t size) {
+    const struct aiMaterial *m = r->m;
     bool has_kd, has_ks, has_ns, has_ni, has_d, has_base, has_metal, has_rough, has_trans, found;
-    vec3 kd = color_of(m, AI_MATKEY_COLOR_DIFFUSE, &has_kd);
-    vec3 base = color_of(m, AI_MATKEY_BASE_COLOR, &has_base);
-    vec3 ks = color_of(m, AI_MATKEY_COLOR_SPECULAR, &has_ks);
-    vec3 ke = color_of(m, AI_MATKEY_COLOR_EMISSIVE, &found);
-    float ns = float_of(m, AI_MATKEY_SHININESS, 0.0f, &has_ns);
-    float ni = float_of(m, AI_MATKEY_REFRACTI, 1.5f, &has_ni);
-    float d = float_of(m, AI_MATKEY_OPACITY, 1.0f, &has_d);
-    float metallic = float_of(m, AI_MATKEY_METALLIC_FACTOR, 0.0f, &has_metal);
-    float roughness = float_of(m, AI_MATKEY_ROUGHNESS_FACTOR, 1.0f, &has_rough);
-    float transmission = float_of(m, AI_MATKEY_TRANSMISSION_FACTOR, 0.0f, &has_trans);
+    vec3 kd = color_of(r, "diffuse colour (Kd)", AI_MATKEY_COLOR_DIFFUSE, &has_kd);
+    vec3 base = color_of(r, "base colour", AI_MATKEY_BASE_COLOR, &has_base);
+    vec3 ks = color_of(r, "specular colour (Ks)", AI_MATKEY_COLOR_SPECULAR, &has_ks);
+    vec3 ke = color_of(r, "emission (Ke)", AI_MATKEY_COLOR_EMISSIVE, &found);
+    float ns = float_of(r, "shininess (Ns)", AI_MATKEY_SHININESS, 0.0f, &has_ns);
+    float ni = float_of(r, "index of refraction (Ni)", AI_MATKEY_REFRACTI, 1.5f, &has_ni);
+    float d = float_of(r, "opacity (d)", AI_MATKEY_OPACITY, 1.0f, &has_d);
+    float metallic = float_of(r, "metallic factor", AI_MATKEY_METALLIC_FACTOR, 0.0f, &has_metal);
+    float roughness = float_of(r, "roughness factor", AI_MATKEY_ROUGHNESS_FACTOR, 1.0f, &has_rough);
+    float transmission =
+        float_of(r, "transmission factor", AI_MATKEY_TRANSMISSION_FACTOR, 0.0f, &has_trans);
     int illum = 2;
     ai->get_material_integer_array(m, AI_MATKEY_OBJ_ILLUM, &illum, NULL);
     note_textures(m, unsupported, size);
@@ -275,13 +295,85 @@ static bool gather_faces(const struct aiScene *sc, mesh *out, char *error, size_
     return true;
 }
 
+/* The import's file system (aiFileIO): assimp's own, but recording each file it opens in the
+ * mesh's inputs, so that the CLI can refuse to write over a model's MTL or buffers as over the
+ * model, and opening regular files alone (a FIFO that an OBJ names as its MTL would block the
+ * import until killed). The import only reads. */
+static FILE *file_of(struct aiFile *f) { return (FILE *)(void *)f->UserData; }
+
+static size_t file_read(struct aiFile *f, char *buffer, size_t size, size_t count) {
+    return fread(buffer, size, count, file_of(f));
+}
+
+static size_t file_write(struct aiFile *f, const char *buffer, size_t size, size_t count) {
+    (void)f, (void)buffer, (void)size, (void)count;
+    return 0;
+}
+
+static size_t file_tell(struct aiFile *f) {
+    off_t at = ftello(file_of(f));
+    return at < 0 ? 0 : (size_t)at;
+}
+
+static size_t file_size(struct aiFile *f) {
+    struct stat st;
+    return fstat(fileno(file_of(f)), &st) == 0 ? (size_t)st.st_size : 0;
+}
+
+/* assimp passes an offset from the end as a negative number in a size_t. */
+static enum aiReturn file_seek(struct aiFile *f, size_t offset, enum aiOrigin origin) {
+    int whence = origin == aiOrigin_SET ? SEEK_SET : origin == aiOrigin_CUR ? SEEK_CUR : SEEK_END;
+    return fseeko(file_of(f), (off_t)offset, whence) == 0 ? aiReturn_SUCCESS : aiReturn_FAILURE;
+}
+
+static void file_flush(struct aiFile *f) { (void)f; }
+
+/* Keeps the identity st of the file opened as path in m's inputs (each file once). */
+static void record_input(mesh *m, const struct stat *st, const char *path) {
+    for (int k = 0; k < m->input_count; k++)
+        if (m->inputs[k].device == (uint64_t)st->st_dev && m->inputs[k].inode == st->st_ino) return;
+    if (m->input_count == MESH_MAX_INPUTS) return;
+    scene_input *in = &m->inputs[m->input_count++];
+    in->device = (uint64_t)st->st_dev;
+    in->inode = (uint64_t)st->st_ino;
+    snprintf(in->path, sizeof in->path, "%s", path);
+}
+
+static struct aiFile *file_open(struct aiFileIO *io, const char *path, const char *mode) {
+    if (strpbrk(mode, "wa+")) return NULL;
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC); /* a FIFO's open would block */
+    if (fd < 0) return NULL;
+    struct stat st;
+    FILE *fp = NULL;
+    struct aiFile *f = malloc(sizeof *f);
+    if (f && fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
+        fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK) == 0)
+        fp = fdopen(fd, "rb");
+    if (!fp) {
+        free(f);
+        close(fd);
+        return NULL;
+    }
+    record_input((mesh *)(void *)io->UserData, &st, path);
+    *f = (struct aiFile){file_read, file_write, file_tell,         file_size,
+                         file_seek, file_flush, (char *)(void *)fp};
+    return f;
+}
+
+static void file_close(struct aiFileIO *io, struct aiFile *f) {
+    (void)io;
+    fclose(file_of(f));
+    free(f);
+}
+
 /* The import itself, in the child process (mesh_load): the faces go into shared memory fd. */
 static bool import(const char *path, bool smooth, int fd, mesh *out, char *error,
                    size_t error_size) {
     memset(out, 0, sizeof *out);
     unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices |
                      aiProcess_SortByPType | aiProcess_ValidateDataStructure;
-    const struct aiScene *sc = ai->import_file(path, flags);
+    struct aiFileIO files = {file_open, file_close, (char *)(void *)out};
+    const struct aiScene *sc = ai->import_file_ex(path, flags, &files);
     if (!sc) return fail(error, error_size, "cannot load: %s", ai->get_error_string());
     size_t faces = 0;
     for (unsigned i = 0; i < sc->mNumMeshes; i++) {
@@ -303,9 +395,17 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
         out->materials = calloc(sc->mNumMaterials ? sc->mNumMaterials : 1, sizeof *out->materials);
         if (!out->faces || !out->materials) ok = fail(error, error_size, "out of memory");
     }
-    for (unsigned i = 0; ok && i < sc->mNumMaterials; i++)
-        out->materials[i] =
-            map_material(sc->mMaterials[i], out->unsupported, sizeof out->unsupported);
+    for (unsigned i = 0; ok && i < sc->mNumMaterials; i++) {
+        material_reader r = {.m = sc->mMaterials[i]};
+        out->materials[i] = map_material(&r, out->unsupported, sizeof out->unsupported);
+        if (r.bad[0]) {
+            struct aiString name = {0};
+            ai->get_material_string(r.m, AI_MATKEY_NAME, &name);
+            name.data[name.length < sizeof name.data ? name.length : sizeof name.data - 1] = '\0';
+            ok = name.data[0] ? fail(error, error_size, "material '%s': %s", name.data, r.bad)
+                              : fail(error, error_size, "material %u: %s", i, r.bad);
+        }
+    }
     out->material_count = (int)sc->mNumMaterials;
     if (ok) ok = gather_faces(sc, out, error, error_size);
     ai->release_import(sc); /* before the normals' tables: the peak is then one of the two */
@@ -330,6 +430,8 @@ typedef struct reply {
     int material_count;
     double import_seconds; /* assimp's import and the faces gathered */
     char unsupported[256];
+    scene_input inputs[MESH_MAX_INPUTS];
+    int input_count;
     char error[512];
 } reply;
 
@@ -360,9 +462,28 @@ static void child_run(int fd, int shm, const char *path, bool smooth, size_t fil
     r.face_count = m.face_count;
     r.material_count = m.material_count;
     memcpy(r.unsupported, m.unsupported, sizeof r.unsupported);
+    memcpy(r.inputs, m.inputs, sizeof r.inputs);
+    r.input_count = m.input_count;
     if (fd_write_all(fd, &r, sizeof r) && r.ok)
         fd_write_all(fd, m.materials, (size_t)m.material_count * sizeof *m.materials);
     _exit(0);
+}
+
+/* The import's time limit in seconds for a file of `bytes`: TRAZADOR_MESH_SECONDS where set,
+ * else the rule of LOAD_SECONDS; 0 (error said) when the variable is not a number of seconds. */
+static double load_limit(off_t bytes, char *error, size_t error_size) {
+    const char *given = getenv("TRAZADOR_MESH_SECONDS");
+    if (!given || !given[0]) return LOAD_SECONDS + (double)bytes / LOAD_BYTES_PER_SECOND;
+    char *end;
+    double seconds = strtod(given, &end);
+    if (*end || !(seconds > 0.0 && seconds <= LOAD_SECONDS_MAX)) {
+        fail(error, error_size,
+             "TRAZADOR_MESH_SECONDS='%s' is not a time limit in seconds (more than 0, at most "
+             "%g)",
+             given, LOAD_SECONDS_MAX);
+        return 0.0;
+    }
+    return seconds;
 }
 
 bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t error_size) {
@@ -371,6 +492,8 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
     struct stat st;
     if (stat(path, &st) != 0) return fail(error, error_size, "cannot open: %s", strerror(errno));
     if (!S_ISREG(st.st_mode)) return fail(error, error_size, "not a regular file");
+    double seconds = load_limit(st.st_size, error, error_size);
+    if (seconds == 0.0) return false;
     ai = assimp_lib_open(error, error_size);
     if (!ai) return false;
     const char *dot = strrchr(path, '.');
@@ -403,7 +526,6 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
         child_run(fds[1], shm, path, smooth, (size_t)st.st_size);
     }
     close(fds[1]);
-    double seconds = LOAD_SECONDS + (double)st.st_size / LOAD_BYTES_PER_SECOND;
     double deadline = clock_seconds() + seconds;
     reply r = {0};
     bool late = false, reported = false, ok = false;
@@ -413,6 +535,12 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
         out->material_count = r.material_count;
         memcpy(out->unsupported, r.unsupported, sizeof r.unsupported);
         out->unsupported[sizeof out->unsupported - 1] = '\0';
+        out->input_count = r.input_count < 0                 ? 0
+                           : r.input_count > MESH_MAX_INPUTS ? MESH_MAX_INPUTS
+                                                             : r.input_count;
+        memcpy(out->inputs, r.inputs, sizeof r.inputs);
+        for (int k = 0; k < out->input_count; k++)
+            out->inputs[k].path[sizeof out->inputs[k].path - 1] = '\0';
         struct stat shared;
         bool fits = fstat(shm, &shared) == 0 &&
                     (uint64_t)shared.st_size >= r.face_count * sizeof *out->faces;
@@ -448,7 +576,9 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
     if (!ok && !reported) {
         if (late)
             fail(error, error_size,
-                 "cannot load: assimp did not finish in %.0f s (a malformed file?)", seconds);
+                 "cannot load: assimp did not finish within its time limit of %.1f s (a malformed "
+                 "file, or a slow one: TRAZADOR_MESH_SECONDS=N gives it N s)",
+                 seconds);
         else if (WIFSIGNALED(status))
             fail(error, error_size, "cannot load: assimp crashed reading it (signal %d)",
                  WTERMSIG(status));

@@ -19,6 +19,10 @@ typedef struct mesh_material {
     vec3 emission;
 } mesh_material;
 
+/* The most files of one model whose identities are kept (scene_input): a model and its MTL, or
+ * a glTF and its buffers, need a few. */
+#define MESH_MAX_INPUTS 16
+
 /* One triangle of the file, node transforms applied. */
 typedef struct mesh_face {
     vec3 v[3];
@@ -34,6 +38,9 @@ typedef struct mesh {
     /* What the file holds that trazador cannot show ("textures (diffuse), vertex colours"),
      * empty when nothing. */
     char unsupported[256];
+    /* The files the import read (the model and those it names), the first MESH_MAX_INPUTS. */
+    scene_input inputs[MESH_MAX_INPUTS];
+    int input_count;
 } mesh;
 
 /* Loads path; smooth: generate normals (by angle) where the file has none. False with a message

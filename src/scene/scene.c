@@ -10,16 +10,19 @@ void scene_free(scene *s) {
     free(s->materials);
     free(s->normals);
     free(s->lights);
+    free(s->inputs);
     s->spheres = NULL;
     s->triangles = NULL;
     s->materials = NULL;
     s->normals = NULL;
     s->lights = NULL;
+    s->inputs = NULL;
     s->sphere_count = 0;
     s->triangle_count = 0;
     s->material_count = 0;
     s->normals_count = 0;
     s->light_count = 0;
+    s->input_count = 0;
 }
 
 void scene_error_print(const scene_error *err) {

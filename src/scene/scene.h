@@ -127,6 +127,15 @@ typedef struct scene_error {
     bool out_of_memory; /* not the scene's fault: a runtime failure (exit 1), not a scene error */
 } scene_error;
 
+/* A file the render reads besides the scene's text: a mesh's model file or one the model names
+ * (an OBJ's MTL, a glTF's buffers), by identity (device and inode) and the path it was opened
+ * by: the CLI refuses to write its output over it. */
+#define SCENE_INPUT_PATH 256
+typedef struct scene_input {
+    uint64_t device, inode;
+    char path[SCENE_INPUT_PATH];
+} scene_input;
+
 typedef struct scene {
     vec3 camera_position, camera_direction, camera_up;
     float camera_fov;  /* horizontal field of view in degrees; 0: the plane sits 2 x width away */
@@ -154,6 +163,8 @@ typedef struct scene {
     int normals_count;
     light *lights;
     int light_count;
+    scene_input *inputs; /* the meshes' files, each once */
+    int input_count;
     /* What the CLI warns about: the first sphere of radius under SCENE_TINY_OFFSETS ray offsets,
      * a sphere surface closer to the camera than SCENE_NEAR_CLIP_FACTOR times its rays' offset
      * or than SCENE_PRECISION_STEPS float spacings at its size. */

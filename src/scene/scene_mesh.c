@@ -292,6 +292,26 @@ static bool add_faces(parser *p, const mesh *me, size_t kept, const shape_materi
     return true;
 }
 
+/* Adds the files the mesh's import read to the scene's inputs, each file once; false (reported)
+ * out of memory. */
+static bool add_inputs(parser *p, const mesh *me) {
+    for (int k = 0; k < me->input_count; k++) {
+        const scene_input *in = &me->inputs[k];
+        bool known = false;
+        for (int j = 0; j < p->s.input_count && !known; j++)
+            known = p->s.inputs[j].device == in->device && p->s.inputs[j].inode == in->inode;
+        if (known) continue;
+        scene_input *grown = realloc(p->s.inputs, (size_t)(p->s.input_count + 1) * sizeof *grown);
+        if (!grown) {
+            if (p->err) p->err->out_of_memory = true;
+            return parser_fail(p, p->tokens[0].col, "out of memory");
+        }
+        p->s.inputs = grown;
+        p->s.inputs[p->s.input_count++] = *in;
+    }
+    return true;
+}
+
 /* A mesh from a model file (mesh_load.c): transformed, its degenerate faces dropped (one
  * warning), glass only when it is closed. */
 bool directive_mesh(parser *p) {
@@ -321,6 +341,10 @@ bool directive_mesh(parser *p) {
     char error[512];
     if (!mesh_load(path, smooth, &me, error, sizeof error))
         return parser_fail(p, file->col, "mesh '%s': %s", path, error);
+    if (!add_inputs(p, &me)) {
+        mesh_free(&me);
+        return false;
+    }
     double translate[3] = {0, 0, 0};
     for (int k = 0; k < 3 && (kv.given & BIT(MESH_TRANSLATE)); k++)
         translate[k] = kv.value[MESH_TRANSLATE][k];
