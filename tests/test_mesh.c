@@ -339,6 +339,67 @@ static void test_inputs(void) {
     scene_free(&s);
 }
 
+/* A glass slab (z from 5 to 5.2) whose front face's file normals lean 20 degrees about y bends a
+ * camera ray d = +z about them, then about the back face's own normal (Snell's law twice, report
+ * mode: glass always refracts): the pixels see a lit sphere placed on that ray; the same slab
+ * without file normals (smooth on generates none across its right angles) passes the ray
+ * straight on, to the background. */
+static void test_glass_normals(void) {
+    const double lean = 20.0 * PI / 180.0, n[3] = {sin(lean), 0.0, -cos(lean)}, ior = 1.5;
+    double eta = 1.0 / ior, c1 = -n[2], k = 1.0 - eta * eta * (1.0 - c1 * c1), r1[3], r2[3];
+    for (int a = 0; a < 3; a++) r1[a] = eta * (a == 2) + (eta * c1 - sqrt(k)) * n[a];
+    k = 1.0 - ior * ior * (1.0 - r1[2] * r1[2]); /* leaving through z = 5.2, normal -z facing */
+    double len = 0.0;
+    for (int a = 0; a < 3; a++) r2[a] = ior * r1[a] - (a == 2) * (ior * r1[2] - sqrt(k));
+    for (int a = 0; a < 3; a++) len += r2[a] * r2[a];
+    double exit_x = 0.2 * r1[0] / r1[2], target[3] = {exit_x, 0.0, 5.2};
+    for (int a = 0; a < 3; a++) target[a] += 10.0 * r2[a] / sqrt(len);
+    static const char *corners =
+        "v -1 -1 5\nv 1 -1 5\nv 1 1 5\nv -1 1 5\n"
+        "v -1 -1 5.2\nv 1 -1 5.2\nv 1 1 5.2\nv -1 1 5.2\n";
+    char obj[1024], text[1024];
+    snprintf(obj, sizeof obj,
+             "%svn %.6f 0 %.6f\nvn 0 0 1\nvn 0 -1 0\nvn 0 1 0\nvn -1 0 0\nvn 1 0 0\n"
+             "f 1//1 4//1 3//1 2//1\nf 5//2 6//2 7//2 8//2\nf 1//3 2//3 6//3 5//3\n"
+             "f 4//4 8//4 7//4 3//4\nf 1//5 5//5 8//5 4//5\nf 2//6 3//6 7//6 6//6\n",
+             corners, n[0], n[2]);
+    write_text("slab_lean.obj", obj);
+    snprintf(obj, sizeof obj,
+             "%sf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n", corners);
+    write_text("slab.obj", obj);
+    for (int lean_on = 0; lean_on < 2; lean_on++) {
+        snprintf(text, sizeof text,
+                 "camera position 0 0 0 direction 0 0 1 up 0 1 0 fov 1\n"
+                 "plane width 0.04 height 0.04 pixel 0.01\nbackground 0.25 0.25 0.25\n"
+                 "render mode seed samples 2\nlight position %.6f 0 %.6f power 100\n"
+                 "mesh refractive file %s ior 1.5 smooth on\n"
+                 "sphere lambertian center %.6f %.6f %.6f radius 1 color 0.5 0.5 0.5\n",
+                 target[0], target[2] - 5.0, lean_on ? "slab_lean.obj" : "slab.obj", target[0],
+                 target[1], target[2]);
+        scene s;
+        scene_error err;
+        film f = {0};
+        bool ok = parse(text, 1, &s, &err);
+        CHECK(ok, "glass normals: %s", err.message);
+        if (!ok) continue;
+        ok = render(&s, &f);
+        CHECK(ok, "glass normals: render failed");
+        for (int j = 0; ok && j < f.height; j++)
+            for (int i = 0; i < f.width; i++) {
+                const float *px = &f.accum[((size_t)j * f.width + i) * 4];
+                double v = px[1] / px[3];
+                if (lean_on)
+                    CHECK(v > 0.0 && v != 0.25, "glass normals: pixel %d %d is %g, not the sphere",
+                          i, j, v);
+                else
+                    CHECK(v == 0.25, "glass, no normals: pixel %d %d is %g, not the background", i,
+                          j, v);
+            }
+        film_free(&f);
+        scene_free(&s);
+    }
+}
+
 /* What trazador cannot show is named once in a warning: textures, whatever their count. */
 static void test_unsupported(void) {
     write_text("textured.mtl",
@@ -520,6 +581,7 @@ int main(void) {
     CHECK_CASE(test_errors);
     CHECK_CASE(test_material_values);
     CHECK_CASE(test_inputs);
+    CHECK_CASE(test_glass_normals);
     CHECK_CASE(test_unsupported);
     CHECK_CASE(test_digest);
     CHECK_CASE(test_hostile);

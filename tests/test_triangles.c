@@ -314,6 +314,57 @@ static void test_form_factor(void) {
     expect_form_factor(0.25);
 }
 
+/* A mirror square facing the camera whose shading normals all lean 20 degrees about y turns a
+ * camera ray d = +z about them, to d - 2 (n . d) n: in path mode every pixel sees the emitter
+ * placed on that ray, Le exactly; with no normals (the face's own) the rays come back to the
+ * camera and see the background. In report mode a sphere there, lit from behind the camera, is
+ * seen instead. */
+static void expect_mirror_normals(const char *mode, const char *target, bool emits) {
+    const double lean = 20.0 * PI / 180.0, n[3] = {sin(lean), 0.0, -cos(lean)};
+    double r[3] = {0.0, 0.0, 1.0}, centre[3];
+    for (int a = 0; a < 3; a++) r[a] -= 2.0 * n[2] * n[a];
+    for (int a = 0; a < 3; a++) centre[a] = (a == 2 ? 5.0 : 0.0) + 10.0 * r[a];
+    char normals[160], text[2048];
+    snprintf(normals, sizeof normals, "n0 %.6f 0 %.6f n1 %.6f 0 %.6f n2 %.6f 0 %.6f", n[0], n[2],
+             n[0], n[2], n[0], n[2]);
+    for (int smooth = 0; smooth < 2; smooth++) {
+        snprintf(text, sizeof text,
+                 "camera position 0 0 0 direction 0 0 1 up 0 1 0 fov 1\n"
+                 "plane width 0.04 height 0.04 pixel 0.01\nbackground 0.25 0.25 0.25\n"
+                 "render mode %s samples 2\nlight position 0 0 -1 power 400\n"
+                 "triangle mirror v0 -1 -1 5 v1 1 1 5 v2 1 -1 5 %s\n"
+                 "triangle mirror v0 -1 -1 5 v1 -1 1 5 v2 1 1 5 %s\n"
+                 "sphere %s center %.6f %.6f %.6f radius 2\n",
+                 mode, smooth ? normals : "", smooth ? normals : "", target, centre[0], centre[1],
+                 centre[2]);
+        film f = {0};
+        bool ok = render_text(text, &f);
+        CHECK(ok, "mirror normals %s: render failed", mode);
+        if (!ok) continue;
+        for (int j = 0; j < f.height; j++)
+            for (int i = 0; i < f.width; i++) {
+                double v = pixel(&f, i, j, 1);
+                if (!smooth)
+                    CHECK(v == 0.25,
+                          "mirror normals %s, flat: pixel %d %d is %g, not the background", mode, i,
+                          j, v);
+                else if (emits)
+                    CHECK(v == 3.0, "mirror normals %s: pixel %d %d is %g, want Le 3", mode, i, j,
+                          v);
+                else
+                    CHECK(v > 0.0 && v != 0.25,
+                          "mirror normals %s: pixel %d %d is %g, not the lit sphere", mode, i, j,
+                          v);
+            }
+        film_free(&f);
+    }
+}
+
+static void test_mirror_normals(void) {
+    expect_mirror_normals("path", "lambertian color 0 0 0 emission 3 3 3", true);
+    expect_mirror_normals("seed", "lambertian color 0.5 0.5 0.5", false);
+}
+
 int main(int argc, char **argv) {
     use_vulkan = argc > 1 && !strcmp(argv[1], "vulkan");
     if (use_vulkan && vk_context_device_count() == 0) {
@@ -324,5 +375,6 @@ int main(int argc, char **argv) {
     CHECK_CASE(test_watertight);
     CHECK_CASE(test_furnace);
     CHECK_CASE(test_form_factor);
+    CHECK_CASE(test_mirror_normals);
     return check_summary(use_vulkan ? "test_triangles vulkan" : "test_triangles cpu");
 }

@@ -360,16 +360,17 @@ TZ_FN path_state path_step(TZ_SCENE_PARAM path_state p) {
     } else {
         TZ_BOOL refractive = material == TZ_MATERIAL_REFRACTIVE;
         TZ_BOOL transmits = refractive;
+        vec3 n = specular_normal(nout, sf.shading, d);
         if (refractive) {
             float uf = sample_1d(flags, TZ_REF(p.rng));
             TZ_BOOL entering = v3_dot(d, nout) < 0.0f;
             TZ_PRECISE float eta = entering ? 1.0f / params.y : params.y;
-            TZ_PRECISE float c1 = entering ? -v3_dot(d, nout) : v3_dot(d, nout);
+            TZ_PRECISE float c1 = -v3_dot(d, n);
             TZ_PRECISE float kk = 1.0f - eta * eta * (1.0f - c1 * c1);
             transmits = !(uf < fresnel_dielectric(eta, c1, kk));
         }
         p.beta = v3_mul(p.beta, xyz(color_ks));
-        next_ray next = specular_next(pos, nout, d, transmits, params.y);
+        next_ray next = specular_next(pos, nout, n, d, transmits, params.y);
         p.o = next.o;
         p.d = next.d;
         p.specular = TZ_TRUE;

@@ -56,8 +56,8 @@ TZ_FN specular_chain follow_specular(TZ_SCENE_PARAM vec3 o, vec3 d, int self) {
             return c;
         }
         weight = v3_mul(weight, xyz(s.color_ks));
-        next_ray next =
-            specular_next(s.pos, s.nout, d, material == TZ_MATERIAL_REFRACTIVE, s.params.y);
+        next_ray next = specular_next(s.pos, s.nout, specular_normal(s.nout, s.shading, d), d,
+                                      material == TZ_MATERIAL_REFRACTIVE, s.params.y);
         o = next.o;
         d = next.d;
         self = id;

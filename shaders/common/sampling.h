@@ -19,12 +19,6 @@ TZ_STRUCT_END(direction_sample)
  * hemisphere below the face is reflected above it rather than lost (DESIGN section 3.3). */
 TZ_FN TZ_BOOL folds_at(vec3 n, vec3 ng) { return n.x != ng.x || n.y != ng.y || n.z != ng.z; }
 
-/* w mirrored in the plane of unit normal ng: the other direction that folds onto w. */
-TZ_FN vec3 mirror_in_plane(vec3 w, vec3 ng) {
-    TZ_PRECISE vec3 m = v3_sub(w, v3_scale(ng, 2.0f * v3_dot(ng, w)));
-    return m;
-}
-
 /* The folded BSDF at a direction: f times the shading cosine, and the pdf of sampling it. */
 TZ_STRUCT(folded_bsdf) {
     vec3 f_cos;

@@ -19,29 +19,52 @@ TZ_STRUCT(next_ray) {
 }
 TZ_STRUCT_END(next_ray)
 
-/* The ray leaving a mirror or glass hit at pos (outward normal nout, incoming d): the mirror ray,
- * or with refractive the refracted one (Snell's law; total internal reflection keeps the mirror
- * ray); its origin is offset to the side it leaves on. */
-TZ_FN next_ray specular_next(vec3 pos, vec3 nout, vec3 d, TZ_BOOL refractive, float ior) {
+/* w mirrored in the plane of unit normal ng: the other direction that folds onto w. */
+TZ_FN vec3 mirror_in_plane(vec3 w, vec3 ng) {
+    TZ_PRECISE vec3 m = v3_sub(w, v3_scale(ng, 2.0f * v3_dot(ng, w)));
+    return m;
+}
+
+/* The normal that a mirror or glass hit turns the incoming ray d about, facing d: the shading
+ * normal (shading, on the side of the outward geometric normal nout) where d meets it from the
+ * front, else the geometric normal. Spheres and flat faces have shading = nout: theirs. */
+TZ_FN vec3 specular_normal(vec3 nout, vec3 shading, vec3 d) {
+    TZ_BOOL entering = v3_dot(d, nout) < 0.0f;
+    vec3 side = select3(entering, nout, v3_scale(nout, -1.0f));
+    vec3 shade = select3(entering, shading, v3_scale(shading, -1.0f));
+    return select3(v3_dot(d, shade) < 0.0f, shade, side);
+}
+
+/* The ray leaving a mirror or glass hit at pos (outward geometric normal nout, incoming d),
+ * turned about n, specular_normal's: the mirror ray, or with refractive the refracted one
+ * (Snell's law; total internal reflection keeps the mirror ray). Its origin is offset to the
+ * side of the face it leaves on; a shading normal's ray that would leave on the other side is
+ * mirrored in the face's plane onto this one (as a diffuse face folds its directions), so that
+ * no mirror ray passes through the face nor a refracted one turns back. */
+TZ_FN next_ray specular_next(vec3 pos, vec3 nout, vec3 n, vec3 d, TZ_BOOL refractive, float ior) {
     float eps = ray_eps(pos);
     TZ_BOOL entering = v3_dot(d, nout) < 0.0f;
     TZ_PRECISE vec3 side = select3(entering, nout, v3_scale(nout, -1.0f)); /* faces the ray */
     /* Normalized: nout is unit only to rounding, and the error of an unnormalized mirror ray
      * grows with each reflection until a ray escapes a closed mirror (the sphere test assumes
      * |d| = 1). */
-    TZ_PRECISE vec3 mirror_d = v3_normalize(v3_sub(d, v3_scale(side, 2.0f * v3_dot(side, d))));
+    TZ_PRECISE vec3 mirror_d = v3_normalize(v3_sub(d, v3_scale(n, 2.0f * v3_dot(n, d))));
+    vec3 mirror_folded = v3_normalize(mirror_in_plane(mirror_d, side));
+    mirror_d = select3(v3_dot(mirror_d, side) > 0.0f, mirror_d, mirror_folded);
     TZ_PRECISE vec3 mirror_o = v3_add(pos, v3_scale(side, eps));
     next_ray r;
     r.o = mirror_o;
     r.d = mirror_d;
     TZ_BRANCH_IF(refractive) {
         TZ_PRECISE float eta = entering ? 1.0f / ior : ior;
-        TZ_PRECISE float c1 = -v3_dot(d, side);
+        TZ_PRECISE float c1 = -v3_dot(d, n);
         TZ_PRECISE float k = 1.0f - eta * eta * (1.0f - c1 * c1);
         /* k < 0: total internal reflection, the mirror ray (the refracted one is NaN, unused). */
         TZ_BOOL refracts = refractive TZ_AND(k >= 0.0f);
         TZ_PRECISE vec3 refracted_d =
-            v3_normalize(v3_add(v3_scale(d, eta), v3_scale(side, eta * c1 - TZ_SQRT(k))));
+            v3_normalize(v3_add(v3_scale(d, eta), v3_scale(n, eta * c1 - TZ_SQRT(k))));
+        vec3 refracted_folded = v3_normalize(mirror_in_plane(refracted_d, side));
+        refracted_d = select3(v3_dot(refracted_d, side) < 0.0f, refracted_d, refracted_folded);
         TZ_PRECISE vec3 refracted_o = v3_sub(pos, v3_scale(side, eps));
         r.o = select3(refracts, refracted_o, r.o);
         r.d = select3(refracts, refracted_d, r.d);

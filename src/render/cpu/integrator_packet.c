@@ -117,8 +117,10 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
             m->alpha[k] = diffuse ? h.alpha[k] : m->alpha[k];
         }
         for (int k = 0; k < LANES; k++) { /* mirror and glass lanes go on */
-            next_ray next = specular_next(get3(&h.pos, k), get3(&h.nout, k), get3(d, k),
-                                          h.material[k] == TZ_MATERIAL_REFRACTIVE, h.ior[k]);
+            vec3 nk = get3(&h.nout, k), dk = get3(d, k);
+            next_ray next =
+                specular_next(get3(&h.pos, k), nk, specular_normal(nk, get3(&h.shading, k), dk), dk,
+                              h.material[k] == TZ_MATERIAL_REFRACTIVE, h.ior[k]);
             set3(weight, k,
                  select3(onward[k], v3_mul(get3(weight, k), get3(&h.kd, k)), get3(weight, k)));
             set3(o, k, select3(onward[k], next.o, get3(o, k)));

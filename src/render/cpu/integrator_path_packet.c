@@ -108,16 +108,17 @@ LANE_FN void lanes_specular_bounce(uint32_t flags, const vertex_lanes *v, path_l
     draw_lanes_1d(flags, &s->rng, refractive, uf);
     for (int k = 0; k < LANES; k++) {
         vec3 d = get3(&s->d, k), nout = get3(&v->nout, k);
+        vec3 n = specular_normal(nout, get3(&v->shading, k), d);
         float ior = v->ior[k];
         int entering = v3_dot(d, nout) < 0.0f;
         float eta = entering ? 1.0f / ior : ior;
-        float c1 = entering ? -v3_dot(d, nout) : v3_dot(d, nout);
+        float c1 = -v3_dot(d, n);
         float kk = 1.0f - eta * eta * (1.0f - c1 * c1);
         int transmits = refractive[k] & !(uf[k] < fresnel_dielectric(eta, c1, kk));
         int on = v->specular[k];
         vec3 beta = get3(&s->beta, k);
         set3(&s->beta, k, select3(on, v3_mul(beta, get3(&v->kd, k)), beta));
-        next_ray next = specular_next(get3(&v->pos, k), nout, d, transmits, ior);
+        next_ray next = specular_next(get3(&v->pos, k), nout, n, d, transmits, ior);
         set3(&s->o, k, select3(on, next.o, get3(&s->o, k)));
         set3(&s->d, k, select3(on, next.d, d));
         s->specular[k] = on ? 1 : s->specular[k];
