@@ -48,6 +48,16 @@ run tiny-sphere 0 "$tz" render --backend cpu --quiet tiny.scene -o tiny.png
 has tiny-sphere err "tiny.scene:5:35: radius 0.0005 is under 2 times the ray offset here (0.0003: "
 run no-tiny-sphere 0 "$tz" render --backend cpu --spp 1 --width 20 "$src/scenes/shadows.scene" -o s.png
 if grep -q "warning" "$tmp/err"; then bad "no-tiny-sphere: warned: $(cat "$tmp/err")"; else ok; fi
+# A glass mesh whose bounding box is that thin warns too (a unit cube scaled to half-size 1e-4,
+# at the mesh line's file value); at 1e-3, as a sphere of radius 1e-3, it does not.
+cp "$src/tests/corpus_mesh/cube.obj" cube.obj
+glass_cube() { printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nlight position 0 5 -5 power 10\nmesh refractive file cube.obj scale %s\n' "$1"; }
+glass_cube 2e-4 >tiny-glass.scene
+run tiny-glass 0 "$tz" render --backend cpu --quiet --spp 1 tiny-glass.scene -o tiny.png
+has tiny-glass err "tiny-glass.scene:4:22: mesh 'cube.obj' is glass of half-size 0.0001 (its bounding box's smallest half-extent), under 2 times the ray offset here (0.0001: "
+glass_cube 2e-3 >small-glass.scene
+run small-glass 0 "$tz" render --backend cpu --quiet --spp 1 small-glass.scene -o tiny.png
+[ -s "$tmp/err" ] && bad "small-glass: warned: $(cat "$tmp/err")" || ok
 # A device number past the devices is a command-line error whatever the back end choice.
 if "$tz" devices >/dev/null 2>&1; then
     run device-out-of-range 2 "$tz" render --width 20 --spp 1 --device 99 -o dev.png
@@ -174,6 +184,24 @@ printf 'camera position 1e5 0 0\nplane width 1 height 1 pixel 0.25\nsphere lambe
 run far-camera 0 "$tz" render --backend cpu --quiet far.scene -o far.png
 has far-camera err "far.scene:1:17: camera rays start 10 along their path"
 has far-camera err "sphere 1 (centre 100000 0 60, radius 55) has its surface 5 from the camera"
+# Faces too, the nearest named by its corners: this quad rendered black without a word. One
+# wholly behind the camera does not count.
+far_quad() { printf 'camera position 0 0 99999 direction 0 0 1\nplane width 4 height 3 pixel 0.0625\nlight position 0 0 99999 power 10\nquad lambertian v0 -1 -1 %s v1 1 -1 %s v2 1 1 %s v3 -1 1 %s\n' "$1" "$1" "$1" "$1"; }
+far_quad 100001 >far-quad.scene
+run far-quad 0 "$tz" render --backend cpu --quiet --spp 1 far-quad.scene -o far.png
+has far-quad err "far-quad.scene:1:17: camera rays start 9.9999 along their path this far from the origin (the ray offset grows with it), and triangle 1 (corners -1 -1 100001, 1 -1 100001, 1 1 100001) is 2 from the camera: it may be cut away; move the scene nearer the origin"
+far_quad 99997 >behind-quad.scene
+run behind-quad 0 "$tz" render --backend cpu --quiet --spp 1 behind-quad.scene -o far.png
+[ -s "$tmp/err" ] && bad "behind-quad: warned: $(cat "$tmp/err")" || ok
+# A camera inside a small emitting cube far from the origin: the near clip cuts all of it away.
+printf 'camera position 0 0 100000\nplane width 1 height 1 pixel 0.25\nmesh lambertian file cube.obj scale 0.5 translate -0.25 -0.25 99999.75 color 0 0 0 emission 1 1 1\nrender mode path\n' >inside.scene
+run inside-mesh 0 "$tz" render --backend cpu --quiet --spp 1 inside.scene -o far.png
+has inside-mesh err "inside.scene:1:17: camera rays start 10 along their path this far from the origin (the ray offset grows with it), and triangle 3 (corners -0.25 -0.25 100000.25, 0.25 -0.25 100000.25, 0.25 0.25 100000.25) is 0.25 from the camera"
+# Ordinary scenes of faces (the Cornell box's quads, mesh.scene's meshes) do not warn.
+for scene in cornell_box mesh; do
+    run "quiet-$scene" 0 "$tz" render "$src/scenes/$scene.scene" --backend cpu --spp 1 --width 40 -q -o s.png
+    [ -s "$tmp/err" ] && bad "quiet-$scene: warned: $(cat "$tmp/err")" || ok
+done
 # A sphere too big for single precision to place its surface near the camera warns (a floor of
 # radius 3e7 one unit under the camera rendered black); 3e6 is fine. Past 1e18 it is an error.
 floor() { printf 'camera position 0 1 -5\nplane width 1 height 1 pixel 0.25\nsphere lambertian center 0 -%s 0 radius %s\n' "$1" "$1"; }

@@ -32,7 +32,7 @@
 #define SCENE_MAX_LINE 4096 /* longer lines are an error, not a slowdown */
 /* Rays leaving a sphere start TZ_EPS times its largest |coordinate| (at least 1) off it: a
  * sphere whose radius is under this many offsets is shaded wrongly (a closed one renders black),
- * so it warns. */
+ * so it warns; so does a glass mesh whose bounding box's smallest half-extent is. */
 #define SCENE_TINY_OFFSETS 2.0f
 /* Camera rays start EPS scaled by the camera's distance from the origin along their path (a near
  * clip of 10 units at 1e5): a surface within this many times that of the camera warns. */
@@ -165,9 +165,11 @@ typedef struct scene {
     int light_count;
     scene_input *inputs; /* the meshes' files, each once */
     int input_count;
-    /* What the CLI warns about: the first sphere of radius under SCENE_TINY_OFFSETS ray offsets,
-     * a sphere surface closer to the camera than SCENE_NEAR_CLIP_FACTOR times its rays' offset
-     * or than SCENE_PRECISION_STEPS float spacings at its size. */
+    /* What the CLI warns about: the first sphere of radius, or glass mesh of bounding-box
+     * half-extent, under SCENE_TINY_OFFSETS ray offsets; the sphere surface or triangle nearest
+     * the camera when closer than SCENE_NEAR_CLIP_FACTOR times its rays' offset, or a sphere
+     * surface closer than SCENE_PRECISION_STEPS float spacings at its size; the mesh files'
+     * dropped faces and what trazador cannot show of them; settings the render's mode ignores. */
     scene_error warnings[SCENE_MAX_WARNINGS];
     int warning_count;
 } scene;

@@ -312,6 +312,33 @@ static bool add_inputs(parser *p, const mesh *me) {
     return true;
 }
 
+/* Warns, once a scene as for spheres (tiny_warned), when glass mesh `path` (its first `kept`
+ * faces) has a bounding box whose smallest half-extent is under SCENE_TINY_OFFSETS ray offsets at
+ * the box's largest |coordinate|: rays that enter it start near or past its far side. */
+static void warn_tiny_glass(parser *p, const mesh *me, size_t kept, const char *path, int col) {
+    if (p->tiny_warned) return;
+    vec3 lo = me->faces[0].v[0], hi = lo;
+    for (size_t f = 0; f < kept; f++) {
+        for (int k = 0; k < 3; k++) {
+            vec3 v = me->faces[f].v[k];
+            lo = v3(fminf(lo.x, v.x), fminf(lo.y, v.y), fminf(lo.z, v.z));
+            hi = v3(fmaxf(hi.x, v.x), fmaxf(hi.y, v.y), fmaxf(hi.z, v.z));
+        }
+    }
+    double half = 0.5 * fmin((double)hi.x - lo.x, fmin((double)hi.y - lo.y, (double)hi.z - lo.z));
+    vec3 largest = v3(fmaxf(-lo.x, hi.x), fmaxf(-lo.y, hi.y), fmaxf(-lo.z, hi.z));
+    float offset = TZ_EPS * parser_largest_coordinate(largest);
+    if (!(half < SCENE_TINY_OFFSETS * offset)) return;
+    p->tiny_warned = true;
+    parser_warn(p, p->line, col,
+                "mesh '%s' is glass of half-size %g (its bounding box's smallest half-extent), "
+                "under %g times the ray offset here (%g: %g times the largest coordinate, at "
+                "least %g): rays that enter it start near or past its far side, so it is shaded "
+                "wrongly (glass turns black first)",
+                path, half, (double)SCENE_TINY_OFFSETS, (double)offset, (double)TZ_EPS,
+                (double)TZ_EPS);
+}
+
 /* A mesh from a model file (mesh_load.c): transformed, its degenerate faces dropped (one
  * warning), glass only when it is closed. */
 bool directive_mesh(parser *p) {
@@ -403,6 +430,7 @@ bool directive_mesh(parser *p) {
         p->emission_line = p->line;
         p->emission_col = file->col;
     }
+    if (glass) warn_tiny_glass(p, &me, kept, path, file->col);
     if (!m && me.unsupported[0]) {
         parser_warn(p, p->line, file->col, "mesh '%s': trazador cannot show its %s (ignored)", path,
                     me.unsupported);
