@@ -571,6 +571,70 @@ static void test_furnace(void) {
     expect_mesh_furnace("on");
 }
 
+/* Scene text a's faces (triangles, their materials and normals) are b's then c's, byte for byte. */
+static void expect_concatenation(const char *name, const char *a, const char *b, const char *c) {
+    scene sa, sb, sc;
+    scene_error err;
+    bool ok = parse(a, 1, &sa, &err);
+    CHECK(ok, "%s: %s", name, err.message);
+    if (!ok) return;
+    if (parse(b, 1, &sb, &err)) {
+        if (parse(c, 1, &sc, &err)) {
+            bool same = sa.triangle_count == sb.triangle_count + sc.triangle_count &&
+                        sa.normals_count == sb.normals_count + sc.normals_count;
+            for (int k = 0; same && k < sa.triangle_count; k++) {
+                bool first = k < sb.triangle_count;
+                const triangle *ta = &sa.triangles[k];
+                const triangle *tb =
+                    first ? &sb.triangles[k] : &sc.triangles[k - sb.triangle_count];
+                const scene *sx = first ? &sb : &sc;
+                same = !memcmp(ta->v, tb->v, sizeof ta->v) &&
+                       shape_material_same(triangle_material(&sa, ta), triangle_material(sx, tb)) &&
+                       (ta->normals == TRIANGLE_FLAT) == (tb->normals == TRIANGLE_FLAT) &&
+                       (ta->normals == TRIANGLE_FLAT ||
+                        !memcmp(&sa.normals[ta->normals], &sx->normals[tb->normals],
+                                sizeof *sa.normals));
+            }
+            CHECK(same, "%s: the faces differ from the lines parsed apart", name);
+            scene_free(&sc);
+        }
+        scene_free(&sb);
+    }
+    scene_free(&sa);
+}
+
+/* Lines naming one file import it once (mesh_cache.c) and each gets the faces its own import
+ * would have: transformed, flipped for glass and smoothed on its own copy. */
+static void test_repeated(void) {
+    expect_concatenation(
+        "cube twice", HEADER "mesh file cube.obj " XF "\nmesh file cube.obj translate 0 0 9\n",
+        HEADER "mesh file cube.obj " XF "\n", HEADER "mesh file cube.obj translate 0 0 9\n");
+    expect_concatenation(
+        "glass flips its own copy",
+        HEADER
+        "mesh refractive file cube_in.obj\nmesh lambertian file cube_in.obj translate 0 0 3\n",
+        HEADER "mesh refractive file cube_in.obj\n",
+        HEADER "mesh lambertian file cube_in.obj translate 0 0 3\n");
+    write_sphere(6, 8);
+    expect_concatenation(
+        "smooth off, then on",
+        HEADER
+        "mesh file sphere.obj translate 0 0 9\nmesh file sphere.obj smooth on translate 0 0 5\n",
+        HEADER "mesh file sphere.obj translate 0 0 9\n",
+        HEADER "mesh file sphere.obj smooth on translate 0 0 5\n");
+    /* a file changed between parses is read again */
+    write_text("moving.obj", "v 0 0 5\nv 1 0 5\nv 0 1 5\nf 1 2 3\n");
+    expect_concatenation("moving, first", HEADER "mesh file moving.obj\nmesh file moving.obj\n",
+                         HEADER "mesh file moving.obj\n", HEADER "mesh file moving.obj\n");
+    write_text("moving.obj", "v 0 0 5\nv 2 0 5\nv 0 1 5\nv 0 0 6\nf 1 2 3\nf 1 2 4\n");
+    scene s;
+    scene_error err;
+    bool ok = parse(HEADER "mesh file moving.obj\n", 1, &s, &err);
+    CHECK(ok && s.triangle_count == 2 && s.triangles[0].v[1].x == 2.0f, "moving: %s",
+          ok ? "the old file's faces" : err.message);
+    if (ok) scene_free(&s);
+}
+
 int main(void) {
     if (!tmp_dir_make("test_mesh")) {
         printf("cannot make a temporary folder\n");
@@ -587,5 +651,6 @@ int main(void) {
     CHECK_CASE(test_hostile);
     CHECK_CASE(test_threads);
     CHECK_CASE(test_furnace);
+    CHECK_CASE(test_repeated);
     return check_summary("test_mesh");
 }

@@ -78,6 +78,7 @@ typedef struct parser {
     int mode_given;                  /* the render's mode from the command line; -1: the scene's */
     /* A chunk parsed ahead: any directive but sphere, triangle and quad stops it. */
     bool primitives_only;
+    struct mesh_cache *meshes; /* the models mesh lines loaded (mesh_cache.c), NULL before one */
     char number[SCENE_MAX_LINE + 1];      /* a token NUL-terminated for strtod */
     char quoted[2][MAX_QUOTED_CHARS + 4]; /* two, so one message can quote two tokens */
     int quoted_next;

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "scene/directives.h"
+#include "scene/mesh_cache.h"
 #include "scene/mesh_load.h"
 #include "scene/parser.h"
 #include "util/threads.h"
@@ -366,7 +367,7 @@ bool directive_mesh(parser *p) {
     bool smooth = parser_value_or(&kv, MESH_SMOOTH, 0) != 0;
     mesh me;
     char error[512];
-    if (!mesh_load(path, smooth, &me, error, sizeof error))
+    if (!mesh_cache_load(&p->meshes, path, smooth, &me, error, sizeof error))
         return parser_fail(p, file->col, "mesh '%s': %s", path, error);
     if (!add_inputs(p, &me)) {
         mesh_free(&me);

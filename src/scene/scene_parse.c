@@ -25,6 +25,7 @@
 #include <strings.h>
 
 #include "scene/directives.h"
+#include "scene/mesh_cache.h"
 #include "scene/parser.h"
 #include "scene/scene.h"
 #include "shared_layout.h"
@@ -480,6 +481,7 @@ bool parser_run(const char *text, size_t length, const char *filename, int threa
     } else {
         scene_free(&p->s);
     }
+    mesh_cache_free(p->meshes);
     free(p);
     return ok;
 }

@@ -1,0 +1,76 @@
+/* mesh_cache.c: a parse's loaded models by file identity. Each `mesh` line transforms its own
+ * copy of the faces, so a model kept for later lines is a copy made before that; models up to
+ * CACHE_MAX_FACES faces are kept (a 1e6-face model used once would pay a copy of 76 MB for
+ * nothing), the oldest dropped past CACHE_SLOTS: 2000 lines of one cube had taken 36 s, a
+ * process and an import each. */
+#include "scene/mesh_cache.h"
+
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "util/log.h"
+
+#define CACHE_SLOTS 8
+#define CACHE_MAX_FACES ((size_t)1 << 18)
+
+typedef struct cached_mesh {
+    struct stat file;
+    bool smooth, kept; /* kept: the copy was made (not out of memory) */
+    mesh model;
+} cached_mesh;
+
+struct mesh_cache {
+    cached_mesh slot[CACHE_SLOTS];
+    int count, oldest;
+};
+
+static bool same_file(const struct stat *a, const struct stat *b) {
+    return a->st_dev == b->st_dev && a->st_ino == b->st_ino && a->st_size == b->st_size &&
+           a->st_mtim.tv_sec == b->st_mtim.tv_sec && a->st_mtim.tv_nsec == b->st_mtim.tv_nsec;
+}
+
+/* A copy of model `from` into *to (its own arrays); false out of memory (*to empty). */
+static bool mesh_copy(const mesh *from, mesh *to) {
+    *to = *from;
+    to->faces = malloc(from->face_count * sizeof *from->faces);
+    to->materials = malloc(((size_t)from->material_count + 1) * sizeof *from->materials);
+    if (!to->faces || !to->materials) {
+        mesh_free(to);
+        return false;
+    }
+    memcpy(to->faces, from->faces, from->face_count * sizeof *from->faces);
+    memcpy(to->materials, from->materials, (size_t)from->material_count * sizeof *from->materials);
+    return true;
+}
+
+bool mesh_cache_load(mesh_cache **cache, const char *path, bool smooth, mesh *out, char *error,
+                     size_t error_size) {
+    struct stat file;
+    bool known = stat(path, &file) == 0 && S_ISREG(file.st_mode);
+    for (int k = 0; known && *cache && k < (*cache)->count; k++) {
+        const cached_mesh *c = &(*cache)->slot[k];
+        if (!c->kept || c->smooth != smooth || !same_file(&c->file, &file)) continue;
+        if (!mesh_copy(&c->model, out)) break; /* out of memory: load it as if new */
+        log_debug("mesh %s: %zu faces, the import of an earlier line", path, out->face_count);
+        return true;
+    }
+    if (!mesh_load(path, smooth, out, error, error_size)) return false;
+    if (!known || out->face_count > CACHE_MAX_FACES) return true;
+    if (!*cache) *cache = calloc(1, sizeof **cache);
+    if (!*cache) return true; /* out of memory: the next line loads again */
+    mesh_cache *c = *cache;
+    int k = c->count < CACHE_SLOTS ? c->count++ : c->oldest;
+    if (k == c->oldest && c->count == CACHE_SLOTS) mesh_free(&c->slot[k].model);
+    c->oldest = c->count < CACHE_SLOTS ? 0 : (k + 1) % CACHE_SLOTS;
+    c->slot[k].file = file;
+    c->slot[k].smooth = smooth;
+    c->slot[k].kept = mesh_copy(out, &c->slot[k].model);
+    return true;
+}
+
+void mesh_cache_free(mesh_cache *cache) {
+    for (int k = 0; cache && k < cache->count; k++) mesh_free(&cache->slot[k].model);
+    free(cache);
+}
