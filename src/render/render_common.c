@@ -128,6 +128,18 @@ static uint64_t digest_triangles(uint64_t h, const scene *s) {
     return h;
 }
 
+/* Whether a face of s with shading normals is a mirror or glass. */
+static bool has_smooth_specular_faces(const scene *s) {
+    for (int k = 0; k < s->triangle_count; k++) {
+        const triangle *t = &s->triangles[k];
+        material_kind kind = triangle_material(s, t)->material;
+        if (t->normals != TRIANGLE_FLAT &&
+            (kind == TZ_MATERIAL_MIRROR || kind == TZ_MATERIAL_REFRACTIVE))
+            return true;
+    }
+    return false;
+}
+
 /* The scene's digest: every field of the scene and every setting that changes a sample, in a
  * fixed order, field by field (no padding bytes). */
 static uint64_t render_digest(const scene *s, const render_opts *o) {
@@ -175,6 +187,10 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
     if (scene_sampler_of(o->sampler, o->mode) == RENDER_SAMPLER_SOBOL) h = digest_int(h, 1);
     /* one light sample keeps the digests of before light_samples existed */
     if (render_light_samples(o) > 1) h = digest_int(h, render_light_samples(o));
+    /* Smooth mirror and glass faces once turned rays about their geometric normal: parts rendered
+     * then estimate another image, so such scenes hash one more word and those parts do not
+     * merge with newer ones; every other scene keeps its digest. */
+    if (has_smooth_specular_faces(s)) h = digest_int(h, 2);
     return h;
 }
 
