@@ -98,12 +98,13 @@ static float min3(float a, float b, float c) { return a < b ? (a < c ? a : c) : 
 static float max3(float a, float b, float c) { return a > b ? (a > c ? a : c) : (b > c ? b : c); }
 
 /* Whether the corners v all lie beyond one side of the box lo..hi: then the face is farther than
- * the box's half-size from its centre. Float compares without branches (| not ||, a face's sides
- * unpredictable), the whole cost of a face that is far. */
+ * the box's half-size from its centre. Float compares counted without branches (a face's sides
+ * are unpredictable), the whole cost of a face that is far. */
 static bool beyond_box(const vec3 v[3], vec3 lo, vec3 hi) {
-    return (min3(v[0].x, v[1].x, v[2].x) > hi.x) | (max3(v[0].x, v[1].x, v[2].x) < lo.x) |
-           (min3(v[0].y, v[1].y, v[2].y) > hi.y) | (max3(v[0].y, v[1].y, v[2].y) < lo.y) |
-           (min3(v[0].z, v[1].z, v[2].z) > hi.z) | (max3(v[0].z, v[1].z, v[2].z) < lo.z);
+    int sides = (min3(v[0].x, v[1].x, v[2].x) > hi.x) + (max3(v[0].x, v[1].x, v[2].x) < lo.x) +
+                (min3(v[0].y, v[1].y, v[2].y) > hi.y) + (max3(v[0].y, v[1].y, v[2].y) < lo.y) +
+                (min3(v[0].z, v[1].z, v[2].z) > hi.z) + (max3(v[0].z, v[1].z, v[2].z) < lo.z);
+    return sides > 0;
 }
 
 /* The box of half-size r around c, rounded outward to floats. */
