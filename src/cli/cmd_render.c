@@ -259,8 +259,7 @@ static bool is_input(const char *what, const char *path, const char *scene_path,
     if (stat(path, &out) != 0 || !S_ISREG(out.st_mode)) return false;
     for (int k = 0; k < s->input_count; k++) {
         const scene_input *mesh_file = &s->inputs[k];
-        if (mesh_file->device != (uint64_t)out.st_dev || mesh_file->inode != (uint64_t)out.st_ino)
-            continue;
+        if (!scene_input_is(mesh_file, (uint64_t)out.st_dev, (uint64_t)out.st_ino)) continue;
         fprintf(stderr,
                 "trazador: render: %s '%s' is a file the scene's meshes read (%s): give another\n",
                 what, path, mesh_file->path);

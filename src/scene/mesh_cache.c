@@ -1,11 +1,10 @@
-/* mesh_cache.c: a parse's loaded models by file identity. Each `mesh` line transforms its own
- * copy of the faces, so a model kept for later lines is a copy made before that; models up to
- * CACHE_MAX_FACES faces are kept (a 1e6-face model used once would pay a copy of 76 MB for
- * nothing), the oldest dropped past CACHE_SLOTS: 2000 lines of one cube had taken 36 s, a
- * process and an import each. */
+/* mesh_cache.c: a parse's loaded models by file identity, since each import costs a process and
+ * assimp's whole read. Each `mesh` line transforms its own copy of the faces, so a model kept
+ * for later lines is a copy made before that; models up to CACHE_MAX_FACES faces are kept (a
+ * model of a million faces used once would pay a copy of 76 MB for nothing), the oldest dropped
+ * past CACHE_SLOTS. */
 #include "scene/mesh_cache.h"
 
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>

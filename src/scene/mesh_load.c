@@ -331,7 +331,7 @@ static void file_flush(struct aiFile *f) { (void)f; }
 /* Keeps the identity st of the file opened as path in m's inputs (each file once). */
 static void record_input(mesh *m, const struct stat *st, const char *path) {
     for (int k = 0; k < m->input_count; k++)
-        if (m->inputs[k].device == (uint64_t)st->st_dev && m->inputs[k].inode == st->st_ino) return;
+        if (scene_input_is(&m->inputs[k], (uint64_t)st->st_dev, st->st_ino)) return;
     if (m->input_count == MESH_MAX_INPUTS) return;
     scene_input *in = &m->inputs[m->input_count++];
     in->device = (uint64_t)st->st_dev;

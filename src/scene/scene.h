@@ -135,6 +135,10 @@ typedef struct scene_input {
     uint64_t device, inode;
     char path[SCENE_INPUT_PATH];
 } scene_input;
+/* Whether input in is the file of this device and inode. */
+static inline bool scene_input_is(const scene_input *in, uint64_t device, uint64_t inode) {
+    return in->device == device && in->inode == inode;
+}
 
 typedef struct scene {
     vec3 camera_position, camera_direction, camera_up;

@@ -300,7 +300,7 @@ static bool add_inputs(parser *p, const mesh *me) {
         const scene_input *in = &me->inputs[k];
         bool known = false;
         for (int j = 0; j < p->s.input_count && !known; j++)
-            known = p->s.inputs[j].device == in->device && p->s.inputs[j].inode == in->inode;
+            known = scene_input_is(&p->s.inputs[j], in->device, in->inode);
         if (known) continue;
         scene_input *grown = realloc(p->s.inputs, (size_t)(p->s.input_count + 1) * sizeof *grown);
         if (!grown) {
