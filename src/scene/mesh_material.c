@@ -1,0 +1,168 @@
+/* mesh_material.c: a model file's materials as trazador's (the table of scenes/README.md,
+ * `mesh`): OBJ/MTL's values and glTF's metallic-roughness factors mapped to lambertian, Phong,
+ * mirror and glass, the values it refuses said, what it cannot show named. */
+#include "scene/mesh_material.h"
+
+#include <assimp/ObjMaterial.h>
+#include <assimp/material.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+/* A mean specular colour at least this, over a black diffuse colour, is a mirror. */
+#define MIRROR_KS 0.95f
+/* glTF: metallic 1 and roughness under this is a mirror. */
+#define MIRROR_ROUGHNESS 0.05f
+/* The largest Phong exponent a roughness maps to (roughness 0 would be infinite). */
+#define MAX_ALPHA 10000.0f
+
+static float clamp01(float x) { return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x; }
+
+/* A material's values as the mapping reads them; the first value it refuses (a colour that is
+ * not finite or has a negative channel, a number that is not finite) named in `bad`. */
+typedef struct material_reader {
+    const assimp_lib *ai;
+    const struct aiMaterial *m;
+    char bad[160];
+} material_reader;
+
+static vec3 color_of(material_reader *r, const char *name, const char *key, unsigned type,
+                     unsigned index, bool *found) {
+    struct aiColor4D c;
+    *found = r->ai->get_material_color(r->m, key, type, index, &c) == aiReturn_SUCCESS;
+    if (!*found) return v3(0, 0, 0);
+    bool finite = isfinite(c.r) && isfinite(c.g) && isfinite(c.b);
+    if ((!finite || c.r < 0.0f || c.g < 0.0f || c.b < 0.0f) && !r->bad[0])
+        snprintf(r->bad, sizeof r->bad, "its %s is %s: %g %g %g", name,
+                 finite ? "negative" : "not finite", (double)c.r, (double)c.g, (double)c.b);
+    return finite ? v3(c.r, c.g, c.b) : v3(0, 0, 0);
+}
+
+static float float_of(material_reader *r, const char *name, const char *key, unsigned type,
+                      unsigned index, float fallback, bool *found) {
+    ai_real value;
+    unsigned one = 1;
+    *found =
+        r->ai->get_material_float_array(r->m, key, type, index, &value, &one) == aiReturn_SUCCESS &&
+        one == 1;
+    if (*found && !isfinite(value) && !r->bad[0])
+        snprintf(r->bad, sizeof r->bad, "its %s is not finite: %g", name, (double)value);
+    *found = *found && isfinite(value);
+    return *found ? (float)value : fallback;
+}
+
+void mesh_note_unsupported(char *list, size_t size, const char *what) {
+    if (strstr(list, what)) return;
+    size_t used = strlen(list);
+    snprintf(list + used, size - used, "%s%s", used ? ", " : "", what);
+}
+
+/* The texture kinds a material uses, named into list. */
+static void note_textures(const assimp_lib *ai, const struct aiMaterial *m, char *list,
+                          size_t size) {
+    static const struct {
+        enum aiTextureType type;
+        const char *name;
+    } kinds[] = {
+        {aiTextureType_DIFFUSE, "diffuse texture"},
+        {aiTextureType_SPECULAR, "specular texture"},
+        {aiTextureType_AMBIENT, "ambient texture"},
+        {aiTextureType_EMISSIVE, "emissive texture"},
+        {aiTextureType_HEIGHT, "bump texture"},
+        {aiTextureType_NORMALS, "normal map"},
+        {aiTextureType_SHININESS, "shininess texture"},
+        {aiTextureType_OPACITY, "opacity texture"},
+        {aiTextureType_DISPLACEMENT, "displacement texture"},
+        {aiTextureType_LIGHTMAP, "light map"},
+        {aiTextureType_REFLECTION, "reflection texture"},
+        {aiTextureType_BASE_COLOR, "base colour texture"},
+        {aiTextureType_METALNESS, "metallic texture"},
+        {aiTextureType_DIFFUSE_ROUGHNESS, "roughness texture"},
+        {aiTextureType_UNKNOWN, "other texture"},
+    };
+    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
+        if (ai->get_material_texture_count(m, kinds[k].type) > 0)
+            mesh_note_unsupported(list, size, kinds[k].name);
+    }
+}
+
+/* The file's material as trazador's (scenes/README.md, `mesh`, has the table); a value it
+ * refuses is said in r->bad. */
+static mesh_material map_material(material_reader *r, char *unsupported, size_t size) {
+    const struct aiMaterial *m = r->m;
+    bool has_kd, has_ks, has_ns, has_ni, has_d, has_base, has_metal, has_rough, has_trans, found;
+    vec3 kd = color_of(r, "diffuse colour (Kd)", AI_MATKEY_COLOR_DIFFUSE, &has_kd);
+    vec3 base = color_of(r, "base colour", AI_MATKEY_BASE_COLOR, &has_base);
+    vec3 ks = color_of(r, "specular colour (Ks)", AI_MATKEY_COLOR_SPECULAR, &has_ks);
+    vec3 ke = color_of(r, "emission (Ke)", AI_MATKEY_COLOR_EMISSIVE, &found);
+    float ns = float_of(r, "shininess (Ns)", AI_MATKEY_SHININESS, 0.0f, &has_ns);
+    float ni = float_of(r, "index of refraction (Ni)", AI_MATKEY_REFRACTI, 1.5f, &has_ni);
+    float d = float_of(r, "opacity (d)", AI_MATKEY_OPACITY, 1.0f, &has_d);
+    float metallic = float_of(r, "metallic factor", AI_MATKEY_METALLIC_FACTOR, 0.0f, &has_metal);
+    float roughness = float_of(r, "roughness factor", AI_MATKEY_ROUGHNESS_FACTOR, 1.0f, &has_rough);
+    float transmission =
+        float_of(r, "transmission factor", AI_MATKEY_TRANSMISSION_FACTOR, 0.0f, &has_trans);
+    int illum = 2;
+    r->ai->get_material_integer_array(m, AI_MATKEY_OBJ_ILLUM, &illum, NULL);
+    note_textures(r->ai, m, unsupported, size);
+    vec3 color = has_base ? base : has_kd ? kd : v3(0.8f, 0.8f, 0.8f);
+    color = v3(clamp01(color.x), clamp01(color.y), clamp01(color.z));
+    mesh_material out = {
+        .kind = TZ_MATERIAL_LAMBERTIAN,
+        .color = color,
+        .ior = 1.0f,
+        .emission = v3(fmaxf(ke.x, 0.0f), fmaxf(ke.y, 0.0f), fmaxf(ke.z, 0.0f)),
+    };
+    float ks_mean = clamp01((ks.x + ks.y + ks.z) / 3.0f);
+    bool glass = (has_d && d < 1.0f) || illum == 4 || illum == 6 || illum == 7 ||
+                 (has_trans && transmission > 0.0f);
+    if (glass) {
+        out.kind = TZ_MATERIAL_REFRACTIVE;
+        out.ior = has_ni && ni >= 1.0f ? ni : 1.5f;
+        if (!has_base && !has_kd) out.color = v3(1, 1, 1);
+        return out;
+    }
+    if (has_metal || has_rough) {
+        /* glTF's metallic-roughness model. */
+        if (metallic >= 1.0f && roughness < MIRROR_ROUGHNESS) {
+            out.kind = TZ_MATERIAL_MIRROR;
+            return out;
+        }
+        /* Dielectrics reflect 4% at normal incidence, metals their colour's mean; the Phong lobe
+         * of exponent 2 / r^4 - 2 is as wide as GGX's of alpha r^2. */
+        out.kind = TZ_MATERIAL_PHONG;
+        float r = fmaxf(clamp01(roughness), 1e-3f);
+        out.ks = 0.04f + 0.96f * clamp01(metallic);
+        out.alpha = fminf(2.0f / (r * r * r * r) - 2.0f, MAX_ALPHA);
+        return out;
+    }
+    bool black = kd.x <= 0.0f && kd.y <= 0.0f && kd.z <= 0.0f;
+    if (illum == 3 || (has_ks && black && ks_mean >= MIRROR_KS)) {
+        out.kind = TZ_MATERIAL_MIRROR;
+        out.color =
+            has_ks && ks_mean > 0.0f ? v3(clamp01(ks.x), clamp01(ks.y), clamp01(ks.z)) : out.color;
+        return out;
+    }
+    if (has_ks && ks_mean > 0.0f) {
+        out.kind = TZ_MATERIAL_PHONG;
+        out.ks = ks_mean;
+        out.alpha = has_ns && ns > 0.0f ? ns : 1.0f;
+    }
+    return out;
+}
+
+bool mesh_map_material(const assimp_lib *ai, const struct aiMaterial *m, unsigned index,
+                       mesh_material *out, char *unsupported, size_t size, char *error,
+                       size_t error_size) {
+    material_reader r = {.ai = ai, .m = m};
+    *out = map_material(&r, unsupported, size);
+    if (!r.bad[0]) return true;
+    struct aiString name = {0};
+    ai->get_material_string(m, AI_MATKEY_NAME, &name);
+    name.data[name.length < sizeof name.data ? name.length : sizeof name.data - 1] = '\0';
+    if (name.data[0])
+        snprintf(error, error_size, "material '%s': %s", name.data, r.bad);
+    else
+        snprintf(error, error_size, "material %u: %s", index, r.bad);
+    return false;
+}
