@@ -1,6 +1,6 @@
 /* scene_near_clip.c: the warning of what camera rays may cut away near the camera (the nearest
  * sphere surface or triangle within the near clip that the ray offset makes far from the
- * origin), or of a sphere too big for single precision to place near the camera. */
+ * origin), or of a sphere or face too big for single precision to place near the camera. */
 #include <math.h>
 
 #include "scene/directives.h"
@@ -91,6 +91,34 @@ static int nearest_face(const scene *s, vec3 cam, vec3 f, double *nearest) {
     return which;
 }
 
+/* Warns about the face reaching farthest from the origin when that is over SCENE_FACE_SPAN times
+ * the camera's largest |coordinate| (at least 1). The watertight test places a hit to within a
+ * few float spacings of the face's corners, while rays near the camera leave surfaces only TZ_EPS
+ * times their distance from the origin off them: a ray leaving such a face may start behind the
+ * face sharing its edge and meet it. A quad of half-size 1e6 one unit under a camera near the
+ * origin drew a dark seam along its diagonal (1e7: dark specks all over), 2e5 a few dark pixels,
+ * 1e5 none. */
+static void warn_huge_face(parser *p) {
+    double reach = SCENE_FACE_SPAN * parser_largest_coordinate(p->s.camera_position);
+    int which = -1;
+    for (int k = 0; k < p->s.triangle_count; k++) {
+        const vec3 *v = p->s.triangles[k].v;
+        double m = fmax(v3_max_abs(v[0]), fmax(v3_max_abs(v[1]), v3_max_abs(v[2])));
+        if (m > reach) reach = m, which = k;
+    }
+    if (which < 0) return;
+    const vec3 *v = p->s.triangles[which].v;
+    parser_warn(p, p->camera_line, p->camera_col,
+                "triangle %d (corners %g %g %g, %g %g %g, %g %g %g) reaches over %g times as far "
+                "from the origin as the camera: single precision places its hits near the camera "
+                "less exactly than rays leaving them are offset there, so it and the faces "
+                "sharing its edges may draw dark seams; use a smaller face (a floor of half-size "
+                "1e4 looks as flat)",
+                which + 1, (double)v[0].x, (double)v[0].y, (double)v[0].z, (double)v[1].x,
+                (double)v[1].y, (double)v[1].z, (double)v[2].x, (double)v[2].y, (double)v[2].z,
+                SCENE_FACE_SPAN);
+}
+
 /* Camera rays start TZ_EPS times the camera's largest |coordinate| (at least 1) along their path,
  * as every ray does from its origin (DESIGN section 3): far from the origin that is a near clip
  * (10 units at 1e5). Warns when a sphere or triangle not wholly behind the camera has its surface
@@ -100,6 +128,7 @@ static int nearest_face(const scene *s, vec3 cam, vec3 f, double *nearest) {
  * single precision cannot place that surface (a floor of radius 3e7 one unit under the camera
  * renders black). */
 void parser_warn_near_clip(parser *p) {
+    warn_huge_face(p);
     vec3 cam = p->s.camera_position, f = p->s.camera_direction;
     double f_length = sqrt((double)f.x * f.x + (double)f.y * f.y + (double)f.z * f.z);
     float big = parser_largest_coordinate(cam);
@@ -130,8 +159,9 @@ void parser_warn_near_clip(parser *p) {
                     (double)s->radius, step, (double)SCENE_PRECISION_STEPS);
         return;
     }
-    /* Faces have no precision warning: their exact corners place them (a floor triangle of
-     * half-size 1e7 one unit under the camera shades within 3% of one of 1e4). */
+    /* A lone face needs no such warning: its exact corners place it (a floor triangle of
+     * half-size 1e7 one unit under the camera shades within 3% of one of 1e4); its neighbours
+     * are warn_huge_face's. */
     double limit = SCENE_NEAR_CLIP_FACTOR * offset, face_gap = fmin(nearest, limit);
     int face = nearest_face(&p->s, cam, f, &face_gap);
     const char *far = big > 1.0f ? " this far from the origin (the ray offset grows with it)" : "";
