@@ -92,12 +92,13 @@ static int nearest_face(const scene *s, vec3 cam, vec3 f, double *nearest) {
 }
 
 /* Warns about the face reaching farthest from the origin when that is over SCENE_FACE_SPAN times
- * the camera's largest |coordinate| (at least 1). The watertight test places a hit to within a
- * few float spacings of the face's corners, while rays near the camera leave surfaces only TZ_EPS
- * times their distance from the origin off them: a ray leaving such a face may start behind the
- * face sharing its edge and meet it. A quad of half-size 1e6 one unit under a camera near the
- * origin drew a dark seam along its diagonal (1e7: dark specks all over), 2e5 a few dark pixels,
- * 1e5 none. */
+ * the camera's largest |coordinate| (at least 1). A hit is placed on its face's plane
+ * (plane_hit), but the watertight test finds a face's distance only to within a few float
+ * spacings of its corners, while rays near the camera leave surfaces TZ_EPS times their distance
+ * from the origin off them: a ray leaving a face nearly along it (a low light's shadow ray) may
+ * start behind the face sharing its edge and meet it. Under a light at height 0.3, a floor quad of
+ * half-size 1e6 under a camera near the origin showed dark specks on 0.2% of its pixels, 1e7 on
+ * 2%, 1e8 on most; under a high light 1e7 renders right. */
 static void warn_huge_face(parser *p) {
     double reach = SCENE_FACE_SPAN * parser_largest_coordinate(p->s.camera_position);
     int which = -1;
@@ -110,10 +111,10 @@ static void warn_huge_face(parser *p) {
     const vec3 *v = p->s.triangles[which].v;
     parser_warn(p, p->camera_line, p->camera_col,
                 "triangle %d (corners %g %g %g, %g %g %g, %g %g %g) reaches over %g times as far "
-                "from the origin as the camera: single precision places its hits near the camera "
-                "less exactly than rays leaving them are offset there, so it and the faces "
-                "sharing its edges may draw dark seams; use a smaller face (a floor of half-size "
-                "1e4 looks as flat)",
+                "from the origin as the camera: single precision finds its distances near the "
+                "camera less exactly than rays leaving it are offset there, so it and the faces "
+                "sharing its edges may shade each other in dark specks; use a smaller face (a "
+                "floor of half-size 1e5 looks as flat)",
                 which + 1, (double)v[0].x, (double)v[0].y, (double)v[0].z, (double)v[1].x,
                 (double)v[1].y, (double)v[1].z, (double)v[2].x, (double)v[2].y, (double)v[2].z,
                 SCENE_FACE_SPAN);

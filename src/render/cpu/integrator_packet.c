@@ -62,6 +62,7 @@ LANE_FN void packet_surfaces(const packed_scene *p, const lanes3 *o, const lanes
     for (int k = 0; any_lane(triangle) && k < LANES; k++) { /* triangles, lane by lane */
         if (!triangle[k]) continue;
         surface sf = triangle_surface(p, id[k], get3(&h->pos, k), get3(o, k), get3(d, k));
+        set3(&h->pos, k, sf.pos);
         set3(&h->nout, k, sf.nout);
         set3(&h->shading, k, sf.shading);
         set3(&h->kd, k, xyz(sf.color_ks));

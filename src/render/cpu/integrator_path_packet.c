@@ -253,6 +253,7 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         if (!triangle[k]) continue;
         surface sf =
             triangle_surface(scene, v.id[k], get3(&v.pos, k), get3(&s->o, k), get3(&s->d, k));
+        set3(&v.pos, k, sf.pos);
         set3(&v.nout, k, sf.nout);
         set3(&v.shading, k, sf.shading);
         set3(&v.kd, k, xyz(sf.color_ks));
