@@ -58,17 +58,6 @@ TZ_FN vec3 triangle_normal(triangle_corners k) {
     return v3_normalize(v3_cross(e1, e2));
 }
 
-/* Where the ray o + t d meets the plane through a of unit normal n, measured along n: n.(a - o) /
- * n.d, exact for a face square to an axis however far its corners lie, where the watertight
- * test's distance (from the corners' sheared depths) is a few float spacings of the corners off.
- * pos when the ray runs along the plane. */
-TZ_FN vec3 plane_hit(vec3 a, vec3 n, vec3 o, vec3 d, vec3 pos) {
-    TZ_PRECISE float along = v3_dot(n, d);
-    TZ_PRECISE float t = v3_dot(n, v3_sub(a, o)) / along;
-    TZ_PRECISE vec3 p = v3_add(o, v3_scale(d, t));
-    return along != 0.0f && t < TZ_INFINITY && t > -TZ_INFINITY ? p : pos;
-}
-
 /* A hit surface: pos the point, nout its outward normal (a sphere's, or a triangle's geometric
  * one), shading the shading normal on nout's side (nout itself for spheres and flat faces),
  * color_ks and params as gpu_sphere's (params.w the emitter + 1). */

@@ -170,6 +170,17 @@ TZ_LANE_FN float triangle_distance(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d, float
     return sheared_triangle_distance(a, b, c, o, shear_of(d), tmin, is_self);
 }
 
+/* Where the ray o + t d meets the plane through a of unit normal n, measured along n: n.(a - o) /
+ * n.d, exact for a face square to an axis however far its corners lie, where the watertight
+ * test's distance (from the corners' sheared depths) is a few float spacings of the corners off.
+ * pos when the ray runs along the plane. */
+TZ_FN vec3 plane_hit(vec3 a, vec3 n, vec3 o, vec3 d, vec3 pos) {
+    TZ_PRECISE float along = v3_dot(n, d);
+    TZ_PRECISE float t = v3_dot(n, v3_sub(a, o)) / along;
+    TZ_PRECISE vec3 p = v3_add(o, v3_scale(d, t));
+    return along != 0.0f && t < TZ_INFINITY && t > -TZ_INFINITY ? p : pos;
+}
+
 /* The distance from o along wi, a direction drawn toward the triangle (a, b, c) by light
  * sampling: the watertight test's, or, where rounding puts the direction a hair outside the
  * triangle (about 1e-4 of the directions drawn within a thin or small one), the distance to its
