@@ -41,7 +41,8 @@
  * single precision cannot place it there. */
 #define SCENE_PRECISION_STEPS 4.0
 /* A face whose corners reach this many times the camera's largest |coordinate| (at least 1)
- * warns: near the camera its hits are placed less exactly than the ray offset there. */
+ * warns: near the camera the watertight test finds its distance less exactly than the ray offset
+ * there. */
 #define SCENE_FACE_SPAN 131072.0
 #define SCENE_MAX_WARNINGS 2
 /* Farthest image plane a fov may ask for: camera rays square their direction in single

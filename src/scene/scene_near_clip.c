@@ -96,9 +96,8 @@ static int nearest_face(const scene *s, vec3 cam, vec3 f, double *nearest) {
  * (plane_hit), but the watertight test finds a face's distance only to within a few float
  * spacings of its corners, while rays near the camera leave surfaces TZ_EPS times their distance
  * from the origin off them: a ray leaving a face nearly along it (a low light's shadow ray) may
- * start behind the face sharing its edge and meet it. Under a light at height 0.3, a floor quad of
- * half-size 1e6 under a camera near the origin showed dark specks on 0.2% of its pixels, 1e7 on
- * 2%, 1e8 on most; under a high light 1e7 renders right. */
+ * start behind the face sharing its edge and meet it, a dark speck (docs/PERF.md, "Huge faces",
+ * measures where). */
 static void warn_huge_face(parser *p) {
     double reach = SCENE_FACE_SPAN * parser_largest_coordinate(p->s.camera_position);
     int which = -1;
