@@ -96,8 +96,8 @@ const char *parser_quote(parser *p, const token *t);
 bool parser_token_is(const token *t, const char *word);
 /* The column just after the line's last token (where a missing value was expected). */
 int parser_end_col(const parser *p);
-/* Warns of a surface the camera's near clip may cut away, or a sphere too big to place near the
- * camera (scene_near_clip.c); the scene's camera and primitives are final. */
+/* Warns of a surface the camera's near clip may cut away, or a sphere or face too big to place
+ * near the camera (scene_near_clip.c); the scene's camera and primitives are final. */
 void parser_warn_near_clip(parser *p);
 /* The largest |coordinate| of v, at least 1: what the ray offset TZ_EPS is scaled by there. */
 float parser_largest_coordinate(vec3 v);

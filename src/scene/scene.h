@@ -176,8 +176,9 @@ typedef struct scene {
     /* What the CLI warns about: the first sphere of radius, or glass mesh of bounding-box
      * half-extent, under SCENE_TINY_OFFSETS ray offsets; the sphere surface or triangle nearest
      * the camera when closer than SCENE_NEAR_CLIP_FACTOR times its rays' offset, or a sphere
-     * surface closer than SCENE_PRECISION_STEPS float spacings at its size; the mesh files'
-     * dropped faces and what trazador cannot show of them; settings the render's mode ignores. */
+     * surface closer than SCENE_PRECISION_STEPS float spacings at its size, or a face reaching
+     * SCENE_FACE_SPAN times as far from the origin as the camera; the mesh files' dropped faces and
+     * what trazador cannot show of them; settings the render's mode ignores. */
     scene_error warnings[SCENE_MAX_WARNINGS];
     int warning_count;
 } scene;
