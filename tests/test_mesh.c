@@ -2,7 +2,8 @@
  * OBJ and in ASCII PLY, transformed, gives the triangles and the image of six `quad` lines at
  * the transformed corners; an OBJ with MTL materials renders like the same faces written with
  * the mapped materials; every error gives its message at line:col (a file-size limit too); 1 and 4
- * parser threads agree; hostile files fail cleanly; a smooth closed mesh keeps the furnace exact.
+ * parser threads agree; hostile files fail cleanly; lines naming one file import it once.
+ * What meshes look like where only rendering shows it is tests/test_mesh_render.c.
  */
 #include <math.h>
 #include <stdio.h>
@@ -12,13 +13,13 @@
 #include <sys/stat.h>
 
 #include "check.h"
+#include "mesh_test.h"
 #include "render/part.h"
 #include "render/render.h"
 #include "scene/scene.h"
 #include "tmp_dir.h"
 
 #define PI 3.14159265358979323846
-#define SIGMAS 4.5
 
 static const double cube[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
                                   {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
@@ -39,10 +40,6 @@ static void transform(const double in[3], double out[3]) {
     double cr[3] = {u[1] * s[2] - u[2] * s[1], u[2] * s[0] - u[0] * s[2],
                     u[0] * s[1] - u[1] * s[0]};
     for (int k = 0; k < 3; k++) out[k] = s[k] * c + cr[k] * sn + u[k] * d * (1 - c) + xf_move[k];
-}
-
-static void write_text(const char *name, const char *text) {
-    tmp_file_write(tmp_path(name), text, strlen(text));
 }
 
 static void write_cube_files(void) {
@@ -86,19 +83,6 @@ static void write_cube_files(void) {
 #define HEADER                                                                     \
     "camera position 0 0 0 direction 0 0 1\nplane width 2 height 2 pixel 0.0625\n" \
     "light position -1 2 0 power 20\nbackground 0.1 0.2 0.3\nrender samples 2\n"
-
-/* Parses text as the file tmpdir/scene.scene (so that mesh paths are relative to tmpdir) on
- * `threads` threads; false with *err filled on an error. */
-static bool parse(const char *text, int threads, scene *s, scene_error *err) {
-    return scene_parse_string_threads(text, strlen(text), tmp_path("scene.scene"), threads, s, err);
-}
-
-/* Renders the scene on the CPU back end; false on failure. */
-static bool render(const scene *s, film *f) {
-    render_opts o;
-    render_opts_from_scene(s, &o);
-    return render_film(&render_backend_cpu, s, &o, f);
-}
 
 /* Whether triangle a has the corners of b (any order) within tol. */
 static bool same_corners(const triangle *a, const triangle *b, double tol) {
@@ -339,67 +323,6 @@ static void test_inputs(void) {
     scene_free(&s);
 }
 
-/* A glass slab (z from 5 to 5.2) whose front face's file normals lean 20 degrees about y bends a
- * camera ray d = +z about them, then about the back face's own normal (Snell's law twice, report
- * mode: glass always refracts): the pixels see a lit sphere placed on that ray; the same slab
- * without file normals (smooth on generates none across its right angles) passes the ray
- * straight on, to the background. */
-static void test_glass_normals(void) {
-    const double lean = 20.0 * PI / 180.0, n[3] = {sin(lean), 0.0, -cos(lean)}, ior = 1.5;
-    double eta = 1.0 / ior, c1 = -n[2], k = 1.0 - eta * eta * (1.0 - c1 * c1), r1[3], r2[3];
-    for (int a = 0; a < 3; a++) r1[a] = eta * (a == 2) + (eta * c1 - sqrt(k)) * n[a];
-    k = 1.0 - ior * ior * (1.0 - r1[2] * r1[2]); /* leaving through z = 5.2, normal -z facing */
-    double len = 0.0;
-    for (int a = 0; a < 3; a++) r2[a] = ior * r1[a] - (a == 2) * (ior * r1[2] - sqrt(k));
-    for (int a = 0; a < 3; a++) len += r2[a] * r2[a];
-    double exit_x = 0.2 * r1[0] / r1[2], target[3] = {exit_x, 0.0, 5.2};
-    for (int a = 0; a < 3; a++) target[a] += 10.0 * r2[a] / sqrt(len);
-    static const char *corners =
-        "v -1 -1 5\nv 1 -1 5\nv 1 1 5\nv -1 1 5\n"
-        "v -1 -1 5.2\nv 1 -1 5.2\nv 1 1 5.2\nv -1 1 5.2\n";
-    char obj[1024], text[1024];
-    snprintf(obj, sizeof obj,
-             "%svn %.6f 0 %.6f\nvn 0 0 1\nvn 0 -1 0\nvn 0 1 0\nvn -1 0 0\nvn 1 0 0\n"
-             "f 1//1 4//1 3//1 2//1\nf 5//2 6//2 7//2 8//2\nf 1//3 2//3 6//3 5//3\n"
-             "f 4//4 8//4 7//4 3//4\nf 1//5 5//5 8//5 4//5\nf 2//6 3//6 7//6 6//6\n",
-             corners, n[0], n[2]);
-    write_text("slab_lean.obj", obj);
-    snprintf(obj, sizeof obj,
-             "%sf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n", corners);
-    write_text("slab.obj", obj);
-    for (int lean_on = 0; lean_on < 2; lean_on++) {
-        snprintf(text, sizeof text,
-                 "camera position 0 0 0 direction 0 0 1 up 0 1 0 fov 1\n"
-                 "plane width 0.04 height 0.04 pixel 0.01\nbackground 0.25 0.25 0.25\n"
-                 "render mode seed samples 2\nlight position %.6f 0 %.6f power 100\n"
-                 "mesh refractive file %s ior 1.5 smooth on\n"
-                 "sphere lambertian center %.6f %.6f %.6f radius 1 color 0.5 0.5 0.5\n",
-                 target[0], target[2] - 5.0, lean_on ? "slab_lean.obj" : "slab.obj", target[0],
-                 target[1], target[2]);
-        scene s;
-        scene_error err;
-        film f = {0};
-        bool ok = parse(text, 1, &s, &err);
-        CHECK(ok, "glass normals: %s", err.message);
-        if (!ok) continue;
-        ok = render(&s, &f);
-        CHECK(ok, "glass normals: render failed");
-        for (int j = 0; ok && j < f.height; j++)
-            for (int i = 0; i < f.width; i++) {
-                const float *px = &f.accum[((size_t)j * f.width + i) * 4];
-                double v = px[1] / px[3];
-                if (lean_on)
-                    CHECK(v > 0.0 && v != 0.25, "glass normals: pixel %d %d is %g, not the sphere",
-                          i, j, v);
-                else
-                    CHECK(v == 0.25, "glass, no normals: pixel %d %d is %g, not the background", i,
-                          j, v);
-            }
-        film_free(&f);
-        scene_free(&s);
-    }
-}
-
 /* What trazador cannot show is named once in a warning: textures, whatever their count. */
 static void test_unsupported(void) {
     write_text("textured.mtl",
@@ -503,74 +426,6 @@ static void test_threads(void) {
     free(text);
 }
 
-/* A UV sphere of radius 1 (closed: the poles are single vertices) as an OBJ. */
-static void write_sphere(int rings, int segments) {
-    size_t size = 1 << 20, n = 0;
-    char *obj = malloc(size);
-    n += (size_t)snprintf(obj + n, size - n, "v 0 1 0\nv 0 -1 0\n");
-    for (int r = 1; r < rings; r++) {
-        for (int s = 0; s < segments; s++) {
-            double t = PI * r / rings, p = 2 * PI * s / segments;
-            n += (size_t)snprintf(obj + n, size - n, "v %.9f %.9f %.9f\n", sin(t) * cos(p), cos(t),
-                                  sin(t) * sin(p));
-        }
-    }
-#define RING(r, s) (3 + ((r)-1) * segments + ((s) % segments))
-    for (int s = 0; s < segments; s++) {
-        n += (size_t)snprintf(obj + n, size - n, "f 1 %d %d\n", RING(1, s + 1), RING(1, s));
-        n += (size_t)snprintf(obj + n, size - n, "f 2 %d %d\n", RING(rings - 1, s),
-                              RING(rings - 1, s + 1));
-        for (int r = 1; r < rings - 1; r++)
-            n += (size_t)snprintf(obj + n, size - n, "f %d %d %d %d\n", RING(r, s), RING(r, s + 1),
-                                  RING(r + 1, s + 1), RING(r + 1, s));
-    }
-#undef RING
-    tmp_file_write(tmp_path("sphere.obj"), obj, n);
-    free(obj);
-}
-
-/* Path mode inside a closed mesh whose faces all emit 1 with albedo 0.5: every pixel sees
- * 1 + a + ... + a^24 (test_triangles.c's furnace), with flat faces and with `smooth on`, whose
- * shading normals fold the directions below a face above it (DESIGN section 3.3) rather than end
- * those paths (which lost 0.33% of the energy on this sphere). */
-static void expect_mesh_furnace(const char *smooth) {
-    char text[512];
-    snprintf(text, sizeof text,
-             "camera position 0.1 0.05 -0.2 direction 0.3 0.2 1\nplane width 2 height 2 "
-             "pixel 0.0625\nbackground 5 5 5\nrender mode path bounces 24 roulette off "
-             "samples 32\nmesh lambertian file sphere.obj scale 3 smooth %s color 0.5 0.5 "
-             "0.5 emission 1 1 1\n",
-             smooth);
-    scene s;
-    scene_error err;
-    bool ok = parse(text, 1, &s, &err);
-    CHECK(ok, "furnace, smooth %s: %s", smooth, err.message);
-    if (!ok) return;
-    film f = {0};
-    CHECK(render(&s, &f), "furnace, smooth %s: render failed", smooth);
-    if (f.accum) {
-        double sum = 0.0, sum2 = 0.0;
-        int n = f.width * f.height;
-        for (int k = 0; k < n; k++) {
-            double v = f.accum[k * 4 + 1] / f.accum[k * 4 + 3];
-            sum += v, sum2 += v * v;
-        }
-        double mean = sum / n, se = sqrt(fmax(sum2 / n - mean * mean, 0.0) / (n - 1));
-        double want = (1.0 - pow(0.5, 25)) / 0.5;
-        CHECK(fabs(mean - want) <= SIGMAS * se + 1e-5 * want,
-              "furnace, smooth %s: %.6f +- %.6f, want %.6f", smooth, mean, se, want);
-        printf("furnace, smooth %s: %.6f +- %.6f, want %.6f\n", smooth, mean, se, want);
-    }
-    film_free(&f);
-    scene_free(&s);
-}
-
-static void test_furnace(void) {
-    write_sphere(12, 16);
-    expect_mesh_furnace("off");
-    expect_mesh_furnace("on");
-}
-
 /* Scene text a's faces (triangles, their materials and normals) are b's then c's, byte for byte. */
 static void expect_concatenation(const char *name, const char *a, const char *b, const char *c) {
     scene sa, sb, sc;
@@ -645,12 +500,10 @@ int main(void) {
     CHECK_CASE(test_errors);
     CHECK_CASE(test_material_values);
     CHECK_CASE(test_inputs);
-    CHECK_CASE(test_glass_normals);
     CHECK_CASE(test_unsupported);
     CHECK_CASE(test_digest);
     CHECK_CASE(test_hostile);
     CHECK_CASE(test_threads);
-    CHECK_CASE(test_furnace);
     CHECK_CASE(test_repeated);
     return check_summary("test_mesh");
 }
