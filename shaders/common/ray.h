@@ -170,15 +170,21 @@ TZ_LANE_FN float triangle_distance(vec3 a, vec3 b, vec3 c, vec3 o, vec3 d, float
     return sheared_triangle_distance(a, b, c, o, shear_of(d), tmin, is_self);
 }
 
-/* Where the ray o + t d meets the plane through a of unit normal n, measured along n: n.(a - o) /
- * n.d, exact for a face square to an axis however far its corners lie, where the watertight
- * test's distance (from the corners' sheared depths) is a few float spacings of the corners off.
- * pos when the ray runs along the plane. */
+/* The distance along d from o to the plane through a of normal n, measured along n: n.(a - o) /
+ * n.d (not finite where d runs along the plane). */
+TZ_FN float plane_distance(vec3 a, vec3 n, vec3 o, vec3 d) {
+    TZ_PRECISE float t = v3_dot(n, v3_sub(a, o)) / v3_dot(n, d);
+    return t;
+}
+
+/* Where the ray o + t d meets the plane through a of unit normal n (plane_distance), exact for a
+ * face square to an axis however far its corners lie, where the watertight test's distance (from
+ * the corners' sheared depths) is a few float spacings of the corners off. pos when the ray runs
+ * along the plane. */
 TZ_FN vec3 plane_hit(vec3 a, vec3 n, vec3 o, vec3 d, vec3 pos) {
-    TZ_PRECISE float along = v3_dot(n, d);
-    TZ_PRECISE float t = v3_dot(n, v3_sub(a, o)) / along;
+    TZ_PRECISE float t = plane_distance(a, n, o, d);
     TZ_PRECISE vec3 p = v3_add(o, v3_scale(d, t));
-    return along != 0.0f && t < TZ_INFINITY && t > -TZ_INFINITY ? p : pos;
+    return v3_dot(n, d) != 0.0f && t < TZ_INFINITY && t > -TZ_INFINITY ? p : pos;
 }
 
 /* The distance from o along wi, a direction drawn toward the triangle (a, b, c) by light
@@ -189,7 +195,7 @@ TZ_FN float triangle_light_distance(vec3 a, vec3 b, vec3 c, vec3 o, vec3 wi) {
     float t = triangle_distance(a, b, c, o, wi, ray_eps(o), TZ_FALSE);
     if (t < TZ_INFINITY) return t;                                /* the plane is the rare case's */
     vec3 ng = v3_normalize(v3_cross(v3_sub(b, a), v3_sub(c, a))); /* unit: dot stays finite */
-    TZ_PRECISE float plane = v3_dot(v3_sub(a, o), ng) / v3_dot(wi, ng);
+    TZ_PRECISE float plane = plane_distance(a, ng, o, wi);
     TZ_BOOL meets = (plane > ray_eps(o)) TZ_AND(plane < TZ_INFINITY);
     return meets ? plane : TZ_INFINITY;
 }
