@@ -194,9 +194,9 @@ far_quad 99997 >behind-quad.scene
 run behind-quad 0 "$tz" render --backend cpu --quiet --spp 1 behind-quad.scene -o far.png
 [ -s "$tmp/err" ] && bad "behind-quad: warned: $(cat "$tmp/err")" || ok
 # A camera inside a small emitting cube far from the origin: the near clip cuts all of it away.
-printf 'camera position 0 0 100000\nplane width 1 height 1 pixel 0.25\nmesh lambertian file cube.obj scale 0.5 translate -0.25 -0.25 99999.75 color 0 0 0 emission 1 1 1\nrender mode path\n' >inside.scene
+printf 'camera position 0 0 100000\nplane width 1 height 1 pixel 0.25\nmesh lambertian file cube.obj scale 0.5 translate -0.25 -0.25 100000.25 color 0 0 0 emission 1 1 1\nrender mode path\n' >inside.scene
 run inside-mesh 0 "$tz" render --backend cpu --quiet --spp 1 inside.scene -o far.png
-has inside-mesh err "inside.scene:1:17: camera rays start 10 along their path this far from the origin (the ray offset grows with it), and triangle 3 (corners -0.25 -0.25 100000.25, 0.25 -0.25 100000.25, 0.25 0.25 100000.25) is 0.25 from the camera"
+has inside-mesh err "inside.scene:1:17: camera rays start 10 along their path this far from the origin (the ray offset grows with it), and triangle 1 (corners -0.25 -0.25 100000.25, 0.25 0.25 100000.25, -0.25 0.25 100000.25) is 0.25 from the camera"
 # Ordinary scenes of faces (the Cornell box's quads, mesh.scene's meshes) do not warn.
 for scene in cornell_box mesh; do
     run "quiet-$scene" 0 "$tz" render "$src/scenes/$scene.scene" --backend cpu --spp 1 --width 40 -q -o s.png

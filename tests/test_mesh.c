@@ -154,15 +154,18 @@ static void expect_same(const char *name, const char *mesh_text, const char *qua
 
 static char quads[8192];
 
-/* Six quad lines at the transformed cube's corners, each with `material`. */
+/* Six quad lines at the transformed cube's corners, each with `material`: the file's
+ * right-handed corners first mirrored into trazador's space (z negated, each face's corners in
+ * the reverse order), then transformed. */
 static void cube_quads(const char *material) {
     snprintf(quads, sizeof quads, "%s", HEADER);
     for (int f = 0; f < 6; f++) {
         size_t n = strlen(quads);
         n += (size_t)snprintf(quads + n, sizeof quads - n, "quad %s", material);
         for (int k = 0; k < 4; k++) {
-            double p[3];
-            transform(cube[cube_faces[f][k]], p);
+            const double *c = cube[cube_faces[f][(4 - k) % 4]];
+            double mirrored[3] = {c[0], c[1], -c[2]}, p[3];
+            transform(mirrored, p);
             n += (size_t)snprintf(quads + n, sizeof quads - n, " v%d %.9g %.9g %.9g", k,
                                   (double)(float)p[0], (double)(float)p[1], (double)(float)p[2]);
         }
@@ -184,7 +187,8 @@ static void test_cube(void) {
                 HEADER "mesh refractive file cube.obj " XF "\n");
 }
 
-/* Three faces with three MTL materials: a lambertian, a Phong and a mirror. */
+/* Three faces with three MTL materials: a lambertian, a Phong and a mirror (the file's
+ * right-handed faces at -z, wound the other way, are the quads' once mirrored). */
 static void test_mtl(void) {
     write_text("three.mtl",
                "newmtl matte\nKd 0.2 0.5 0.7\nKs 0 0 0\n"
@@ -192,11 +196,11 @@ static void test_mtl(void) {
                "newmtl chrome\nKd 0.9 0.9 0.9\nillum 3\n");
     write_text("three.obj",
                "mtllib three.mtl\n"
-               "v -2 -1 2\nv 2 -1 2\nv 2 -1 6\nv -2 -1 6\n"
-               "v -2 2 6\nv 2 2 6\nv -2 2 2\n"
-               "usemtl matte\nf 1 4 3 2\n"
-               "usemtl shiny\nf 4 5 6 3\n"
-               "usemtl chrome\nf 1 7 5 4\n");
+               "v -2 -1 -2\nv 2 -1 -2\nv 2 -1 -6\nv -2 -1 -6\n"
+               "v -2 2 -6\nv 2 2 -6\nv -2 2 -2\n"
+               "usemtl matte\nf 1 2 3 4\n"
+               "usemtl shiny\nf 4 3 6 5\n"
+               "usemtl chrome\nf 1 4 5 7\n");
     expect_same("obj mtl", HEADER "mesh file three.obj\n",
                 HEADER
                 "quad lambertian v0 -2 -1 2 v1 -2 -1 6 v2 2 -1 6 v3 2 -1 2 color 0.2 0.5 0.7\n"
@@ -485,7 +489,7 @@ static void test_repeated(void) {
     scene s;
     scene_error err;
     bool ok = parse(HEADER "mesh file moving.obj\n", 1, &s, &err);
-    CHECK(ok && s.triangle_count == 2 && s.triangles[0].v[1].x == 2.0f, "moving: %s",
+    CHECK(ok && s.triangle_count == 2 && s.triangles[0].v[2].x == 2.0f, "moving: %s",
           ok ? "the old file's faces" : err.message);
     if (ok) scene_free(&s);
 }

@@ -84,7 +84,8 @@ static bool parse(const char *text, scene *s, scene_error *err) {
 }
 
 /* Two degenerate faces, one in each half of the file: every other face comes in order at its
- * corners moved by (1, 2, 3), the two dropped, the first of them named. */
+ * corners moved by (1, 2, 3), the two dropped, the first of them named (corners mirrored into
+ * trazador's space: z negated, corners 0 2 1). */
 static void test_order_and_drops(void) {
     const int bad[2] = {1000, GRID_FACES - 7};
     const uint32_t line[2][3] = {{LINE_VERTEX, LINE_VERTEX + 1, LINE_VERTEX + 2},
@@ -105,9 +106,9 @@ static void test_order_and_drops(void) {
         if (f == bad[0] || f == bad[1]) continue;
         for (int c = 0; c < 3; c++) {
             float p[3];
-            vertex(grid_corner(f, c), p);
+            vertex(grid_corner(f, (3 - c) % 3), p);
             vec3 v = s.triangles[t].v[c];
-            wrong += v.x != p[0] + 1.0f || v.y != p[1] + 2.0f || v.z != p[2] + 3.0f;
+            wrong += v.x != p[0] + 1.0f || v.y != p[1] + 2.0f || v.z != -p[2] + 3.0f;
         }
         t++;
     }

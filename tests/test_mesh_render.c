@@ -13,7 +13,8 @@
 #define PI 3.14159265358979323846
 #define SIGMAS 4.5
 
-/* A glass slab (z from 5 to 5.2) whose front face's file normals lean 20 degrees about y bends a
+/* A glass slab (z from 5 to 5.2; in the right-handed file, -5 to -5.2, its normals' z negated
+ * and its faces wound the other way) whose front face's file normals lean 20 degrees about y bends a
  * camera ray d = +z about them, then about the back face's own normal (Snell's law twice, report
  * mode: glass always refracts): the pixels see a lit sphere placed on that ray; the same slab
  * without file normals (smooth on generates none across its right angles) passes the ray
@@ -29,17 +30,17 @@ static void test_glass_normals(void) {
     double exit_x = 0.2 * r1[0] / r1[2], target[3] = {exit_x, 0.0, 5.2};
     for (int a = 0; a < 3; a++) target[a] += 10.0 * r2[a] / sqrt(len);
     static const char *corners =
-        "v -1 -1 5\nv 1 -1 5\nv 1 1 5\nv -1 1 5\n"
-        "v -1 -1 5.2\nv 1 -1 5.2\nv 1 1 5.2\nv -1 1 5.2\n";
+        "v -1 -1 -5\nv 1 -1 -5\nv 1 1 -5\nv -1 1 -5\n"
+        "v -1 -1 -5.2\nv 1 -1 -5.2\nv 1 1 -5.2\nv -1 1 -5.2\n";
     char obj[1024], text[1024];
     snprintf(obj, sizeof obj,
-             "%svn %.6f 0 %.6f\nvn 0 0 1\nvn 0 -1 0\nvn 0 1 0\nvn -1 0 0\nvn 1 0 0\n"
-             "f 1//1 4//1 3//1 2//1\nf 5//2 6//2 7//2 8//2\nf 1//3 2//3 6//3 5//3\n"
-             "f 4//4 8//4 7//4 3//4\nf 1//5 5//5 8//5 4//5\nf 2//6 3//6 7//6 6//6\n",
-             corners, n[0], n[2]);
+             "%svn %.6f 0 %.6f\nvn 0 0 -1\nvn 0 -1 0\nvn 0 1 0\nvn -1 0 0\nvn 1 0 0\n"
+             "f 1//1 2//1 3//1 4//1\nf 5//2 8//2 7//2 6//2\nf 1//3 5//3 6//3 2//3\n"
+             "f 4//4 3//4 7//4 8//4\nf 1//5 4//5 8//5 5//5\nf 2//6 6//6 7//6 3//6\n",
+             corners, n[0], -n[2]);
     write_text("slab_lean.obj", obj);
     snprintf(obj, sizeof obj,
-             "%sf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n", corners);
+             "%sf 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 4 3 7 8\nf 1 4 8 5\nf 2 6 7 3\n", corners);
     write_text("slab.obj", obj);
     for (int lean_on = 0; lean_on < 2; lean_on++) {
         snprintf(text, sizeof text,

@@ -86,8 +86,13 @@ typedef struct gather_share {
     struct aiVector3D fail_value;
 } gather_share;
 
-/* Gathers a share's faces with their corners' normals (zero where the file gives none). */
+/* Gathers a share's faces with their corners' normals (zero where the file gives none), in
+ * trazador's left-handed space: model files are right-handed (OBJ, glTF, PLY, STL, COLLADA), so
+ * z and the normals' z are negated and each face's winding flipped (corners 0 2 1), as assimp's
+ * aiProcess_MakeLeftHanded with FlipWindingOrder would; a model's front (+Z) then faces a camera
+ * at -z looking along +z, its geometric normals still point where the file's did. */
 static void *gather_run(void *arg) {
+    static const int corner_of[3] = {0, 2, 1};
     gather_share *g = arg;
     mesh_face *mf = g->out + g->begin;
     size_t start = 0; /* mesh i's first face among all the triangle meshes' faces */
@@ -102,17 +107,17 @@ static void *gather_run(void *arg) {
             if (face->mNumIndices != 3) continue;
             mf->material = me->mMaterialIndex < g->sc->mNumMaterials ? (int)me->mMaterialIndex : -1;
             for (int k = 0; k < 3; k++) {
-                unsigned index = face->mIndices[k];
+                unsigned index = face->mIndices[corner_of[k]];
                 struct aiVector3D v = me->mVertices[index];
                 if (!isfinite(v.x) || !isfinite(v.y) || !isfinite(v.z)) {
                     g->failed = true;
                     g->fail_mesh = i, g->fail_index = index, g->fail_value = v;
                     break;
                 }
-                mf->v[k] = v3(v.x, v.y, v.z);
+                mf->v[k] = v3(v.x, v.y, -v.z);
                 struct aiVector3D n = me->mNormals ? me->mNormals[index] : (struct aiVector3D){0};
                 bool finite = isfinite(n.x) && isfinite(n.y) && isfinite(n.z);
-                mf->n[k] = finite ? v3(n.x, n.y, n.z) : v3(0, 0, 0);
+                mf->n[k] = finite ? v3(n.x, n.y, -n.z) : v3(0, 0, 0);
             }
             mf++;
             g->written++;

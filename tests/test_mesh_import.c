@@ -1,0 +1,148 @@
+/* test_mesh_import.c: what the import makes of model files as their makers meant them (issue
+ * 49): a right-handed model (an L of two boxes, OBJ and glTF) renders as the same faces written
+ * by hand in trazador's left-handed space, not mirrored. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "mesh_test.h"
+#include "tmp_dir.h"
+
+/* The L in the scene's space, as quads (corners in order around each face): a foot along +x,
+ * x -1 to 1, y -1 to -0.5, z -1 to 0, and an upright at its -x end, x -1 to -0.5, y -0.5 to 1,
+ * z -1 to -0.5 (the front half: nearer a camera at -z). All coordinates are exact in binary, so
+ * every reader parses them to the same floats. */
+#define L_QUADS 12
+static double l_quads[L_QUADS][4][3];
+
+/* The six faces of box lo..hi as quads. */
+static void box_quads(const double lo[3], const double hi[3], double (*out)[4][3]) {
+    static const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                    {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (int f = 0; f < 6; f++)
+        for (int k = 0; k < 4; k++) {
+            int c = faces[f][k];
+            out[f][k][0] = c & 1 ? hi[0] : lo[0];
+            out[f][k][1] = c & 2 ? hi[1] : lo[1];
+            out[f][k][2] = c & 4 ? hi[2] : lo[2];
+        }
+}
+
+/* The L's faces in the model file's right-handed space, converted by hand: z negated and each
+ * face wound the other way, so the scene's quad (q0 q1 q2 q3), triangles (q0 q1 q2) and
+ * (q0 q2 q3), is the file's triangles (m0 m2 m1) and (m0 m3 m2), m = q mirrored. */
+static void file_triangles(double out[2 * L_QUADS][3][3]) {
+    static const int order[2][3] = {{0, 2, 1}, {0, 3, 2}};
+    for (int q = 0; q < L_QUADS; q++)
+        for (int t = 0; t < 2; t++)
+            for (int k = 0; k < 3; k++) {
+                const double *c = l_quads[q][order[t][k]];
+                out[2 * q + t][k][0] = c[0];
+                out[2 * q + t][k][1] = c[1];
+                out[2 * q + t][k][2] = -c[2];
+            }
+}
+
+/* The L as l.obj and as l.gltf with l.bin (one buffer of float corners, no indices, no
+ * material). */
+static void write_l_files(void) {
+    const double foot_lo[3] = {-1, -1, -1}, foot_hi[3] = {1, -0.5, 0};
+    const double up_lo[3] = {-1, -0.5, -1}, up_hi[3] = {-0.5, 1, -0.5};
+    box_quads(foot_lo, foot_hi, l_quads);
+    box_quads(up_lo, up_hi, l_quads + 6);
+    double tri[2 * L_QUADS][3][3];
+    file_triangles(tri);
+    char obj[8192] = "# an L, right-handed: its upright stands at the front (+z)\n";
+    float bin[2 * L_QUADS * 9];
+    for (int t = 0; t < 2 * L_QUADS; t++)
+        for (int k = 0; k < 3; k++) {
+            size_t n = strlen(obj);
+            snprintf(obj + n, sizeof obj - n, "v %g %g %g\n", tri[t][k][0], tri[t][k][1],
+                     tri[t][k][2]);
+            for (int a = 0; a < 3; a++) bin[t * 9 + k * 3 + a] = (float)tri[t][k][a];
+        }
+    for (int t = 0; t < 2 * L_QUADS; t++) {
+        size_t n = strlen(obj);
+        snprintf(obj + n, sizeof obj - n, "f %d %d %d\n", 3 * t + 1, 3 * t + 2, 3 * t + 3);
+    }
+    write_text("l.obj", obj);
+    tmp_file_write(tmp_path("l.bin"), bin, sizeof bin);
+    char gltf[1024];
+    snprintf(gltf, sizeof gltf,
+             "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+             "\"nodes\":[{\"mesh\":0}],\"meshes\":[{\"primitives\":[{\"attributes\":"
+             "{\"POSITION\":0}}]}],\"buffers\":[{\"uri\":\"l.bin\",\"byteLength\":%zu}],"
+             "\"bufferViews\":[{\"buffer\":0,\"byteLength\":%zu}],\"accessors\":[{"
+             "\"bufferView\":0,\"componentType\":5126,\"count\":%d,\"type\":\"VEC3\","
+             "\"min\":[-1,-1,0],\"max\":[1,1,1]}]}\n",
+             sizeof bin, sizeof bin, 2 * L_QUADS * 3);
+    write_text("l.gltf", gltf);
+}
+
+#define L_HEADER                                                                           \
+    "camera position 0.5 0.5 -6 direction 0 0 1\nplane width 2 height 2 pixel 0.0625\n" \
+    "light position -1 3 -5 power 40\nrender samples 1\n"
+
+/* Renders text; false (checked) when it does not parse or render. */
+static bool render_text(const char *name, const char *text, film *f) {
+    scene s;
+    scene_error err;
+    bool ok = parse(text, 1, &s, &err);
+    CHECK(ok, "%s: %s", name, ok ? "" : err.message);
+    if (!ok) return false;
+    ok = render(&s, f);
+    CHECK(ok, "%s: render failed", name);
+    scene_free(&s);
+    return ok;
+}
+
+/* The L from OBJ and from glTF renders bit for bit as its quads written in the scene's space,
+ * the upright (x < -0.5) on the image's left, the foot reaching to its right. */
+static void test_handedness(void) {
+    write_l_files();
+    char quads[8192] = L_HEADER;
+    for (int q = 0; q < L_QUADS; q++) {
+        size_t n = strlen(quads);
+        n += (size_t)snprintf(quads + n, sizeof quads - n, "quad lambertian");
+        for (int k = 0; k < 4; k++)
+            n += (size_t)snprintf(quads + n, sizeof quads - n, " v%d %g %g %g", k,
+                                  l_quads[q][k][0], l_quads[q][k][1], l_quads[q][k][2]);
+        snprintf(quads + n, sizeof quads - n, "\n");
+    }
+    film want = {0};
+    if (!render_text("quads", quads, &want)) return;
+    /* the quads themselves: the upright's rows (y above -0.5) are lit on the left only */
+    int left = 0, right = 0;
+    for (int j = 0; j < want.height / 2; j++)
+        for (int i = 0; i < want.width; i++) {
+            const float *px = &want.accum[((size_t)j * want.width + i) * 4];
+            if (px[0] + px[1] + px[2] > 0.0f) *(i < want.width / 2 ? &left : &right) += 1;
+        }
+    CHECK(left > 0 && right == 0, "quads: the upright's rows: %d pixels lit left, %d right", left,
+          right);
+    const char *files[] = {"l.obj", "l.gltf"};
+    for (int k = 0; k < 2; k++) {
+        char text[512];
+        snprintf(text, sizeof text, L_HEADER "mesh lambertian file %s\n", files[k]);
+        film got = {0};
+        if (render_text(files[k], text, &got)) {
+            size_t bytes = (size_t)want.width * want.height * 4 * sizeof *want.accum;
+            CHECK(got.width == want.width && got.height == want.height &&
+                      !memcmp(got.accum, want.accum, bytes),
+                  "%s: not the image of its faces mirrored into the scene's space by hand",
+                  files[k]);
+        }
+        film_free(&got);
+    }
+    film_free(&want);
+}
+
+int main(void) {
+    if (!tmp_dir_make("test_mesh_import")) {
+        printf("cannot make a temporary folder\n");
+        return 1;
+    }
+    CHECK_CASE(test_handedness);
+    return check_summary("test_mesh_import");
+}
