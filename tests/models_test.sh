@@ -3,7 +3,8 @@
 # Eleven files in ten formats (OBJ with its MTL, FBX, ASCII STL, binary and ASCII PLY, glTF
 # binary, COLLADA, 3DS, Blender, DirectX, OFF) load with the face count assimp 5.2 gives them (the
 # spider holds the same 1312 faces in OBJ, FBX and STL), are seen from a camera framed for each,
-# and render the very same file on the CPU back end and on Vulkan with validation on. Malformed
+# and render the very same file on the CPU back end and on Vulkan with validation on; files
+# without materials (PLY, STL, OFF) render lambertian 0.8 grey. Malformed
 # and empty files are refused with file:line:col, exit 2, and leave an existing output untouched.
 # Exit 77 (skip) where assimp-testmodels is not installed; Vulkan agreement is skipped, with a
 # notice, where no Vulkan device exists (CI installs both).
@@ -74,6 +75,29 @@ model 3DS/fels.3ds 3 768
 model BLEND/BlenderDefault_276.blend 3 12
 model X/test.x 3 12
 model OFF/Cube.off 3 12
+
+# no_material FILE DISTANCE: a file without materials renders as the same file given lambertian
+# 0.8 grey (scenes/README.md), not as assimp's made-up material (for PLY and STL white with
+# specular 1, which became Phong ks 1 over white: more light out than in).
+no_material() {
+    local file=$1 distance=$2
+    scene_for "$file" "$distance" >"$tmp/own.scene"
+    scene_for "$file" "$distance" | sed 's/^mesh file /mesh lambertian color 0.8 0.8 0.8 file /' \
+        >"$tmp/grey.scene"
+    if ! "$tz" render "$tmp/own.scene" --backend cpu --spp 1 --quiet -o "$tmp/own.pfm" 2>/dev/null ||
+        ! "$tz" render "$tmp/grey.scene" --backend cpu --spp 1 --quiet -o "$tmp/grey.pfm" \
+            2>/dev/null; then
+        fail "$file: not rendered without a material"
+    elif ! cmp -s "$tmp/own.pfm" "$tmp/grey.pfm"; then
+        fail "$file: its made-up material is not lambertian 0.8 grey"
+        "$tz" diff "$tmp/own.pfm" "$tmp/grey.pfm" || true
+    fi
+}
+
+no_material PLY/Wuson.ply 3
+no_material PLY/cube_binary.ply 3
+no_material STL/Spider_ascii.stl 3
+no_material OFF/Cube.off 3
 
 # refused FILE: exit 2, the error at the mesh directive's file key, the old output kept.
 refused() {

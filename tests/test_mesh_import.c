@@ -1,6 +1,7 @@
 /* test_mesh_import.c: what the import makes of model files as their makers meant them (issue
  * 49): a right-handed model (an L of two boxes, OBJ and glTF) renders as the same faces written
- * by hand in trazador's left-handed space, not mirrored. */
+ * by hand in trazador's left-handed space, not mirrored; files without materials get lambertian
+ * 0.8 grey. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -138,11 +139,59 @@ static void test_handedness(void) {
     film_free(&want);
 }
 
+/* The material of the first face of `mesh file NAME`; false (checked) when it does not parse. */
+static bool first_material(const char *name, shape_material *out) {
+    char text[256];
+    snprintf(text, sizeof text, L_HEADER "mesh file %s\n", name);
+    scene s;
+    scene_error err;
+    bool ok = parse(text, 1, &s, &err);
+    CHECK(ok, "%s: %s", name, ok ? "" : err.message);
+    if (!ok) return false;
+    *out = *triangle_material(&s, &s.triangles[0]);
+    scene_free(&s);
+    return true;
+}
+
+/* Files without materials (PLY, STL, OFF, OBJ without MTL, glTF without one) get the README's
+ * lambertian 0.8 grey, not assimp's made-up material (PLY, STL: white with specular 1, which
+ * became Phong ks 1 over white); a material of the file's own is mapped, even white. */
+static void test_no_material(void) {
+    write_l_files();
+    write_text("bare.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                           "property float y\nproperty float z\nelement face 1\n"
+                           "property list uchar int vertex_indices\nend_header\n"
+                           "0 0 1\n1 0 1\n0 1 1\n3 0 1 2\n");
+    write_text("bare.stl", "solid t\nfacet normal 0 0 -1\nouter loop\nvertex 0 0 1\n"
+                           "vertex 0 1 1\nvertex 1 0 1\nendloop\nendfacet\nendsolid t\n");
+    write_text("bare.off", "OFF\n3 1 0\n0 0 1\n1 0 1\n0 1 1\n3 0 1 2\n");
+    write_text("bare.obj", "v 0 0 1\nv 1 0 1\nv 0 1 1\nf 1 2 3\n");
+    write_text("white.mtl", "newmtl white\nKd 1 1 1\nKs 1 1 1\nNs 10\n");
+    write_text("white.obj", "mtllib white.mtl\nv 0 0 1\nv 1 0 1\nv 0 1 1\nusemtl white\n"
+                            "f 1 2 3\n");
+    const char *bare[] = {"bare.ply", "bare.stl", "bare.off", "bare.obj", "l.gltf"};
+    for (size_t k = 0; k < sizeof bare / sizeof bare[0]; k++) {
+        shape_material m;
+        if (!first_material(bare[k], &m)) continue;
+        CHECK(m.material == TZ_MATERIAL_LAMBERTIAN && m.color.x == 0.8f && m.color.y == 0.8f &&
+                  m.color.z == 0.8f && m.ks == 0.0f,
+              "%s: material %d colour %g %g %g ks %g, want lambertian 0.8", bare[k],
+              (int)m.material, (double)m.color.x, (double)m.color.y, (double)m.color.z,
+              (double)m.ks);
+    }
+    shape_material m;
+    if (first_material("white.obj", &m))
+        CHECK(m.material == TZ_MATERIAL_PHONG && m.color.x == 1.0f && m.ks == 1.0f,
+              "white.obj: its own material became %d colour %g ks %g", (int)m.material,
+              (double)m.color.x, (double)m.ks);
+}
+
 int main(void) {
     if (!tmp_dir_make("test_mesh_import")) {
         printf("cannot make a temporary folder\n");
         return 1;
     }
     CHECK_CASE(test_handedness);
+    CHECK_CASE(test_no_material);
     return check_summary("test_mesh_import");
 }

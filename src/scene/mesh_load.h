@@ -11,12 +11,13 @@
 
 #include "scene/scene.h"
 
-/* A material of the file as trazador renders it. */
+/* A material of the file as trazador renders it, and its name in the file (for messages). */
 typedef struct mesh_material {
     material_kind kind;
     vec3 color;
     float ks, alpha, ior;
     vec3 emission;
+    char name[64];
 } mesh_material;
 
 /* The most files of one model whose identities are kept (scene_input): a model and its MTL, or

@@ -86,9 +86,19 @@ static void note_textures(const assimp_lib *ai, const struct aiMaterial *m, char
     }
 }
 
+/* Whether c is grey of level v, exactly. */
+static bool grey(vec3 c, float v) { return c.x == v && c.y == v && c.z == v; }
+
+/* The material every face of a file without materials gets: the README's lambertian 0.8 grey. */
+static mesh_material no_material(void) {
+    return (mesh_material){
+        .kind = TZ_MATERIAL_LAMBERTIAN, .color = v3(0.8f, 0.8f, 0.8f), .ior = 1.0f};
+}
+
 /* The file's material as trazador's (scenes/README.md, `mesh`, has the table); a value it
  * refuses is said in r->bad. */
-static mesh_material map_material(material_reader *r, char *unsupported, size_t size) {
+static mesh_material map_material(material_reader *r, const char *name, char *unsupported,
+                                  size_t size) {
     const struct aiMaterial *m = r->m;
     bool has_kd, has_ks, has_ns, has_ni, has_d, has_base, has_metal, has_rough, has_trans, found;
     vec3 kd = color_of(r, "diffuse colour (Kd)", AI_MATKEY_COLOR_DIFFUSE, &has_kd);
@@ -104,6 +114,19 @@ static mesh_material map_material(material_reader *r, char *unsupported, size_t 
         float_of(r, "transmission factor", AI_MATKEY_TRANSMISSION_FACTOR, 0.0f, &has_trans);
     int illum = 2;
     r->ai->get_material_integer_array(m, AI_MATKEY_OBJ_ILLUM, &illum, NULL);
+    /* A material assimp made up for faces the file gives none: named AI_DEFAULT_MATERIAL_NAME
+     * (STL: diffuse and specular 1; OBJ without MTL: diffuse 0.6), or unnamed with a loader's
+     * own values (PLY: diffuse and specular 1; OFF: diffuse 0.6; glTF's default: base colour,
+     * metallic and roughness 1). Mapped, the first made Phong ks 1 over white: more light out
+     * than in, fireflies in path mode. */
+    bool unnamed = !name[0];
+    if (!strcmp(name, AI_DEFAULT_MATERIAL_NAME) ||
+        (unnamed && !has_base && !has_metal && has_kd && grey(kd, 1.0f) && has_ks &&
+         grey(ks, 1.0f)) ||
+        (unnamed && !has_base && !has_metal && has_kd && grey(kd, 0.6f) && !has_ks) ||
+        (unnamed && has_base && grey(base, 1.0f) && metallic == 1.0f && roughness == 1.0f &&
+         grey(ke, 0.0f)))
+        return no_material();
     note_textures(r->ai, m, unsupported, size);
     vec3 color = has_base ? base : has_kd ? kd : v3(0.8f, 0.8f, 0.8f);
     color = v3(clamp01(color.x), clamp01(color.y), clamp01(color.z));
@@ -155,11 +178,12 @@ bool mesh_map_material(const assimp_lib *ai, const struct aiMaterial *m, unsigne
                        mesh_material *out, char *unsupported, size_t size, char *error,
                        size_t error_size) {
     material_reader r = {.ai = ai, .m = m};
-    *out = map_material(&r, unsupported, size);
-    if (!r.bad[0]) return true;
     struct aiString name = {0};
     ai->get_material_string(m, AI_MATKEY_NAME, &name);
     name.data[name.length < sizeof name.data ? name.length : sizeof name.data - 1] = '\0';
+    *out = map_material(&r, name.data, unsupported, size);
+    snprintf(out->name, sizeof out->name, "%.*s", (int)sizeof out->name - 1, name.data);
+    if (!r.bad[0]) return true;
     if (name.data[0])
         snprintf(error, error_size, "material '%s': %s", name.data, r.bad);
     else
