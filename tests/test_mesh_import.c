@@ -1,7 +1,8 @@
 /* test_mesh_import.c: what the import makes of model files as their makers meant them (issue
  * 49): a right-handed model (an L of two boxes, OBJ and glTF) renders as the same faces written
  * by hand in trazador's left-handed space, not mirrored; files without materials get lambertian
- * 0.8 grey. */
+ * 0.8 grey; mapped materials reflect at most what they receive, or warn. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -45,6 +46,20 @@ static void file_triangles(double out[2 * L_QUADS][3][3]) {
             }
 }
 
+/* The L's glTF text, its primitive of material 0 of `materials` (a JSON array) when given. */
+static void gltf_text(char *out, size_t size, const char *materials) {
+    size_t bytes = 2 * L_QUADS * 9 * sizeof(float);
+    snprintf(out, size,
+             "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+             "\"nodes\":[{\"mesh\":0}],\"meshes\":[{\"primitives\":[{\"attributes\":"
+             "{\"POSITION\":0}%s}]}],%s%s%s\"buffers\":[{\"uri\":\"l.bin\",\"byteLength\":%zu}],"
+             "\"bufferViews\":[{\"buffer\":0,\"byteLength\":%zu}],\"accessors\":[{"
+             "\"bufferView\":0,\"componentType\":5126,\"count\":%d,\"type\":\"VEC3\","
+             "\"min\":[-1,-1,0],\"max\":[1,1,1]}]}\n",
+             materials ? ",\"material\":0" : "", materials ? "\"materials\":" : "",
+             materials ? materials : "", materials ? "," : "", bytes, bytes, 2 * L_QUADS * 3);
+}
+
 /* The L as l.obj and as l.gltf with l.bin (one buffer of float corners, no indices, no
  * material). */
 static void write_l_files(void) {
@@ -69,15 +84,8 @@ static void write_l_files(void) {
     }
     write_text("l.obj", obj);
     tmp_file_write(tmp_path("l.bin"), bin, sizeof bin);
-    char gltf[1024];
-    snprintf(gltf, sizeof gltf,
-             "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
-             "\"nodes\":[{\"mesh\":0}],\"meshes\":[{\"primitives\":[{\"attributes\":"
-             "{\"POSITION\":0}}]}],\"buffers\":[{\"uri\":\"l.bin\",\"byteLength\":%zu}],"
-             "\"bufferViews\":[{\"buffer\":0,\"byteLength\":%zu}],\"accessors\":[{"
-             "\"bufferView\":0,\"componentType\":5126,\"count\":%d,\"type\":\"VEC3\","
-             "\"min\":[-1,-1,0],\"max\":[1,1,1]}]}\n",
-             sizeof bin, sizeof bin, 2 * L_QUADS * 3);
+    char gltf[2048];
+    gltf_text(gltf, sizeof gltf, NULL);
     write_text("l.gltf", gltf);
 }
 
@@ -186,6 +194,67 @@ static void test_no_material(void) {
               (double)m.color.x, (double)m.ks);
 }
 
+#define PATH_HEADER                                                              \
+    "camera position 0.5 0.5 -6 direction 0 0 1\nplane width 2 height 2 pixel 0.25\n" \
+    "render mode path samples 1\n"
+
+/* The scene of `mesh file NAME` in path mode; false (checked) when it does not parse. */
+static bool parse_path_mode(const char *name, scene *s) {
+    char text[256];
+    snprintf(text, sizeof text, PATH_HEADER "mesh file %s\n", name);
+    scene_error err;
+    bool ok = parse(text, 1, s, &err);
+    CHECK(ok, "%s: %s", name, ok ? "" : err.message);
+    return ok;
+}
+
+/* glTF's metallic-roughness factors map to Phong with max(color) + ks at most 1: a metal
+ * reflects its base colour's mean and diffuses nothing (it kept its base colour as diffuse and
+ * added ks 1), a dielectric reflects 0.04 and diffuses 0.96 of its base colour; none warns. A
+ * file's Phong material above 1 (MTL Kd 0.8, Ks 0.5) warns in path mode, naming it. */
+static void test_bright_materials(void) {
+    write_l_files();
+    const float bases[2][3] = {{1, 1, 1}, {0.9f, 0.6f, 0.2f}}, metals[3] = {0, 0.5f, 1};
+    for (int b = 0; b < 2; b++)
+        for (int k = 0; k < 3; k++) {
+            char materials[256], gltf[2048];
+            snprintf(materials, sizeof materials,
+                     "[{\"name\":\"m\",\"pbrMetallicRoughness\":{\"baseColorFactor\":"
+                     "[%g,%g,%g,1],\"metallicFactor\":%g,\"roughnessFactor\":0.5}}]",
+                     (double)bases[b][0], (double)bases[b][1], (double)bases[b][2],
+                     (double)metals[k]);
+            gltf_text(gltf, sizeof gltf, materials);
+            write_text("metal.gltf", gltf);
+            scene s;
+            if (!parse_path_mode("metal.gltf", &s)) continue;
+            const shape_material *m = triangle_material(&s, &s.triangles[0]);
+            float most = fmaxf(m->color.x, fmaxf(m->color.y, m->color.z)),
+                  mean = (bases[b][0] + bases[b][1] + bases[b][2]) / 3.0f;
+            CHECK(m->material == TZ_MATERIAL_PHONG && most + m->ks <= 1.0f + 1e-6f,
+                  "base %g metallic %g: max(color) %g + ks %g above 1", (double)bases[b][1],
+                  (double)metals[k], (double)most, (double)m->ks);
+            if (metals[k] == 1.0f)
+                CHECK(most == 0.0f && fabsf(m->ks - mean) < 1e-6f,
+                      "metal of base mean %g: color %g, ks %g", (double)mean, (double)most,
+                      (double)m->ks);
+            CHECK(s.warning_count == 0, "base %g metallic %g: warned %s", (double)bases[b][1],
+                  (double)metals[k], s.warning_count ? s.warnings[0].message : "");
+            scene_free(&s);
+        }
+    write_text("shiny.mtl", "newmtl shiny\nKd 0.8 0.8 0.8\nKs 0.5 0.5 0.5\nNs 20\n");
+    write_text("shiny.obj", "mtllib shiny.mtl\nv 0 0 1\nv 1 0 1\nv 0 1 1\nusemtl shiny\n"
+                            "f 1 2 3\n");
+    scene s;
+    if (parse_path_mode("shiny.obj", &s)) {
+        CHECK(s.warning_count == 1 && s.warnings[0].line == 4 && s.warnings[0].col == 11 &&
+                  strstr(s.warnings[0].message, "shiny.obj': its material 'shiny': max(color) "
+                                                "0.8 + ks 0.5 = 1.3 is above 1"),
+              "shiny.obj: %d warnings: %s", s.warning_count,
+              s.warning_count ? s.warnings[0].message : "");
+        scene_free(&s);
+    }
+}
+
 int main(void) {
     if (!tmp_dir_make("test_mesh_import")) {
         printf("cannot make a temporary folder\n");
@@ -193,5 +262,6 @@ int main(void) {
     }
     CHECK_CASE(test_handedness);
     CHECK_CASE(test_no_material);
+    CHECK_CASE(test_bright_materials);
     return check_summary("test_mesh_import");
 }

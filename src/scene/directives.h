@@ -98,6 +98,11 @@ bool shape_read(parser *p, const shape_spec *shape, const material_spec **materi
 shape_material shape_material_of(parser *p, const shape_spec *shape, const material_spec *m,
                                  const key_values *kv);
 
+/* Records, if it is the first, a Phong material (colour, ks) that reflects more light than it
+ * receives (max(colour) + ks above 1) at column col of the line, `what` describing it for the
+ * path-mode warning (scene_parse.c). */
+void phong_note_bright(parser *p, int col, vec3 color, float ks, const char *what);
+
 /* True, with the reason in why, unless face a b c is one the renderer can normalize in single
  * precision; `what` names the face in the reason. */
 bool face_problem(vec3 a, vec3 b, vec3 c, const char *what, char *why, size_t size);

@@ -13,6 +13,8 @@
 #define MIRROR_KS 0.95f
 /* glTF: metallic 1 and roughness under this is a mirror. */
 #define MIRROR_ROUGHNESS 0.05f
+/* glTF: what a dielectric (metallic 0) reflects at normal incidence. */
+#define DIELECTRIC_KS 0.04f
 /* The largest Phong exponent a roughness maps to (roughness 0 would be infinite). */
 #define MAX_ALPHA 10000.0f
 
@@ -151,11 +153,15 @@ static mesh_material map_material(material_reader *r, const char *name, char *un
             out.kind = TZ_MATERIAL_MIRROR;
             return out;
         }
-        /* Dielectrics reflect 4% at normal incidence, metals their colour's mean; the Phong lobe
-         * of exponent 2 / r^4 - 2 is as wide as GGX's of alpha r^2. */
+        /* Dielectrics reflect 4% at normal incidence and diffuse the rest, metals reflect their
+         * colour's mean and diffuse nothing, so max(color) + ks stays at most 1 (Phong's ks is
+         * grey: a metal's tint is lost); the Phong lobe of exponent 2 / r^4 - 2 is as wide as
+         * GGX's of alpha r^2. */
         out.kind = TZ_MATERIAL_PHONG;
-        float r = fmaxf(clamp01(roughness), 1e-3f);
-        out.ks = 0.04f + 0.96f * clamp01(metallic);
+        float r = fmaxf(clamp01(roughness), 1e-3f), metal = clamp01(metallic);
+        float diffuse = (1.0f - metal) * (1.0f - DIELECTRIC_KS);
+        out.color = v3(color.x * diffuse, color.y * diffuse, color.z * diffuse);
+        out.ks = DIELECTRIC_KS * (1.0f - metal) + metal * (color.x + color.y + color.z) / 3.0f;
         out.alpha = fminf(2.0f / (r * r * r * r) - 2.0f, MAX_ALPHA);
         return out;
     }

@@ -75,6 +75,10 @@ typedef struct parser {
     int indirect_col;      /* of render's indirect key, the same */
     bool tiny_warned;
     int emission_line, emission_col; /* the first emission (sphere or face): report mode refuses */
+    /* The first Phong material whose max(color) + ks is above 1 (a line's or a file's), said in
+     * path mode once the whole text is read: its line, column and description. */
+    int bright_line, bright_col;
+    char bright_what[320];
     int mode_given;                  /* the render's mode from the command line; -1: the scene's */
     /* A chunk parsed ahead: any directive but sphere, triangle and quad stops it. */
     bool primitives_only;

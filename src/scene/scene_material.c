@@ -8,6 +8,9 @@
 #include "scene/parser.h"
 
 #define MATERIAL_COMMON_KEYS (BIT(MAT_COLOR) | BIT(MAT_EMISSION))
+/* max(color) + ks may pass 1 by this before it warns: float rounding of values that sum to 1
+ * (0.7 and 0.3, glTF's mapped 0.96 base and 0.04). */
+#define BRIGHT_SLACK 1e-6f
 
 /* The seed's Spanish names last: messages list them apart, as aliases (material_list). */
 static const material_spec materials[] = {
@@ -76,8 +79,21 @@ bool shape_read(parser *p, const shape_spec *shape, const material_spec **materi
            parser_require_keys(p, shape->word, shape->keys, shape->key_count, shape->required, kv);
 }
 
+void phong_note_bright(parser *p, int col, vec3 color, float ks, const char *what) {
+    float most = color.x > color.y ? color.x : color.y;
+    most = most > color.z ? most : color.z;
+    if (p->bright_line || !(most + ks > 1.0f + BRIGHT_SLACK)) return;
+    p->bright_line = p->line;
+    p->bright_col = col;
+    snprintf(p->bright_what, sizeof p->bright_what,
+             "%s: max(color) %g + ks %g = %g is above 1, so it reflects more light than it "
+             "receives",
+             what, (double)most, (double)ks, (double)(most + ks));
+}
+
 /* The material of a shape's line, defaults filled in; records the first emission, which seed
- * mode refuses once the whole text is read (render mode may come later). */
+ * mode refuses once the whole text is read (render mode may come later), and the first Phong
+ * material brighter than the light it receives. */
 shape_material shape_material_of(parser *p, const shape_spec *shape, const material_spec *m,
                                  const key_values *kv) {
     int k = shape->material_first;
@@ -87,7 +103,7 @@ shape_material shape_material_of(parser *p, const shape_spec *shape, const mater
         p->emission_line = p->line;
         p->emission_col = p->tokens[kv->key_token[k + MAT_EMISSION]].col;
     }
-    return (shape_material){
+    shape_material out = {
         .material = m->kind,
         .color = parser_vec3(kv, k + MAT_COLOR, v3(c, c, c)),
         .ks = phong ? (float)parser_value_or(kv, k + MAT_KS, 0.5) : 0.0f,
@@ -96,4 +112,12 @@ shape_material shape_material_of(parser *p, const shape_spec *shape, const mater
             (float)parser_value_or(kv, k + MAT_IOR, m->kind == TZ_MATERIAL_REFRACTIVE ? 1.5 : 1.0),
         .emission = parser_vec3(kv, k + MAT_EMISSION, v3(0, 0, 0)),
     };
+    if (phong) {
+        int key = kv->given & BIT(k + MAT_KS) ? k + MAT_KS : k + MAT_COLOR;
+        int col = kv->given & BIT(key) ? p->tokens[kv->key_token[key]].col : p->tokens[1].col;
+        char what[64];
+        snprintf(what, sizeof what, "%s phong", shape->word);
+        phong_note_bright(p, col, out.color, out.ks, what);
+    }
+    return out;
 }

@@ -255,10 +255,11 @@ static bool transform_faces(mesh *me, const mesh_transform *xf, bool smooth, siz
 }
 
 /* Appends the mesh's first `kept` faces, of material *given or else each of its file's, a file
- * material added to the scene's when a face first takes it; *emits says whether one emits. False
+ * material added to the scene's when a face first takes it (a Phong one brighter than the light
+ * it receives noted, by its name, for path mode's warning); *emits says whether one emits. False
  * (reported) out of memory. */
 static bool add_faces(parser *p, const mesh *me, size_t kept, const shape_material *given,
-                      bool *emits) {
+                      const char *path, int col, bool *emits) {
     uint32_t material = 0, *mapped = NULL; /* mapped[k]: the scene's index of file material k */
     if (given && !face_material(p, given, &material)) return false;
     if (!given) {
@@ -278,6 +279,12 @@ static bool add_faces(parser *p, const mesh *me, size_t kept, const shape_materi
             if (mapped[slot] == UINT32_MAX) {
                 shape_material s = mapped_material(me, face->material);
                 *emits |= shape_material_emits(&s);
+                if (s.material == TZ_MATERIAL_PHONG) {
+                    char what[PATH_MAX + 96];
+                    snprintf(what, sizeof what, "mesh '%s': its material '%s'", path,
+                             me->materials[face->material].name);
+                    phong_note_bright(p, col, s.color, s.ks, what);
+                }
                 if (!face_material(p, &s, &mapped[slot])) {
                     free(mapped);
                     return false;
@@ -423,7 +430,7 @@ bool directive_mesh(parser *p) {
     }
     int room = kept > (size_t)INT_MAX / 2 ? INT_MAX / 2 : (int)kept;
     if (!faces_reserve(p, room) || (smooth && !normals_reserve(p, room)) ||
-        !add_faces(p, &me, kept, m ? &given : NULL, &emits)) {
+        !add_faces(p, &me, kept, m ? &given : NULL, path, file->col, &emits)) {
         mesh_free(&me);
         return false;
     }

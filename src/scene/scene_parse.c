@@ -175,6 +175,11 @@ static bool chunk_adopt(parser *p, const chunk *c) {
         p->emission_line = c->p->emission_line + p->line - 1;
         p->emission_col = c->p->emission_col;
     }
+    if (c->p->bright_line && !p->bright_line) {
+        p->bright_line = c->p->bright_line + p->line - 1;
+        p->bright_col = c->p->bright_col;
+        memcpy(p->bright_what, c->p->bright_what, sizeof p->bright_what);
+    }
     p->line += c->p->line - 1;
     return true;
 }
@@ -286,6 +291,13 @@ static bool parse_text(parser *p, int threads) {
         parser_warn(p, p->render_line, p->light_samples_col,
                     "light_samples does nothing in report mode: it is path mode's emitter samples "
                     "a vertex");
+    /* Paths multiply their throughput by the albedo at every bounce: above 1 they gain energy
+     * (fireflies, a furnace that never settles). Report mode's one bounce is the course report's
+     * own model, whose scenes (the default among them) use such materials as they are. */
+    if (p->bright_line && mode == RENDER_MODE_PATH)
+        parser_warn(p, p->bright_line, p->bright_col,
+                    "%s (keep max(color) + ks at most 1: path mode's light grows at every bounce)",
+                    p->bright_what);
     parser_warn_near_clip(p);
     return true;
 }
