@@ -4,7 +4,8 @@
 # binary, COLLADA, 3DS, Blender, DirectX, OFF) load with the face count assimp 5.2 gives them (the
 # spider holds the same 1312 faces in OBJ, FBX and STL), are seen from a camera framed for each,
 # and render the very same file on the CPU back end and on Vulkan with validation on; files
-# without materials (PLY, STL, OFF) render lambertian 0.8 grey. Malformed
+# without materials (PLY, STL, OFF) render lambertian 0.8 grey; as glass, closed files render and
+# open ones are refused naming their first open part. Malformed
 # and empty files are refused with file:line:col, exit 2, and leave an existing output untouched.
 # Exit 77 (skip) where assimp-testmodels is not installed; Vulkan agreement is skipped, with a
 # notice, where no Vulkan device exists (CI installs both).
@@ -98,6 +99,29 @@ no_material PLY/Wuson.ply 3
 no_material PLY/cube_binary.ply 3
 no_material STL/Spider_ascii.stl 3
 no_material OFF/Cube.off 3
+
+# glass FILE [MESSAGE]: the file as glass (`mesh refractive`) renders, or with MESSAGE is refused
+# (exit 2) naming its first open part: glass is checked part by part (parts joined by edges).
+glass() {
+    local file=$1 want=${2:-} out rc=0
+    scene_for "$file" 3 | sed 's/^mesh file /mesh refractive file /' >"$tmp/glass.scene"
+    out=$("$tz" render "$tmp/glass.scene" --backend cpu --spp 1 -o "$tmp/glass.pfm" 2>&1) || rc=$?
+    if [ -z "$want" ]; then
+        [ $rc = 0 ] || fail "$file as glass: exit $rc: $out"
+    else
+        [ $rc = 2 ] || fail "$file as glass: exit $rc, expected 2"
+        grep -qF "$want" <<<"$out" || fail "$file as glass: '$want' not in: $out"
+    fi
+}
+
+glass PLY/cube_binary.ply
+glass OFF/Cube.off
+glass STL/sphereWithHole.stl "a refractive part is not closed: 285 faces of material \
+'DefaultMaterial' from face 1, between 0 0 0 and 3 3 3; its edge"
+# Wuson's first 1641 faces are closed parts; the first open one is named
+glass PLY/Wuson.ply "a refractive part is not closed: 60 faces of material 0 (unnamed) from \
+face 1642,"
+glass OBJ/spider.obj "a refractive part is not closed: 90 faces of material 'Skin' from face 61,"
 
 # refused FILE: exit 2, the error at the mesh directive's file key, the old output kept.
 refused() {

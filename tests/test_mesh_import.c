@@ -1,7 +1,8 @@
 /* test_mesh_import.c: what the import makes of model files as their makers meant them (issue
  * 49): a right-handed model (an L of two boxes, OBJ and glTF) renders as the same faces written
  * by hand in trazador's left-handed space, not mirrored; files without materials get lambertian
- * 0.8 grey; mapped materials reflect at most what they receive, or warn. */
+ * 0.8 grey; mapped materials reflect at most what they receive, or warn; glass is checked part
+ * by part. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -255,6 +256,119 @@ static void test_bright_materials(void) {
     }
 }
 
+/* An octahedron of radius r about (x, y, z) in OBJ (its vertices from `first`, 1-based), wound
+ * outward; then an open square (two faces) of material `floor_material` under it. */
+static size_t octahedron(char *out, size_t size, double x, double y, double z, double r,
+                         int first, const char *material) {
+    static const int faces[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                    {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+    size_t n = (size_t)snprintf(out, size,
+                                "usemtl %s\nv %g %g %g\nv %g %g %g\nv %g %g %g\nv %g %g %g\n"
+                                "v %g %g %g\nv %g %g %g\n",
+                                material, x + r, y, z, x - r, y, z, x, y + r, z, x, y - r, z, x,
+                                y, z + r, x, y, z - r);
+    for (int f = 0; f < 8; f++)
+        n += (size_t)snprintf(out + n, size - n, "f %d %d %d\n", first + faces[f][0],
+                              first + faces[f][2], first + faces[f][1]);
+    return n;
+}
+
+/* Six times the signed volume the scene's triangles bound (positive: wound outward). */
+static double scene_volume(const scene *s) {
+    double volume = 0;
+    for (int t = 0; t < s->triangle_count; t++) {
+        const vec3 *v = s->triangles[t].v;
+        volume += v[0].x * ((double)v[1].y * v[2].z - (double)v[1].z * v[2].y) +
+                  v[0].y * ((double)v[1].z * v[2].x - (double)v[1].x * v[2].z) +
+                  v[0].z * ((double)v[1].x * v[2].y - (double)v[1].y * v[2].x);
+    }
+    return volume;
+}
+
+/* Glass is checked part by part: a closed glass ball beside an open floor in one file loads (OBJ
+ * and glTF), an open glass pane beside it is refused naming its material, faces and box, and a
+ * closed part is wound outward whatever the line's transform (a mirroring scale too). */
+static void test_glass_parts(void) {
+    write_l_files();
+    write_text("parts.mtl", "newmtl glass\nKd 1 1 1\nd 0.1\nNi 1.5\n"
+                            "newmtl floor\nKd 0.5 0.5 0.5\n");
+    char obj[4096] = "mtllib parts.mtl\n";
+    size_t n = strlen(obj);
+    n += octahedron(obj + n, sizeof obj - n, 0, 0, -4, 1, 1, "glass");
+    snprintf(obj + n, sizeof obj - n,
+             "usemtl floor\nv -5 -1 -9\nv 5 -1 -9\nv 5 -1 1\nv -5 -1 1\nf 7 8 9 10\n");
+    write_text("ball_floor.obj", obj);
+    n = strlen("mtllib parts.mtl\n");
+    n += octahedron(obj + n, sizeof obj - n, 0, 0, -4, 1, 1, "glass");
+    snprintf(obj + n, sizeof obj - n, "v -5 -1 -9\nv 5 -1 -9\nv 5 -1 1\nv -5 -1 1\nf 7 8 9 10\n");
+    write_text("ball_pane.obj", obj);
+    const char *good[] = {"mesh file ball_floor.obj", "mesh file ball_floor.obj scale -1 2 1",
+                          "mesh refractive file ball_floor.obj scale 1 -1 1 ior 1.3"};
+    for (int k = 0; k < 3; k++) {
+        char text[512];
+        snprintf(text, sizeof text, PATH_HEADER "%s\n", good[k]);
+        scene s;
+        scene_error err;
+        bool ok = parse(text, 1, &s, &err);
+        if (k == 2) {
+            CHECK(!ok && err.line == 4 && err.col == 22 &&
+                      strstr(err.message, "ball_floor.obj': a refractive part is not closed: 2 "
+                                          "faces of material 'floor' from face 9, between -5 -1 "
+                                          "-9 and 5 -1 1;"),
+                  "all glass, the floor open: %s", ok ? "parsed" : err.message);
+        } else {
+            CHECK(ok && s.triangle_count == 10, "%s: %s", good[k], ok ? "" : err.message);
+        }
+        if (!ok) continue;
+        /* the ball alone: its eight faces wound outward */
+        s.triangle_count = 8;
+        CHECK(scene_volume(&s) > 0.0, "%s: the glass ball is wound inward", good[k]);
+        s.triangle_count = 10;
+        scene_free(&s);
+    }
+    scene s;
+    scene_error err;
+    bool ok = parse(PATH_HEADER "mesh file ball_pane.obj\n", 1, &s, &err);
+    CHECK(!ok && strstr(err.message, "a refractive part is not closed: 2 faces of material "
+                                     "'glass' from face 9, between -5 -1 -9 and 5 -1 1; its edge"),
+          "an open glass pane: %s", ok ? "parsed" : err.message);
+    if (ok) scene_free(&s);
+    /* glTF: the L's two boxes of glass (KHR_materials_transmission), each closed, and an open
+     * floor of its own material in a second primitive */
+    float floor[6][3] = {{-5, -1, -9}, {5, -1, -9}, {5, -1, 1}, {-5, -1, -9}, {5, -1, 1}, {-5, -1, 1}};
+    tmp_file_write(tmp_path("floor.bin"), floor, sizeof floor);
+    char gltf[4096];
+    size_t bytes = 2 * L_QUADS * 9 * sizeof(float);
+    snprintf(gltf, sizeof gltf,
+             "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":"
+             "[\"KHR_materials_transmission\"],\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+             "\"nodes\":[{\"mesh\":0}],\"meshes\":[{\"primitives\":["
+             "{\"attributes\":{\"POSITION\":0},\"material\":0},"
+             "{\"attributes\":{\"POSITION\":1},\"material\":1}]}],"
+             "\"materials\":[{\"name\":\"glass\",\"extensions\":{\"KHR_materials_transmission\":"
+             "{\"transmissionFactor\":1}}},{\"name\":\"floor\",\"pbrMetallicRoughness\":"
+             "{\"metallicFactor\":0}}],"
+             "\"buffers\":[{\"uri\":\"l.bin\",\"byteLength\":%zu},"
+             "{\"uri\":\"floor.bin\",\"byteLength\":%zu}],"
+             "\"bufferViews\":[{\"buffer\":0,\"byteLength\":%zu},{\"buffer\":1,"
+             "\"byteLength\":%zu}],\"accessors\":[{\"bufferView\":0,\"componentType\":5126,"
+             "\"count\":%d,\"type\":\"VEC3\",\"min\":[-1,-1,0],\"max\":[1,1,1]},"
+             "{\"bufferView\":1,\"componentType\":5126,\"count\":6,\"type\":\"VEC3\","
+             "\"min\":[-5,-1,-9],\"max\":[5,-1,1]}]}\n",
+             bytes, sizeof floor, bytes, sizeof floor, 2 * L_QUADS * 3);
+    write_text("glass_floor.gltf", gltf);
+    ok = parse(PATH_HEADER "mesh file glass_floor.gltf\n", 1, &s, &err);
+    CHECK(ok && s.triangle_count == 2 * L_QUADS + 2, "glTF glass beside a floor: %s",
+          ok ? "" : err.message);
+    if (ok) {
+        int glass = 0;
+        for (int t = 0; t < s.triangle_count; t++)
+            glass += triangle_material(&s, &s.triangles[t])->material == TZ_MATERIAL_REFRACTIVE;
+        CHECK(glass == 2 * L_QUADS, "glTF glass beside a floor: %d glass faces", glass);
+        scene_free(&s);
+    }
+}
+
 int main(void) {
     if (!tmp_dir_make("test_mesh_import")) {
         printf("cannot make a temporary folder\n");
@@ -263,5 +377,6 @@ int main(void) {
     CHECK_CASE(test_handedness);
     CHECK_CASE(test_no_material);
     CHECK_CASE(test_bright_materials);
+    CHECK_CASE(test_glass_parts);
     return check_summary("test_mesh_import");
 }

@@ -49,16 +49,35 @@ typedef struct mesh {
  * a non-finite position; *out is then empty. */
 bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t error_size);
 /* A corner's position as its coordinates' bits, -0 and +0 one position: corners are the same
- * where these are (mesh_closed, mesh_smooth_normals). */
+ * where these are (mesh_glass_parts, mesh_smooth_normals). */
 static inline void mesh_corner_bits(vec3 v, uint32_t out[3]) {
     float c[3] = {v.x + 0.0f, v.y + 0.0f, v.z + 0.0f};
     memcpy(out, c, sizeof c);
 }
 
-/* Whether every edge is shared by exactly two faces that run along it in opposite directions
- * (corners compared by position): only a closed, consistently wound surface bounds a medium for
- * glass. */
-bool mesh_closed(const mesh *m);
+/* A glass part that is not closed: the faces joined by edges to its first face (from 0), how
+ * many, their bounding box and the material of the first (-1: none), and one edge of it not
+ * shared by exactly two faces running along it the opposite ways. */
+typedef struct mesh_open_part {
+    size_t first_face, faces;
+    int material;
+    vec3 lo, hi, edge[2];
+} mesh_open_part;
+
+typedef enum mesh_glass_outcome {
+    MESH_GLASS_CLOSED,
+    MESH_GLASS_OPEN,
+    MESH_GLASS_NO_MEMORY
+} mesh_glass_outcome;
+
+/* Checks that each part of the glass faces (glass[material], the last entry, material_count,
+ * for faces without one), faces joined by the edges they share (corners compared by position),
+ * is closed: every edge shared by exactly two faces running along it the opposite ways, so that
+ * it bounds a medium. Then winds each part outward, so that its signed volume is positive once
+ * the line's transform applies (mirrored: its scale has a negative determinant). Open: the first
+ * open part (by its first face) in *open, nothing flipped. Other faces are never looked at. */
+mesh_glass_outcome mesh_glass_parts(mesh *m, const bool *glass, bool mirrored,
+                                    mesh_open_part *open);
 /* Gives the corners that have no normal (zero) the mean normal of the faces at their position
  * that meet their own face at under max_angle_degrees; false out of memory. */
 bool mesh_smooth_normals(mesh *m, float max_angle_degrees);

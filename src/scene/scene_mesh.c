@@ -347,8 +347,53 @@ static void warn_tiny_glass(parser *p, const mesh *me, size_t kept, const char *
                 (double)TZ_EPS);
 }
 
+/* Checks the mesh's glass, the line's material m or the file's refractive ones, part by part
+ * (mesh_glass_parts): an open part is refused naming it (its material, first face, box and an
+ * open edge, in the file's own coordinates: z as the file has it); closed parts are wound
+ * outward, as glass tells entering from leaving by the geometric normal. *glass: whether there
+ * is any. False (reported) when a part is open or out of memory. */
+static bool check_glass(parser *p, mesh *me, const material_spec *m, const double scale[3],
+                        const char *path, int col, bool *glass) {
+    bool *is_glass = calloc((size_t)me->material_count + 1, sizeof *is_glass);
+    if (!is_glass) {
+        if (p->err) p->err->out_of_memory = true;
+        return parser_fail(p, col, "out of memory");
+    }
+    for (int k = 0; k <= me->material_count; k++) {
+        is_glass[k] = m ? m->kind == TZ_MATERIAL_REFRACTIVE
+                        : k < me->material_count && me->materials[k].kind == TZ_MATERIAL_REFRACTIVE;
+        *glass |= is_glass[k];
+    }
+    mesh_open_part open;
+    mesh_glass_outcome outcome =
+        *glass ? mesh_glass_parts(me, is_glass, scale[0] * scale[1] * scale[2] < 0.0, &open)
+               : MESH_GLASS_CLOSED;
+    free(is_glass);
+    if (outcome == MESH_GLASS_NO_MEMORY) {
+        if (p->err) p->err->out_of_memory = true;
+        return parser_fail(p, col, "out of memory checking mesh '%s''s glass", path);
+    }
+    if (outcome == MESH_GLASS_CLOSED) return true;
+    char material[96] = "faces without a material";
+    if (open.material >= 0 && open.material < me->material_count && me->materials[open.material].name[0])
+        snprintf(material, sizeof material, "material '%s'", me->materials[open.material].name);
+    else if (open.material >= 0 && open.material < me->material_count)
+        snprintf(material, sizeof material, "material %d (unnamed)", open.material);
+    return parser_fail(
+        p, col,
+        "mesh '%s': a refractive part is not closed: %zu face%s of %s from face %zu, between "
+        "%g %g %g and %g %g %g; its edge %g %g %g to %g %g %g is not shared by exactly two faces "
+        "wound the opposite ways (coordinates as in the file): glass needs a surface that bounds "
+        "its inside",
+        path, open.faces, open.faces == 1 ? "" : "s", material, open.first_face + 1,
+        (double)open.lo.x, (double)open.lo.y, (double)-open.hi.z, (double)open.hi.x,
+        (double)open.hi.y, (double)-open.lo.z, (double)open.edge[0].x, (double)open.edge[0].y,
+        (double)-open.edge[0].z, (double)open.edge[1].x, (double)open.edge[1].y,
+        (double)-open.edge[1].z);
+}
+
 /* A mesh from a model file (mesh_load.c): transformed, its degenerate faces dropped (one
- * warning), glass only when it is closed. */
+ * warning), glass only when each of its parts is closed. */
 bool directive_mesh(parser *p) {
     const material_spec *m = NULL;
     int next = 1;
@@ -386,16 +431,10 @@ bool directive_mesh(parser *p) {
     mesh_transform xf = make_transform(scale, rotate, translate);
     shape_material given = {0};
     if (m) given = shape_material_of(p, &mesh_shape, m, &kv);
-    bool glass = m && m->kind == TZ_MATERIAL_REFRACTIVE, emits = false;
-    for (int k = 0; !m && k < me.material_count; k++)
-        glass |= me.materials[k].kind == TZ_MATERIAL_REFRACTIVE;
-    if (glass && !mesh_closed(&me)) {
+    bool glass = false, emits = false;
+    if (!check_glass(p, &me, m, scale, path, file->col, &glass)) {
         mesh_free(&me);
-        return parser_fail(p, file->col,
-                           "mesh '%s' is refractive but not closed (an edge is not shared by "
-                           "exactly two faces wound the opposite ways): glass needs a surface "
-                           "that bounds its inside",
-                           path);
+        return false;
     }
     /* Transformed in place; kept faces first. */
     size_t kept = 0, dropped = 0, outside = 0;
@@ -412,21 +451,6 @@ bool directive_mesh(parser *p) {
         mesh_free(&me);
         return parser_fail(p, file->col, "mesh '%s': every face is degenerate (face %s)", path,
                            first_drop);
-    }
-    /* Glass tells entering from leaving by the geometric normal: wind the faces outward (a
-     * positive signed volume). */
-    double volume = 0.0;
-    for (size_t f = 0; glass && f < kept; f++) {
-        const mesh_face *face = &me.faces[f];
-        dvec3 a = d3_sub(face->v[0], v3(0, 0, 0)), b = d3_sub(face->v[1], v3(0, 0, 0)),
-              c = d3_sub(face->v[2], v3(0, 0, 0));
-        volume += d3_dot(a, d3_cross(b, c));
-    }
-    for (size_t f = 0; volume < 0.0 && f < kept; f++) {
-        mesh_face *face = &me.faces[f];
-        vec3 v = face->v[1], n = face->n[1];
-        face->v[1] = face->v[2], face->n[1] = face->n[2];
-        face->v[2] = v, face->n[2] = n;
     }
     int room = kept > (size_t)INT_MAX / 2 ? INT_MAX / 2 : (int)kept;
     if (!faces_reserve(p, room) || (smooth && !normals_reserve(p, room)) ||
