@@ -90,7 +90,7 @@ static void write_l_files(void) {
     write_text("l.gltf", gltf);
 }
 
-#define L_HEADER                                                                           \
+#define L_HEADER                                                                        \
     "camera position 0.5 0.5 -6 direction 0 0 1\nplane width 2 height 2 pixel 0.0625\n" \
     "light position -1 3 -5 power 40\nrender samples 1\n"
 
@@ -116,8 +116,8 @@ static void test_handedness(void) {
         size_t n = strlen(quads);
         n += (size_t)snprintf(quads + n, sizeof quads - n, "quad lambertian");
         for (int k = 0; k < 4; k++)
-            n += (size_t)snprintf(quads + n, sizeof quads - n, " v%d %g %g %g", k,
-                                  l_quads[q][k][0], l_quads[q][k][1], l_quads[q][k][2]);
+            n += (size_t)snprintf(quads + n, sizeof quads - n, " v%d %g %g %g", k, l_quads[q][k][0],
+                                  l_quads[q][k][1], l_quads[q][k][2]);
         snprintf(quads + n, sizeof quads - n, "\n");
     }
     film want = {0};
@@ -167,17 +167,20 @@ static bool first_material(const char *name, shape_material *out) {
  * became Phong ks 1 over white); a material of the file's own is mapped, even white. */
 static void test_no_material(void) {
     write_l_files();
-    write_text("bare.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
-                           "property float y\nproperty float z\nelement face 1\n"
-                           "property list uchar int vertex_indices\nend_header\n"
-                           "0 0 1\n1 0 1\n0 1 1\n3 0 1 2\n");
-    write_text("bare.stl", "solid t\nfacet normal 0 0 -1\nouter loop\nvertex 0 0 1\n"
-                           "vertex 0 1 1\nvertex 1 0 1\nendloop\nendfacet\nendsolid t\n");
+    write_text("bare.ply",
+               "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+               "property float y\nproperty float z\nelement face 1\n"
+               "property list uchar int vertex_indices\nend_header\n"
+               "0 0 1\n1 0 1\n0 1 1\n3 0 1 2\n");
+    write_text("bare.stl",
+               "solid t\nfacet normal 0 0 -1\nouter loop\nvertex 0 0 1\n"
+               "vertex 0 1 1\nvertex 1 0 1\nendloop\nendfacet\nendsolid t\n");
     write_text("bare.off", "OFF\n3 1 0\n0 0 1\n1 0 1\n0 1 1\n3 0 1 2\n");
     write_text("bare.obj", "v 0 0 1\nv 1 0 1\nv 0 1 1\nf 1 2 3\n");
     write_text("white.mtl", "newmtl white\nKd 1 1 1\nKs 1 1 1\nNs 10\n");
-    write_text("white.obj", "mtllib white.mtl\nv 0 0 1\nv 1 0 1\nv 0 1 1\nusemtl white\n"
-                            "f 1 2 3\n");
+    write_text("white.obj",
+               "mtllib white.mtl\nv 0 0 1\nv 1 0 1\nv 0 1 1\nusemtl white\n"
+               "f 1 2 3\n");
     const char *bare[] = {"bare.ply", "bare.stl", "bare.off", "bare.obj", "l.gltf"};
     for (size_t k = 0; k < sizeof bare / sizeof bare[0]; k++) {
         shape_material m;
@@ -195,7 +198,7 @@ static void test_no_material(void) {
               (double)m.color.x, (double)m.ks);
 }
 
-#define PATH_HEADER                                                              \
+#define PATH_HEADER                                                                   \
     "camera position 0.5 0.5 -6 direction 0 0 1\nplane width 2 height 2 pixel 0.25\n" \
     "render mode path samples 1\n"
 
@@ -243,13 +246,15 @@ static void test_bright_materials(void) {
             scene_free(&s);
         }
     write_text("shiny.mtl", "newmtl shiny\nKd 0.8 0.8 0.8\nKs 0.5 0.5 0.5\nNs 20\n");
-    write_text("shiny.obj", "mtllib shiny.mtl\nv 0 0 1\nv 1 0 1\nv 0 1 1\nusemtl shiny\n"
-                            "f 1 2 3\n");
+    write_text("shiny.obj",
+               "mtllib shiny.mtl\nv 0 0 1\nv 1 0 1\nv 0 1 1\nusemtl shiny\n"
+               "f 1 2 3\n");
     scene s;
     if (parse_path_mode("shiny.obj", &s)) {
         CHECK(s.warning_count == 1 && s.warnings[0].line == 4 && s.warnings[0].col == 11 &&
-                  strstr(s.warnings[0].message, "shiny.obj': its material 'shiny': max(color) "
-                                                "0.8 + ks 0.5 = 1.3 is above 1"),
+                  strstr(s.warnings[0].message,
+                         "shiny.obj': its material 'shiny': max(color) "
+                         "0.8 + ks 0.5 = 1.3 is above 1"),
               "shiny.obj: %d warnings: %s", s.warning_count,
               s.warning_count ? s.warnings[0].message : "");
         scene_free(&s);
@@ -258,15 +263,15 @@ static void test_bright_materials(void) {
 
 /* An octahedron of radius r about (x, y, z) in OBJ (its vertices from `first`, 1-based), wound
  * outward; then an open square (two faces) of material `floor_material` under it. */
-static size_t octahedron(char *out, size_t size, double x, double y, double z, double r,
-                         int first, const char *material) {
+static size_t octahedron(char *out, size_t size, double x, double y, double z, double r, int first,
+                         const char *material) {
     static const int faces[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
                                     {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
     size_t n = (size_t)snprintf(out, size,
                                 "usemtl %s\nv %g %g %g\nv %g %g %g\nv %g %g %g\nv %g %g %g\n"
                                 "v %g %g %g\nv %g %g %g\n",
-                                material, x + r, y, z, x - r, y, z, x, y + r, z, x, y - r, z, x,
-                                y, z + r, x, y, z - r);
+                                material, x + r, y, z, x - r, y, z, x, y + r, z, x, y - r, z, x, y,
+                                z + r, x, y, z - r);
     for (int f = 0; f < 8; f++)
         n += (size_t)snprintf(out + n, size - n, "f %d %d %d\n", first + faces[f][0],
                               first + faces[f][2], first + faces[f][1]);
@@ -290,8 +295,9 @@ static double scene_volume(const scene *s) {
  * closed part is wound outward whatever the line's transform (a mirroring scale too). */
 static void test_glass_parts(void) {
     write_l_files();
-    write_text("parts.mtl", "newmtl glass\nKd 1 1 1\nd 0.1\nNi 1.5\n"
-                            "newmtl floor\nKd 0.5 0.5 0.5\n");
+    write_text("parts.mtl",
+               "newmtl glass\nKd 1 1 1\nd 0.1\nNi 1.5\n"
+               "newmtl floor\nKd 0.5 0.5 0.5\n");
     char obj[4096] = "mtllib parts.mtl\n";
     size_t n = strlen(obj);
     n += octahedron(obj + n, sizeof obj - n, 0, 0, -4, 1, 1, "glass");
@@ -312,9 +318,10 @@ static void test_glass_parts(void) {
         bool ok = parse(text, 1, &s, &err);
         if (k == 2) {
             CHECK(!ok && err.line == 4 && err.col == 22 &&
-                      strstr(err.message, "ball_floor.obj': a refractive part is not closed: 2 "
-                                          "faces of material 'floor' from face 9, between -5 -1 "
-                                          "-9 and 5 -1 1;"),
+                      strstr(err.message,
+                             "ball_floor.obj': a refractive part is not closed: 2 "
+                             "faces of material 'floor' from face 9, between -5 -1 "
+                             "-9 and 5 -1 1;"),
                   "all glass, the floor open: %s", ok ? "parsed" : err.message);
         } else {
             CHECK(ok && s.triangle_count == 10, "%s: %s", good[k], ok ? "" : err.message);
@@ -329,13 +336,15 @@ static void test_glass_parts(void) {
     scene s;
     scene_error err;
     bool ok = parse(PATH_HEADER "mesh file ball_pane.obj\n", 1, &s, &err);
-    CHECK(!ok && strstr(err.message, "a refractive part is not closed: 2 faces of material "
-                                     "'glass' from face 9, between -5 -1 -9 and 5 -1 1; its edge"),
+    CHECK(!ok && strstr(err.message,
+                        "a refractive part is not closed: 2 faces of material "
+                        "'glass' from face 9, between -5 -1 -9 and 5 -1 1; its edge"),
           "an open glass pane: %s", ok ? "parsed" : err.message);
     if (ok) scene_free(&s);
     /* glTF: the L's two boxes of glass (KHR_materials_transmission), each closed, and an open
      * floor of its own material in a second primitive */
-    float floor[6][3] = {{-5, -1, -9}, {5, -1, -9}, {5, -1, 1}, {-5, -1, -9}, {5, -1, 1}, {-5, -1, 1}};
+    float floor[6][3] = {{-5, -1, -9}, {5, -1, -9}, {5, -1, 1},
+                         {-5, -1, -9}, {5, -1, 1},  {-5, -1, 1}};
     tmp_file_write(tmp_path("floor.bin"), floor, sizeof floor);
     char gltf[4096];
     size_t bytes = 2 * L_QUADS * 9 * sizeof(float);

@@ -14,8 +14,8 @@
 #define SIGMAS 4.5
 
 /* A glass slab (z from 5 to 5.2; in the right-handed file, -5 to -5.2, its normals' z negated
- * and its faces wound the other way) whose front face's file normals lean 20 degrees about y bends a
- * camera ray d = +z about them, then about the back face's own normal (Snell's law twice, report
+ * and its faces wound the other way) whose front face's file normals lean 20 degrees about y bends
+ * a camera ray d = +z about them, then about the back face's own normal (Snell's law twice, report
  * mode: glass always refracts): the pixels see a lit sphere placed on that ray; the same slab
  * without file normals (smooth on generates none across its right angles) passes the ray
  * straight on, to the background. */

@@ -458,35 +458,45 @@ static void expect_warning(const char *name, const char *text, int count, int li
  * number of threads; report mode (the course report's model, its scenes use them) does not. */
 static void test_bright_phong(void) {
 #define TOP "camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\n"
-    expect_warning("bright sphere", TOP "render mode path\n"
+    expect_warning("bright sphere",
+                   TOP
+                   "render mode path\n"
                    "sphere phong center 0 0 0 radius 1 color 0.9 0.5 0.5 ks 0.5\n"
                    "sphere phong center 0 3 0 radius 1 color 1 1 1 ks 1\n",
                    1, 4, 54, "sphere phong: max(color) 0.9 + ks 0.5 = 1.4 is above 1");
-    expect_warning("bright quad by default", TOP "render mode path\n"
+    expect_warning("bright quad by default",
+                   TOP
+                   "render mode path\n"
                    "quad phong v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 0\n",
                    1, 4, 6, "quad phong: max(color) 0.8 + ks 0.5 = 1.3 is above 1");
-    expect_warning("bright triangle colour", TOP "render mode path\n"
+    expect_warning("bright triangle colour",
+                   TOP
+                   "render mode path\n"
                    "triangle phong v0 0 0 0 v1 1 0 0 v2 1 1 0 color 0.7 0.9 0.1\n",
                    1, 4, 43, "triangle phong: max(color) 0.9 + ks 0.5");
-    expect_warning("at most 1", TOP "render mode path\n"
+    expect_warning("at most 1",
+                   TOP
+                   "render mode path\n"
                    "sphere phong center 0 0 0 radius 1 color 0.7 0.5 0.5 ks 0.3\n",
                    0, 0, 0, "");
-    expect_warning("report mode", TOP "sphere phong center 0 0 0 radius 1 color 1 1 1 ks 1\n", 0,
-                   0, 0, "");
+    expect_warning("report mode", TOP "sphere phong center 0 0 0 radius 1 color 1 1 1 ks 1\n", 0, 0,
+                   0, "");
 #undef TOP
     /* in a text cut into chunks, the first bright line deep in a chunk parsed ahead */
     int lines = 40000;
     size_t size = (size_t)lines * 64 + 128, used = 0;
     char *text = malloc(size);
-    used += (size_t)snprintf(text, size, "camera position 0 0 -5\nplane width 4 height 3 "
-                                         "pixel 0.01\nrender mode path\n");
+    used += (size_t)snprintf(text, size,
+                             "camera position 0 0 -5\nplane width 4 height 3 "
+                             "pixel 0.01\nrender mode path\n");
     for (int k = 4; k <= lines; k++)
         used += (size_t)snprintf(text + used, size - used,
                                  k == 25000 || k == 30000
                                      ? "sphere phong center %d.5 0 9 radius 0.25 ks 0.9\n"
                                      : "sphere lambertian center %d.5 0 9 radius 0.25\n",
                                  k % 1000);
-    expect_warning("bright in a chunk", text, 1, 25000, 41, "sphere phong: max(color) 0.8 + ks 0.9");
+    expect_warning("bright in a chunk", text, 1, 25000, 41,
+                   "sphere phong: max(color) 0.8 + ks 0.9");
     free(text);
 }
 

@@ -154,8 +154,8 @@ mesh_glass_outcome mesh_glass_parts(mesh *m, const bool *glass, bool mirrored,
         describe_open(m, glass, parent, open_at, edges, count, open);
         outcome = MESH_GLASS_OPEN;
     } else {
-        outcome = wind_outward(m, glass, parent, mirrored) ? MESH_GLASS_CLOSED
-                                                           : MESH_GLASS_NO_MEMORY;
+        outcome =
+            wind_outward(m, glass, parent, mirrored) ? MESH_GLASS_CLOSED : MESH_GLASS_NO_MEMORY;
     }
 done:
     free(edges);

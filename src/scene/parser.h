@@ -79,7 +79,7 @@ typedef struct parser {
      * path mode once the whole text is read: its line, column and description. */
     int bright_line, bright_col;
     char bright_what[320];
-    int mode_given;                  /* the render's mode from the command line; -1: the scene's */
+    int mode_given; /* the render's mode from the command line; -1: the scene's */
     /* A chunk parsed ahead: any directive but sphere, triangle and quad stops it. */
     bool primitives_only;
     struct mesh_cache *meshes; /* the models mesh lines loaded (mesh_cache.c), NULL before one */

@@ -375,7 +375,8 @@ static bool check_glass(parser *p, mesh *me, const material_spec *m, const doubl
     }
     if (outcome == MESH_GLASS_CLOSED) return true;
     char material[96] = "faces without a material";
-    if (open.material >= 0 && open.material < me->material_count && me->materials[open.material].name[0])
+    if (open.material >= 0 && open.material < me->material_count &&
+        me->materials[open.material].name[0])
         snprintf(material, sizeof material, "material '%s'", me->materials[open.material].name);
     else if (open.material >= 0 && open.material < me->material_count)
         snprintf(material, sizeof material, "material %d (unnamed)", open.material);
