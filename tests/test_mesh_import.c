@@ -2,8 +2,9 @@
  * 49): a right-handed model (an L of two boxes, OBJ and glTF) renders as the same faces written
  * by hand in trazador's left-handed space, not mirrored; files without materials get lambertian
  * 0.8 grey; mapped materials reflect at most what they receive, or warn; glass is checked part
- * by part. */
+ * by part; a glTF emission strength that assimp drops is said. */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -378,6 +379,73 @@ static void test_glass_parts(void) {
     }
 }
 
+/* A glTF of one triangle whose material 'Lamp' emits 1 0.5 0.25, with strength 12 when `strong`
+ * (KHR_materials_emissive_strength, as Blender exports a strong emitter); its buffer at `uri`,
+ * or none (a GLB's own). */
+static void lamp_json(char *out, size_t size, bool strong, const char *uri) {
+    snprintf(out, size,
+             "{\"asset\":{\"version\":\"2.0\"},%s\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+             "\"nodes\":[{\"mesh\":0}],\"meshes\":[{\"primitives\":[{\"attributes\":"
+             "{\"POSITION\":0},\"material\":0}]}],\"materials\":[{\"name\":\"Lamp\","
+             "\"emissiveFactor\":[1,0.5,0.25]%s}],\"buffers\":[{%s%s%s\"byteLength\":36}],"
+             "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{"
+             "\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\","
+             "\"min\":[0,0,1],\"max\":[1,1,1]}]}",
+             strong ? "\"extensionsUsed\":[\"KHR_materials_emissive_strength\"]," : "",
+             strong ? ",\"extensions\":{\"KHR_materials_emissive_strength\":"
+                      "{\"emissiveStrength\":12}}"
+                    : "",
+             uri ? "\"uri\":\"" : "", uri ? uri : "", uri ? "\"," : "");
+}
+
+/* assimp 5.2.5 reads no emission strength: a glTF (and a GLB) emitter that has one keeps its
+ * emissive factor alone, and a warning names the file, the extension and the material; one
+ * without the extension warns of nothing. */
+static void test_emission_strength(void) {
+    const float tri[9] = {0, 0, 1, 1, 0, 1, 0, 1, 1};
+    tmp_file_write(tmp_path("tri.bin"), tri, sizeof tri);
+    char json[2048];
+    lamp_json(json, sizeof json, true, "tri.bin");
+    write_text("lamp.gltf", json);
+    lamp_json(json, sizeof json, false, "tri.bin");
+    write_text("plain_lamp.gltf", json);
+    /* the GLB: a header, the JSON chunk padded with spaces, the BIN chunk */
+    lamp_json(json, sizeof json, true, NULL);
+    uint32_t json_length = (uint32_t)(strlen(json) + 3) / 4 * 4;
+    memset(json + strlen(json), ' ', json_length - strlen(json));
+    unsigned char glb[4096];
+    uint32_t words[5] = {0x46546C67u, 2, 12 + 8 + json_length + 8 + sizeof tri, json_length,
+                         0x4E4F534Au};
+    memcpy(glb, words, sizeof words);
+    memcpy(glb + 20, json, json_length);
+    uint32_t bin[2] = {sizeof tri, 0x004E4942u};
+    memcpy(glb + 20 + json_length, bin, sizeof bin);
+    memcpy(glb + 28 + json_length, tri, sizeof tri);
+    tmp_file_write(tmp_path("lamp.glb"), glb, 28 + json_length + sizeof tri);
+    const char *files[] = {"lamp.gltf", "lamp.glb", "plain_lamp.gltf"};
+    for (int k = 0; k < 3; k++) {
+        scene s;
+        if (!parse_path_mode(files[k], &s)) continue;
+        const shape_material *m = triangle_material(&s, &s.triangles[0]);
+        CHECK(m->emission.x == 1.0f && m->emission.y == 0.5f && m->emission.z == 0.25f,
+              "%s: emission %g %g %g", files[k], (double)m->emission.x, (double)m->emission.y,
+              (double)m->emission.z);
+        if (k < 2)
+            CHECK(s.warning_count == 1 && s.warnings[0].line == 4 &&
+                      strstr(s.warnings[0].message,
+                             "its emission strength "
+                             "(KHR_materials_emissive_strength, which "
+                             "assimp 5.2.5 does not read: material 'Lamp' "
+                             "emits its emissive factor alone)"),
+                  "%s: %d warnings: %s", files[k], s.warning_count,
+                  s.warning_count ? s.warnings[0].message : "");
+        else
+            CHECK(s.warning_count == 0, "%s: warned %s", files[k],
+                  s.warning_count ? s.warnings[0].message : "");
+        scene_free(&s);
+    }
+}
+
 int main(void) {
     if (!tmp_dir_make("test_mesh_import")) {
         printf("cannot make a temporary folder\n");
@@ -387,5 +455,6 @@ int main(void) {
     CHECK_CASE(test_no_material);
     CHECK_CASE(test_bright_materials);
     CHECK_CASE(test_glass_parts);
+    CHECK_CASE(test_emission_strength);
     return check_summary("test_mesh_import");
 }

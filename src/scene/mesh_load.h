@@ -38,7 +38,7 @@ typedef struct mesh {
     int material_count;
     /* What the file holds that trazador cannot show ("textures (diffuse), vertex colours"),
      * empty when nothing. */
-    char unsupported[256];
+    char unsupported[384];
     /* The files the import read (the model and those it names), the first MESH_MAX_INPUTS. */
     scene_input inputs[MESH_MAX_INPUTS];
     int input_count;
