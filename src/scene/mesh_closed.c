@@ -1,6 +1,6 @@
 /* mesh_closed.c: whether a loaded mesh's glass bounds a volume (DESIGN section 3.4), part by
- * part: the glass faces joined by their edges (corners compared by their float bits, edges
- * sorted so that each edge's faces meet) make the parts, each closed or named open, and each
+ * part: faces joined by their edges (corners compared by their float bits, edges sorted so that
+ * each edge's faces meet) make the parts; each part with glass is closed or named open, and each
  * closed one wound outward. */
 #include <math.h>
 #include <stdlib.h>
@@ -8,7 +8,7 @@
 
 #include "scene/mesh_load.h"
 
-/* An edge of glass face `face` by its corners' bits, the smaller corner first; reversed: the
+/* An edge of face `face` by its corners' bits, the smaller corner first; reversed: the
  * face runs b to a. */
 typedef struct edge {
     uint32_t a[3], b[3];
@@ -49,17 +49,21 @@ static bool edge_open(const edge *edges, size_t i, size_t j) {
     return j - i != 2 || edges[i].reversed == edges[i + 1].reversed;
 }
 
-/* The open part whose smallest face is smallest (the first in the file), described in *open
- * with the first of its open edges (in the sorted order). */
+/* The open part of the first glass face that is in one, described in *open (the material of
+ * that face) with the first of its open edges (in the sorted order). */
 static void describe_open(const mesh *m, const bool *glass, uint32_t *parent, const bool *open_at,
                           const edge *edges, size_t count, mesh_open_part *open) {
     uint32_t chosen = UINT32_MAX;
-    for (size_t f = 0; f < m->face_count && chosen == UINT32_MAX; f++)
-        if (face_glass(m, glass, f) && open_at[part_of(parent, (uint32_t)f)])
+    int material = -1;
+    for (size_t f = 0; f < m->face_count && chosen == UINT32_MAX; f++) {
+        if (face_glass(m, glass, f) && open_at[part_of(parent, (uint32_t)f)]) {
             chosen = part_of(parent, (uint32_t)f);
-    *open = (mesh_open_part){.material = m->faces[chosen].material};
+            material = m->faces[f].material;
+        }
+    }
+    *open = (mesh_open_part){.material = material};
     for (size_t f = 0; f < m->face_count; f++) {
-        if (!face_glass(m, glass, f) || part_of(parent, (uint32_t)f) != chosen) continue;
+        if (part_of(parent, (uint32_t)f) != chosen) continue;
         if (!open->faces++) {
             open->first_face = f;
             open->lo = open->hi = m->faces[f].v[0];
@@ -88,18 +92,17 @@ static double face_volume(const mesh_face *face) {
            a[2] * (b[0] * c[1] - b[1] * c[0]);
 }
 
-/* Winds each part outward: its faces flipped where its signed volume, once mirrored or not by
- * the line's transform, is negative. */
-static bool wind_outward(mesh *m, const bool *glass, uint32_t *parent, bool mirrored) {
+/* Winds each part with glass (has_glass, by its root) outward: its faces flipped where its
+ * signed volume, once mirrored or not by the line's transform, is negative. */
+static bool wind_outward(mesh *m, const bool *has_glass, uint32_t *parent, bool mirrored) {
     double *volume = calloc(m->face_count, sizeof *volume);
     if (!volume) return false;
-    for (size_t f = 0; f < m->face_count; f++) {
-        if (!face_glass(m, glass, f)) continue;
+    for (size_t f = 0; f < m->face_count; f++)
         volume[part_of(parent, (uint32_t)f)] += face_volume(&m->faces[f]);
-    }
     for (size_t f = 0; f < m->face_count; f++) {
-        if (!face_glass(m, glass, f)) continue;
-        double v = volume[part_of(parent, (uint32_t)f)];
+        uint32_t part = part_of(parent, (uint32_t)f);
+        if (!has_glass[part]) continue;
+        double v = volume[part];
         if (!(mirrored ? v > 0.0 : v < 0.0)) continue;
         mesh_face *face = &m->faces[f];
         vec3 p = face->v[1], n = face->n[1];
@@ -112,20 +115,17 @@ static bool wind_outward(mesh *m, const bool *glass, uint32_t *parent, bool mirr
 
 mesh_glass_outcome mesh_glass_parts(mesh *m, const bool *glass, bool mirrored,
                                     mesh_open_part *open) {
-    size_t count = 0;
-    for (size_t f = 0; f < m->face_count; f++) count += face_glass(m, glass, f) ? 3 : 0;
-    if (count == 0) return MESH_GLASS_CLOSED;
+    size_t count = m->face_count * 3;
     edge *edges = malloc(count * sizeof *edges);
     uint32_t *parent = malloc(m->face_count * sizeof *parent);
-    bool *open_at = calloc(m->face_count, sizeof *open_at);
+    bool *open_at = calloc(m->face_count, sizeof *open_at),
+         *has_glass = calloc(m->face_count, sizeof *has_glass);
     mesh_glass_outcome outcome = MESH_GLASS_NO_MEMORY;
-    if (!edges || !parent || !open_at) goto done;
-    size_t n = 0;
+    if (!edges || !parent || !open_at || !has_glass) goto done;
     for (size_t f = 0; f < m->face_count; f++) {
         parent[f] = (uint32_t)f;
-        if (!face_glass(m, glass, f)) continue;
         for (int k = 0; k < 3; k++) {
-            edge *e = &edges[n++];
+            edge *e = &edges[f * 3 + k];
             uint32_t p[3], q[3];
             mesh_corner_bits(m->faces[f].v[k], p);
             mesh_corner_bits(m->faces[f].v[(k + 1) % 3], q);
@@ -145,21 +145,25 @@ mesh_glass_outcome mesh_glass_parts(mesh *m, const bool *glass, bool mirrored,
             parent[x > y ? x : y] = x > y ? y : x;
         }
     }
+    for (size_t f = 0; f < m->face_count; f++)
+        if (face_glass(m, glass, f)) has_glass[part_of(parent, (uint32_t)f)] = true;
     bool any_open = false;
     for (size_t i = 0, j; i < count; i = j) {
         for (j = i + 1; j < count && !edge_compare(&edges[i], &edges[j]); j++) continue;
-        if (edge_open(edges, i, j)) open_at[part_of(parent, edges[i].face)] = any_open = true;
+        uint32_t part = part_of(parent, edges[i].face);
+        if (edge_open(edges, i, j) && has_glass[part]) open_at[part] = any_open = true;
     }
     if (any_open) {
         describe_open(m, glass, parent, open_at, edges, count, open);
         outcome = MESH_GLASS_OPEN;
     } else {
         outcome =
-            wind_outward(m, glass, parent, mirrored) ? MESH_GLASS_CLOSED : MESH_GLASS_NO_MEMORY;
+            wind_outward(m, has_glass, parent, mirrored) ? MESH_GLASS_CLOSED : MESH_GLASS_NO_MEMORY;
     }
 done:
     free(edges);
     free(parent);
     free(open_at);
+    free(has_glass);
     return outcome;
 }

@@ -55,27 +55,29 @@ static inline void mesh_corner_bits(vec3 v, uint32_t out[3]) {
     memcpy(out, c, sizeof c);
 }
 
-/* A glass part that is not closed: the faces joined by edges to its first face (from 0), how
- * many, their bounding box and the material of the first (-1: none), and one edge of it not
- * shared by exactly two faces running along it the opposite ways. */
+/* A part with glass that is not closed: its first face (from 0), how many faces it has, their
+ * bounding box, the material of its first glass face (-1: none), and one edge of it not shared
+ * by exactly two faces running along it the opposite ways. */
 typedef struct mesh_open_part {
     size_t first_face, faces;
     int material;
     vec3 lo, hi, edge[2];
 } mesh_open_part;
 
+/* What mesh_glass_parts found: every part with glass closed, one open, or no memory to look. */
 typedef enum mesh_glass_outcome {
     MESH_GLASS_CLOSED,
     MESH_GLASS_OPEN,
     MESH_GLASS_NO_MEMORY
 } mesh_glass_outcome;
 
-/* Checks that each part of the glass faces (glass[material], the last entry, material_count,
- * for faces without one), faces joined by the edges they share (corners compared by position),
+/* Checks that each part (faces joined by the edges they share, corners compared by position)
+ * holding a glass face (glass[material], the last entry, material_count, for faces without one)
  * is closed: every edge shared by exactly two faces running along it the opposite ways, so that
- * it bounds a medium. Then winds each part outward, so that its signed volume is positive once
- * the line's transform applies (mirrored: its scale has a negative determinant). Open: the first
- * open part (by its first face) in *open, nothing flipped. Other faces are never looked at. */
+ * it bounds a medium. Then winds each such part outward, so that its signed volume is positive
+ * once the line's transform applies (mirrored: its scale has a negative determinant). Open: the
+ * part of the first glass face in an open one in *open, nothing flipped. Parts without glass may
+ * be open. */
 mesh_glass_outcome mesh_glass_parts(mesh *m, const bool *glass, bool mirrored,
                                     mesh_open_part *open);
 /* Gives the corners that have no normal (zero) the mean normal of the faces at their position

@@ -279,7 +279,7 @@ static bool add_faces(parser *p, const mesh *me, size_t kept, const shape_materi
             if (mapped[slot] == UINT32_MAX) {
                 shape_material s = mapped_material(me, face->material);
                 *emits |= shape_material_emits(&s);
-                if (s.material == TZ_MATERIAL_PHONG) {
+                if (s.material == TZ_MATERIAL_PHONG && slot < me->material_count) {
                     char what[PATH_MAX + 96];
                     snprintf(what, sizeof what, "mesh '%s': its material '%s'", path,
                              me->materials[face->material].name);
