@@ -58,6 +58,20 @@ has tiny-glass err "tiny-glass.scene:4:22: mesh 'cube.obj' is glass of half-size
 glass_cube 2e-3 >small-glass.scene
 run small-glass 0 "$tz" render --backend cpu --quiet --spp 1 small-glass.scene -o tiny.png
 [ -s "$tmp/err" ] && bad "small-glass: warned: $(cat "$tmp/err")" || ok
+# A quoted path names a file with spaces, quotes and backslashes (issue 49, defect 7: an unknown
+# key); it renders as the same file under a plain name, and an unterminated quote is an error at
+# its column.
+mkdir -p "my models"
+cp cube.obj 'my models/my "cube" \.obj'
+quoted_cube() { printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nlight position 0 5 -5 power 10\nmesh lambertian file %s scale 0.5\n' "$1"; }
+quoted_cube cube.obj >plain-path.scene
+quoted_cube '"my models/my \"cube\" \\.obj"' >quoted-path.scene
+run plain-path 0 "$tz" render --backend cpu --quiet --spp 1 plain-path.scene -o plain-path.pfm
+run quoted-path 0 "$tz" render --backend cpu --quiet --spp 1 quoted-path.scene -o quoted-path.pfm
+cmp -s plain-path.pfm quoted-path.pfm && ok || bad "quoted-path: differs from the plain path"
+quoted_cube '"my models/cube.obj scale 0.5' >open-quote.scene
+run open-quote 2 "$tz" render --backend cpu --quiet --spp 1 open-quote.scene -o open-quote.pfm
+has open-quote err "open-quote.scene:4:22: unterminated quoted path"
 # A device number past the devices is a command-line error whatever the back end choice.
 if "$tz" devices >/dev/null 2>&1; then
     run device-out-of-range 2 "$tz" render --width 20 --spp 1 --device 99 -o dev.png

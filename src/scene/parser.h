@@ -118,8 +118,11 @@ bool parser_require_keys(parser *p, const char *owner, const key_spec *keys, int
 vec3 parser_vec3(const key_values *kv, int key, vec3 fallback);
 /* Key's value, or fallback when not given. */
 double parser_value_or(const key_values *kv, int key, double fallback);
+/* The path token t names into out: a bare word as it is, a quoted one ("my bunny.ply") without
+ * its quotes and escapes; false (reported) when it is empty or does not fit size. */
+bool parser_path(parser *p, const token *t, char *out, size_t size);
 /* Splits one line (without its '\n') into p->tokens; false (reported) on bytes that cannot be
- * scene text. */
+ * scene text, or a quoted path not closed on its line. */
 bool parser_tokenize(parser *p, const char *line, size_t length);
 /* Parses the directive of the tokenized line p->tokens into p->s; false (reported) on any error,
  * or unreported for a chunk parsed ahead (primitives_only) meeting another directive. */
