@@ -340,8 +340,9 @@ static bool write_image(const render_args *a, const film *f) {
     return image_write_film(a->output, format, f, a->tm, a->exr_type == 0);
 }
 
-/* Renders and writes the image or the part; the exit code. */
-static int render_and_write(const render_args *a, const scene *s) {
+/* Renders and writes the image or the part; the exit code. started: when the command began, so
+ * that the summary's set-up counts the scene's parse and its models' import too. */
+static int render_and_write(const render_args *a, const scene *s, double started) {
     render_opts opts;
     render_opts_from_scene(s, &opts);
     apply_overrides(a, s, &opts);
@@ -409,7 +410,7 @@ static int render_and_write(const render_args *a, const scene *s) {
     if (clear_on_signal) interrupts_restore(&saved);
     /* a checkpoint could not be written */
     if (!render_pacer_stop(&pacer, ok ? &p : NULL)) ok = false;
-    double elapsed = clock_seconds() - start;
+    double finished = clock_seconds(), elapsed = finished - start;
     if (ok && pacer.checkpoints)
         log_debug("checkpoints: %d written in %.3f s in all", pacer.checkpoints,
                   pacer.checkpoint_seconds);
@@ -437,7 +438,9 @@ static int render_and_write(const render_args *a, const scene *s) {
         log_info("time limit: every pixel got samples %u:%u (%u of %u)", p.meta.sample_begin,
                  p.meta.sample_end, p.meta.sample_end - p.meta.sample_begin, end);
     if (ok && !a->quiet) {
-        /* The rates are the sample passes' own: set-up (device, pipeline, BVH) is apart. */
+        /* The rates are the sample passes' own; set-up is everything else since the command
+         * began (the scene's parse, its models' import, the BVH, device and pipeline): a model's
+         * import, part of the parse, once took as long as the rest and showed nowhere. */
         double render = stats.render_seconds > 0.0 ? stats.render_seconds : elapsed;
         double samples =
             (double)(p.meta.x1 - p.meta.x0) * (p.meta.y1 - p.meta.y0) * (p.meta.sample_end - begin);
@@ -445,7 +448,7 @@ static int render_and_write(const render_args *a, const scene *s) {
             "%s: %dx%d, %u spp, %s back end, %.3f s rendering + %.3f s set-up, %.2f "
             "Msamples/s, %.1f Mrays/s",
             a->output, p.meta.x1 - p.meta.x0, p.meta.y1 - p.meta.y0,
-            p.meta.sample_end - p.meta.sample_begin, used, render, elapsed - render,
+            p.meta.sample_end - p.meta.sample_begin, used, render, finished - started - render,
             samples / render * 1e-6, (double)stats.rays / render * 1e-6);
     }
     film_free(&f);
@@ -456,6 +459,7 @@ static int render_and_write(const render_args *a, const scene *s) {
 int cmd_render(int argc, char **argv) {
     render_args a;
     const char *scene_path;
+    double started = clock_seconds();
     opt_result parsed_args = parse_render_args(argc, argv, &a, &scene_path);
     if (parsed_args != OPT_OK) return parsed_args == OPT_HELP ? 0 : parsed_args;
     if (a.mode >= 0) a.mode = (int)scene_mode_of_word(a.mode); /* seed is report */
@@ -484,7 +488,7 @@ int cmd_render(int argc, char **argv) {
              : !atomic_file_check_force(a.output, a.force)  ? 1
                                                             : check_checkpoint(&a, scene_path, &s);
     if (rc == 0) rc = check_device(a.device);
-    if (rc == 0) rc = render_and_write(&a, &s);
+    if (rc == 0) rc = render_and_write(&a, &s, started);
     scene_free(&s);
     return rc;
 }
