@@ -230,7 +230,7 @@ for scene in cornell_box mesh; do
 done
 # A sphere too big for single precision to place its surface near the camera warns (a floor of
 # radius 3e7 one unit under the camera rendered black); 3e6 is fine. Past 1e18 it is an error.
-floor() { printf 'camera position 0 1 -5\nplane width 1 height 1 pixel 0.25\nsphere lambertian center 0 -%s 0 radius %s\n' "$1" "$1"; }
+floor() { printf 'camera position 0 1 -5\nplane width 1 height 1 pixel 0.25\nsphere lambertian center 0 -%s 0 radius %s\nlight position 0 5 -5 power 10\n' "$1" "$1"; }
 floor 3e7 >huge-floor.scene
 run huge-floor 0 "$tz" render --backend cpu --quiet huge-floor.scene -o floor.png
 has huge-floor err "huge-floor.scene:1:17: sphere 1 (centre 0 -3e+07 0, radius 3e+07) is too big for its surface to lie this near the camera: at its size single-precision positions are 2 apart"
@@ -244,7 +244,7 @@ run big-floor 0 "$tz" render --backend cpu --quiet big-floor.scene -o floor.png
 # A huge floor quad: near the camera single precision finds its distances less exactly than the
 # ray offset, and under a low light its halves may shade each other in dark specks (half-size
 # 1e6: 0.2% of the floor); it warns, naming the face. 1e5 does not.
-quad_floor() { printf 'camera position 0 1 -4 direction 0 -0.2 1\nplane width 1 height 1 pixel 0.25\nquad lambertian v0 -%s 0 -%s v1 %s 0 -%s v2 %s 0 %s v3 -%s 0 %s\n' "$1" "$1" "$1" "$1" "$1" "$1" "$1" "$1"; }
+quad_floor() { printf 'camera position 0 1 -4 direction 0 -0.2 1\nplane width 1 height 1 pixel 0.25\nquad lambertian v0 -%s 0 -%s v1 %s 0 -%s v2 %s 0 %s v3 -%s 0 %s\nlight position 0 5 -5 power 10\n' "$1" "$1" "$1" "$1" "$1" "$1" "$1" "$1"; }
 quad_floor 1e6 >huge-quad.scene
 run huge-quad 0 "$tz" render --backend cpu --quiet huge-quad.scene -o floor.png
 has huge-quad err "huge-quad.scene:1:17: triangle 1 (corners -1e+06 0 -1e+06, 1e+06 0 -1e+06, 1e+06 0 1e+06) reaches over 131072 times as far from the origin as the camera"
@@ -333,6 +333,30 @@ rc=$?
 grep -q "SIGUSR1: ignored, as it asks for a checkpoint and there is no --checkpoint" usr1.err && ok \
     || bad "SIGUSR1 without --checkpoint: -v did not say it is ignored"
 
+# A scene that nothing lights renders black, with one warning (issue 49, defect 6: exit 0 and no
+# word), in either mode; a light of some power, a background that is not black, or an emitter in
+# path mode lights it.
+printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nsphere lambertian center 0 0 0 radius 1\n' >dark.scene
+run dark 0 "$tz" render dark.scene --backend cpu --spp 1 -q -o dark.png
+has dark err "trazador: warning: dark.scene: nothing lights this scene (no light of some power and colour, no emitting sphere or face, a black background): the image will be black"
+[ "$(wc -l <"$tmp/err")" = 1 ] && ok || bad "dark: not one line: $(cat "$tmp/err")"
+run dark-path 0 "$tz" render dark.scene --backend cpu --spp 1 -q --mode path -o dark.png
+has dark-path err "dark.scene: nothing lights this scene"
+{ cat dark.scene; echo 'light position 0 0 -5 power 0'; } >dark-light.scene
+run dark-light 0 "$tz" render dark-light.scene --backend cpu --spp 1 -q -o dark.png
+has dark-light err "nothing lights this scene"
+run dark-stdin 0 "$tz" render - --backend cpu --spp 1 -q -o dark.png <dark.scene
+has dark-stdin err "<stdin>: nothing lights this scene"
+{ cat dark.scene; echo 'light position 0 0 -5 power 10'; } >lit.scene
+{ cat dark.scene; echo 'background 0 0 0.1'; } >sky.scene
+{ cat dark.scene; echo 'sphere lambertian center 0 3 0 radius 1 emission 1 1 1'; } >lamp.scene
+for lit in lit sky; do
+    run "$lit-lit" 0 "$tz" render "$lit.scene" --backend cpu --spp 1 -q -o dark.png
+    [ -s "$tmp/err" ] && bad "$lit-lit: warned: $(cat "$tmp/err")" || ok
+done
+run lamp-lit 0 "$tz" render lamp.scene --backend cpu --spp 1 -q --mode path -o dark.png
+[ -s "$tmp/err" ] && bad "lamp-lit: warned: $(cat "$tmp/err")" || ok
+
 # Flags that do nothing for the output or the mode are said once (issue 24, Also).
 run exr-type-png 0 "$tz" render --backend cpu --spp 1 --width 8 --exr-type float -o unused.png
 has exr-type-png err "--exr-type does nothing for an output that is no EXR"
@@ -344,7 +368,7 @@ run merge-tonemap-exr 0 "$tz" merge unused.exr --tonemap srgb -o unused2.exr
 has merge-tonemap-exr err "--tonemap does nothing for an exr output"
 run tonemap-png 0 "$tz" render --backend cpu --spp 1 --width 8 --tonemap linear -q -o used.png
 [ -s "$tmp/err" ] && bad "tonemap-png: warned: $(cat "$tmp/err")" || ok
-printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nrender roulette off\n' >roulette.scene
+printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nrender roulette off\nlight position 0 5 -5 power 10\n' >roulette.scene
 run roulette-seed 0 "$tz" render roulette.scene --backend cpu --spp 1 -q -o roulette.png
 has roulette-seed err "roulette.scene:3:8: roulette does nothing in report mode: it is path mode's Russian roulette"
 run roulette-path 0 "$tz" render roulette.scene --backend cpu --spp 1 -q --mode path -o roulette.png

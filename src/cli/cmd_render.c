@@ -482,6 +482,14 @@ int cmd_render(int argc, char **argv) {
         const scene_error *w = &s.warnings[k];
         log_warn("%s:%d:%d: %s", w->file, w->line, w->col, w->message);
     }
+    /* A black image with exit 0 and no word looked like a broken renderer. */
+    if (!scene_has_light(&s))
+        log_warn(
+            "%s: nothing lights this scene (no light of some power and colour, no emitting "
+            "sphere or face, a black background): the image will be black",
+            !scene_path               ? "scenes/cornell.scene (embedded)"
+            : strcmp(scene_path, "-") ? scene_path
+                                      : "<stdin>");
     /* An output that cannot be written is said before the render, not after it. */
     int rc = !apply_width(a.width, &s)                      ? 2
              : is_input("output", a.output, scene_path, &s) ? 2

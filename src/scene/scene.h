@@ -225,6 +225,10 @@ static inline bool shape_material_emits(const shape_material *m) {
 static inline bool triangle_emits(const scene *s, const triangle *t) {
     return shape_material_emits(triangle_material(s, t));
 }
+/* Whether anything can light the image: a point light of some power and colour (both modes), an
+ * emitting sphere or face (path mode: report mode refuses emission) or a background that is not
+ * black (seen by camera and mirror rays, and by report mode's indirect bounce); never fails. */
+bool scene_has_light(const scene *s);
 /* Releases the arrays of a parsed scene; safe on a zeroed scene. */
 void scene_free(scene *s);
 
