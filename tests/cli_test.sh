@@ -84,6 +84,39 @@ parse_ms=$(sed -n 's/.*scene: read and parsed in \([0-9.]*\) ms.*/\1/p' "$tmp/er
 setup_s=$(sed -n 's/.* s rendering + \([0-9.]*\) s set-up.*/\1/p' "$tmp/err")
 awk -v p="$parse_ms" -v s="$setup_s" 'BEGIN { exit !(p != "" && s != "" && s * 1000 + 0.6 >= p) }' && ok ||
     bad "setup-sum: set-up ${setup_s:-?} s is less than the parse's ${parse_ms:-?} ms"
+# Model files where a scene is expected, Blender files and formats (issue 49, defect 8): render
+# says that a model is no scene and how to render it, not the parser's byte or directive error;
+# a Blender file in a mesh line says which Blender files assimp reads; `trazador formats` lists
+# assimp's formats (the README named `assimp listext`, a tool that is not installed).
+run formats 0 "$tz" formats
+for ext in .obj .ply .stl ".gltf .glb" .dae .blend; do has formats out "  $ext "; done
+has formats out "Blender 3D Importer (http://www.blender3d.org) (Blender 2.7x and older only)"
+! grep -q "assimp listext" "$src/README.md" "$src/scenes/README.md" && grep -q "trazador formats" "$src/README.md" \
+    && ok || bad "formats: the READMEs still name assimp listext"
+printf '# a triangle\n\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >tri.obj
+run model-as-scene 2 "$tz" render tri.obj --backend cpu -o model.png
+has model-as-scene err "trazador: render: 'tri.obj' is a model file (OBJ), not a scene: render it from a scene that loads it with a mesh line"
+has model-as-scene err "    mesh   file tri.obj"
+grep -q "unknown directive" "$tmp/err" && bad "model-as-scene: the parser's error: $(cat "$tmp/err")" || ok
+printf 'glTF\002\000\000\000\020\000\000\000' >"my model.glb"
+run glb-as-scene 2 "$tz" render "$tmp/my model.glb" --backend cpu -o model.png
+has glb-as-scene err "is a model file (glTF binary), not a scene"
+has glb-as-scene err '    mesh   file "my model.glb"'
+printf 'BLENDER-v300REND\000\000\000\000garbage' >new.blend
+run blend-as-scene 2 "$tz" render new.blend --backend cpu -o model.png
+has blend-as-scene err "is a model file (Blender), not a scene"
+has blend-as-scene err "; assimp reads no Blender file newer than 2.7x: export it from Blender as glTF"
+printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nlight position 0 5 -5 power 10\nmesh file new.blend\n' >blend.scene
+run blend-mesh 2 "$tz" render blend.scene --backend cpu -o model.png
+has blend-mesh err "blend.scene:4:11: mesh 'new.blend': assimp reads no Blender file newer than 2.7x: export it from Blender as glTF (File > Export > glTF 2.0, a .glb) and load that (assimp: cannot load: "
+cp cube.obj cube.xyzq
+printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nmesh file cube.xyzq\n' >xyzq.scene
+run unknown-format 2 "$tz" render xyzq.scene --backend cpu -o model.png
+has unknown-format err "this assimp reads no '.xyzq' files (\`trazador formats\` lists those it reads)"
+# A scene whose first line is wrong stays a scene with an error, whatever its name says.
+printf 'camera position 0 0 -5 bogus 1\n' >bad-first.obj.scene
+run bad-scene-first-line 2 "$tz" render bad-first.obj.scene --backend cpu -o model.png
+has bad-scene-first-line err "bad-first.obj.scene:1:24: unknown key 'bogus' for camera"
 # A device number past the devices is a command-line error whatever the back end choice.
 if "$tz" devices >/dev/null 2>&1; then
     run device-out-of-range 2 "$tz" render --width 20 --spp 1 --device 99 -o dev.png
@@ -146,7 +179,7 @@ has validate-with-cpu err "--validate turns on Vulkan's validation"
 run spp-space 2 "$tz" render --backend cpu --width 8 --spp " 5" -o sppbad.png
 [ ! -e devcpu.png ] && [ ! -e sppbad.png ] && ok || bad "a usage error wrote an image"
 # Every subcommand takes --help: its usage on stdout, exit 0.
-for cmd in render diff gen bench devices; do
+for cmd in render diff gen bench devices formats; do
     run "$cmd-help" 0 "$tz" $cmd --help
     has "$cmd-help" out "usage: trazador $cmd"
 done

@@ -17,6 +17,7 @@
 #include "default_scene.h"
 #include "image/image.h"
 #include "render/part.h"
+#include "scene/model_formats.h"
 #include "scene/scene.h"
 #include "util/atomic_file.h"
 #include "util/clock.h"
@@ -456,6 +457,44 @@ static int render_and_write(const render_args *a, const scene *s, double started
     return ok ? 0 : 1;
 }
 
+/* Writes path as a scene's mesh line names it: quoted, with \" and \\, where a bare word would
+ * not hold it. */
+static void mesh_path_text(const char *path, char *out, size_t size) {
+    if (!path[strcspn(path, " \t\"\\#")]) {
+        snprintf(out, size, "%s", path);
+        return;
+    }
+    size_t n = 0;
+    out[n++] = '"';
+    for (const char *c = path; *c && n + 4 < size; c++) {
+        if (*c == '"' || *c == '\\') out[n++] = '\\';
+        out[n++] = *c;
+    }
+    out[n++] = '"';
+    out[n] = '\0';
+}
+
+/* True (said) when the scene path, which failed to parse at line error_line, is a model file
+ * (model_file_kind): how to render it then says more than the parser's byte or directive error. */
+static bool say_model_file(const char *path, int error_line) {
+    char kind[64], named[512];
+    if (!strcmp(path, "-") || !model_file_kind(path, error_line, kind, sizeof kind)) return false;
+    const char *slash = strrchr(path, '/');
+    mesh_path_text(slash ? slash + 1 : path, named, sizeof named); /* from a scene beside it */
+    fprintf(stderr,
+            "trazador: render: '%s' is a model file (%s), not a scene: render it from a scene that "
+            "loads it with a mesh line, such as\n"
+            "    camera position 0 1 -4 look_at 0 0 0 fov 45\n"
+            "    plane  width 4 height 3 pixel 0.01\n"
+            "    light  position -2 4 -3 power 80\n"
+            "    mesh   file %s\n"
+            "in a file beside it (README.md, \"Scenes\"; `trazador formats` lists the model "
+            "formats)%s%s\n",
+            path, kind, named, strcmp(kind, "Blender") ? "" : "; ",
+            strcmp(kind, "Blender") ? "" : MODEL_BLENDER_ADVICE);
+    return true;
+}
+
 int cmd_render(int argc, char **argv) {
     render_args a;
     const char *scene_path;
@@ -474,7 +513,8 @@ int cmd_render(int argc, char **argv) {
                                    default_scene_text, strlen(default_scene_text),
                                    "scenes/cornell.scene (embedded)", a.mode, &s, &err);
     if (!parsed) {
-        scene_error_print(&err);
+        if (!scene_path || err.out_of_memory || !say_model_file(scene_path, err.line))
+            scene_error_print(&err);
         return err.out_of_memory ? 1 : 2;
     }
     log_debug("scene: read and parsed in %.1f ms", (clock_seconds() - parse_start) * 1e3);

@@ -7,10 +7,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "scene/directives.h"
 #include "scene/mesh_cache.h"
 #include "scene/mesh_load.h"
+#include "scene/model_formats.h"
 #include "scene/parser.h"
 #include "util/threads.h"
 
@@ -369,8 +371,15 @@ bool directive_mesh(parser *p) {
     bool smooth = parser_value_or(&kv, MESH_SMOOTH, 0) != 0;
     mesh me;
     char error[512];
-    if (!mesh_cache_load(&p->meshes, path, smooth, &me, error, sizeof error))
+    if (!mesh_cache_load(&p->meshes, path, smooth, &me, error, sizeof error)) {
+        /* assimp's own words for a newer Blender file ("Did not find a field named `no`") say
+         * nothing of the version */
+        const char *dot = strrchr(path, '.');
+        if (dot && !strcasecmp(dot, ".blend") && !strncmp(error, "cannot load", 11))
+            return parser_fail(p, file->col, "mesh '%s': %s (assimp: %s)", path,
+                               MODEL_BLENDER_ADVICE, error);
         return parser_fail(p, file->col, "mesh '%s': %s", path, error);
+    }
     if (!add_inputs(p, &me)) {
         mesh_free(&me);
         return false;
