@@ -318,19 +318,23 @@ static bool add_inputs(parser *p, const mesh *me) {
     return true;
 }
 
-/* Warns, once a scene as for spheres (tiny_warned), when glass mesh `path` (its first `kept`
- * faces) has a bounding box whose smallest half-extent is under SCENE_TINY_OFFSETS ray offsets at
- * the box's largest |coordinate|: rays that enter it start near or past its far side. */
-static void warn_tiny_glass(parser *p, const mesh *me, size_t kept, const char *path, int col) {
-    if (p->tiny_warned) return;
-    vec3 lo = me->faces[0].v[0], hi = lo;
+/* The bounding box lo..hi of the mesh's first `kept` faces. */
+static void mesh_box(const mesh *me, size_t kept, vec3 *lo, vec3 *hi) {
+    *lo = *hi = me->faces[0].v[0];
     for (size_t f = 0; f < kept; f++) {
         for (int k = 0; k < 3; k++) {
             vec3 v = me->faces[f].v[k];
-            lo = v3(fminf(lo.x, v.x), fminf(lo.y, v.y), fminf(lo.z, v.z));
-            hi = v3(fmaxf(hi.x, v.x), fmaxf(hi.y, v.y), fmaxf(hi.z, v.z));
+            *lo = v3(fminf(lo->x, v.x), fminf(lo->y, v.y), fminf(lo->z, v.z));
+            *hi = v3(fmaxf(hi->x, v.x), fmaxf(hi->y, v.y), fmaxf(hi->z, v.z));
         }
     }
+}
+
+/* Warns, once a scene as for spheres (tiny_warned), when glass mesh `path` has a bounding box
+ * lo..hi whose smallest half-extent is under SCENE_TINY_OFFSETS ray offsets at the box's largest
+ * |coordinate|: rays that enter it start near or past its far side. */
+static void warn_tiny_glass(parser *p, vec3 lo, vec3 hi, const char *path, int col) {
+    if (p->tiny_warned) return;
     double half = 0.5 * fmin((double)hi.x - lo.x, fmin((double)hi.y - lo.y, (double)hi.z - lo.z));
     vec3 largest = v3(fmaxf(-lo.x, hi.x), fmaxf(-lo.y, hi.y), fmaxf(-lo.z, hi.z));
     float offset = TZ_EPS * parser_largest_coordinate(largest);
@@ -442,7 +446,13 @@ bool directive_mesh(parser *p) {
         p->emission_line = p->line;
         p->emission_col = file->col;
     }
-    if (glass) warn_tiny_glass(p, &me, kept, path, file->col);
+    vec3 lo, hi;
+    mesh_box(&me, kept, &lo, &hi);
+    if (glass) warn_tiny_glass(p, lo, hi, path, file->col);
+    if (!parser_note_mesh(p, file->col, kept, lo, hi, path)) {
+        mesh_free(&me);
+        return false;
+    }
     if (!m && me.unsupported[0]) {
         parser_warn(p, p->line, file->col, "mesh '%s': trazador cannot show its %s (ignored)", path,
                     me.unsupported);

@@ -287,6 +287,7 @@ static bool parse_text(parser *p, int threads) {
                     "light_samples does nothing in report mode: it is path mode's emitter samples "
                     "a vertex");
     parser_warn_near_clip(p);
+    parser_report_meshes(p);
     return true;
 }
 
@@ -333,6 +334,7 @@ bool parser_run(const char *text, size_t length, const char *filename, int threa
         scene_free(&p->s);
     }
     mesh_cache_free(p->meshes);
+    free(p->views);
     free(p);
     return ok;
 }
