@@ -270,7 +270,8 @@ double parser_value_or(const key_values *kv, int key, double fallback) {
     return (kv->given & BIT(key)) ? kv->value[key][0] : fallback;
 }
 
-/* Fails at byte i of the line, which cannot be scene text (c: that byte). */
+/* Fails at byte i of the line, which cannot be scene text: a NUL, a UTF-8 byte-order mark, or
+ * another byte that is not printable ASCII (said apart: each has its own likely cause). */
 static bool fail_byte(parser *p, const char *line, size_t length, size_t i) {
     unsigned char c = (unsigned char)line[i];
     int col = (int)i + 1;
