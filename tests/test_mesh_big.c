@@ -25,8 +25,9 @@
 #define FAR_VERTEX (GRID_VERTICES + 5)
 #define VERTICES (GRID_VERTICES + 7)
 
+/* The camera sees the grid's corner at 1 2 3 (a mesh out of view would warn). */
 #define HEADER                                                                     \
-    "camera position 0 0 0 direction 0 0 1\nplane width 2 height 2 pixel 0.0625\n" \
+    "camera position 1 2 0 direction 0 0 1\nplane width 2 height 2 pixel 0.0625\n" \
     "light position -1 2 0 power 20\n"
 
 /* Corner c of face f of the grid (squares row by row, each as (a, b, d) and (a, d, e)). */

@@ -286,6 +286,9 @@ static void test_chunks(void) {
         {"sphere mirror center 0 0 0 radius -2", "radius must be in (0, 1e+18], got -2", 35},
         {"camera position 1 2 3", "'camera' given twice (first on line 1)", 1},
         {"# a NUL \001 here", "", 0},
+        /* a quoted path (issue 49, defect 7): '#' and spaces inside it, and one left open */
+        {"mesh file \"no such # model.ply\"", "mesh 'no such # model.ply': cannot open", 11},
+        {"mesh file \"open # quote", "unterminated quoted path", 11},
         {"light position 0 0 0 power 1", NULL, 0},
     };
     const int at[] = {3, 777, 13334, 20000, 20001, 29999, 40000};

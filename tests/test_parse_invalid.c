@@ -265,6 +265,31 @@ static const invalid_case invalid_cases[] = {
      BYTES(BASE "render samples "
                 "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"),
      3, 16, "got 'aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa...'"},
+    /* quoted paths (issue 49, defect 7): the path without its quotes and escapes, '#' and
+     * spaces in it; the errors of a quote left open or misplaced at their column */
+    {"quoted path with spaces", BYTES(BASE "mesh file \"no such bunny.ply\" scale 2"), 3, 11,
+     "mesh 'no such bunny.ply': cannot open"},
+    {"quoted path escapes", BYTES(BASE "mesh file \"a \\\"b\\\" \\\\c #d.obj\"  # a comment"), 3,
+     11, "mesh 'a \"b\" \\c #d.obj': cannot open"},
+    {"quoted path CRLF", BYTES(BASE "mesh file \"no such.obj\"\r\n"), 3, 11,
+     "mesh 'no such.obj': cannot open"},
+    {"unterminated quote", BYTES(BASE "mesh lambertian file \"my bunny.ply scale 2"), 3, 22,
+     "unterminated quoted path: the '\"' here has no closing '\"' on its line"},
+    {"unterminated quote before CR", BYTES(BASE "mesh file \"a\r\n"), 3, 11,
+     "unterminated quoted path"},
+    {"unknown escape", BYTES(BASE "mesh file \"C:\\models\""), 3, 14,
+     "unknown escape in a quoted path: only \\\" (a quote) and \\\\ (a backslash) are escapes"},
+    {"quote inside a word", BYTES(BASE "mesh file my\"bunny.ply\""), 3, 13,
+     "a quote inside a word: a quoted path starts after a space"},
+    {"no space after a closing quote", BYTES(BASE "mesh file \"a b\"scale 2"), 3, 16,
+     "expected a space after the closing quote"},
+    {"empty quoted path", BYTES(BASE "mesh file \"\""), 3, 11, "expected a path, got an empty one"},
+    {"non-ASCII byte in a quoted path",
+     BYTES(BASE "mesh file \"ma\xc3\xb1"
+                "ana.obj\""),
+     3, 14, "unexpected byte 0xc3"},
+    {"a quoted number is no number", BYTES(BASE "render samples \"4\""), 3, 16,
+     "expected an integer for 'samples', got '\"4\"'"},
     {"error on line 7 after valid lines",
      BYTES(BASE "light position 0 5 0 power 10\n"
                 "sphere phong center 0 0 0 radius 1\n"

@@ -24,6 +24,8 @@ int cmd_diff(int argc, char **argv);
 int cmd_gen(int argc, char **argv);
 /* `trazador devices`: lists the Vulkan devices. */
 int cmd_devices(int argc, char **argv);
+/* `trazador formats`: lists the model formats assimp reads. */
+int cmd_formats(int argc, char **argv);
 /* `trazador bench`: fixed workloads timed on the back ends. */
 int cmd_bench(int argc, char **argv);
 

@@ -17,6 +17,7 @@
 #include "default_scene.h"
 #include "image/image.h"
 #include "render/part.h"
+#include "scene/model_formats.h"
 #include "scene/scene.h"
 #include "util/atomic_file.h"
 #include "util/clock.h"
@@ -340,8 +341,9 @@ static bool write_image(const render_args *a, const film *f) {
     return image_write_film(a->output, format, f, a->tm, a->exr_type == 0);
 }
 
-/* Renders and writes the image or the part; the exit code. */
-static int render_and_write(const render_args *a, const scene *s) {
+/* Renders and writes the image or the part; the exit code. started: when the command began, so
+ * that the summary's set-up counts the scene's parse and its models' import too. */
+static int render_and_write(const render_args *a, const scene *s, double started) {
     render_opts opts;
     render_opts_from_scene(s, &opts);
     apply_overrides(a, s, &opts);
@@ -409,7 +411,7 @@ static int render_and_write(const render_args *a, const scene *s) {
     if (clear_on_signal) interrupts_restore(&saved);
     /* a checkpoint could not be written */
     if (!render_pacer_stop(&pacer, ok ? &p : NULL)) ok = false;
-    double elapsed = clock_seconds() - start;
+    double finished = clock_seconds(), elapsed = finished - start;
     if (ok && pacer.checkpoints)
         log_debug("checkpoints: %d written in %.3f s in all", pacer.checkpoints,
                   pacer.checkpoint_seconds);
@@ -437,7 +439,9 @@ static int render_and_write(const render_args *a, const scene *s) {
         log_info("time limit: every pixel got samples %u:%u (%u of %u)", p.meta.sample_begin,
                  p.meta.sample_end, p.meta.sample_end - p.meta.sample_begin, end);
     if (ok && !a->quiet) {
-        /* The rates are the sample passes' own: set-up (device, pipeline, BVH) is apart. */
+        /* The rates are the sample passes' own; set-up is everything else since the command
+         * began (the scene's parse, its models' import, the BVH, device and pipeline): a model's
+         * import, part of the parse, once took as long as the rest and showed nowhere. */
         double render = stats.render_seconds > 0.0 ? stats.render_seconds : elapsed;
         double samples =
             (double)(p.meta.x1 - p.meta.x0) * (p.meta.y1 - p.meta.y0) * (p.meta.sample_end - begin);
@@ -445,7 +449,7 @@ static int render_and_write(const render_args *a, const scene *s) {
             "%s: %dx%d, %u spp, %s back end, %.3f s rendering + %.3f s set-up, %.2f "
             "Msamples/s, %.1f Mrays/s",
             a->output, p.meta.x1 - p.meta.x0, p.meta.y1 - p.meta.y0,
-            p.meta.sample_end - p.meta.sample_begin, used, render, elapsed - render,
+            p.meta.sample_end - p.meta.sample_begin, used, render, finished - started - render,
             samples / render * 1e-6, (double)stats.rays / render * 1e-6);
     }
     film_free(&f);
@@ -453,9 +457,48 @@ static int render_and_write(const render_args *a, const scene *s) {
     return ok ? 0 : 1;
 }
 
+/* Writes path as a scene's mesh line names it: quoted, with \" and \\, where a bare word would
+ * not hold it. */
+static void mesh_path_text(const char *path, char *out, size_t size) {
+    if (!path[strcspn(path, " \t\"\\#")]) {
+        snprintf(out, size, "%s", path);
+        return;
+    }
+    size_t n = 0;
+    out[n++] = '"';
+    for (const char *c = path; *c && n + 4 < size; c++) {
+        if (*c == '"' || *c == '\\') out[n++] = '\\';
+        out[n++] = *c;
+    }
+    out[n++] = '"';
+    out[n] = '\0';
+}
+
+/* True (said) when the scene path, which failed to parse at line error_line, is a model file
+ * (model_file_kind): how to render it then says more than the parser's byte or directive error. */
+static bool say_model_file(const char *path, int error_line) {
+    char kind[64], named[512];
+    if (!strcmp(path, "-") || !model_file_kind(path, error_line, kind, sizeof kind)) return false;
+    const char *slash = strrchr(path, '/');
+    mesh_path_text(slash ? slash + 1 : path, named, sizeof named); /* from a scene beside it */
+    fprintf(stderr,
+            "trazador: render: '%s' is a model file (%s), not a scene: render it from a scene that "
+            "loads it with a mesh line, such as\n"
+            "    camera position 0 1 -4 look_at 0 0 0 fov 45\n"
+            "    plane  width 4 height 3 pixel 0.01\n"
+            "    light  position -2 4 -3 power 80\n"
+            "    mesh   file %s\n"
+            "in a file beside it (README.md, \"Scenes\"; `trazador formats` lists the model "
+            "formats)%s%s\n",
+            path, kind, named, strcmp(kind, "Blender") ? "" : "; ",
+            strcmp(kind, "Blender") ? "" : MODEL_BLENDER_ADVICE);
+    return true;
+}
+
 int cmd_render(int argc, char **argv) {
     render_args a;
     const char *scene_path;
+    double started = clock_seconds();
     opt_result parsed_args = parse_render_args(argc, argv, &a, &scene_path);
     if (parsed_args != OPT_OK) return parsed_args == OPT_HELP ? 0 : parsed_args;
     if (a.mode >= 0) a.mode = (int)scene_mode_of_word(a.mode); /* seed is report */
@@ -470,7 +513,8 @@ int cmd_render(int argc, char **argv) {
                                    default_scene_text, strlen(default_scene_text),
                                    "scenes/cornell.scene (embedded)", a.mode, &s, &err);
     if (!parsed) {
-        scene_error_print(&err);
+        if (!scene_path || err.out_of_memory || !say_model_file(scene_path, err.line))
+            scene_error_print(&err);
         return err.out_of_memory ? 1 : 2;
     }
     log_debug("scene: read and parsed in %.1f ms", (clock_seconds() - parse_start) * 1e3);
@@ -478,13 +522,21 @@ int cmd_render(int argc, char **argv) {
         const scene_error *w = &s.warnings[k];
         log_warn("%s:%d:%d: %s", w->file, w->line, w->col, w->message);
     }
+    /* A black image with exit 0 and no word looked like a broken renderer. */
+    if (!scene_has_light(&s))
+        log_warn(
+            "%s: nothing lights this scene (no light of some power and colour, no emitting "
+            "sphere or face, a black background): the image will be black",
+            !scene_path               ? "scenes/cornell.scene (embedded)"
+            : strcmp(scene_path, "-") ? scene_path
+                                      : "<stdin>");
     /* An output that cannot be written is said before the render, not after it. */
     int rc = !apply_width(a.width, &s)                      ? 2
              : is_input("output", a.output, scene_path, &s) ? 2
              : !atomic_file_check_force(a.output, a.force)  ? 1
                                                             : check_checkpoint(&a, scene_path, &s);
     if (rc == 0) rc = check_device(a.device);
-    if (rc == 0) rc = render_and_write(&a, &s);
+    if (rc == 0) rc = render_and_write(&a, &s, started);
     scene_free(&s);
     return rc;
 }

@@ -39,7 +39,9 @@ static void open_library(void) {
              find(handle, "aiGetMaterialString", &lib.get_material_string) &&
              find(handle, "aiGetMaterialFloatArray", &lib.get_material_float_array) &&
              find(handle, "aiGetMaterialIntegerArray", &lib.get_material_integer_array) &&
-             find(handle, "aiGetMaterialTextureCount", &lib.get_material_texture_count);
+             find(handle, "aiGetMaterialTextureCount", &lib.get_material_texture_count) &&
+             find(handle, "aiGetImportFormatCount", &lib.get_import_format_count) &&
+             find(handle, "aiGetImportFormatDescription", &lib.get_import_format_description);
 }
 
 const assimp_lib *assimp_lib_open(char *error, size_t error_size) {

@@ -20,6 +20,8 @@ typedef struct assimp_lib {
     __typeof__(&aiGetMaterialFloatArray) get_material_float_array;
     __typeof__(&aiGetMaterialIntegerArray) get_material_integer_array;
     __typeof__(&aiGetMaterialTextureCount) get_material_texture_count;
+    __typeof__(&aiGetImportFormatCount) get_import_format_count;
+    __typeof__(&aiGetImportFormatDescription) get_import_format_description;
 } assimp_lib;
 
 /* assimp's functions, the library opened once a process (thread-safe); NULL when it cannot be,

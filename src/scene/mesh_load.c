@@ -381,7 +381,8 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
     const char *dot = strrchr(path, '.');
     if (!dot || strchr(dot, '/') || !ai->is_extension_supported(dot)) {
         return fail(error, error_size,
-                    "unsupported format: this assimp reads no '%s' files (see `assimp listext`)",
+                    "unsupported format: this assimp reads no '%s' files (`trazador formats` "
+                    "lists those it reads)",
                     dot && !strchr(dot, '/') ? dot : "extensionless");
     }
     /* assimp loops for ever or crashes on some malformed files (a PLY whose vertex count is a

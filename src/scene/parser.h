@@ -56,6 +56,15 @@ typedef struct key_values {
     int value_token[MAX_KEYS][3];
 } key_values;
 
+/* A mesh line's bounding box after its transform, for --verbose and the out-of-view warning
+ * (scene_view.c), which need the camera and plane, given on any line. */
+typedef struct mesh_view {
+    int line, col; /* of the mesh line's file value */
+    size_t faces;
+    vec3 lo, hi;
+    char path[SCENE_INPUT_PATH];
+} mesh_view;
+
 typedef struct parser {
     const char *text;
     size_t length;
@@ -83,6 +92,8 @@ typedef struct parser {
     /* A chunk parsed ahead: any directive but sphere, triangle and quad stops it. */
     bool primitives_only;
     struct mesh_cache *meshes; /* the models mesh lines loaded (mesh_cache.c), NULL before one */
+    mesh_view *views; /* the mesh lines' boxes, in order (parser_note_mesh); freed by the parse */
+    size_t view_count, view_capacity;
     char number[SCENE_MAX_LINE + 1];      /* a token NUL-terminated for strtod */
     char quoted[2][MAX_QUOTED_CHARS + 4]; /* two, so one message can quote two tokens */
     int quoted_next;
@@ -105,6 +116,12 @@ int parser_end_col(const parser *p);
 void parser_warn_near_clip(parser *p);
 /* The largest |coordinate| of v, at least 1: what the ray offset TZ_EPS is scaled by there. */
 float parser_largest_coordinate(vec3 v);
+/* Keeps a mesh line's box (its file value at col, its faces, its path) for parser_report_meshes;
+ * false (reported) out of memory. */
+bool parser_note_mesh(parser *p, int col, size_t faces, vec3 lo, vec3 hi, const char *path);
+/* Prints each mesh's box (--verbose) and warns of the first mesh wholly outside the camera's
+ * view (scene_view.c); the scene's camera and plane are final. */
+void parser_report_meshes(parser *p);
 /* Reads key k's value(s) from token *next on, advancing *next; false (reported) on a bad value. */
 bool parser_values(parser *p, const key_spec *k, int *next, double value[3], int value_token[3]);
 /* Reads `key value...` pairs from token first to the end of the line into kv, the keys of
@@ -122,8 +139,11 @@ bool parser_require_keys(parser *p, const char *owner, const key_spec *keys, int
 vec3 parser_vec3(const key_values *kv, int key, vec3 fallback);
 /* Key's value, or fallback when not given. */
 double parser_value_or(const key_values *kv, int key, double fallback);
+/* The path token t names into out: a bare word as it is, a quoted one ("my bunny.ply") without
+ * its quotes and escapes; false (reported) when it is empty or does not fit size. */
+bool parser_path(parser *p, const token *t, char *out, size_t size);
 /* Splits one line (without its '\n') into p->tokens; false (reported) on bytes that cannot be
- * scene text. */
+ * scene text, or a quoted path not closed on its line. */
 bool parser_tokenize(parser *p, const char *line, size_t length);
 /* Parses the directive of the tokenized line p->tokens into p->s; false (reported) on any error,
  * or unreported for a chunk parsed ahead (primitives_only) meeting another directive. */

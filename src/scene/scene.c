@@ -1,4 +1,5 @@
-/* scene.c: ownership of a parsed scene's arrays, and how its parse errors read. */
+/* scene.c: ownership of a parsed scene's arrays, how its parse errors read, and whether anything
+ * in it gives light. */
 #include "scene/scene.h"
 
 #include <stdio.h>
@@ -23,6 +24,21 @@ void scene_free(scene *s) {
     s->normals_count = 0;
     s->light_count = 0;
     s->input_count = 0;
+}
+
+bool scene_has_light(const scene *s) {
+    if (s->background.x > 0.0f || s->background.y > 0.0f || s->background.z > 0.0f) return true;
+    for (int k = 0; k < s->light_count; k++) {
+        const light *l = &s->lights[k];
+        if (l->power > 0.0f && (l->color.x > 0.0f || l->color.y > 0.0f || l->color.z > 0.0f))
+            return true;
+    }
+    for (int k = 0; k < s->sphere_count; k++)
+        if (sphere_emits(&s->spheres[k])) return true;
+    /* a face's material is in the scene's only when some face takes it */
+    for (int k = 0; k < s->material_count; k++)
+        if (shape_material_emits(&s->materials[k])) return true;
+    return false;
 }
 
 void scene_error_print(const scene_error *err) {

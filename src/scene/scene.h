@@ -44,7 +44,9 @@
  * warns: near the camera the watertight test finds its distance less exactly than the ray offset
  * there. */
 #define SCENE_FACE_SPAN 131072.0
-#define SCENE_MAX_WARNINGS 2
+/* Warnings kept (past it, dropped): the last ones of a parse (a mesh out of view) still fit beside
+ * a mesh's own two (what it cannot show, its dropped faces). */
+#define SCENE_MAX_WARNINGS 4
 /* Farthest image plane a fov may ask for: camera rays square their direction in single
  * precision, which overflows past about 1.8e19 (every pixel then the background). */
 #define SCENE_MAX_PLANE_DISTANCE 1e19
@@ -178,7 +180,8 @@ typedef struct scene {
      * the camera when closer than SCENE_NEAR_CLIP_FACTOR times its rays' offset, or a sphere
      * surface closer than SCENE_PRECISION_STEPS float spacings at its size, or a face reaching
      * SCENE_FACE_SPAN times as far from the origin as the camera; the mesh files' dropped faces and
-     * what trazador cannot show of them; settings the render's mode ignores. */
+     * what trazador cannot show of them; settings the render's mode ignores; the first mesh wholly
+     * outside the camera's view. */
     scene_error warnings[SCENE_MAX_WARNINGS];
     int warning_count;
 } scene;
@@ -225,6 +228,10 @@ static inline bool shape_material_emits(const shape_material *m) {
 static inline bool triangle_emits(const scene *s, const triangle *t) {
     return shape_material_emits(triangle_material(s, t));
 }
+/* Whether anything can light the image: a point light of some power and colour (both modes), an
+ * emitting sphere or face (path mode: report mode refuses emission) or a background that is not
+ * black (seen by camera and mirror rays, and by report mode's indirect bounce); never fails. */
+bool scene_has_light(const scene *s);
 /* Releases the arrays of a parsed scene; safe on a zeroed scene. */
 void scene_free(scene *s);
 

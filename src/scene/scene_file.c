@@ -51,7 +51,7 @@ static void stream_check_init(stream_check *c, const char *path) {
 }
 
 static void stream_check_free(stream_check *c) {
-    if (c->p) scene_free(&c->p->s);
+    if (c->p) scene_free(&c->p->s), free(c->p->views);
     free(c->p);
 }
 

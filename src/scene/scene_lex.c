@@ -270,9 +270,52 @@ double parser_value_or(const key_values *kv, int key, double fallback) {
     return (kv->given & BIT(key)) ? kv->value[key][0] : fallback;
 }
 
+/* Fails at byte i of the line, which cannot be scene text: a NUL, a UTF-8 byte-order mark, or
+ * another byte that is not printable ASCII (said apart: each has its own likely cause). */
+static bool fail_byte(parser *p, const char *line, size_t length, size_t i) {
+    unsigned char c = (unsigned char)line[i];
+    int col = (int)i + 1;
+    if (c == 0) return parser_fail(p, col, "unexpected NUL byte (is this a text file?)");
+    if (p->line == 1 && i == 0 && length >= 3 && !memcmp(line, "\xef\xbb\xbf", 3))
+        return parser_fail(p, col,
+                           "a UTF-8 byte-order mark (EF BB BF) starts the file: save it without "
+                           "one");
+    return parser_fail(p, col, "unexpected byte 0x%02x (only printable ASCII outside comments)", c);
+}
+
+/* The end of the quoted token opened at line[start] (a '"'): the index of its closing quote.
+ * Inside, printable ASCII and spaces, '#' too, with \" and \\ the only escapes; a closing quote
+ * is followed by a space, a comment or the line's end. False (reported) otherwise. */
+static bool quoted_end(parser *p, const char *line, size_t length, size_t start, size_t *end) {
+    size_t i = start + 1;
+    for (; i < length && line[i] != '"'; i++) {
+        unsigned char c = (unsigned char)line[i];
+        if (c == '\\') {
+            if (i + 1 < length && (line[i + 1] == '"' || line[i + 1] == '\\')) {
+                i++;
+                continue;
+            }
+            return parser_fail(p, (int)i + 1,
+                               "unknown escape in a quoted path: only \\\" (a quote) and \\\\ (a "
+                               "backslash) are escapes");
+        }
+        if (c == '\r' && i == length - 1) break; /* the CR of a CR LF ending */
+        if (c < 0x20 || c > 0x7e) return fail_byte(p, line, length, i);
+    }
+    if (i >= length || line[i] != '"')
+        return parser_fail(p, (int)start + 1,
+                           "unterminated quoted path: the '\"' here has no closing '\"' on its "
+                           "line");
+    if (i + 1 < length && !strchr(" \t\r#", line[i + 1]))
+        return parser_fail(p, (int)i + 2, "expected a space after the closing quote");
+    *end = i;
+    return true;
+}
+
 /* Splits one line (without its '\n') into p->tokens, rejecting bytes that cannot be scene text.
  * Outside comments only printable ASCII, tab and a CR ending the line (whitespace) are allowed;
- * inside a comment anything but NUL, so comments may hold UTF-8. */
+ * inside a comment anything but NUL, so comments may hold UTF-8. A token that starts with '"'
+ * runs to its closing quote (a path with spaces: parser_path). */
 bool parser_tokenize(parser *p, const char *line, size_t length) {
     p->token_count = 0;
     /* Only the last byte may be a CR (CR LF endings), comments included. */
@@ -294,18 +337,36 @@ bool parser_tokenize(parser *p, const char *line, size_t length) {
             i++;
             continue;
         }
-        if (c < 0x20 || c > 0x7e) {
-            if (c == 0) return parser_fail(p, col, "unexpected NUL byte (is this a text file?)");
-            if (p->line == 1 && i == 0 && length >= 3 && !memcmp(line, "\xef\xbb\xbf", 3))
-                return parser_fail(p, col,
-                                   "a UTF-8 byte-order mark (EF BB BF) starts the file: "
-                                   "save it without one");
-            return parser_fail(p, col,
-                               "unexpected byte 0x%02x (only printable ASCII outside comments)", c);
-        }
+        if (c < 0x20 || c > 0x7e) return fail_byte(p, line, length, i);
         size_t start = i;
-        while (i < length && line[i] > 0x20 && line[i] < 0x7f && line[i] != '#') i++;
+        if (c == '"') {
+            if (!quoted_end(p, line, length, start, &i)) return false;
+            i++;
+        } else {
+            while (i < length && line[i] > 0x20 && line[i] < 0x7f && line[i] != '#' &&
+                   line[i] != '"')
+                i++;
+            if (i < length && line[i] == '"')
+                return parser_fail(p, (int)i + 1,
+                                   "a quote inside a word: a quoted path starts after a space");
+        }
         p->tokens[p->token_count++] = (token){line + start, (int)(i - start), col};
     }
+    return true;
+}
+
+/* A quoted token's path is its text between the quotes, \" and \\ read as the one character they
+ * escape (the tokenizer took no other escape). */
+bool parser_path(parser *p, const token *t, char *out, size_t size) {
+    bool quoted = t->text[0] == '"';
+    int from = quoted ? 1 : 0, to = quoted ? t->length - 1 : t->length;
+    size_t n = 0;
+    for (int i = from; i < to; i++) {
+        if (quoted && t->text[i] == '\\') i++;
+        if (n + 1 >= size) return parser_fail(p, t->col, "path is too long");
+        out[n++] = t->text[i];
+    }
+    out[n] = '\0';
+    if (n == 0) return parser_fail(p, t->col, "expected a path, got an empty one");
     return true;
 }

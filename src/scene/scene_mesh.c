@@ -7,10 +7,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "scene/directives.h"
 #include "scene/mesh_cache.h"
 #include "scene/mesh_load.h"
+#include "scene/model_formats.h"
 #include "scene/parser.h"
 #include "util/threads.h"
 
@@ -54,14 +56,17 @@ static bool looks_numeric(const token *t) {
     return (c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.';
 }
 
-/* The mesh file's path: absolute as given, else relative to the scene file's folder (the working
- * folder for text that is not a file: standard input, strings). False when it does not fit. */
-static bool mesh_path(const parser *p, const token *t, char *out, size_t size) {
+/* The mesh file's path (bare or quoted: parser_path): absolute as given, else relative to the
+ * scene file's folder (the working folder for text that is not a file: standard input, strings).
+ * False (reported) when it is empty or does not fit. */
+static bool mesh_path(parser *p, const token *t, char *out, size_t size) {
+    char named[PATH_MAX];
+    if (!parser_path(p, t, named, sizeof named)) return false;
     const char *slash = strrchr(p->filename, '/');
     int dir =
-        t->text[0] == '/' || p->filename[0] == '<' || !slash ? 0 : (int)(slash - p->filename) + 1;
-    int n = snprintf(out, size, "%.*s%.*s", dir, p->filename, t->length, t->text);
-    return n >= 0 && (size_t)n < size;
+        named[0] == '/' || p->filename[0] == '<' || !slash ? 0 : (int)(slash - p->filename) + 1;
+    int n = snprintf(out, size, "%.*s%s", dir, p->filename, named);
+    return (n >= 0 && (size_t)n < size) || parser_fail(p, t->col, "mesh path is too long");
 }
 
 /* A mesh line's transform: scale, then rotation about a unit axis, then translation. */
@@ -320,19 +325,23 @@ static bool add_inputs(parser *p, const mesh *me) {
     return true;
 }
 
-/* Warns, once a scene as for spheres (tiny_warned), when glass mesh `path` (its first `kept`
- * faces) has a bounding box whose smallest half-extent is under SCENE_TINY_OFFSETS ray offsets at
- * the box's largest |coordinate|: rays that enter it start near or past its far side. */
-static void warn_tiny_glass(parser *p, const mesh *me, size_t kept, const char *path, int col) {
-    if (p->tiny_warned) return;
-    vec3 lo = me->faces[0].v[0], hi = lo;
+/* The bounding box lo..hi of the mesh's first `kept` faces. */
+static void mesh_box(const mesh *me, size_t kept, vec3 *lo, vec3 *hi) {
+    *lo = *hi = me->faces[0].v[0];
     for (size_t f = 0; f < kept; f++) {
         for (int k = 0; k < 3; k++) {
             vec3 v = me->faces[f].v[k];
-            lo = v3(fminf(lo.x, v.x), fminf(lo.y, v.y), fminf(lo.z, v.z));
-            hi = v3(fmaxf(hi.x, v.x), fmaxf(hi.y, v.y), fmaxf(hi.z, v.z));
+            *lo = v3(fminf(lo->x, v.x), fminf(lo->y, v.y), fminf(lo->z, v.z));
+            *hi = v3(fmaxf(hi->x, v.x), fmaxf(hi->y, v.y), fmaxf(hi->z, v.z));
         }
     }
+}
+
+/* Warns, once a scene as for spheres (tiny_warned), when glass mesh `path` has a bounding box
+ * lo..hi whose smallest half-extent is under SCENE_TINY_OFFSETS ray offsets at the box's largest
+ * |coordinate|: rays that enter it start near or past its far side. */
+static void warn_tiny_glass(parser *p, vec3 lo, vec3 hi, const char *path, int col) {
+    if (p->tiny_warned) return;
     double half = 0.5 * fmin((double)hi.x - lo.x, fmin((double)hi.y - lo.y, (double)hi.z - lo.z));
     vec3 largest = v3(fmaxf(-lo.x, hi.x), fmaxf(-lo.y, hi.y), fmaxf(-lo.z, hi.z));
     float offset = TZ_EPS * parser_largest_coordinate(largest);
@@ -415,13 +424,19 @@ bool directive_mesh(parser *p) {
     if (!read_mesh_keys(p, m, next, &kv, scale, rotate)) return false;
     const token *file = &p->tokens[kv.value_token[MESH_FILE][0]];
     char path[PATH_MAX];
-    if (!mesh_path(p, file, path, sizeof path))
-        return parser_fail(p, file->col, "mesh path is too long");
+    if (!mesh_path(p, file, path, sizeof path)) return false;
     bool smooth = parser_value_or(&kv, MESH_SMOOTH, 0) != 0;
     mesh me;
     char error[512];
-    if (!mesh_cache_load(&p->meshes, path, smooth, &me, error, sizeof error))
+    if (!mesh_cache_load(&p->meshes, path, smooth, &me, error, sizeof error)) {
+        /* assimp's own words for a newer Blender file ("Did not find a field named `no`") say
+         * nothing of the version */
+        const char *dot = strrchr(path, '.');
+        if (dot && !strcasecmp(dot, ".blend") && !strncmp(error, "cannot load", 11))
+            return parser_fail(p, file->col, "mesh '%s': %s (assimp: %s)", path,
+                               MODEL_BLENDER_ADVICE, error);
         return parser_fail(p, file->col, "mesh '%s': %s", path, error);
+    }
     if (!add_inputs(p, &me)) {
         mesh_free(&me);
         return false;
@@ -463,7 +478,13 @@ bool directive_mesh(parser *p) {
         p->emission_line = p->line;
         p->emission_col = file->col;
     }
-    if (glass) warn_tiny_glass(p, &me, kept, path, file->col);
+    vec3 lo, hi;
+    mesh_box(&me, kept, &lo, &hi);
+    if (glass) warn_tiny_glass(p, lo, hi, path, file->col);
+    if (!parser_note_mesh(p, file->col, kept, lo, hi, path)) {
+        mesh_free(&me);
+        return false;
+    }
     if (!m && me.unsupported[0]) {
         parser_warn(p, p->line, file->col, "mesh '%s': trazador cannot show its %s (ignored)", path,
                     me.unsupported);

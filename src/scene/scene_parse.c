@@ -299,6 +299,7 @@ static bool parse_text(parser *p, int threads) {
                     "%s (keep max(color) + ks at most 1: path mode's light grows at every bounce)",
                     p->bright_what);
     parser_warn_near_clip(p);
+    parser_report_meshes(p);
     return true;
 }
 
@@ -345,6 +346,7 @@ bool parser_run(const char *text, size_t length, const char *filename, int threa
         scene_free(&p->s);
     }
     mesh_cache_free(p->meshes);
+    free(p->views);
     free(p);
     return ok;
 }
