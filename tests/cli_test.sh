@@ -122,17 +122,17 @@ has bad-scene-first-line err "bad-first.obj.scene:1:24: unknown key 'bogus' for 
 # camera's view (behind it, off to a side) warns at its file value; one in view, or reaching into
 # it from outside, does not.
 view_cube() { printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nlight position 0 5 -5 power 10\nmesh lambertian file cube.obj scale 2 translate %s\n' "$1"; }
-view_cube "-1 -1 3" >in-view.scene
+view_cube "-1 -1 5" >in-view.scene
 run in-view 0 "$tz" render in-view.scene --backend cpu --spp 1 --verbose -o view.png
 has in-view err "trazador: debug: mesh 'cube.obj' (line 4): 12 faces, bounding box after its transform -1 -1 3 to 1 1 5"
 grep -q "warning" "$tmp/err" && bad "in-view: warned: $(grep warning "$tmp/err")" || ok
-view_cube "3.5 -1 3" >edge-view.scene # x from 3.5 at z 3: the view's edge is at 2
+view_cube "3.5 -1 5" >edge-view.scene # x from 3.5 at z 3: the view's edge is at 2
 run edge-view 0 "$tz" render edge-view.scene --backend cpu --spp 1 -q -o view.png
 has edge-view err "edge-view.scene:4:22: mesh 'cube.obj' lies wholly outside the camera's view: its bounding box after the transform is 3.5 -1 3 to 5.5 1 5, and the camera at 0 0 -5 looks along 0 0 1"
-view_cube "1.5 -1 3" >reaching-view.scene # from 1.5 to 3.5 at z 3 to 5: reaches into the view
+view_cube "1.5 -1 5" >reaching-view.scene # from 1.5 to 3.5 at z 3 to 5: reaches into the view
 run reaching-view 0 "$tz" render reaching-view.scene --backend cpu --spp 1 -q -o view.png
 [ -s "$tmp/err" ] && bad "reaching-view: warned: $(cat "$tmp/err")" || ok
-{ view_cube "-1 -1 -9"; echo 'mesh lambertian file cube.obj translate 0 9 0'; } >behind-view.scene
+{ view_cube "-1 -1 -7"; echo 'mesh lambertian file cube.obj translate 0 9 0'; } >behind-view.scene
 run behind-view 0 "$tz" render behind-view.scene --backend cpu --spp 1 -q -o view.png
 has behind-view err "behind-view.scene:4:22: mesh 'cube.obj' lies wholly outside the camera's view (and 1 more mesh line): its bounding box after the transform is -1 -1 -9 to 1 1 -7"
 [ "$(wc -l <"$tmp/err")" = 1 ] && ok || bad "behind-view: not one warning: $(cat "$tmp/err")"

@@ -252,7 +252,7 @@ static void test_errors(void) {
     expect_error(HEADER "mesh file cube.obj\n", 6, 11, "(the file-size limit, ulimit -f, caps it)");
     setrlimit(RLIMIT_FSIZE, &limit);
     /* a degenerate face among good ones: dropped, one warning */
-    write_text("one_bad.obj", "v 0 0 5\nv 1 0 5\nv 0 1 5\nv 2 0 5\nf 1 2 3\nf 1 2 4\n");
+    write_text("one_bad.obj", "v 0 0 -5\nv 1 0 -5\nv 0 1 -5\nv 2 0 -5\nf 1 2 3\nf 1 2 4\n");
     scene s;
     scene_error err;
     bool ok = parse(HEADER "mesh file one_bad.obj\n", 1, &s, &err);
@@ -333,7 +333,7 @@ static void test_unsupported(void) {
                "newmtl a\nKd 0.5 0.5 0.5\nmap_Kd a.png\nmap_bump b.png\n"
                "newmtl b\nKd 0.5 0.5 0.5\nmap_Kd c.png\n");
     write_text("textured.obj",
-               "mtllib textured.mtl\nv 0 0 5\nv 1 0 5\nv 0 1 5\nv 1 1 5\n"
+               "mtllib textured.mtl\nv 0 0 -5\nv 1 0 -5\nv 0 1 -5\nv 1 1 -5\n"
                "usemtl a\nf 1 2 3\nusemtl b\nf 2 4 3\n");
     scene s;
     scene_error err;
