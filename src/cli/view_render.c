@@ -1,0 +1,269 @@
+/* view_render.c: the render thread of `trazador view` (view_render.h), driven through
+ * render_choose_part and a render_control whose passes are one chunk each. */
+#define _GNU_SOURCE /* gettid */
+#include "cli/view_render.h"
+
+#include <pthread.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include "render/part.h"
+#include "util/clock.h"
+#include "util/log.h"
+
+struct view_render {
+    const scene *base;
+    render_opts opts;
+    backend_choice backend;
+    pthread_t thread;
+    pthread_mutex_t lock;
+    pthread_cond_t wake;
+    /* Under lock: what the main thread asks. */
+    view_settings settings;
+    uint64_t generation, rendered; /* asked for, and the last the thread finished */
+    bool quit, failed;
+    bool chunks_running; /* the chunk passes, which a change abandons, are in flight */
+    volatile sig_atomic_t stop;
+    /* Under lock: what the thread published. */
+    view_frame latest;
+    part latest_part;
+};
+
+/* One render of the thread: the settings' generation it renders and its rate's clock. */
+typedef struct view_pass {
+    view_render *v;
+    uint64_t generation;
+    uint32_t spp;            /* the samples the view goes to (the preview's part has 1) */
+    uint32_t samples_before; /* published before the pass in flight */
+    double since;            /* when the pass in flight began (the render, for the first) */
+    const char *backend;
+} view_pass;
+
+/* Publishes part p (samples 0 to its sample_end) as the latest image, unless the settings
+ * changed since it began; false (logged) on out of memory. */
+static bool publish(view_pass *r, const part *p) {
+    view_render *v = r->v;
+    film f = {0};
+    image img = {0};
+    part copy = {0};
+    bool ok = part_film_so_far(p, &f) && image_from_film(&f, &img) && part_copy(p, &copy);
+    film_free(&f);
+    if (!ok) {
+        log_error("view: out of memory for the image of a pass");
+        image_free(&img);
+        return false;
+    }
+    double now = clock_seconds();
+    double pixels = (double)img.width * img.height;
+    uint32_t samples = p->meta.sample_end;
+    pthread_mutex_lock(&v->lock);
+    if (v->generation == r->generation) {
+        image old = v->latest.img;
+        v->latest = (view_frame){
+            .img = img,
+            .samples = samples,
+            .spp = r->spp,
+            .msamples = pixels * (samples - r->samples_before) / (now - r->since) * 1e-6,
+            .backend = r->backend,
+            .generation = r->generation,
+            .sequence = v->latest.sequence + 1};
+        img = old;
+        part old_part = v->latest_part;
+        v->latest_part = copy;
+        copy = old_part;
+    }
+    pthread_mutex_unlock(&v->lock);
+    image_free(&img);
+    part_free(&copy);
+    r->samples_before = samples;
+    r->since = now;
+    return true;
+}
+
+/* Whether the settings of this render are still the ones asked for. */
+static bool current(view_pass *r) {
+    pthread_mutex_lock(&r->v->lock);
+    bool same = !r->v->quit && r->v->generation == r->generation;
+    pthread_mutex_unlock(&r->v->lock);
+    return same;
+}
+
+/* render_control.next_pass: one chunk a pass while the settings stand, the part handed over
+ * after each. */
+static uint32_t next_pass(void *user, uint32_t done, bool *sync) {
+    view_pass *r = user;
+    bool go = current(r);
+    *sync = go && done > r->samples_before;
+    return go ? 1u : 0u;
+}
+
+/* render_control.synced: the pass just done, shown. */
+static bool synced(void *user, const struct part *p) { return publish(user, p); }
+
+/* Renders samples 0 to spp - 1 of scene s with opts into a fresh part, publishing each pass;
+ * false on failure (logged). */
+static bool render_samples(view_pass *r, const scene *s, render_opts opts, uint32_t spp,
+                           bool stoppable) {
+    view_render *v = r->v;
+    opts.spp = (int)spp;
+    render_control control = {
+        .next_pass = next_pass, .synced = synced, .user = r, .stop = stoppable ? &v->stop : NULL};
+    opts.control = &control;
+    part_meta meta;
+    render_part_meta(s, &opts, &meta);
+    part p = {0};
+    if (!part_init(&p, &meta)) return false;
+    r->samples_before = 0;
+    r->since = clock_seconds();
+    const char *used = "";
+    bool ok = render_choose_part(s, &opts, v->backend, &p, spp, &used);
+    r->backend = used;
+    /* auto chose once: later renders go to the same back end without its notices again. */
+    if (ok) v->backend = strcmp(used, "cpu") ? BACKEND_VULKAN : BACKEND_CPU;
+    /* The last pass is handed to no synced: it is published here. */
+    if (ok && p.meta.sample_end > r->samples_before) ok = publish(r, &p);
+    part_free(&p);
+    return ok;
+}
+
+/* The scene and options of settings set; never fails. */
+static void apply(const view_render *v, view_settings set, scene *s, render_opts *o) {
+    *s = *v->base; /* the arrays shared, read only */
+    s->camera_position = set.camera.position;
+    s->camera_direction = set.camera.direction;
+    s->camera_up = set.camera.up;
+    *o = v->opts;
+    if (o->mode != set.mode)
+        o->bounces = v->base->bounces_given ? v->base->bounces : scene_default_bounces(set.mode);
+    o->mode = set.mode;
+}
+
+/* Renders one generation: the preview, then the chunks; false on failure (logged). */
+static bool render_generation(view_render *v, view_settings set, uint64_t generation) {
+    scene s;
+    render_opts o;
+    apply(v, set, &s, &o);
+    view_pass r = {.v = v, .generation = generation, .spp = (uint32_t)o.spp, .backend = ""};
+    /* One sample first: a chunk of 16 takes about 0.7 s at 400 x 400 on two cores, its first
+     * sample a twentieth of that. It is not abandoned, so that a drag always shows some. */
+    if (o.spp > 1 && !render_samples(&r, &s, o, 1, false)) return false;
+    pthread_mutex_lock(&v->lock);
+    bool go = !v->quit && v->generation == generation;
+    v->chunks_running = go;
+    v->stop = 0;
+    pthread_mutex_unlock(&v->lock);
+    bool ok = !go || render_samples(&r, &s, o, (uint32_t)o.spp, true);
+    pthread_mutex_lock(&v->lock);
+    v->chunks_running = false;
+    pthread_mutex_unlock(&v->lock);
+    return ok;
+}
+
+/* The render thread's niceness, which the back end's threads inherit: the window's thread
+ * must not wait for a core behind them (on two cores it did, up to 80 ms an image). */
+#define VIEW_RENDER_NICE 5
+
+/* The thread: renders each generation asked for until told to quit. */
+static void *render_thread(void *user) {
+    view_render *v = user;
+    /* Linux gives each thread its own niceness; failing to lower it only costs smoothness. */
+    if (setpriority(PRIO_PROCESS, (id_t)gettid(), VIEW_RENDER_NICE) != 0)
+        log_debug("view: the render thread keeps its priority");
+    pthread_mutex_lock(&v->lock);
+    while (!v->quit && !v->failed) {
+        if (v->rendered == v->generation) {
+            pthread_cond_wait(&v->wake, &v->lock);
+            continue;
+        }
+        uint64_t generation = v->generation;
+        view_settings set = v->settings;
+        pthread_mutex_unlock(&v->lock);
+        bool ok = render_generation(v, set, generation);
+        pthread_mutex_lock(&v->lock);
+        v->rendered = generation;
+        if (!ok) v->failed = true;
+    }
+    pthread_mutex_unlock(&v->lock);
+    return NULL;
+}
+
+view_render *view_render_start(const scene *s, const render_opts *opts, backend_choice backend,
+                               view_settings first) {
+    view_render *v = calloc(1, sizeof *v);
+    if (!v) {
+        log_error("view: out of memory");
+        return NULL;
+    }
+    v->base = s;
+    v->opts = *opts;
+    v->backend = backend;
+    v->settings = first;
+    v->generation = 1;
+    pthread_mutex_init(&v->lock, NULL);
+    pthread_cond_init(&v->wake, NULL);
+    if (pthread_create(&v->thread, NULL, render_thread, v) != 0) {
+        log_error("view: cannot start the render thread");
+        pthread_mutex_destroy(&v->lock);
+        pthread_cond_destroy(&v->wake);
+        free(v);
+        return NULL;
+    }
+    return v;
+}
+
+uint64_t view_render_change(view_render *v, view_settings set) {
+    pthread_mutex_lock(&v->lock);
+    v->settings = set;
+    uint64_t generation = ++v->generation;
+    if (v->chunks_running) v->stop = 1;
+    pthread_cond_signal(&v->wake);
+    pthread_mutex_unlock(&v->lock);
+    return generation;
+}
+
+bool view_render_take(view_render *v, view_frame *f) {
+    pthread_mutex_lock(&v->lock);
+    bool newer = v->latest.sequence > f->sequence;
+    if (newer) {
+        image_free(&f->img);
+        *f = v->latest;
+        v->latest.img = (image){0};
+        /* the image moved out; the sequence stays, so that it is not taken twice */
+    }
+    pthread_mutex_unlock(&v->lock);
+    return newer;
+}
+
+bool view_render_failed(view_render *v) {
+    pthread_mutex_lock(&v->lock);
+    bool failed = v->failed;
+    pthread_mutex_unlock(&v->lock);
+    return failed;
+}
+
+bool view_render_save_part(view_render *v, const char *path) {
+    pthread_mutex_lock(&v->lock);
+    bool any = v->latest_part.count != NULL;
+    bool ok = any && part_write(path, &v->latest_part);
+    pthread_mutex_unlock(&v->lock);
+    if (!any) log_error("view: nothing rendered yet to save");
+    return ok;
+}
+
+void view_render_stop(view_render *v) {
+    if (!v) return;
+    pthread_mutex_lock(&v->lock);
+    v->quit = true;
+    v->stop = 1;
+    pthread_cond_signal(&v->wake);
+    pthread_mutex_unlock(&v->lock);
+    pthread_join(v->thread, NULL);
+    image_free(&v->latest.img);
+    part_free(&v->latest_part);
+    pthread_mutex_destroy(&v->lock);
+    pthread_cond_destroy(&v->wake);
+    free(v);
+}
