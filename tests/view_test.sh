@@ -49,8 +49,9 @@ start_view() { # start_view ARGS...: the view in the background, its window in $
     done
     [ -n "$window" ] && xdotool windowfocus --sync "$window" 2>/dev/null
 }
+title=
 wait_done() { # wait_done NAME [TEXT]: until the title says the samples asked for are done (and TEXT)
-    local title=
+    title=
     for _ in $(seq 1 1200); do
         title=$(xdotool getwindowname "$window" 2>/dev/null)
         case $title in *"(done)"*"${2:-}"*) ok; return 0 ;; esac
@@ -94,6 +95,8 @@ for backend in $backends; do
     "$tz" $render cornell.scene -o ref.png
     start_view --backend "$backend" --spp "$spp"
     wait_done "$backend first" && shows "${backend}_first" ref.png
+    case $title in *"$spp of $spp spp (done) | "*" Msamples/s | $backend | report mode"*) ok ;;
+    *) bad "$backend: the title lacks the samples, the rate or the back end: '$title'" ;; esac
     # s: the image and its part; the part merges, and resumes, to the render's image.
     xdotool key s
     wait_line "$backend save" 1 "saved saved-1.png and saved-1.exr"

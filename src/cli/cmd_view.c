@@ -93,7 +93,8 @@ typedef struct view_state {
     double exposure; /* stops */
     tonemap tm;
     const char *save_as;
-    int saved; /* the last N of PREFIX-N */
+    int saved;         /* the last N of PREFIX-N */
+    double changed_at; /* when the settings last changed */
 } view_state;
 
 /* Whether any sphere or face of s emits light. */
@@ -114,11 +115,15 @@ static void set_title(const view_state *st, const view_frame *f) {
         snprintf(title, sizeof title, "trazador view %s | rendering | %s mode | exposure %+.1f",
                  st->name, mode, st->exposure);
     } else {
+        char samples[64];
+        if (f->coarse)
+            snprintf(samples, sizeof samples, "preview of %u spp", f->spp);
+        else
+            snprintf(samples, sizeof samples, "%u of %u spp%s", f->samples, f->spp,
+                     f->samples == f->spp ? " (done)" : "");
         snprintf(title, sizeof title,
-                 "trazador view %s | %u of %u spp%s | %.2f Msamples/s | %s | %s mode | exposure "
-                 "%+.1f",
-                 st->name, f->samples, f->spp, f->samples == f->spp ? " (done)" : "", f->msamples,
-                 f->backend, mode, st->exposure);
+                 "trazador view %s | %s | %.2f Msamples/s | %s | %s mode | exposure %+.1f",
+                 st->name, samples, f->msamples, f->backend, mode, st->exposure);
     }
     view_window_title(st->w, title);
 }
@@ -128,6 +133,7 @@ static void set_title(const view_state *st, const view_frame *f) {
  * the title of the new settings too. */
 static void restart(view_state *st) {
     st->generation = view_render_change(st->render, st->settings);
+    st->changed_at = clock_seconds();
     set_title(st, NULL);
 }
 
@@ -150,8 +156,8 @@ static void encode(const view_state *st, const tonemap_table *t, const image *im
 
 /* Writes PREFIX-N.png (the image as shown) and PREFIX-N.exr (its part); said on stdout. */
 static void save(view_state *st, const view_frame *f) {
-    if (!f->img.rgb) {
-        log_warn("view: nothing rendered yet to save");
+    if (!f->img.rgb || f->coarse) {
+        log_warn("view: nothing to save yet: the image shown is a coarse preview");
         return;
     }
     char png[4096], exr[4096];
@@ -237,10 +243,13 @@ static bool handle(view_state *st, view_event e, const view_frame *f, bool *redr
 
 /* What --verbose reports of the window's timings. */
 typedef struct view_timing {
-    double start, opened, first; /* the command's start, the window open, the first image */
+    double start, opened, first, closed; /* the command's start, the window's open, the first
+                                          * image, the window's close */
     int images;
     double show_total, show_worst; /* tonemap, upload and present of an image */
     double turn_worst;             /* an event loop turn, its wait for events left out */
+    int changes;                   /* settings whose image came, and the seconds it took */
+    double change_total, change_worst;
 } view_timing;
 
 /* The event loop until the view closes: its exit code. */
@@ -255,7 +264,7 @@ static int run_window(view_window *w, view_state *st, view_timing *t) {
     tonemap_table_init(&table, st->tm);
     int rc = 0;
     bool running = true;
-    uint64_t shown = 0;
+    uint64_t shown = 0, shown_generation = 0;
     double shown_exposure = st->exposure;
     char title_key[64] = "";
     while (running) {
@@ -281,7 +290,16 @@ static int run_window(view_window *w, view_state *st, view_timing *t) {
             t->images++;
             t->show_total += took;
             t->show_worst = fmax(t->show_worst, took);
+            /* The first image of new settings: how long a move of the camera waits to show. */
+            if (f.generation > 1 && f.generation == st->generation &&
+                f.generation != shown_generation) {
+                double wait = clock_seconds() - st->changed_at;
+                t->changes++;
+                t->change_total += wait;
+                t->change_worst = fmax(t->change_worst, wait);
+            }
             shown = f.sequence;
+            shown_generation = f.generation;
             shown_exposure = st->exposure;
         } else if (redraw && shown) {
             view_window_redraw(w);
@@ -334,6 +352,7 @@ static int view_scene(const view_args *a, scene *s, const char *name, view_timin
     int backend = a->device >= 0 && a->backend == BACKEND_AUTO ? BACKEND_VULKAN : a->backend;
     st.render = view_render_start(s, &opts, (backend_choice)backend, st.settings);
     int rc = st.render ? run_window(&w, &st, t) : 1;
+    t->closed = clock_seconds();
     view_render_stop(st.render);
     view_window_close(&w);
     return rc;
@@ -370,10 +389,15 @@ int cmd_view(int argc, char **argv) {
     if (rc == 0 && t.images)
         log_debug(
             "view: first image %.3f s after the window opened (%.3f s after the start); %d "
-            "images, tonemap and upload %.2f ms on average, %.2f ms at worst; longest event "
-            "loop turn %.2f ms",
-            t.first - t.opened, t.first - t.start, t.images, t.show_total / t.images * 1e3,
-            t.show_worst * 1e3, t.turn_worst * 1e3);
+            "images in %.2f s, tonemap and upload %.2f ms on average, %.2f ms at worst; longest "
+            "event loop turn %.2f ms",
+            t.first - t.opened, t.first - t.start, t.images, t.closed - t.opened,
+            t.show_total / t.images * 1e3, t.show_worst * 1e3, t.turn_worst * 1e3);
+    if (rc == 0 && t.changes)
+        log_debug(
+            "view: %d moves of the camera or mode shown, %.1f ms to their first image on "
+            "average, %.1f ms at worst",
+            t.changes, t.change_total / t.changes * 1e3, t.change_worst * 1e3);
     scene_free(&s);
     return rc;
 }

@@ -25,9 +25,9 @@ struct view_render {
     view_settings settings;
     uint64_t generation, rendered; /* asked for, and the last the thread finished */
     bool quit, failed;
-    bool chunks_running; /* the chunk passes, which a change abandons, are in flight */
+    bool chunks_running; /* the passes that a change abandons are in flight (not the coarse) */
     volatile sig_atomic_t stop;
-    /* Under lock: what the thread published. */
+    /* Under lock: what the thread published, and its part (none for the coarse preview). */
     view_frame latest;
     part latest_part;
 };
@@ -36,11 +36,27 @@ struct view_render {
 typedef struct view_pass {
     view_render *v;
     uint64_t generation;
-    uint32_t spp;            /* the samples the view goes to (the preview's part has 1) */
+    uint32_t spp;            /* the samples the view goes to (the previews' parts have 1) */
+    int width, height;       /* the view's image */
+    bool coarse;             /* the render in flight is the coarse preview */
     uint32_t samples_before; /* published before the pass in flight */
     double since;            /* when the pass in flight began (the render, for the first) */
     const char *backend;
 } view_pass;
+
+/* img of the coarse preview, each pixel made 2 x 2, cut to width x height; false on out of
+ * memory. */
+static bool enlarge(image *img, int width, int height) {
+    image big;
+    if (!image_init(&big, width, height)) return false;
+    for (int y = 0; y < height; y++)
+        for (int x = 0; x < width; x++)
+            memcpy(&big.rgb[3 * ((size_t)y * width + x)],
+                   &img->rgb[3 * ((size_t)(y / 2) * img->width + x / 2)], 3 * sizeof(float));
+    image_free(img);
+    *img = big;
+    return true;
+}
 
 /* Publishes part p (samples 0 to its sample_end) as the latest image, unless the settings
  * changed since it began; false (logged) on out of memory. */
@@ -49,7 +65,8 @@ static bool publish(view_pass *r, const part *p) {
     film f = {0};
     image img = {0};
     part copy = {0};
-    bool ok = part_film_so_far(p, &f) && image_from_film(&f, &img) && part_copy(p, &copy);
+    bool ok = part_film_so_far(p, &f) && image_from_film(&f, &img) &&
+              (r->coarse ? enlarge(&img, r->width, r->height) : part_copy(p, &copy));
     film_free(&f);
     if (!ok) {
         log_error("view: out of memory for the image of a pass");
@@ -57,7 +74,7 @@ static bool publish(view_pass *r, const part *p) {
         return false;
     }
     double now = clock_seconds();
-    double pixels = (double)img.width * img.height;
+    double pixels = (double)(p->meta.x1 - p->meta.x0) * (p->meta.y1 - p->meta.y0);
     uint32_t samples = p->meta.sample_end;
     pthread_mutex_lock(&v->lock);
     if (v->generation == r->generation) {
@@ -65,6 +82,7 @@ static bool publish(view_pass *r, const part *p) {
         v->latest = (view_frame){
             .img = img,
             .samples = samples,
+            .coarse = r->coarse,
             .spp = r->spp,
             .msamples = pixels * (samples - r->samples_before) / (now - r->since) * 1e-6,
             .backend = r->backend,
@@ -141,21 +159,38 @@ static void apply(const view_render *v, view_settings set, scene *s, render_opts
     o->mode = set.mode;
 }
 
-/* Renders one generation: the preview, then the chunks; false on failure (logged). */
+/* Renders one generation: the coarse preview, one sample, then the chunks; false on failure
+ * (logged). */
 static bool render_generation(view_render *v, view_settings set, uint64_t generation) {
     scene s;
     render_opts o;
     apply(v, set, &s, &o);
-    view_pass r = {.v = v, .generation = generation, .spp = (uint32_t)o.spp, .backend = ""};
-    /* One sample first: a chunk of 16 takes about 0.7 s at 400 x 400 on two cores, its first
-     * sample a twentieth of that. It is not abandoned, so that a drag always shows some. */
-    if (o.spp > 1 && !render_samples(&r, &s, o, 1, false)) return false;
+    view_pass r = {.v = v,
+                   .generation = generation,
+                   .spp = (uint32_t)o.spp,
+                   .width = s.width,
+                   .height = s.height,
+                   .backend = ""};
+    /* A chunk of 16 samples takes about 0.7 s at 400 x 400 on two cores, its first sample a
+     * twentieth of that, and that sample of every other pixel a quarter of it: the coarse
+     * preview. It is never abandoned, so that a drag always shows some. */
+    if (s.width >= 2 && s.height >= 2) {
+        scene coarse = s;
+        coarse.pixel_size = 2.0f * s.pixel_size;
+        coarse.width = (s.width + 1) / 2;
+        coarse.height = (s.height + 1) / 2;
+        r.coarse = true;
+        bool ok = render_samples(&r, &coarse, o, 1, false);
+        r.coarse = false;
+        if (!ok) return false;
+    }
     pthread_mutex_lock(&v->lock);
-    bool go = !v->quit && v->generation == generation;
-    v->chunks_running = go;
+    v->chunks_running = true;
     v->stop = 0;
     pthread_mutex_unlock(&v->lock);
-    bool ok = !go || render_samples(&r, &s, o, (uint32_t)o.spp, true);
+    bool ok = true;
+    if (ok && o.spp > 1 && current(&r)) ok = render_samples(&r, &s, o, 1, true);
+    if (ok && current(&r)) ok = render_samples(&r, &s, o, (uint32_t)o.spp, true);
     pthread_mutex_lock(&v->lock);
     v->chunks_running = false;
     pthread_mutex_unlock(&v->lock);

@@ -2,7 +2,9 @@
  * camera and mode say, first one sample a pixel (a preview, shown at once), then whole chunks of
  * 16 samples up to the samples asked for, publishing the image after every pass; a change of
  * camera or mode abandons the pass in flight and starts over. Each image is the very film
- * `render --spp N` makes for its N samples, so the window can show it byte for byte. */
+ * `render --spp N` makes for its N samples, so the window can show it byte for byte; only the
+ * very first image of new settings is coarser, one sample of every other pixel (each shown as
+ * 2 x 2), so that a drag shows the camera move at a few times the rate of whole images. */
 #ifndef TRAZADOR_VIEW_RENDER_H
 #define TRAZADOR_VIEW_RENDER_H
 
@@ -23,6 +25,7 @@ typedef struct view_settings {
 typedef struct view_frame {
     image img;           /* the mean of the samples so far, linear RGB */
     uint32_t samples;    /* samples a pixel in img */
+    bool coarse;         /* img is the coarse preview: no part to save */
     uint32_t spp;        /* the samples the render goes to */
     double msamples;     /* the last pass's rate, Msamples/s (set-up included) */
     const char *backend; /* "cpu" or "vulkan" */
@@ -44,7 +47,7 @@ bool view_render_take(view_render *v, view_frame *f);
 /* Whether a render failed (logged): the view cannot go on. */
 bool view_render_failed(view_render *v);
 /* Writes the part of the image last published (an EXR part, as `render --part` writes) to
- * path; false (logged) on failure or when there is none yet. */
+ * path; false (logged) on failure or when there is none (the image is the coarse preview). */
 bool view_render_save_part(view_render *v, const char *path);
 /* Stops the render (abandoning its pass) and frees v; safe on NULL. */
 void view_render_stop(view_render *v);
