@@ -93,8 +93,7 @@ typedef struct view_state {
     double exposure; /* stops */
     tonemap tm;
     const char *save_as;
-    int saved;         /* the last N of PREFIX-N */
-    double changed_at; /* when the settings last changed */
+    int saved; /* the last N of PREFIX-N */
 } view_state;
 
 /* Whether any sphere or face of s emits light. */
@@ -133,7 +132,6 @@ static void set_title(const view_state *st, const view_frame *f) {
  * the title of the new settings too. */
 static void restart(view_state *st) {
     st->generation = view_render_change(st->render, st->settings);
-    st->changed_at = clock_seconds();
     set_title(st, NULL);
 }
 
@@ -291,9 +289,8 @@ static int run_window(view_window *w, view_state *st, view_timing *t) {
             t->show_total += took;
             t->show_worst = fmax(t->show_worst, took);
             /* The first image of new settings: how long a move of the camera waits to show. */
-            if (f.generation > 1 && f.generation == st->generation &&
-                f.generation != shown_generation) {
-                double wait = clock_seconds() - st->changed_at;
+            if (f.generation > 1 && f.generation != shown_generation) {
+                double wait = clock_seconds() - f.asked_at;
                 t->changes++;
                 t->change_total += wait;
                 t->change_worst = fmax(t->change_worst, wait);

@@ -23,6 +23,7 @@ struct view_render {
     pthread_cond_t wake;
     /* Under lock: what the main thread asks. */
     view_settings settings;
+    double asked_at;               /* when the settings were asked for */
     uint64_t generation, rendered; /* asked for, and the last the thread finished */
     bool quit, failed;
     bool chunks_running; /* the passes that a change abandons are in flight (not the coarse) */
@@ -36,9 +37,11 @@ struct view_render {
 typedef struct view_pass {
     view_render *v;
     uint64_t generation;
+    double asked_at;         /* when its settings were asked for */
     uint32_t spp;            /* the samples the view goes to (the previews' parts have 1) */
     int width, height;       /* the view's image */
-    bool coarse;             /* the render in flight is the coarse preview */
+    bool preview;            /* the render in flight is a preview: shown even when superseded */
+    bool coarse;             /* ... the coarse one, of every other pixel */
     uint32_t samples_before; /* published before the pass in flight */
     double since;            /* when the pass in flight began (the render, for the first) */
     const char *backend;
@@ -59,7 +62,8 @@ static bool enlarge(image *img, int width, int height) {
 }
 
 /* Publishes part p (samples 0 to its sample_end) as the latest image, unless the settings
- * changed since it began; false (logged) on out of memory. */
+ * changed since it began (a preview is shown all the same: during a drag the settings change
+ * faster than a preview of lavapipe's renders); false (logged) on out of memory. */
 static bool publish(view_pass *r, const part *p) {
     view_render *v = r->v;
     film f = {0};
@@ -77,7 +81,7 @@ static bool publish(view_pass *r, const part *p) {
     double pixels = (double)(p->meta.x1 - p->meta.x0) * (p->meta.y1 - p->meta.y0);
     uint32_t samples = p->meta.sample_end;
     pthread_mutex_lock(&v->lock);
-    if (v->generation == r->generation) {
+    if (v->generation == r->generation || r->preview) {
         image old = v->latest.img;
         v->latest = (view_frame){
             .img = img,
@@ -87,6 +91,7 @@ static bool publish(view_pass *r, const part *p) {
             .msamples = pixels * (samples - r->samples_before) / (now - r->since) * 1e-6,
             .backend = r->backend,
             .generation = r->generation,
+            .asked_at = r->asked_at,
             .sequence = v->latest.sequence + 1};
         img = old;
         part old_part = v->latest_part;
@@ -109,11 +114,16 @@ static bool current(view_pass *r) {
     return same;
 }
 
-/* render_control.next_pass: one chunk a pass while the settings stand, the part handed over
- * after each. */
+/* render_control.next_pass: one chunk a pass while the settings stand (a preview's always),
+ * the part handed over after each. */
 static uint32_t next_pass(void *user, uint32_t done, bool *sync) {
     view_pass *r = user;
     bool go = current(r);
+    if (r->preview) {
+        pthread_mutex_lock(&r->v->lock);
+        go = !r->v->quit;
+        pthread_mutex_unlock(&r->v->lock);
+    }
     *sync = go && done > r->samples_before;
     return go ? 1u : 0u;
 }
@@ -159,37 +169,44 @@ static void apply(const view_render *v, view_settings set, scene *s, render_opts
     o->mode = set.mode;
 }
 
-/* Renders one generation: the coarse preview, one sample, then the chunks; false on failure
- * (logged). */
-static bool render_generation(view_render *v, view_settings set, uint64_t generation) {
+/* Renders one generation: the previews, then the chunks; false on failure (logged). */
+static bool render_generation(view_render *v, view_settings set, uint64_t generation,
+                              double asked_at) {
     scene s;
     render_opts o;
     apply(v, set, &s, &o);
     view_pass r = {.v = v,
                    .generation = generation,
+                   .asked_at = asked_at,
                    .spp = (uint32_t)o.spp,
                    .width = s.width,
                    .height = s.height,
                    .backend = ""};
     /* A chunk of 16 samples takes about 0.7 s at 400 x 400 on two cores, its first sample a
      * twentieth of that, and that sample of every other pixel a quarter of it: the coarse
-     * preview. It is never abandoned, so that a drag always shows some. */
-    if (s.width >= 2 && s.height >= 2) {
+     * preview. On Vulkan each render sets the device up again (0.3 s on lavapipe), which no
+     * coarser image saves: its preview is the sample of every pixel. A preview is never
+     * abandoned, so that a drag always shows some. */
+    bool vulkan = v->backend == BACKEND_VULKAN;
+    r.preview = true;
+    r.coarse = !vulkan && s.width >= 2 && s.height >= 2;
+    if (r.coarse) {
         scene coarse = s;
         coarse.pixel_size = 2.0f * s.pixel_size;
         coarse.width = (s.width + 1) / 2;
         coarse.height = (s.height + 1) / 2;
-        r.coarse = true;
-        bool ok = render_samples(&r, &coarse, o, 1, false);
+        if (!render_samples(&r, &coarse, o, 1, false)) return false;
         r.coarse = false;
-        if (!ok) return false;
+    } else if (o.spp > 1 && !render_samples(&r, &s, o, 1, false)) {
+        return false;
     }
+    r.preview = false;
     pthread_mutex_lock(&v->lock);
     v->chunks_running = true;
     v->stop = 0;
     pthread_mutex_unlock(&v->lock);
     bool ok = true;
-    if (ok && o.spp > 1 && current(&r)) ok = render_samples(&r, &s, o, 1, true);
+    if (!vulkan && o.spp > 1 && current(&r)) ok = render_samples(&r, &s, o, 1, true);
     if (ok && current(&r)) ok = render_samples(&r, &s, o, (uint32_t)o.spp, true);
     pthread_mutex_lock(&v->lock);
     v->chunks_running = false;
@@ -215,8 +232,9 @@ static void *render_thread(void *user) {
         }
         uint64_t generation = v->generation;
         view_settings set = v->settings;
+        double asked_at = v->asked_at;
         pthread_mutex_unlock(&v->lock);
-        bool ok = render_generation(v, set, generation);
+        bool ok = render_generation(v, set, generation, asked_at);
         pthread_mutex_lock(&v->lock);
         v->rendered = generation;
         if (!ok) v->failed = true;
@@ -236,6 +254,7 @@ view_render *view_render_start(const scene *s, const render_opts *opts, backend_
     v->opts = *opts;
     v->backend = backend;
     v->settings = first;
+    v->asked_at = clock_seconds();
     v->generation = 1;
     pthread_mutex_init(&v->lock, NULL);
     pthread_cond_init(&v->wake, NULL);
@@ -252,6 +271,7 @@ view_render *view_render_start(const scene *s, const render_opts *opts, backend_
 uint64_t view_render_change(view_render *v, view_settings set) {
     pthread_mutex_lock(&v->lock);
     v->settings = set;
+    v->asked_at = clock_seconds();
     uint64_t generation = ++v->generation;
     if (v->chunks_running) v->stop = 1;
     pthread_cond_signal(&v->wake);

@@ -3,8 +3,9 @@
  * 16 samples up to the samples asked for, publishing the image after every pass; a change of
  * camera or mode abandons the pass in flight and starts over. Each image is the very film
  * `render --spp N` makes for its N samples, so the window can show it byte for byte; only the
- * very first image of new settings is coarser, one sample of every other pixel (each shown as
- * 2 x 2), so that a drag shows the camera move at a few times the rate of whole images. */
+ * first image of new settings on the CPU back end is coarser, one sample of every other pixel
+ * (each shown as 2 x 2), so that a drag shows the camera move at a few times the rate of whole
+ * images. The previews are shown even once superseded, which later images are not. */
 #ifndef TRAZADOR_VIEW_RENDER_H
 #define TRAZADOR_VIEW_RENDER_H
 
@@ -30,6 +31,7 @@ typedef struct view_frame {
     double msamples;     /* the last pass's rate, Msamples/s (set-up included) */
     const char *backend; /* "cpu" or "vulkan" */
     uint64_t generation; /* the settings it shows: view_render_change's count */
+    double asked_at;     /* when they were asked for (clock_seconds) */
     uint64_t sequence;   /* images published before it and it */
 } view_frame;
 

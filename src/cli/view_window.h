@@ -42,7 +42,7 @@ void view_window_redraw(view_window *w);
 void view_window_title(view_window *w, const char *title);
 /* The next event, waiting up to `timeout_ms` for one; VIEW_EVENT_NONE when none came. */
 view_event view_window_next(view_window *w, int timeout_ms);
-/* Closes the window; safe on a zeroed or failed one. */
+/* Closes the window (SDL stays open until the process ends); safe on a zeroed one. */
 void view_window_close(view_window *w);
 
 #endif
