@@ -36,6 +36,10 @@ xvfb=$!
 trap 'kill $xvfb 2>/dev/null; rm -rf "$tmp"' EXIT
 export DISPLAY=":$display"
 for _ in $(seq 1 100); do xdotool getmouselocation >/dev/null 2>&1 && break; sleep 0.1; done
+if ! xdotool getmouselocation >/dev/null 2>&1; then
+    echo "view_test: Xvfb :$display did not start: $(cat xvfb.log)" >&2
+    exit 1
+fi
 
 view_pid= window=
 start_view() { # start_view ARGS...: the view in the background, its window in $window

@@ -16,6 +16,7 @@
 #include "cli/view_window.h"
 #include "default_scene.h"
 #include "image/image.h"
+#include "render/part.h"
 #include "scene/scene.h"
 #include "util/clock.h"
 #include "util/log.h"
@@ -144,12 +145,12 @@ static bool exposed(const image *img, double exposure, image *out) {
     return true;
 }
 
-/* The 8-bit pixels of the frame through the PNG writer's tonemap (image.h's table). */
+/* The 8-bit pixels of the frame through the PNG writer's tonemap (image.h's table); at exposure
+ * 0 the scale is 1, which changes no float. */
 static void encode(const view_state *st, const tonemap_table *t, const image *img, uint8_t *rgb) {
     size_t n = (size_t)img->width * img->height * 3;
     float scale = (float)exp2(st->exposure);
-    for (size_t i = 0; i < n; i++)
-        rgb[i] = tonemap_table_channel(t, st->exposure != 0.0 ? img->rgb[i] * scale : img->rgb[i]);
+    for (size_t i = 0; i < n; i++) rgb[i] = tonemap_table_channel(t, img->rgb[i] * scale);
 }
 
 /* Writes PREFIX-N.png (the image as shown) and PREFIX-N.exr (its part); said on stdout. */
@@ -166,7 +167,7 @@ static void save(view_state *st, const view_frame *f) {
     } while (access(png, F_OK) == 0 || access(exr, F_OK) == 0);
     image shown = {0};
     bool ok = exposed(&f->img, st->exposure, &shown) && image_write(png, &shown, st->tm) &&
-              view_render_save_part(st->render, exr);
+              part_write(exr, &f->part);
     image_free(&shown);
     if (ok) {
         printf("saved %s and %s (samples 0:%u)\n", png, exr, f->samples);
@@ -311,7 +312,7 @@ static int run_window(view_window *w, view_state *st, view_timing *t) {
         }
         t->turn_worst = fmax(t->turn_worst, clock_seconds() - turn);
     }
-    image_free(&f.img);
+    view_frame_free(&f);
     free(rgb);
     return rc;
 }

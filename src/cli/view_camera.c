@@ -9,8 +9,9 @@
 /* Radians the camera turns a pixel of mouse travel: a drag across a 400-pixel view turns it
  * about 115 degrees. */
 #define ORBIT_RADIANS_PER_PIXEL 0.005
-/* The closest the direction comes to up (its cosine): the frame R = up x F needs them apart. */
-#define ORBIT_MAX_COSINE 0.999
+/* The steepest the camera looks up or down (radians, 89 degrees): the frame R = up x F needs the
+ * direction away from up. */
+#define ORBIT_MAX_ELEVATION (89.0 * VIEW_PI / 180.0)
 /* The share of the way to the pivot a wheel step moves the camera. */
 #define DOLLY_STEP 0.2
 
@@ -115,12 +116,12 @@ view_camera view_camera_orbit(const view_drag *d, int dx, int dy) {
     double yaw = -dx * ORBIT_RADIANS_PER_PIXEL, pitch = dy * ORBIT_RADIANS_PER_PIXEL;
     offset = d_rotate(offset, up, yaw);
     f = d_rotate(f, up, yaw);
+    /* A turn by a about R = up x F lowers the direction's elevation by a: clamped there. */
     dvec right = d_unit(d_cross(up, f));
-    dvec pitched = d_rotate(f, right, pitch);
-    if (fabs(d_dot(pitched, up)) < ORBIT_MAX_COSINE) {
-        offset = d_rotate(offset, right, pitch);
-        f = pitched;
-    }
+    double elevation = asin(fmax(-1.0, fmin(1.0, d_dot(f, up))));
+    double target = fmax(-ORBIT_MAX_ELEVATION, fmin(ORBIT_MAX_ELEVATION, elevation - pitch));
+    offset = d_rotate(offset, right, elevation - target);
+    f = d_rotate(f, right, elevation - target);
     return (view_camera){f_of(d_add(pivot, offset)), f_of(f), d->start.up};
 }
 

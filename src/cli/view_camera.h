@@ -25,7 +25,7 @@ view_camera view_camera_of(const scene *s);
  * sphere or a face, else a point ahead at the distance of the scene's middle; never fails. */
 view_drag view_camera_drag(const scene *s, view_camera c);
 /* The camera orbited about the drag's pivot by dx, dy pixels of mouse travel since it began
- * (up stays the scene's up; the camera never turns past it); never fails. */
+ * (up stays the scene's up; the camera looks at most 89 degrees up or down); never fails. */
 view_camera view_camera_orbit(const view_drag *d, int dx, int dy);
 /* The camera moved across the view so that the pivot follows the mouse by dx, dy pixels of
  * scene s; never fails. */

@@ -28,9 +28,8 @@ struct view_render {
     bool quit, failed;
     bool chunks_running; /* the passes that a change abandons are in flight (not the coarse) */
     volatile sig_atomic_t stop;
-    /* Under lock: what the thread published, and its part (none for the coarse preview). */
+    /* Under lock: what the thread published. */
     view_frame latest;
-    part latest_part;
 };
 
 /* One render of the thread: the settings' generation it renders and its rate's clock. */
@@ -83,8 +82,10 @@ static bool publish(view_pass *r, const part *p) {
     pthread_mutex_lock(&v->lock);
     if (v->generation == r->generation || r->preview) {
         image old = v->latest.img;
+        part old_part = v->latest.part;
         v->latest = (view_frame){
             .img = img,
+            .part = copy,
             .samples = samples,
             .coarse = r->coarse,
             .spp = r->spp,
@@ -94,8 +95,6 @@ static bool publish(view_pass *r, const part *p) {
             .asked_at = r->asked_at,
             .sequence = v->latest.sequence + 1};
         img = old;
-        part old_part = v->latest_part;
-        v->latest_part = copy;
         copy = old_part;
     }
     pthread_mutex_unlock(&v->lock);
@@ -283,10 +282,11 @@ bool view_render_take(view_render *v, view_frame *f) {
     pthread_mutex_lock(&v->lock);
     bool newer = v->latest.sequence > f->sequence;
     if (newer) {
-        image_free(&f->img);
+        view_frame_free(f);
         *f = v->latest;
         v->latest.img = (image){0};
-        /* the image moved out; the sequence stays, so that it is not taken twice */
+        v->latest.part = (part){0};
+        /* the image and part moved out; the sequence stays, so that it is not taken twice */
     }
     pthread_mutex_unlock(&v->lock);
     return newer;
@@ -299,13 +299,9 @@ bool view_render_failed(view_render *v) {
     return failed;
 }
 
-bool view_render_save_part(view_render *v, const char *path) {
-    pthread_mutex_lock(&v->lock);
-    bool any = v->latest_part.count != NULL;
-    bool ok = any && part_write(path, &v->latest_part);
-    pthread_mutex_unlock(&v->lock);
-    if (!any) log_error("view: nothing rendered yet to save");
-    return ok;
+void view_frame_free(view_frame *f) {
+    image_free(&f->img);
+    part_free(&f->part);
 }
 
 void view_render_stop(view_render *v) {
@@ -316,8 +312,7 @@ void view_render_stop(view_render *v) {
     pthread_cond_signal(&v->wake);
     pthread_mutex_unlock(&v->lock);
     pthread_join(v->thread, NULL);
-    image_free(&v->latest.img);
-    part_free(&v->latest_part);
+    view_frame_free(&v->latest);
     pthread_mutex_destroy(&v->lock);
     pthread_cond_destroy(&v->wake);
     free(v);

@@ -14,6 +14,7 @@
 
 #include "cli/view_camera.h"
 #include "image/image.h"
+#include "render/part.h"
 #include "render/render.h"
 
 /* What the view changes between renders. */
@@ -25,6 +26,7 @@ typedef struct view_settings {
 /* The image last published and what it is. */
 typedef struct view_frame {
     image img;           /* the mean of the samples so far, linear RGB */
+    part part;           /* their part (`render --part`'s file); none for the coarse preview */
     uint32_t samples;    /* samples a pixel in img */
     bool coarse;         /* img is the coarse preview: no part to save */
     uint32_t spp;        /* the samples the render goes to */
@@ -43,14 +45,13 @@ view_render *view_render_start(const scene *s, const render_opts *opts, backend_
                                view_settings first);
 /* Starts over with new settings; the generation their images will carry. Never fails. */
 uint64_t view_render_change(view_render *v, view_settings set);
-/* When an image newer than f's (by sequence) was published, moves it into f (freeing f's) and
- * returns true; false when there is none. */
+/* When an image newer than f's (by sequence) was published, moves it and its part into f
+ * (freeing f's) and returns true; false when there is none. */
 bool view_render_take(view_render *v, view_frame *f);
 /* Whether a render failed (logged): the view cannot go on. */
 bool view_render_failed(view_render *v);
-/* Writes the part of the image last published (an EXR part, as `render --part` writes) to
- * path; false (logged) on failure or when there is none (the image is the coarse preview). */
-bool view_render_save_part(view_render *v, const char *path);
+/* Frees a frame's image and part; safe on a zeroed frame. */
+void view_frame_free(view_frame *f);
 /* Stops the render (abandoning its pass) and frees v; safe on NULL. */
 void view_render_stop(view_render *v);
 
