@@ -341,15 +341,23 @@ static int view_scene(const view_args *a, scene *s, const char *name, view_timin
     char why[512];
     char title[300];
     snprintf(title, sizeof title, "trazador view %s", name);
+    if (!view_window_has_display(why, sizeof why)) {
+        fprintf(stderr, "trazador: view: %s\n", why);
+        return 2;
+    }
+    /* The render starts before the window opens: SDL's set-up (100-250 ms here, an OpenGL
+     * renderer on llvmpipe) and the first preview overlap. */
+    int backend = a->device >= 0 && a->backend == BACKEND_AUTO ? BACKEND_VULKAN : a->backend;
+    st.render = view_render_start(s, &opts, (backend_choice)backend, st.settings);
+    if (!st.render) return 1;
     if (!view_window_open(&w, s->width, s->height, title, why, sizeof why)) {
+        view_render_stop(st.render);
         fprintf(stderr, "trazador: view: %s\n", why);
         return 2;
     }
     t->opened = clock_seconds();
     st.w = &w;
-    int backend = a->device >= 0 && a->backend == BACKEND_AUTO ? BACKEND_VULKAN : a->backend;
-    st.render = view_render_start(s, &opts, (backend_choice)backend, st.settings);
-    int rc = st.render ? run_window(&w, &st, t) : 1;
+    int rc = run_window(&w, &st, t);
     t->closed = clock_seconds();
     view_render_stop(st.render);
     view_window_close(&w);

@@ -12,15 +12,18 @@
 
 static const sdl_lib *sdl;
 
+bool view_window_has_display(char *why, size_t why_size) {
+    /* Without either variable SDL finds no screen (and its Wayland attempt prints a warning of
+     * its own). */
+    if (getenv("DISPLAY") || getenv("WAYLAND_DISPLAY") || getenv("SDL_VIDEODRIVER")) return true;
+    snprintf(why, why_size, "no display to open a window on (DISPLAY is not set)");
+    return false;
+}
+
 bool view_window_open(view_window *w, int width, int height, const char *title, char *why,
                       size_t why_size) {
     *w = (view_window){.width = width, .height = height};
-    /* Said before SDL is even opened: without either variable it finds no screen (and its
-     * Wayland attempt prints a warning of its own). */
-    if (!getenv("DISPLAY") && !getenv("WAYLAND_DISPLAY") && !getenv("SDL_VIDEODRIVER")) {
-        snprintf(why, why_size, "no display to open a window on (DISPLAY is not set)");
-        return false;
-    }
+    if (!view_window_has_display(why, why_size)) return false;
     sdl = sdl_lib_open(why, why_size);
     if (!sdl) return false;
     /* No scaling filter may blend a pixel with its neighbours, and the view must not stop

@@ -29,6 +29,9 @@ typedef struct view_window {
     int width, height;
 } view_window;
 
+/* Whether the environment names a display (DISPLAY, WAYLAND_DISPLAY or SDL_VIDEODRIVER), which
+ * view_window_open needs; false with why. It may still fail to open there. */
+bool view_window_has_display(char *why, size_t why_size);
 /* Opens a window of width x height pixels titled `title`; false with why (one line: no
  * display, no SDL2) when it cannot. */
 bool view_window_open(view_window *w, int width, int height, const char *title, char *why,
