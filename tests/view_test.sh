@@ -47,16 +47,19 @@ start_view() { # start_view ARGS...: the view in the background, its window in $
     view_pid=$!
     window=
     for _ in $(seq 1 300); do
-        window=$(xdotool search --pid "$view_pid" --name '^trazador view' 2>/dev/null | head -1)
+        window=$(xdotool search --onlyvisible --pid "$view_pid" --name '^trazador view' 2>/dev/null |
+            head -1)
         [ -n "$window" ] && break
         sleep 0.1
     done
-    [ -n "$window" ] && xdotool windowfocus --sync "$window" 2>/dev/null
+    # Keys go to the window with the focus; --sync waits for it, and would wait for ever on a
+    # window not yet mapped.
+    [ -n "$window" ] && timeout 10 xdotool windowfocus --sync "$window" 2>/dev/null
 }
 title=
 wait_done() { # wait_done NAME [TEXT]: until the title says the samples asked for are done (and TEXT)
     title=
-    for _ in $(seq 1 1200); do
+    for _ in $(seq 1 600); do
         title=$(xdotool getwindowname "$window" 2>/dev/null)
         case $title in *"(done)"*"${2:-}"*) ok; return 0 ;; esac
         sleep 0.1
@@ -78,8 +81,13 @@ shows() { # shows NAME IMAGE: the window's pixels are IMAGE's
         bad "$1: the window differs from $2: $(cat diff.out)"
     fi
 }
-quit_view() { # quit_view NAME: Escape closes the view, exit 0
+quit_view() { # quit_view NAME: Escape closes the view, exit 0 (within 30 s, else killed)
     xdotool key --clearmodifiers Escape
+    for _ in $(seq 1 300); do kill -0 "$view_pid" 2>/dev/null || break; sleep 0.1; done
+    if kill -0 "$view_pid" 2>/dev/null; then
+        kill "$view_pid"
+        bad "$1: Escape did not close the view"
+    fi
     wait "$view_pid"
     local rc=$?
     [ "$rc" = 0 ] && ok || bad "$1: view exited $rc: $(cat view.err)"
