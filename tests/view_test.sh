@@ -3,10 +3,11 @@
 # end and on Vulkan (lavapipe in CI): once the title says the samples asked for are done, a
 # screenshot of the window is byte for byte `render` of the same scene at those samples; a
 # scripted orbit, pan and wheel move the camera, and the camera line the c key prints renders
-# the moved view (the screenshot again); the m key switches to path mode, the same again; the s
-# key writes a PNG and a part that `merge` and `render --resume` take. Without a display, view
-# says so in one line and exits 2. Exit 77 (skip) only where Xvfb, xdotool or ImageMagick's
-# import is missing (Debian: xvfb, xdotool, imagemagick; .ci/run installs them).
+# the moved view (the screenshot again); the m key switches to path mode, the same again; + and -
+# change the exposure and back; the s key writes a PNG and a part that `merge` and `render
+# --resume` take. Without a display, view says so in one line and exits 2. Exit 77 (skip) only
+# where Xvfb, xdotool or ImageMagick's import is missing (Debian: xvfb, xdotool, imagemagick;
+# .ci/run installs them).
 set -u
 tz=$(realpath "$1")
 src=$(realpath "$2")
@@ -135,6 +136,14 @@ for backend in $backends; do
         wait_done "$backend path" "path mode" && {
             "$tz" $render moved.scene --mode path -o path.png 2>/dev/null
             shows "${backend}_path" path.png
+            # + brightens the window by half a stop, - takes it back to render's bytes.
+            xdotool key plus
+            wait_done "$backend exposure" "exposure +0.5" && {
+                import -window "$window" shot.png && convert shot.png -alpha off PNG24:bright.png
+                run "$backend brighter" 1 "$tz" diff bright.png path.png
+            }
+            xdotool key minus
+            wait_done "$backend exposure back" "exposure +0.0" && shows "${backend}_back" path.png
         }
     fi
     quit_view "$backend"

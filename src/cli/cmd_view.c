@@ -212,6 +212,7 @@ static bool handle(view_state *st, view_event e, const view_frame *f, bool *redr
             return true;
         }
         case VIEW_EVENT_WHEEL: {
+            if (e.wheel == 0) return true; /* a sideways scroll */
             view_drag d = view_camera_drag(st->s, st->settings.camera);
             st->settings.camera = view_camera_dolly(&d, e.wheel);
             restart(st);
