@@ -25,6 +25,12 @@ size="--width 200"
 run "no display" 2 env -u DISPLAY -u WAYLAND_DISPLAY "$tz" view cornell.scene $size
 has "no display" "$tmp/err" "trazador: view: no display"
 [ "$(wc -l <"$tmp/err")" = 1 ] && ok || bad "no display: more than one line: $(cat "$tmp/err")"
+# A display no server holds: one line too.
+if [ ! -e /tmp/.X11-unix/X999 ]; then
+    run "no server" 2 env DISPLAY=:999 "$tz" view cornell.scene $size
+    has "no server" "$tmp/err" "trazador: view: cannot open the display ':999'"
+    [ "$(wc -l <"$tmp/err")" = 1 ] && ok || bad "no server: more than one line: $(cat "$tmp/err")"
+fi
 
 # A display number no server holds; -noreset keeps the server up between windows.
 display=

@@ -31,8 +31,15 @@ bool view_window_open(view_window *w, int width, int height, const char *title, 
     sdl->set_hint(SDL_HINT_RENDER_SCALE_QUALITY, "nearest");
     sdl->set_hint(SDL_HINT_VIDEO_X11_NET_WM_BYPASS_COMPOSITOR, "0");
     sdl->set_hint(SDL_HINT_VIDEO_ALLOW_SCREENSAVER, "1");
+    /* Only the drivers of a screen, Wayland where it is named: SDL would fall back to an
+     * offscreen one, and its Wayland attempt prints a warning of its own. SDL_VIDEODRIVER in the
+     * environment still overrides this. */
+    sdl->set_hint(SDL_HINT_VIDEODRIVER, getenv("WAYLAND_DISPLAY") ? "x11,wayland" : "x11");
     if (sdl->init(SDL_INIT_VIDEO) != 0) {
-        snprintf(why, why_size, "no display to open a window on (SDL: %s)", sdl->get_error());
+        const char *display = getenv("DISPLAY");
+        if (!display) display = getenv("WAYLAND_DISPLAY");
+        snprintf(why, why_size, "cannot open the display '%s' (SDL: %s)", display ? display : "",
+                 sdl->get_error());
         return false;
     }
     /* SDL falls back to drivers that show nothing where it finds no display. */
