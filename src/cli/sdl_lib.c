@@ -38,6 +38,7 @@ static void open_library(void) {
              find(handle, "SDL_CreateWindow", &lib.create_window) &&
              find(handle, "SDL_DestroyWindow", &lib.destroy_window) &&
              find(handle, "SDL_SetWindowTitle", &lib.set_window_title) &&
+             find(handle, "SDL_ShowWindow", &lib.show_window) &&
              find(handle, "SDL_CreateRenderer", &lib.create_renderer) &&
              find(handle, "SDL_DestroyRenderer", &lib.destroy_renderer) &&
              find(handle, "SDL_CreateTexture", &lib.create_texture) &&

@@ -17,6 +17,7 @@ typedef struct sdl_lib {
     __typeof__(&SDL_CreateWindow) create_window;
     __typeof__(&SDL_DestroyWindow) destroy_window;
     __typeof__(&SDL_SetWindowTitle) set_window_title;
+    __typeof__(&SDL_ShowWindow) show_window;
     __typeof__(&SDL_CreateRenderer) create_renderer;
     __typeof__(&SDL_DestroyRenderer) destroy_renderer;
     __typeof__(&SDL_CreateTexture) create_texture;

@@ -133,7 +133,7 @@ static bool synced(void *user, const struct part *p) { return publish(user, p); 
 /* Renders samples 0 to spp - 1 of scene s with opts into a fresh part, publishing each pass;
  * false on failure (logged). */
 static bool render_samples(view_pass *r, const scene *s, render_opts opts, uint32_t spp,
-                           bool stoppable) {
+                           backend_choice backend, bool stoppable) {
     view_render *v = r->v;
     opts.spp = (int)spp;
     render_control control = {
@@ -146,10 +146,11 @@ static bool render_samples(view_pass *r, const scene *s, render_opts opts, uint3
     r->samples_before = 0;
     r->since = clock_seconds();
     const char *used = "";
-    bool ok = render_choose_part(s, &opts, v->backend, &p, spp, &used);
+    bool ok = render_choose_part(s, &opts, backend, &p, spp, &used);
     r->backend = used;
     /* auto chose once: later renders go to the same back end without its notices again. */
-    if (ok) v->backend = strcmp(used, "cpu") ? BACKEND_VULKAN : BACKEND_CPU;
+    if (ok && backend == v->backend)
+        v->backend = strcmp(used, "cpu") ? BACKEND_VULKAN : BACKEND_CPU;
     /* The last pass is handed to no synced: it is published here. */
     if (ok && p.meta.sample_end > r->samples_before) ok = publish(r, &p);
     part_free(&p);
@@ -168,6 +169,27 @@ static void apply(const view_render *v, view_settings set, scene *s, render_opts
     o->mode = set.mode;
 }
 
+/* Seconds the settings must stand before a Vulkan render: no move can abandon its set-up
+ * (0.4-2.7 s of device and pipeline on lavapipe here), which would hold a drag's previews up. */
+#define VIEW_VULKAN_SETTLE 0.25
+
+/* Waits up to VIEW_VULKAN_SETTLE for other settings; whether none came (nor a quit). */
+static bool settled(view_pass *r) {
+    view_render *v = r->v;
+    struct timespec until;
+    clock_gettime(CLOCK_REALTIME, &until); /* the condition variable's clock */
+    long nanoseconds = until.tv_nsec + (long)(VIEW_VULKAN_SETTLE * 1e9);
+    until.tv_sec += nanoseconds / 1000000000L;
+    until.tv_nsec = nanoseconds % 1000000000L;
+    pthread_mutex_lock(&v->lock);
+    while (!v->quit && v->generation == r->generation &&
+           pthread_cond_timedwait(&v->wake, &v->lock, &until) == 0) {
+    }
+    bool same = !v->quit && v->generation == r->generation;
+    pthread_mutex_unlock(&v->lock);
+    return same;
+}
+
 /* Renders one generation: the previews, then the chunks; false on failure (logged). */
 static bool render_generation(view_render *v, view_settings set, uint64_t generation,
                               double asked_at) {
@@ -183,30 +205,32 @@ static bool render_generation(view_render *v, view_settings set, uint64_t genera
                    .backend = ""};
     /* A chunk of 16 samples takes about 0.7 s at 400 x 400 on two cores, its first sample a
      * twentieth of that, and that sample of every other pixel a quarter of it: the coarse
-     * preview. On Vulkan each render sets the device up again (0.3 s on lavapipe), which no
-     * coarser image saves: its preview is the sample of every pixel. A preview is never
-     * abandoned, so that a drag always shows some. */
+     * preview, rendered by the CPU back end whatever the view's: on Vulkan each render sets its
+     * device and pipeline up again (0.4-2.7 s on lavapipe here), which a drag would wait for at
+     * every move. A preview is never abandoned, so that a drag always shows some. */
     bool vulkan = v->backend == BACKEND_VULKAN;
     r.preview = true;
-    r.coarse = !vulkan && s.width >= 2 && s.height >= 2;
-    if (r.coarse) {
+    if (s.width >= 2 && s.height >= 2) {
         scene coarse = s;
         coarse.pixel_size = 2.0f * s.pixel_size;
         coarse.width = (s.width + 1) / 2;
         coarse.height = (s.height + 1) / 2;
-        if (!render_samples(&r, &coarse, o, 1, false)) return false;
+        r.coarse = true;
+        if (!render_samples(&r, &coarse, o, 1, BACKEND_CPU, false)) return false;
         r.coarse = false;
-    } else if (o.spp > 1 && !render_samples(&r, &s, o, 1, false)) {
+    } else if (o.spp > 1 && !render_samples(&r, &s, o, 1, v->backend, false)) {
         return false;
     }
     r.preview = false;
+    if (vulkan && !settled(&r)) return true;
     pthread_mutex_lock(&v->lock);
     v->chunks_running = true;
     v->stop = 0;
     pthread_mutex_unlock(&v->lock);
     bool ok = true;
-    if (!vulkan && o.spp > 1 && current(&r)) ok = render_samples(&r, &s, o, 1, true);
-    if (ok && current(&r)) ok = render_samples(&r, &s, o, (uint32_t)o.spp, true);
+    /* One sample of every pixel next, but not on Vulkan, where it would cost a set-up more. */
+    if (!vulkan && o.spp > 1 && current(&r)) ok = render_samples(&r, &s, o, 1, v->backend, true);
+    if (ok && current(&r)) ok = render_samples(&r, &s, o, (uint32_t)o.spp, v->backend, true);
     pthread_mutex_lock(&v->lock);
     v->chunks_running = false;
     pthread_mutex_unlock(&v->lock);

@@ -3,9 +3,9 @@
  * 16 samples up to the samples asked for, publishing the image after every pass; a change of
  * camera or mode abandons the pass in flight and starts over. Each image is the very film
  * `render --spp N` makes for its N samples, so the window can show it byte for byte; only the
- * first image of new settings on the CPU back end is coarser, one sample of every other pixel
- * (each shown as 2 x 2), so that a drag shows the camera move at a few times the rate of whole
- * images. The previews are shown even once superseded, which later images are not. */
+ * first image of new settings is coarser, one sample of every other pixel (each shown as 2 x 2)
+ * rendered by the CPU back end whatever the view's, so that a drag shows the camera move at a few
+ * times the rate of whole images. Previews are shown even once superseded; later images not. */
 #ifndef TRAZADOR_VIEW_RENDER_H
 #define TRAZADOR_VIEW_RENDER_H
 

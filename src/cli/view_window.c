@@ -51,8 +51,10 @@ bool view_window_open(view_window *w, int width, int height, const char *title, 
         sdl->quit();
         return false;
     }
+    /* Hidden until its renderer exists: an OpenGL renderer makes SDL destroy the window and
+     * create another, and a script (tests/view_test.sh) could find the first one gone. */
     w->window = sdl->create_window(title, SDL_WINDOWPOS_UNDEFINED, SDL_WINDOWPOS_UNDEFINED, width,
-                                   height, SDL_WINDOW_SHOWN);
+                                   height, SDL_WINDOW_HIDDEN);
     if (w->window) w->renderer = sdl->create_renderer(w->window, -1, 0);
     if (w->renderer)
         w->texture = sdl->create_texture(w->renderer, SDL_PIXELFORMAT_RGB24,
@@ -66,6 +68,7 @@ bool view_window_open(view_window *w, int width, int height, const char *title, 
     }
     /* A black window at once, rather than what the screen held: the first present also sets
      * the renderer up (73 ms of OpenGL on llvmpipe), which the first image need not wait for. */
+    sdl->show_window(w->window);
     sdl->render_clear(w->renderer);
     sdl->render_present(w->renderer);
     return true;
