@@ -221,10 +221,8 @@ static bool handle(view_state *st, view_event e, const view_frame *f, bool *redr
         case VIEW_EVENT_KEY:
             if (e.key == 'c') print_camera(st);
             if (e.key == 's') save(st, f);
-            if (e.key == '+' || e.key == '-') {
+            if (e.key == '+' || e.key == '-')
                 st->exposure += e.key == '+' ? EXPOSURE_STEP : -EXPOSURE_STEP;
-                *redraw = true;
-            }
             if (e.key == 'm') {
                 render_mode to =
                     st->settings.mode == RENDER_MODE_PATH ? RENDER_MODE_REPORT : RENDER_MODE_PATH;
