@@ -1,11 +1,11 @@
 /* view_render.h: the render thread of `trazador view`. It renders the scene as the view's
- * camera and mode say, first one sample a pixel (a preview, shown at once), then whole chunks of
- * 16 samples up to the samples asked for, publishing the image after every pass; a change of
- * camera or mode abandons the pass in flight and starts over. Each image is the very film
- * `render --spp N` makes for its N samples, so the window can show it byte for byte; only the
- * first image of new settings is coarser, one sample of every other pixel (each shown as 2 x 2)
- * rendered by the CPU back end whatever the view's, so that a drag shows the camera move at a few
- * times the rate of whole images. Previews are shown even once superseded; later images not. */
+ * camera and mode say: a coarse preview (one sample of every other pixel, each shown as 2 x 2,
+ * by the CPU back end whatever the view's), one sample of every pixel (not on Vulkan, where each
+ * render sets the device up again), then whole chunks of 16 samples up to the samples asked for,
+ * publishing the image after every pass. A change of camera or mode abandons the pass in flight
+ * and starts over; previews are never abandoned, and shown even once superseded, so that a drag
+ * shows its moves. Each image but the coarse preview is the very film `render --spp N` makes for
+ * its N samples, so the window can show it byte for byte. */
 #ifndef TRAZADOR_VIEW_RENDER_H
 #define TRAZADOR_VIEW_RENDER_H
 
