@@ -18,7 +18,7 @@ esac
 sudo=""
 [ "$(id -u)" = 0 ] || sudo=sudo
 packages="build-essential cmake pkg-config libvulkan-dev mesa-vulkan-drivers glslang-tools
-vulkan-validationlayers libpng-dev libopenexr-dev libassimp-dev"
+vulkan-validationlayers libpng-dev libopenexr-dev libassimp-dev libsdl2-dev"
 missing=""
 for p in $packages; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing="$missing $p"

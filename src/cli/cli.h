@@ -14,6 +14,10 @@
  * output of `format` ("png", ..., "exr"; part: an EXR part) that has no use for it, then sets
  * the ones not given to their defaults (sRGB, half); never fails. */
 void cli_warn_unused(const char *format, bool part, int *tm, int *exr_type);
+/* --width N (N >= 0; -1: not given): N pixels across scene s's plane, the height whole too;
+ * false (said in one line) when it is not. */
+struct scene;
+bool cli_apply_width(long long width, struct scene *s);
 /* `trazador render`: renders a scene into an image. */
 int cmd_render(int argc, char **argv);
 /* `trazador merge PARTS... -o OUT`: merges render parts into the whole render. */
@@ -28,5 +32,7 @@ int cmd_devices(int argc, char **argv);
 int cmd_formats(int argc, char **argv);
 /* `trazador bench`: fixed workloads timed on the back ends. */
 int cmd_bench(int argc, char **argv);
+/* `trazador view SCENE`: a window showing the render converge, its camera moved by the mouse. */
+int cmd_view(int argc, char **argv);
 
 #endif

@@ -226,8 +226,7 @@ static opt_result parse_render_args(int argc, char **argv, render_args *a,
     return OPT_OK;
 }
 
-/* --width N: N pixels across the same plane; the height must come out whole too. */
-static bool apply_width(long long width, scene *s) {
+bool cli_apply_width(long long width, scene *s) {
     if (width < 0) return true;
     double pixel = (double)s->plane_width / (double)width;
     double height = (double)s->plane_height / pixel;
@@ -531,7 +530,7 @@ int cmd_render(int argc, char **argv) {
             : strcmp(scene_path, "-") ? scene_path
                                       : "<stdin>");
     /* An output that cannot be written is said before the render, not after it. */
-    int rc = !apply_width(a.width, &s)                      ? 2
+    int rc = !cli_apply_width(a.width, &s)                  ? 2
              : is_input("output", a.output, scene_path, &s) ? 2
              : !atomic_file_check_force(a.output, a.force)  ? 1
                                                             : check_checkpoint(&a, scene_path, &s);

@@ -19,6 +19,7 @@ static const char usage_text[] =
     "                       [--exr-type half|float]\n"
     "       trazador merge PARTS... -o OUT [--part] [--exr-type half|float] [--format F]\n"
     "       trazador diff A B [--max-rmse X] [--min-psnr DB] [--max-diff-share FRACTION]\n"
+    "       trazador view [SCENE] [--backend auto|vulkan|cpu] [--spp N] [--width N] ...\n"
     "       trazador devices\n"
     "       trazador formats\n"
     "       trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
@@ -40,7 +41,7 @@ typedef struct command {
 
 static const command commands[] = {
     {"render", cmd_render},   {"merge", cmd_merge}, {"diff", cmd_diff},       {"gen", cmd_gen},
-    {"devices", cmd_devices}, {"bench", cmd_bench}, {"formats", cmd_formats},
+    {"devices", cmd_devices}, {"bench", cmd_bench}, {"formats", cmd_formats}, {"view", cmd_view},
 };
 
 /* Runs the subcommand argv[1]; its exit code. */
