@@ -9,7 +9,7 @@
 
 #define MATERIAL_COMMON_KEYS (BIT(MAT_COLOR) | BIT(MAT_EMISSION))
 
-/* The seed's Spanish names last: messages list them apart, as aliases (material_list). */
+/* The course report's Spanish names last: messages list them apart, as aliases (material_list). */
 static const material_spec materials[] = {
     {"lambertian", TZ_MATERIAL_LAMBERTIAN, MATERIAL_COMMON_KEYS, 0.8f, false},
     {"phong", TZ_MATERIAL_PHONG, MATERIAL_COMMON_KEYS | BIT(MAT_KS) | BIT(MAT_ALPHA), 0.8f, false},
@@ -76,7 +76,7 @@ bool shape_read(parser *p, const shape_spec *shape, const material_spec **materi
            parser_require_keys(p, shape->word, shape->keys, shape->key_count, shape->required, kv);
 }
 
-/* The material of a shape's line, defaults filled in; records the first emission, which seed
+/* The material of a shape's line, defaults filled in; records the first emission, which report
  * mode refuses once the whole text is read (render mode may come later). */
 shape_material shape_material_of(parser *p, const shape_spec *shape, const material_spec *m,
                                  const key_values *kv) {
