@@ -1,12 +1,26 @@
 #!/bin/sh
-# build.sh: installs the Debian packages trazador needs when they are missing (as root, or
-# through sudo), then configures and builds a release build in build/.
+# build.sh [--tests]: installs the Debian packages trazador needs when they are missing (as root,
+# or through sudo), then configures and builds a release build in build/. --tests also installs
+# what the test suite runs beyond the renderer (tests/slurm_test.sh: Slurm and munge;
+# tests/parallel_test.sh: GNU parallel; tests/models_test.sh: Debian's real models;
+# tests/view_test.sh: a virtual X server, xdotool and ImageMagick), so that `ctest` skips nothing
+# (the slurm test also needs root).
 # TRAZADOR_MESA=backports also installs lavapipe of Mesa 25 (mesa-vulkan-drivers and the libdrm
 # it needs) from Debian's bookworm-backports, adding that suite to the machine's apt sources on
 # the URI of its own Debian source (README, "lavapipe"); the default, system, keeps the driver
 # the machine has.
 set -eu
 cd "$(dirname "$0")"
+tests=false
+for arg in "$@"; do
+    case $arg in
+        --tests) tests=true ;;
+        *)
+            echo "build.sh: usage: build.sh [--tests], got '$arg'" >&2
+            exit 2
+            ;;
+    esac
+done
 mesa=${TRAZADOR_MESA:-system}
 case $mesa in
     system | backports) ;;
@@ -19,6 +33,8 @@ sudo=""
 [ "$(id -u)" = 0 ] || sudo=sudo
 packages="build-essential cmake pkg-config libvulkan-dev mesa-vulkan-drivers glslang-tools
 vulkan-validationlayers libpng-dev libopenexr-dev libassimp-dev libsdl2-dev"
+$tests && packages="$packages slurmctld slurmd slurm-client munge parallel assimp-testmodels
+xvfb xdotool imagemagick"
 missing=""
 for p in $packages; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing="$missing $p"

@@ -122,19 +122,10 @@ uvec2 tile_pixel() {
     return corner * gl_WorkGroupSize.xy + gl_LocalInvocationID.xy;
 }
 
-/* Block k of the stack of the pixel at slot, as RGB: chunk_push's stack. */
-vec3 chunk_stack_load(uint slot, uint k) {
-    uint at = (slot * pass.stack_depth + k) * 3u;
-    return vec3(stack[at], stack[at + 1u], stack[at + 2u]);
-}
-void chunk_stack_store(uint slot, uint k, vec3 v) {
-    uint at = (slot * pass.stack_depth + k) * 3u;
-    stack[at] = v.x;
-    stack[at + 1u] = v.y;
-    stack[at + 2u] = v.z;
-}
+/* chunk_push's stack: the blocks of the pixel at slot, pass.stack_depth of 3 floats each. */
 #define CHUNK_STACK_PARAM uint slot,
 #define CHUNK_STACK_ARG slot,
+#define CHUNK_STACK_FLOAT(k, c) stack[((slot) * pass.stack_depth + (k)) * 3u + (c)]
 #include "common/chunk_push.h"
 
 /* Sample l into the chunk's compensated sums, or counted: dropped where it is not finite,

@@ -1,11 +1,11 @@
 /* test_packet.c: every build of the packet integrator this machine runs (the CPU back end renders
- * with the fastest) returns bit for bit what the one-sample reference integrator_sample returns,
- * and traces the same rays, on every scene of scenes/, generated scenes on both of its intersection
- * paths (every sphere, the BVH), a scene of nested and overlapping spheres with the camera inside
- * glass and a cloud of overlapping spheres with exact duplicates; under every option that changes
- * the integrator's path. So does every path-mode build against integrator_path_sample, on the path
- * scenes, point lights with emitters, the scenes above in path mode and a BVH scene with an
- * emitter, under every path-mode option. */
+ * with the fastest) returns bit for bit what the one-sample reference integrator_report_sample
+ * returns, and traces the same rays, on every scene of scenes/, generated scenes on both of its
+ * intersection paths (every sphere, the BVH), a scene of nested and overlapping spheres with the
+ * camera inside glass and a cloud of overlapping spheres with exact duplicates; under every option
+ * that changes the integrator's path. So does every path-mode build against integrator_path_sample,
+ * on the path scenes, point lights with emitters, the scenes above in path mode and a BVH scene
+ * with an emitter, under every path-mode option. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -388,7 +388,7 @@ static void compare_path_builds(void) {
 }
 
 int main(void) {
-    reference = integrator_sample;
+    reference = integrator_report_sample;
     unsetenv("TRAZADOR_PACKET_BUILD"); /* the checks of the default choice below */
     build_count = integrator_packet_list(builds);
     for (int b = 0; b < build_count; b++)

@@ -1,12 +1,24 @@
 /* chunk_push.h: a closed chunk's value onto a pixel's stack of chunk-tree blocks
  * (src/render/chunk_tree.h), one text for C and GLSL (dialect.h): placed at block `top`, then
  * merged `merges` times into the blocks below it, each merge left + right in float. The includer
- * names the stack: CHUNK_STACK_PARAM and CHUNK_STACK_ARG (its leading parameters and arguments),
- * chunk_stack_load(CHUNK_STACK_ARG k) and chunk_stack_store(CHUNK_STACK_ARG k, v) for block k. */
+ * names the stack: CHUNK_STACK_PARAM and CHUNK_STACK_ARG (its leading parameters and arguments)
+ * and CHUNK_STACK_FLOAT(k, c), the lvalue of component c (0..2, RGB) of block k. */
 #ifndef TRAZADOR_COMMON_CHUNK_PUSH_H
 #define TRAZADOR_COMMON_CHUNK_PUSH_H
 
 #include "dialect.h"
+
+/* Block k of the stack, as RGB. */
+TZ_FN vec3 chunk_stack_load(CHUNK_STACK_PARAM TZ_UINT k) {
+    return v3(CHUNK_STACK_FLOAT(k, 0u), CHUNK_STACK_FLOAT(k, 1u), CHUNK_STACK_FLOAT(k, 2u));
+}
+
+/* Sets block k of the stack to v. */
+TZ_FN void chunk_stack_store(CHUNK_STACK_PARAM TZ_UINT k, vec3 v) {
+    CHUNK_STACK_FLOAT(k, 0u) = v.x;
+    CHUNK_STACK_FLOAT(k, 1u) = v.y;
+    CHUNK_STACK_FLOAT(k, 2u) = v.z;
+}
 
 /* Pushes chunk_value at block top, merging as chunk_stack_push reported; never fails. */
 TZ_FN void chunk_push(CHUNK_STACK_PARAM TZ_UINT top, TZ_UINT merges, vec3 chunk_value) {

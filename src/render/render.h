@@ -61,12 +61,12 @@ typedef struct render_opts {
     uint32_t seed;
     bool no_jitter;         /* zero is default: jitter on */
     bool indirect;          /* report mode: the one bounce of indirect light */
-    render_mode mode;       /* seed (the course report's model) or path (DESIGN section 3.2) */
+    render_mode mode;       /* report (the course report's model) or path (DESIGN section 3.2) */
     bool roulette;          /* path mode: Russian roulette from the fourth vertex */
     int light_samples;      /* path mode: emitter samples a diffuse vertex (0 as 1) */
     render_sampler sampler; /* auto: scene_sampler_of the mode */
     path_strategy strategy; /* path mode: MIS (the default), or one strategy alone (tests) */
-    int bounces;            /* seed: longest chain of specular events; path: scattering events */
+    int bounces;            /* report: longest chain of specular events; path: scattering events */
     int threads;            /* CPU back end; 0 = all cores */
     bool device_given;      /* Vulkan back end: `device` was asked for (--device) */
     int device;             /* the Vulkan device asked for; without device_given the first */

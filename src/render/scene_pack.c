@@ -67,6 +67,10 @@ _Static_assert(sizeof(struct gpu_bvh_node) == 64, "gpu_bvh_node is 64 bytes");
 _Static_assert(offsetof(struct gpu_bvh_node, left_hi) == 16, "gpu_bvh_node layout");
 _Static_assert(offsetof(struct gpu_bvh_node, right_lo) == 32, "gpu_bvh_node layout");
 _Static_assert(offsetof(struct gpu_bvh_node, right_hi) == 48, "gpu_bvh_node layout");
+_Static_assert(sizeof(struct gpu_wide_node) == 64, "gpu_wide_node is 64 bytes");
+_Static_assert(offsetof(struct gpu_wide_node, refs) == 16, "gpu_wide_node layout");
+_Static_assert(offsetof(struct gpu_wide_node, lo) == 32, "gpu_wide_node layout");
+_Static_assert(offsetof(struct gpu_wide_node, hi) == 48, "gpu_wide_node layout");
 _Static_assert(TZ_BVH_LEAF_MAX < 1u << (32u - TZ_BVH_COUNT_SHIFT) &&
                    SCENE_MAX_PRIMITIVES - 1u <= TZ_BVH_INDEX_MASK,
                "a leaf's count and first sphere fit a child reference");
@@ -280,17 +284,17 @@ static bool pack_triangle_soa(packed_scene *out, uint32_t count) {
 /* The structure-of-arrays copy, padded by SOA_LANES zeros past every array's end. */
 static bool pack_soa(packed_scene *out, uint32_t count) {
     size_t n = ((size_t)count + SOA_LANES - 1) / SOA_LANES * SOA_LANES + SOA_LANES;
-    out->soa.cx = big_calloc(4 * n, sizeof(float));
-    if (!out->soa.cx) return false;
-    out->soa.cy = out->soa.cx + n;
-    out->soa.cz = out->soa.cx + 2 * n;
-    out->soa.r = out->soa.cx + 3 * n;
+    out->sphere_soa.cx = big_calloc(4 * n, sizeof(float));
+    if (!out->sphere_soa.cx) return false;
+    out->sphere_soa.cy = out->sphere_soa.cx + n;
+    out->sphere_soa.cz = out->sphere_soa.cx + 2 * n;
+    out->sphere_soa.r = out->sphere_soa.cx + 3 * n;
     for (uint32_t k = 0; k < count; k++) {
         const tz_vec4 *c = &out->spheres[k].center_radius;
-        out->soa.cx[k] = c->x;
-        out->soa.cy[k] = c->y;
-        out->soa.cz[k] = c->z;
-        out->soa.r[k] = c->w;
+        out->sphere_soa.cx[k] = c->x;
+        out->sphere_soa.cy[k] = c->y;
+        out->sphere_soa.cz[k] = c->z;
+        out->sphere_soa.r[k] = c->w;
     }
     return true;
 }
@@ -363,7 +367,7 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     free(triangle_source);
     if (sorted && (!pack_soa(out, count) || !pack_triangle_soa(out, out->frame.triangle_count)))
         log_error("out of memory packing %u spheres", count);
-    if (!sorted || !out->soa.cx || !out->triangle_soa.v[0]) {
+    if (!sorted || !out->sphere_soa.cx || !out->triangle_soa.v[0]) {
         scene_pack_free(out);
         return false;
     }
@@ -395,7 +399,7 @@ void scene_pack_report(const packed_scene *p, const render_opts *opts, double pa
 void scene_pack_free(packed_scene *p) {
     free(p->spheres);
     free(p->lights);
-    free(p->soa.cx);
+    free(p->sphere_soa.cx);
     free(p->triangles);
     free(p->materials);
     free(p->normals);

@@ -32,7 +32,7 @@ enum { MAT_COLOR, MAT_KS, MAT_ALPHA, MAT_IOR, MAT_EMISSION, MAT_KEY_COUNT };
 /* clang-format on */
 
 /* A shape directive (sphere, triangle, quad, mesh) as the shared readers (shape_read,
- * shape_surface) see it. */
+ * shape_material_of) see it. */
 typedef struct shape_spec {
     const char *word;
     const key_spec *keys;

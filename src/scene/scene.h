@@ -197,7 +197,7 @@ bool scene_parse_string_threads(const char *text, size_t length, const char *fil
  * read or parse error. */
 bool scene_parse_file(const char *path, scene *out, scene_error *err);
 /* scene_parse_string and scene_parse_file for a render in mode, a render_mode, whatever the
- * scene's own (-1: the scene's own): emission is an error only where that mode is seed. */
+ * scene's own (-1: the scene's own): emission is an error only where that mode is report. */
 bool scene_parse_string_in_mode(const char *text, size_t length, const char *filename, int mode,
                                 scene *out, scene_error *err);
 bool scene_parse_file_in_mode(const char *path, int mode, scene *out, scene_error *err);

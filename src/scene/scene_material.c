@@ -12,7 +12,7 @@
  * (0.7 and 0.3, glTF's mapped 0.96 base and 0.04). */
 #define BRIGHT_SLACK 1e-6f
 
-/* The seed's Spanish names last: messages list them apart, as aliases (material_list). */
+/* The course report's Spanish names last: messages list them apart, as aliases (material_list). */
 static const material_spec materials[] = {
     {"lambertian", TZ_MATERIAL_LAMBERTIAN, MATERIAL_COMMON_KEYS, 0.8f, false},
     {"phong", TZ_MATERIAL_PHONG, MATERIAL_COMMON_KEYS | BIT(MAT_KS) | BIT(MAT_ALPHA), 0.8f, false},
@@ -91,7 +91,7 @@ void phong_note_bright(parser *p, int col, vec3 color, float ks, const char *wha
              what, (double)most, (double)ks, (double)(most + ks));
 }
 
-/* The material of a shape's line, defaults filled in; records the first emission, which seed
+/* The material of a shape's line, defaults filled in; records the first emission, which report
  * mode refuses once the whole text is read (render mode may come later), and the first Phong
  * material brighter than the light it receives. */
 shape_material shape_material_of(parser *p, const shape_spec *shape, const material_spec *m,

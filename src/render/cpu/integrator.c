@@ -39,10 +39,10 @@ static inline void keep_nearest(const float *t, int first, float *best, int *id)
 }
 
 /* Tests spheres [begin, end) (at most SOA_LANES) and keeps the nearest hit below *best. */
-static inline void leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end, vec3 o, vec3 d,
-                            float tmin, int self, float *best, int *id) {
+static inline void sphere_leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end, vec3 o,
+                                   vec3 d, float tmin, int self, float *best, int *id) {
     float t[SOA_LANES];
-    spheres_hit(&p->soa, (int)begin, (int)end, o, d, tmin, self, t);
+    spheres_hit(&p->sphere_soa, (int)begin, (int)end, o, d, tmin, self, t);
     keep_nearest(t, (int)begin, best, id);
 }
 
@@ -75,7 +75,7 @@ static inline void primitive_leaf_hit(const packed_scene *p, uint32_t first, uin
                                       vec3 d, float tmin, int self, float *best, int *id) {
     uint32_t spheres = p->frame.sphere_count;
     if (first < spheres)
-        leaf_hit(p, first, first + count, o, d, tmin, self, best, id);
+        sphere_leaf_hit(p, first, first + count, o, d, tmin, self, best, id);
     else
         triangle_leaf_hit(p, first - spheres, first - spheres + count, o, d, tmin, self, best, id);
 }
@@ -145,8 +145,8 @@ SIMD_CLONES static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self
     float tmin = ray_eps(o), best = tmax;
     int id = -1;
     for (uint32_t begin = 0; begin < count && !(any_hit && id >= 0); begin += SOA_LANES)
-        leaf_hit(p, begin, begin + SOA_LANES < count ? begin + SOA_LANES : count, o, d, tmin, self,
-                 &best, &id);
+        sphere_leaf_hit(p, begin, begin + SOA_LANES < count ? begin + SOA_LANES : count, o, d, tmin,
+                        self, &best, &id);
     for (uint32_t begin = 0; begin < triangles && !(any_hit && id >= 0); begin += SOA_LANES)
         triangle_leaf_hit(p, begin, begin + SOA_LANES < triangles ? begin + SOA_LANES : triangles,
                           o, d, tmin, self, &best, &id);

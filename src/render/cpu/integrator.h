@@ -1,4 +1,4 @@
-/* integrator.h: the seed integrator of DESIGN section 3 in C: one sample at a time (the
+/* integrator.h: the integrators of DESIGN section 3 in C: one sample at a time (the
  * "reference" build, the oracle the packet builds and the Vulkan back end are checked against)
  * and the packet builds the CPU back end renders with. */
 #ifndef TRAZADOR_INTEGRATOR_H
@@ -9,8 +9,9 @@
 
 #include "render/scene_pack.h"
 
-/* Radiance of sample `sample_index` of pixel (i, j), i to the right and j down; never fails. */
-vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
+/* Radiance of report-mode sample `sample_index` of pixel (i, j), i to the right and j down;
+ * never fails. */
+vec3 integrator_report_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
 
 /* Radiance of path-mode sample `sample_index` of pixel (i, j) (DESIGN section 3.2); never fails.
  */
@@ -22,7 +23,7 @@ vec3 integrator_path_sample(const packed_scene *p, uint32_t i, uint32_t j, uint3
 #define PACKET_BUILDS_MAX 4
 
 /* A build of the packet integrator (src/render/cpu/integrator_packet.c) for one vector level:
- * sample(p, i, j, lanes, sample_index, out) sets out[k] = integrator_sample(p, i + k, j,
+ * sample(p, i, j, lanes, sample_index, out) sets out[k] = integrator_report_sample(p, i + k, j,
  * sample_index) for k < lanes (<= width), bit for bit, computing all of them at once; never fails.
  */
 typedef struct packet_integrator {
@@ -79,8 +80,8 @@ int integrator_trace(const packed_scene *p, vec3 o, vec3 d, int self, float tmax
 uint64_t integrator_rays_traced(void);
 /* Adds n rays to the calling thread's count; never fails. */
 void integrator_count_rays(uint64_t n);
-/* 1 when a sphere (glass too, as in the seed) blocks o + t d for EPS < t < dist, else 0; never
- * fails. */
+/* 1 when a sphere (glass too, as in the course report) blocks o + t d for EPS < t < dist, else 0;
+ * never fails. */
 int integrator_occluded(const packed_scene *p, vec3 o, vec3 d, float dist, int self);
 
 #endif

@@ -42,10 +42,11 @@ static bool runs_avx2(void) {
 
 static bool runs_anywhere(void) { return true; }
 
-/* The reference build: integrator_sample for each lane in turn. */
+/* The reference build: integrator_report_sample for each lane in turn. */
 static void sample_reference(const packed_scene *p, uint32_t i, uint32_t j, uint32_t lanes,
                              uint32_t sample_index, vec3 *out) {
-    for (uint32_t k = 0; k < lanes; k++) out[k] = integrator_sample(p, i + k, j, sample_index);
+    for (uint32_t k = 0; k < lanes; k++)
+        out[k] = integrator_report_sample(p, i + k, j, sample_index);
 }
 
 /* Path mode's reference build: integrator_path_sample for each lane in turn. */

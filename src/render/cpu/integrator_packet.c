@@ -195,7 +195,7 @@ LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lan
     }
 }
 
-/* Radiance arriving along the active lanes' rays (radiance_direct_only of integrator.c). */
+/* Radiance arriving along the active lanes' rays (follow_specular, then chain_direct: report.h). */
 LANE_FN void packet_radiance_direct_only(const packed_scene *p, lanes3 *o, lanes3 *d, int *self,
                                          const int *active, lanes3 *radiance) {
     lanes3 weight, pos, n, ng, wo, direct;
@@ -211,7 +211,7 @@ LANE_FN void packet_radiance_direct_only(const packed_scene *p, lanes3 *o, lanes
         set3(radiance, k, path_radiance(id[k], get3(&weight, k), background, get3(&direct, k)));
 }
 
-/* One cosine-weighted bounce at the active lanes' diffuse hits (indirect_light of integrator.c),
+/* One cosine-weighted bounce at the active lanes' diffuse hits (indirect_light of report.h),
  * added to radiance. */
 LANE_FN void packet_indirect_light(const packed_scene *p, const int *id, const lanes3 *pos,
                                    const lanes3 *n, const lanes3 *ng, const phong_lanes *m,

@@ -7,7 +7,8 @@
 #include "common/path.h"
 #include "common/report.h"
 
-vec3 integrator_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index) {
+vec3 integrator_report_sample(const packed_scene *p, uint32_t i, uint32_t j,
+                              uint32_t sample_index) {
     return report_sample(p, i, j, sample_index);
 }
 

@@ -99,7 +99,8 @@ LANE_FN int any_lane(const int *mask) {
  * too with tie; without, spheres must come in increasing order). */
 LANE_FN void packet_sphere(const packed_scene *p, uint32_t s, const lanes3 *o, const lanes3 *d,
                            const int *self, const float *tmin, int tie, float *best, int *id) {
-    float cx = p->soa.cx[s], cy = p->soa.cy[s], cz = p->soa.cz[s], r = p->soa.r[s], ts[LANES];
+    float cx = p->sphere_soa.cx[s], cy = p->sphere_soa.cy[s], cz = p->sphere_soa.cz[s],
+          r = p->sphere_soa.r[s], ts[LANES];
     for (int k = 0; k < LANES; k++)
         ts[k] = sphere_distance(cx, cy, cz, r, get3(o, k), get3(d, k), tmin[k], (int)s == self[k]);
     if (tie)

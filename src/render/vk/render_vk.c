@@ -63,14 +63,10 @@ static void record_steps(vk_render *r, const pass_plan *plan, uint64_t first, ui
                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
                     VK_ACCESS_UNIFORM_READ_BIT);
-        /* Dynamic offsets are 32-bit: check_limits keeps the buffers under 4 GiB. */
-        uint32_t band_offset = at.band_y0 * plan->width * (uint32_t)ACCUM_PIXEL_BYTES;
-        uint32_t stack_offset =
-            at.band_y0 * plan->width * plan->depth * (uint32_t)STACK_BLOCK_BYTES;
-        /* In binding order: sums, compensation, stacks. */
-        const uint32_t offsets[] = {band_offset, band_offset, stack_offset};
+        uint32_t offsets[VK_BINDINGS];
+        uint32_t dynamic = vk_bindings_dynamic_offsets(r->buffers, r->rows, at.band_y0, offsets);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.layout, 0, 1,
-                                &r->kernel.set, 3, offsets);
+                                &r->kernel.set, dynamic, offsets);
         uint32_t gx = (at.width + TZ_GROUP_X - 1u) / TZ_GROUP_X;
         uint32_t gy = (at.height + TZ_GROUP_Y - 1u) / TZ_GROUP_Y;
         struct gpu_pass push = {.x0 = at.x0,
@@ -122,7 +118,9 @@ static pass_result run_passes(vk_render *r, const pass_plan *plan, const render_
         if (fine < per_submit) per_submit = fine;
     }
     volatile sig_atomic_t *stop = opts->control ? opts->control->stop : NULL;
-    const uint32_t *counter = r->counter.mapped ? r->counter.mapped : r->readback.mapped;
+    const uint32_t *counter = r->buffers[TZ_BINDING_COUNTERS].mapped
+                                  ? r->buffers[TZ_BINDING_COUNTERS].mapped
+                                  : r->readback.mapped;
     bool ok = true;
     uint32_t overflowed = 0; /* samples whose walk ran out of loop passes */
     uint64_t pass_nonfinite = 0;
@@ -145,7 +143,7 @@ static pass_result run_passes(vk_render *r, const pass_plan *plan, const render_
         if (first == 0 && run->setup)
             vk_render_record_setup(r, run->resumed, (size_t)plan->width * plan->height);
         if (first == 0 && r->snapshot.buffer) vk_render_record_snapshot(r, plan);
-        vkCmdFillBuffer(r->cmd, r->counter.buffer, 0, VK_WHOLE_SIZE, 0u);
+        vkCmdFillBuffer(r->cmd, r->buffers[TZ_BINDING_COUNTERS].buffer, 0, VK_WHOLE_SIZE, 0u);
         record_steps(r, plan, first, last);
         vk_render_record_readback(r, plan, false);
         if (!vk_commands_submit_wait(ctx, r->cmd, r->fence)) {
@@ -185,9 +183,10 @@ static pass_result run_passes(vk_render *r, const pass_plan *plan, const render_
 static bool warm_up_pipeline(vk_render *r) {
     if (!vk_commands_begin(&r->ctx, &r->cmd)) return false;
     vkCmdBindPipeline(r->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.pipeline);
-    const uint32_t offsets[] = {0u, 0u, 0u}; /* sums, compensation, stacks */
+    uint32_t offsets[VK_BINDINGS];
+    uint32_t dynamic = vk_bindings_dynamic_offsets(r->buffers, r->rows, 0u, offsets);
     vkCmdBindDescriptorSets(r->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r->kernel.layout, 0, 1,
-                            &r->kernel.set, 3, offsets);
+                            &r->kernel.set, dynamic, offsets);
     struct gpu_pass push = {.group_stride = pass_plan_workgroup_stride(1u), .chunk_count = 1u};
     vkCmdPushConstants(r->cmd, r->kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push,
                        &push);
@@ -199,24 +198,7 @@ static bool warm_up_pipeline(vk_render *r) {
  * with its acceleration structure bound, or the plain one;
  * specialization constants: the strategy, the flags, and the spheres and lights of an unrolled
  * scene), creates the fence and binds the buffers; false (logged) on a Vulkan failure. */
-static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_strategy *st,
-                          int width, uint32_t depth) {
-    const VkDescriptorType types[] = {
-        [TZ_BINDING_FRAME] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
-        [TZ_BINDING_SPHERES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-        [TZ_BINDING_LIGHTS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-        [TZ_BINDING_ACCUM] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC,
-        [TZ_BINDING_COUNTERS] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-        [TZ_BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-        [TZ_BINDING_ACCUM_COMP] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC,
-        [TZ_BINDING_EMITTERS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-        [TZ_BINDING_STACK] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC,
-        [TZ_BINDING_TRIANGLES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-        [TZ_BINDING_MATERIALS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-        [TZ_BINDING_NORMALS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-        [TZ_BINDING_WIDE_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-        [TZ_BINDING_ACCEL] = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR,
-    };
+static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_strategy *st) {
     /* Small scenes get their sphere and light loops unrolled, and their spheres and lights
      * become specialization constants: the unrolled tests read immediates, and the loop
      * bookkeeping disappears (each such scene compiles its own pipeline, which Mesa's shader
@@ -245,6 +227,9 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
     bool path = (packed->frame.flags & TZ_FLAG_PATH) != 0u;
     /* trace.comp says why paths restart lane by lane only where no BVH is walked. */
     bool regenerate = path && !st->use_bvh;
+    VkDescriptorType types[VK_BINDINGS];
+    uint32_t bindings = st->ray_query ? TZ_BINDING_ACCEL + 1u : TZ_BINDING_COUNT;
+    vk_bindings_types(bindings, types);
     vk_kernel_desc kernel = {
         .spec = &spec,
         .code = st->ray_query     ? trace_rq_spv
@@ -258,48 +243,14 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
                      : path            ? sizeof trace_path_spv
                                        : sizeof trace_report_spv,
         .types = types,
-        .binding_count = st->ray_query ? TZ_BINDING_ACCEL + 1u : TZ_BINDING_COUNT,
+        .binding_count = bindings,
         .push_size = sizeof(struct gpu_pass),
     };
     VkFenceCreateInfo fence_info = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     if (!vk_kernel_create(&r->ctx, &kernel, &r->kernel) ||
         !VK_CHECK(vkCreateFence(r->ctx.device, &fence_info, NULL, &r->fence)))
         return false;
-    const vk_buffer *buffers[] = {
-        [TZ_BINDING_FRAME] = &r->frame,
-        [TZ_BINDING_SPHERES] = &r->spheres,
-        [TZ_BINDING_LIGHTS] = &r->lights,
-        [TZ_BINDING_ACCUM] = &r->accum,
-        [TZ_BINDING_COUNTERS] = &r->counter,
-        [TZ_BINDING_NODES] = &r->nodes,
-        [TZ_BINDING_ACCUM_COMP] = &r->accum_comp,
-        [TZ_BINDING_EMITTERS] = &r->emitters,
-        [TZ_BINDING_STACK] = &r->stack,
-        [TZ_BINDING_TRIANGLES] = &r->triangles,
-        [TZ_BINDING_MATERIALS] = &r->materials,
-        [TZ_BINDING_NORMALS] = &r->normals,
-        [TZ_BINDING_WIDE_NODES] = &r->wide_nodes,
-        /* vk_accel_bind binds the acceleration structure */
-        [TZ_BINDING_ACCEL] = NULL,
-    };
-    const VkDeviceSize band = (VkDeviceSize)TZ_BAND_ROWS * (VkDeviceSize)width * ACCUM_PIXEL_BYTES;
-    const VkDeviceSize ranges[] = {
-        [TZ_BINDING_FRAME] = VK_WHOLE_SIZE,
-        [TZ_BINDING_SPHERES] = VK_WHOLE_SIZE,
-        [TZ_BINDING_LIGHTS] = VK_WHOLE_SIZE,
-        [TZ_BINDING_ACCUM] = band,
-        [TZ_BINDING_COUNTERS] = VK_WHOLE_SIZE,
-        [TZ_BINDING_NODES] = VK_WHOLE_SIZE,
-        [TZ_BINDING_ACCUM_COMP] = band, /* the same band rows as the sums */
-        [TZ_BINDING_EMITTERS] = VK_WHOLE_SIZE,
-        [TZ_BINDING_STACK] = band * depth * STACK_BLOCK_BYTES / ACCUM_PIXEL_BYTES,
-        [TZ_BINDING_TRIANGLES] = VK_WHOLE_SIZE,
-        [TZ_BINDING_MATERIALS] = VK_WHOLE_SIZE,
-        [TZ_BINDING_NORMALS] = VK_WHOLE_SIZE,
-        [TZ_BINDING_WIDE_NODES] = VK_WHOLE_SIZE,
-        [TZ_BINDING_ACCEL] = 0,
-    };
-    vk_kernel_bind(&r->ctx, &r->kernel, buffers, ranges);
+    vk_bindings_bind(&r->ctx, &r->kernel, r->buffers, r->rows);
     if (st->ray_query) vk_accel_bind(&r->ctx, &r->kernel, TZ_BINDING_ACCEL, &r->accel);
     return true;
 }
@@ -444,9 +395,9 @@ static render_status vk_render_part(const scene *s, const render_opts *opts, par
     if (resumed && !vk_render_load_part(&r, p, depth)) goto done;
     double t_upload = clock_seconds();
     log_debug("vulkan: buffers and upload in %.1f ms (%s)", (t_upload - t_buffers) * 1e3,
-              r.accum.host     ? "the process's memory imported"
-              : r.accum.mapped ? "mapped device memory"
-                               : "staging copies");
+              r.buffers[TZ_BINDING_ACCUM].host     ? "the process's memory imported"
+              : r.buffers[TZ_BINDING_ACCUM].mapped ? "mapped device memory"
+                                                   : "staging copies");
     if (st.ray_query) {
         if (!vk_accel_build(&r.ctx, &packed, &r.accel)) goto done;
         double t_accel = clock_seconds();
@@ -455,7 +406,7 @@ static render_status vk_render_part(const scene *s, const render_opts *opts, par
                   (t_accel - t_upload) * 1e3);
         t_upload = t_accel;
     }
-    if (!create_kernel(&r, &packed, &st, width, depth) || !warm_up_pipeline(&r)) goto done;
+    if (!create_kernel(&r, &packed, &st) || !warm_up_pipeline(&r)) goto done;
     double t_pipeline = clock_seconds();
     log_debug("vulkan: pipeline in %.1f ms", (t_pipeline - t_upload) * 1e3);
 

@@ -11,16 +11,17 @@
 #include "render/part.h"
 #include "render/scene_pack.h"
 #include "render/vk/vk_accel.h"
+#include "render/vk/vk_bindings.h"
 #include "render/vk/vk_context.h"
 #include "render/vk/vk_pass_plan.h"
 #include "render/vk/vk_strategy.h"
 
 typedef struct vk_render {
     vk_context ctx;
-    vk_buffer frame, spheres, lights, nodes, emitters, triangles, materials, normals, wide_nodes;
-    vk_buffer accum, accum_comp, stack, counter;
-    vk_buffer upload;   /* staging for the inputs when device memory is not mapped */
-    vk_buffer state;    /* staging for a resumed part's counts and stacks, likewise */
+    vk_buffer buffers[VK_BINDINGS]; /* binding k's buffer, as vk_bindings.c's table makes it */
+    uint32_t rows;                  /* of the region, padded to whole bands */
+    vk_buffer upload;               /* staging for the inputs when device memory is not mapped */
+    vk_buffer state;                /* staging for a resumed part's counts and stacks, likewise */
     vk_buffer readback; /* staging: the counters at 0, the sums at 16, then the stacks */
     /* A stoppable render's sums and stacks as the host pass in flight began, laid out as in
      * readback: a pass abandoned for a stop leaves the part as it was. */
