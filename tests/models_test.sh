@@ -5,12 +5,14 @@
 # spider holds the same 1312 faces in OBJ, FBX and STL), are seen from a camera framed for each,
 # and render the very same file on the CPU back end and on Vulkan with validation on; files
 # without materials (PLY, STL, OFF) render lambertian 0.8 grey; as glass, closed files render and
-# open ones are refused naming their first open part. Malformed
-# and empty files are refused with file:line:col, exit 2, and leave an existing output untouched.
+# open ones are refused naming their first open part; an asymmetric OBJ renders as its faces
+# converted by hand into trazador's left-handed space, not as its mirror image. Malformed and
+# empty files are refused with file:line:col, exit 2, and leave an existing output untouched.
 # Exit 77 (skip) where assimp-testmodels is not installed; Vulkan agreement is skipped, with a
 # notice, where no Vulkan device exists (CI installs both).
 set -euo pipefail
 tz=$(realpath "${1:?models_test.sh TRAZADOR}")
+here=$(cd "$(dirname "$0")" && pwd)
 models=/usr/share/assimp/models
 if [ ! -d "$models" ]; then
     echo "assimp-testmodels is not installed ($models): skipped"
@@ -122,6 +124,31 @@ glass STL/sphereWithHole.stl "a refractive part is not closed: 285 faces of mate
 glass PLY/Wuson.ply "a refractive part is not closed: 60 faces of material 0 (unnamed) from \
 face 1642,"
 glass OBJ/spider.obj "a refractive part is not closed: 90 faces of material 'Skin' from face 61,"
+
+# A real model is not mirrored (issue 49): regr01.obj (2,710 triangles, no normals, an asymmetric
+# building) renders bit for bit as its faces written as `triangle` lines converted by hand into
+# trazador's left-handed space (tests/obj_to_scene.awk), and unlike its mirror image.
+handed() {
+    local file=$models/OBJ/regr01.obj view
+    view='camera position 624 381 -2500 direction 0 0 1 up 0 1 0 fov 40
+plane width 64 height 48 pixel 1
+light position 624 1500 -2000 power 4000000'
+    printf '%s\nmesh lambertian file %s\n' "$view" "$file" >"$tmp/handed_file.scene"
+    { echo "$view"; awk -f "$here/obj_to_scene.awk" "$file"; } >"$tmp/handed_hand.scene"
+    { echo "$view"; awk -v mirror=1 -f "$here/obj_to_scene.awk" "$file"; } \
+        >"$tmp/handed_mirror.scene"
+    local k
+    for k in file hand mirror; do
+        "$tz" render "$tmp/handed_$k.scene" --backend cpu --spp 1 --quiet \
+            -o "$tmp/handed_$k.pfm" 2>/dev/null || fail "regr01.obj: the $k scene not rendered"
+    done
+    cmp -s "$tmp/handed_file.pfm" "$tmp/handed_hand.pfm" ||
+        fail "regr01.obj: not the faces converted by hand into the left-handed space"
+    cmp -s "$tmp/handed_file.pfm" "$tmp/handed_mirror.pfm" &&
+        fail "regr01.obj: renders as its mirror image"
+    return 0
+}
+handed
 
 # refused FILE: exit 2, the error at the mesh directive's file key, the old output kept.
 refused() {
