@@ -47,17 +47,19 @@ LANE_FN void packet_surfaces(const packed_scene *p, const lanes3 *o, const lanes
     int triangle[LANES];
     for (int k = 0; k < LANES; k++) { /* spheres, in SIMD */
         triangle[k] = id[k] >= 0 && is_triangle(p, id[k]);
-        const struct gpu_sphere *s = &p->spheres[id[k] >= 0 && !triangle[k] ? id[k] : 0];
+        int sk = id[k] >= 0 && !triangle[k] ? id[k] : 0;
+        const struct gpu_sphere *s = &p->spheres[sk];
+        tz_vec4 color_ks = sphere_color_ks(p, sk), params = sphere_params(p, sk);
         vec3 pk = v3_add(get3(o, k), v3_scale(get3(d, k), t[k]));
         vec3 nk = v3_scale(v3_sub(pk, xyz(s->center_radius)), 1.0f / s->center_radius.w);
         set3(&h->pos, k, pk);
         set3(&h->nout, k, nk);
         set3(&h->shading, k, nk);
-        set3(&h->kd, k, xyz(s->color_ks));
-        h->ks[k] = s->color_ks.w;
-        h->alpha[k] = s->params.x;
-        h->ior[k] = s->params.y;
-        h->material[k] = (int)s->params.z;
+        set3(&h->kd, k, xyz(color_ks));
+        h->ks[k] = color_ks.w;
+        h->alpha[k] = params.x;
+        h->ior[k] = params.y;
+        h->material[k] = (int)params.z;
     }
     for (int k = 0; any_lane(triangle) && k < LANES; k++) { /* triangles, lane by lane */
         if (!triangle[k]) continue;

@@ -168,11 +168,12 @@ LANE_FN int small_spheres_of(const packed_scene *scene, small_spheres *t) {
     memset(t, 0, sizeof *t);
     for (uint32_t k = 0; k < count; k++) {
         const struct gpu_sphere *g = &scene->spheres[k];
+        tz_vec4 color_ks = sphere_color_ks(scene, (int)k), params = sphere_params(scene, (int)k);
         t->cx[k] = g->center_radius.x, t->cy[k] = g->center_radius.y;
         t->cz[k] = g->center_radius.z, t->r[k] = g->center_radius.w;
-        t->kr[k] = g->color_ks.x, t->kg[k] = g->color_ks.y, t->kb[k] = g->color_ks.z;
-        t->ks[k] = g->color_ks.w, t->alpha[k] = g->params.x, t->ior[k] = g->params.y;
-        t->material[k] = g->params.z, t->slot[k] = g->params.w;
+        t->kr[k] = color_ks.x, t->kg[k] = color_ks.y, t->kb[k] = color_ks.z;
+        t->ks[k] = color_ks.w, t->alpha[k] = params.x, t->ior[k] = params.y;
+        t->material[k] = params.z, t->slot[k] = params.w;
     }
     return 1;
 }
@@ -232,15 +233,17 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         lanes_pick_spheres(small, index, &v);
     }
     for (int k = 0; !small && k < LANES; k++) { /* gather the hit spheres */
-        const struct gpu_sphere *g = &scene->spheres[v.id[k] >= 0 && !triangle[k] ? v.id[k] : 0];
+        int sk = v.id[k] >= 0 && !triangle[k] ? v.id[k] : 0;
+        const struct gpu_sphere *g = &scene->spheres[sk];
+        tz_vec4 color_ks = sphere_color_ks(scene, sk), params = sphere_params(scene, sk);
         set3(&v.c, k, xyz(g->center_radius));
         v.r[k] = g->center_radius.w;
-        set3(&v.kd, k, xyz(g->color_ks));
-        v.ks[k] = g->color_ks.w;
-        v.alpha[k] = g->params.x;
-        v.ior[k] = g->params.y;
-        v.material[k] = (int)g->params.z;
-        v.slot[k] = (int)g->params.w - 1;
+        set3(&v.kd, k, xyz(color_ks));
+        v.ks[k] = color_ks.w;
+        v.alpha[k] = params.x;
+        v.ior[k] = params.y;
+        v.material[k] = (int)params.z;
+        v.slot[k] = (int)params.w - 1;
     }
     for (int k = 0; k < LANES; k++) { /* surface_at of a sphere */
         vec3 pos = v3_add(get3(&s->o, k), v3_scale(get3(&s->d, k), v.t[k]));
