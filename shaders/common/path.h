@@ -32,6 +32,39 @@ TZ_FN int light_strategy(vec3 pos, vec3 n, int id, int e, vec3 c, float r) {
     return id == e ? own : other;
 }
 
+/* A direction of light sampling from o to an emitter and its solid-angle pdf (the pick aside). */
+TZ_STRUCT(light_direction) {
+    vec3 wi;
+    float pdf;
+}
+TZ_STRUCT_END(light_direction)
+
+/* Light sampling's direction from pos to the sphere emitter of centre c and radius r, for
+ * uniform ua and azimuth phi: uniform in the cone it subtends (LIGHT_CONE). */
+TZ_LANE_FN light_direction sphere_cone_light(vec3 c, float r, vec3 pos, float ua, cos_sin phi) {
+    TZ_PRECISE vec3 to_c = v3_sub(c, pos);
+    TZ_PRECISE float d2 = v3_dot(to_c, to_c);
+    TZ_PRECISE vec3 w = v3_scale(to_c, 1.0f / TZ_SQRT(d2));
+    direction_sample ds = cone_direction_at(w, cone_one_minus_cos(r * r, d2), ua, phi);
+    light_direction l;
+    l.wi = ds.wi;
+    l.pdf = ds.pdf;
+    return l;
+}
+
+/* The same toward a point uniform on the sphere's area (LIGHT_AREA). */
+TZ_LANE_FN light_direction sphere_area_light(vec3 c, float r, vec3 pos, float ua, cos_sin phi) {
+    TZ_PRECISE vec3 q = v3_add(c, v3_scale(sphere_area_direction_at(ua, phi), r));
+    TZ_PRECISE vec3 to_q = v3_sub(q, pos);
+    TZ_PRECISE float dist2 = v3_dot(to_q, to_q);
+    TZ_PRECISE vec3 w = v3_scale(to_q, 1.0f / TZ_SQRT(dist2));
+    TZ_PRECISE vec3 nq = v3_scale(v3_sub(q, c), 1.0f / r);
+    light_direction l;
+    l.wi = w;
+    l.pdf = area_pdf(r, dist2, v3_dot(nq, w));
+    return l;
+}
+
 /* The first emitter whose cdf exceeds u: a binary search, the last cdf being 1. */
 TZ_FN int pick_emitter(TZ_SCENE_PARAM float u) {
     int lo = 0, hi = TZ_INT(TZ_FRAME.emitter_count) - 1;
@@ -79,13 +112,6 @@ TZ_FN float triangle_light_pdf(triangle_corners k, float area, vec3 from, vec3 p
     }
     return triangle_area_pdf(k, area, from, pos, d);
 }
-
-/* A direction of light sampling from o to a triangle and its solid-angle pdf. */
-TZ_STRUCT(light_direction) {
-    vec3 wi;
-    float pdf;
-}
-TZ_STRUCT_END(light_direction)
 
 /* The direction to a point of triangle k (of area `area`) uniform by area for uniform ua, ub,
  * aimed from the shadow ray's own origin o so that it meets the point: aimed from the vertex, the
@@ -146,17 +172,6 @@ TZ_FN float light_pdf_at(TZ_SCENE_PARAM path_vertex v, int id, vec3 pos, vec3 d)
     return strategy == LIGHT_CONE ? cone : strategy == LIGHT_AREA ? area : 0.0f;
 }
 
-/* The folded BSDF (fold_terms) at direction wi of a smooth diffuse vertex (shading normal n,
- * geometric normal ng, wo the way back, material color_ks and alpha, diffuse share), given its
- * terms at wi itself: BRDF f_i, shading cosine cos_i and pdf pdf_i. */
-TZ_FN folded_bsdf fold_at(vec3 n, vec3 ng, vec3 wi, vec3 wo, TZ_VEC4 color_ks, float alpha,
-                          float share, vec3 f_i, float cos_i, float pdf_i) {
-    vec3 wm = mirror_in_plane(wi, ng);
-    float cos_m = v3_dot(n, wm), xm = phong_lobe_cos(n, wm, wo);
-    return fold_terms(f_i, cos_i, pdf_i, brdf_at(color_ks, alpha, xm), cos_m,
-                      bsdf_pdf(share, alpha, cos_m, xm));
-}
-
 /* Light from the emitter picked by ul and sampled by ua, ub at a diffuse vertex (primitive id at
  * surface sf, facing shading normal n and geometric normal ng, wo the way back, share the BSDF's
  * diffuse share), weighted by MIS, or alone; beta not applied. */
@@ -184,22 +199,13 @@ TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, surface sf, vec3 n, vec3 ng, vec
         float r = cr.w;
         int strategy = light_strategy(pos, n, id, e, c, r);
         if (strategy == LIGHT_NONE) return v3(0.0f, 0.0f, 0.0f);
-        if (strategy == LIGHT_CONE) {
-            TZ_PRECISE vec3 to_c = v3_sub(c, pos);
-            TZ_PRECISE float d2 = v3_dot(to_c, to_c);
-            TZ_PRECISE vec3 w = v3_scale(to_c, 1.0f / TZ_SQRT(d2));
-            direction_sample ds = cone_direction(w, cone_one_minus_cos(r * r, d2), ua, ub);
-            wi = ds.wi;
-            pdf = emission_pick.w * ds.pdf;
-        } else {
-            TZ_PRECISE vec3 q = v3_add(c, v3_scale(sphere_area_direction(ua, ub), r));
-            TZ_PRECISE vec3 to_q = v3_sub(q, pos);
-            TZ_PRECISE float dist2 = v3_dot(to_q, to_q);
-            TZ_PRECISE vec3 w = v3_scale(to_q, 1.0f / TZ_SQRT(dist2));
-            TZ_PRECISE vec3 nq = v3_scale(v3_sub(q, c), 1.0f / r);
-            wi = w;
-            pdf = emission_pick.w * area_pdf(r, dist2, v3_dot(nq, w));
-        }
+        light_direction l;
+        if (strategy == LIGHT_CONE)
+            l = sphere_cone_light(c, r, pos, ua, cos_sin_turn(ub));
+        else
+            l = sphere_area_light(c, r, pos, ua, cos_sin_turn(ub));
+        wi = l.wi;
+        pdf = emission_pick.w * l.pdf;
         t_light = sphere_distance(c.x, c.y, c.z, r, o, wi, ray_eps(o), e == id);
     }
     float cos_i = v3_dot(n, wi);
@@ -209,22 +215,14 @@ TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, surface sf, vec3 n, vec3 ng, vec
         return v3(0.0f, 0.0f, 0.0f);
     if (!(t_light < TZ_INFINITY) || integrator_occluded(TZ_SCENE_ARG o, wi, t_light, id))
         return v3(0.0f, 0.0f, 0.0f);
-    float alpha = sf.params.x, x = phong_lobe_cos(n, wi, wo);
-    float b = bsdf_pdf(share, alpha, cos_i, x);
-    vec3 f = brdf_at(sf.color_ks, alpha, x);
-    float f_scale = cos_i; /* f times f_scale: f cos */
-    if (folds) {
-        folded_bsdf fb = fold_at(n, ng, wi, wo, sf.color_ks, alpha, share, f, cos_i, b);
-        f = fb.f_cos;
-        f_scale = 1.0f;
-        b = fb.pdf;
-    }
+    bsdf_value bv = bsdf_eval(sf.m, share, n, ng, wi, wo);
+    float b = bv.pdf;
     /* the MIS weight over the pdf and the sample count, or 1 / pdf with light sampling alone */
     float n_light = TZ_FLOAT(TZ_FRAME.light_samples);
     TZ_PRECISE float weight = (TZ_FRAME.flags & TZ_FLAG_LIGHTS_ONLY) != 0u
                                   ? 1.0f / (n_light * pdf)
                                   : light_mis_over_pdf(n_light, pdf, b);
-    TZ_PRECISE vec3 l = v3_scale(v3_mul(f, xyz(emission_pick)), f_scale * weight);
+    TZ_PRECISE vec3 l = v3_scale(v3_mul(bv.f, xyz(emission_pick)), bv.f_scale * weight);
     return l;
 }
 
@@ -277,12 +275,11 @@ TZ_FN path_state path_step(TZ_SCENE_PARAM path_state p) {
         return p;
     }
     surface sf = surface_at(TZ_SCENE_ARG id, p.o, p.d, t);
-    TZ_VEC4 params = sf.params;
-    TZ_VEC4 color_ks = sf.color_ks;
+    bsdf_material m = sf.m;
     vec3 pos = sf.pos;
     vec3 nout = sf.nout;
     vec3 d = p.d;
-    int slot = TZ_INT(params.w) - 1;
+    int slot = sf.emitter;
     if (slot >= 0) {
         TZ_BOOL full = p.specular || (flags & TZ_FLAG_BSDF_ONLY) != 0u;
         float w = full ? 1.0f
@@ -299,12 +296,11 @@ TZ_FN path_state path_step(TZ_SCENE_PARAM path_state p) {
         p.k = 0u;
         return p;
     }
-    int material = TZ_INT(params.z);
-    if (material == TZ_MATERIAL_LAMBERTIAN || material == TZ_MATERIAL_PHONG) {
+    if (!bsdf_is_delta(m.kind)) {
         vec3 n = facing_shading(sf, d);
         vec3 ng = facing_normal(nout, d);
         TZ_PRECISE vec3 wo = v3_scale(d, -1.0f);
-        float share = diffuse_share(xyz(color_ks), color_ks.w);
+        float share = bsdf_share(m);
         TZ_PRECISE vec3 direct = point_lights(TZ_SCENE_ARG sf, id, n, ng, wo);
         for (TZ_UINT l = 0u; TZ_FRAME.emitter_count > 0u && l < TZ_FRAME.light_samples; l++) {
             float ul = sample_1d(flags, TZ_REF(p.rng));
@@ -322,55 +318,27 @@ TZ_FN path_state path_step(TZ_SCENE_PARAM path_state p) {
             p.k = 0u;
             return p;
         }
-        vec3 wi;
-        if (us < share) {
-            wi = cosine_direction(n, u1, u2);
-        } else {
-            TZ_PRECISE vec3 wr = v3_sub(v3_scale(n, 2.0f * v3_dot(n, wo)), wo);
-            wi = phong_lobe_direction(wr, params.x, u1, u2);
-        }
-        /* A smooth face folds a direction below it above it (folds_at); on any other a
-         * direction below the face ends the path. */
-        TZ_BOOL folds = folds_at(n, ng);
-        if (folds && !(v3_dot(ng, wi) > 0.0f)) wi = mirror_in_plane(wi, ng);
-        float cos_i = v3_dot(n, wi), x = phong_lobe_cos(n, wi, wo);
-        float pdf = bsdf_pdf(share, params.x, cos_i, x);
-        vec3 fv = brdf_at(color_ks, params.x, x);
-        float f_scale = cos_i; /* fv times f_scale: f cos */
-        if (folds) {
-            folded_bsdf fb = fold_at(n, ng, wi, wo, color_ks, params.x, share, fv, cos_i, pdf);
-            fv = fb.f_cos;
-            f_scale = 1.0f;
-            pdf = fb.pdf;
-        }
-        if (!(folds || cos_i > 0.0f) || !(v3_dot(ng, wi) > 0.0f) || !(pdf > 0.0f)) {
+        bsdf_sample bs = bsdf_sample_lobe(m, share, n, ng, wo, us, u1, u2);
+        if (!bs.ok) {
             p.k = 0u;
             return p;
         }
-        TZ_PRECISE vec3 f = v3_scale(fv, f_scale / pdf);
-        p.beta = v3_mul(p.beta, f);
+        p.beta = v3_mul(p.beta, bs.weight);
         p.last.pos = pos;
         p.last.n = n;
         p.last.origin = offset_origin(pos, ng);
         p.last.id = id;
-        p.last.bsdf_pdf = pdf;
+        p.last.bsdf_pdf = bs.pdf;
         p.specular = TZ_FALSE;
         p.o = offset_origin(pos, ng);
-        p.d = wi;
+        p.d = bs.wi;
     } else {
-        TZ_BOOL refractive = material == TZ_MATERIAL_REFRACTIVE;
-        TZ_BOOL transmits = refractive;
         vec3 n = specular_normal(nout, sf.shading, d);
-        if (refractive) {
-            float uf = sample_1d(flags, TZ_REF(p.rng));
-            TZ_BOOL entering = v3_dot(d, nout) < 0.0f;
-            TZ_PRECISE float eta = entering ? 1.0f / params.y : params.y;
-            TZ_PRECISE float c1 = -v3_dot(d, n);
-            TZ_PRECISE float kk = 1.0f - eta * eta * (1.0f - c1 * c1);
-            transmits = !(uf < fresnel_dielectric(eta, c1, kk));
-        }
-        p.beta = v3_mul(p.beta, xyz(color_ks));
-        next_ray next = specular_next(pos, nout, n, d, transmits, params.y);
+        float uf = 0.0f;
+        if (bsdf_refracts(m.kind)) uf = sample_1d(flags, TZ_REF(p.rng));
+        TZ_BOOL transmits = bsdf_delta_transmits(m, d, nout, n, uf);
+        p.beta = v3_mul(p.beta, m.color);
+        next_ray next = specular_next(pos, nout, n, d, transmits, m.ior);
         p.o = next.o;
         p.d = next.d;
         p.specular = TZ_TRUE;

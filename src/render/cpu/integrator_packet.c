@@ -8,6 +8,7 @@
 #include "render/cpu/scene_accessors.h"
 
 /* The shared text calls the accessors above. */
+#include "common/bsdf.h"
 #include "common/primitive.h"
 #include "common/ray.h"
 #include "common/shade.h"
@@ -27,12 +28,23 @@
 #include "render/cpu/packet_trace.h"
 #include "render/cpu/sampler_lanes.h"
 
-/* The Phong parameters of each lane's diffuse hit, gathered once for all the BRDF evaluations
- * there. */
+/* The material of each lane's diffuse hit, gathered once for all the BRDF evaluations there. */
 typedef struct phong_lanes {
     lanes3 kd;
     float ks[LANES], alpha[LANES];
+    int material[LANES];
 } phong_lanes;
+
+/* Lane k's material of m (bsdf.h's; a lobe's, so no ior). */
+LANE_FN bsdf_material phong_lane(const phong_lanes *m, int k) {
+    bsdf_material b;
+    b.kind = m->material[k];
+    b.color = get3(&m->kd, k);
+    b.ks = m->ks[k];
+    b.alpha = m->alpha[k];
+    b.ior = 1.0f;
+    return b;
+}
 
 /* Where the lanes' rays meet primitives id[k] at t[k] (surface_at, sphere 0's surface where
  * none): pos, nout, shading and the material's tint (kd), ks, alpha, ior and kind. */
@@ -50,8 +62,8 @@ LANE_FN void packet_surfaces(const packed_scene *p, const lanes3 *o, const lanes
         int sk = id[k] >= 0 && !triangle[k] ? id[k] : 0;
         const struct gpu_sphere *s = &p->spheres[sk];
         tz_vec4 color_ks = sphere_color_ks(p, sk), params = sphere_params(p, sk);
-        vec3 pk = v3_add(get3(o, k), v3_scale(get3(d, k), t[k]));
-        vec3 nk = v3_scale(v3_sub(pk, xyz(s->center_radius)), 1.0f / s->center_radius.w);
+        vec3 pk = ray_point(get3(o, k), get3(d, k), t[k]);
+        vec3 nk = sphere_normal(xyz(s->center_radius), s->center_radius.w, pk);
         set3(&h->pos, k, pk);
         set3(&h->nout, k, nk);
         set3(&h->shading, k, nk);
@@ -67,11 +79,11 @@ LANE_FN void packet_surfaces(const packed_scene *p, const lanes3 *o, const lanes
         set3(&h->pos, k, sf.pos);
         set3(&h->nout, k, sf.nout);
         set3(&h->shading, k, sf.shading);
-        set3(&h->kd, k, xyz(sf.color_ks));
-        h->ks[k] = sf.color_ks.w;
-        h->alpha[k] = sf.params.x;
-        h->ior[k] = sf.params.y;
-        h->material[k] = (int)sf.params.z;
+        set3(&h->kd, k, sf.m.color);
+        h->ks[k] = sf.m.ks;
+        h->alpha[k] = sf.m.alpha;
+        h->ior[k] = sf.m.ior;
+        h->material[k] = sf.m.kind;
     }
 }
 
@@ -94,6 +106,7 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
         set3(ng, k, v3(0.0f, 0.0f, 0.0f));
         set3(&m->kd, k, v3(0.0f, 0.0f, 0.0f));
         m->ks[k] = m->alpha[k] = 0.0f;
+        m->material[k] = TZ_MATERIAL_LAMBERTIAN;
     }
     for (uint32_t chain = 0; any_lane(active); chain++) {
         int id[LANES];
@@ -105,8 +118,7 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
         for (int k = 0; k < LANES; k++) {
             vec3 dk = get3(d, k), nk = get3(&h.nout, k), sk = get3(&h.shading, k);
             int hit = active[k] & (id[k] >= 0);
-            int diffuse = hit & ((h.material[k] == TZ_MATERIAL_LAMBERTIAN) |
-                                 (h.material[k] == TZ_MATERIAL_PHONG));
+            int diffuse = hit & !bsdf_is_delta(h.material[k]);
             onward[k] = hit & !diffuse & (chain != bounces);
             int done = active[k] & !onward[k];
             result[k] = done ? (diffuse ? id[k] : hit ? -2 : -1) : result[k];
@@ -118,12 +130,13 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
             set3(&m->kd, k, select3(diffuse, get3(&h.kd, k), get3(&m->kd, k)));
             m->ks[k] = diffuse ? h.ks[k] : m->ks[k];
             m->alpha[k] = diffuse ? h.alpha[k] : m->alpha[k];
+            m->material[k] = diffuse ? h.material[k] : m->material[k];
         }
         for (int k = 0; k < LANES; k++) { /* mirror and glass lanes go on */
             vec3 nk = get3(&h.nout, k), dk = get3(d, k);
             next_ray next =
                 specular_next(get3(&h.pos, k), nk, specular_normal(nk, get3(&h.shading, k), dk), dk,
-                              h.material[k] == TZ_MATERIAL_REFRACTIVE, h.ior[k]);
+                              bsdf_refracts(h.material[k]), h.ior[k]);
             set3(weight, k,
                  select3(onward[k], v3_mul(get3(weight, k), get3(&h.kd, k)), get3(weight, k)));
             set3(o, k, select3(onward[k], next.o, get3(o, k)));
@@ -134,15 +147,14 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
     }
 }
 
-/* Normalized Phong BRDF per lane (brdf_at of lights.h). */
+/* The BRDF per lane (bsdf_f of bsdf.h, its pow lane by lane where ks > 0). */
 LANE_FN void packet_phong(const phong_lanes *m, const lanes3 *n, const lanes3 *wi, const lanes3 *wo,
                           const int *active, lanes3 *f) {
     float x[LANES], lobe[LANES];
     for (int k = 0; k < LANES; k++) x[k] = phong_lobe_cos(get3(n, k), get3(wi, k), get3(wo, k));
     for (int k = 0; k < LANES; k++)
         lobe[k] = active[k] && m->ks[k] > 0.0f ? phong_lobe(x[k], m->alpha[k]) : 0.0f;
-    for (int k = 0; k < LANES; k++)
-        set3(f, k, phong_from_lobe(get3(&m->kd, k), m->ks[k], m->alpha[k], lobe[k]));
+    for (int k = 0; k < LANES; k++) set3(f, k, bsdf_f_of_lobe(phong_lane(m, k), lobe[k]));
 }
 
 /* The lanes whose path reached a diffuse hit (id[k] >= 0), and wo, the way back along their last

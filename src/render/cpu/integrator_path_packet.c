@@ -75,7 +75,7 @@ LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float
     lobe_lanes(x, v->alpha, go, lobe);
     for (int k = 0; k < LANES; k++) {
         pdf[k] = bsdf_pdf_of_lobe(v->share[k], v->alpha[k], cos_i[k], lobe[k]);
-        set3(&fv, k, brdf_of_lobe(v, k, lobe[k]));
+        set3(&fv, k, bsdf_f_of_lobe(vertex_material(v, k), lobe[k]));
         f_scale[k] = cos_i[k];
     }
     if (any_fold) lanes_fold(v, folds, &wi, cos_i, &fv, f_scale, pdf);
@@ -103,22 +103,17 @@ LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float
 LANE_FN void lanes_specular_bounce(uint32_t flags, const vertex_lanes *v, path_lanes *s) {
     int refractive[LANES];
     float uf[LANES];
-    for (int k = 0; k < LANES; k++)
-        refractive[k] = v->specular[k] & (v->material[k] == TZ_MATERIAL_REFRACTIVE);
+    for (int k = 0; k < LANES; k++) refractive[k] = v->specular[k] & bsdf_refracts(v->material[k]);
     draw_lanes_1d(flags, &s->rng, refractive, uf);
     for (int k = 0; k < LANES; k++) {
         vec3 d = get3(&s->d, k), nout = get3(&v->nout, k);
         vec3 n = specular_normal(nout, get3(&v->shading, k), d);
-        float ior = v->ior[k];
-        int entering = v3_dot(d, nout) < 0.0f;
-        float eta = entering ? 1.0f / ior : ior;
-        float c1 = -v3_dot(d, n);
-        float kk = 1.0f - eta * eta * (1.0f - c1 * c1);
-        int transmits = refractive[k] & !(uf[k] < fresnel_dielectric(eta, c1, kk));
+        bsdf_material m = vertex_material(v, k);
+        int transmits = bsdf_delta_transmits(m, d, nout, n, uf[k]);
         int on = v->specular[k];
         vec3 beta = get3(&s->beta, k);
-        set3(&s->beta, k, select3(on, v3_mul(beta, get3(&v->kd, k)), beta));
-        next_ray next = specular_next(get3(&v->pos, k), nout, n, d, transmits, ior);
+        set3(&s->beta, k, select3(on, v3_mul(beta, m.color), beta));
+        next_ray next = specular_next(get3(&v->pos, k), nout, n, d, transmits, m.ior);
         set3(&s->o, k, select3(on, next.o, get3(&s->o, k)));
         set3(&s->d, k, select3(on, next.d, d));
         s->specular[k] = on ? 1 : s->specular[k];
@@ -246,8 +241,8 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         v.slot[k] = (int)params.w - 1;
     }
     for (int k = 0; k < LANES; k++) { /* surface_at of a sphere */
-        vec3 pos = v3_add(get3(&s->o, k), v3_scale(get3(&s->d, k), v.t[k]));
-        vec3 nout = v3_scale(v3_sub(pos, get3(&v.c, k)), 1.0f / v.r[k]);
+        vec3 pos = ray_point(get3(&s->o, k), get3(&s->d, k), v.t[k]);
+        vec3 nout = sphere_normal(get3(&v.c, k), v.r[k], pos);
         set3(&v.pos, k, pos);
         set3(&v.nout, k, nout);
         set3(&v.shading, k, nout);
@@ -259,12 +254,12 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         set3(&v.pos, k, sf.pos);
         set3(&v.nout, k, sf.nout);
         set3(&v.shading, k, sf.shading);
-        set3(&v.kd, k, xyz(sf.color_ks));
-        v.ks[k] = sf.color_ks.w;
-        v.alpha[k] = sf.params.x;
-        v.ior[k] = sf.params.y;
-        v.material[k] = (int)sf.params.z;
-        v.slot[k] = (int)sf.params.w - 1;
+        set3(&v.kd, k, sf.m.color);
+        v.ks[k] = sf.m.ks;
+        v.alpha[k] = sf.m.alpha;
+        v.ior[k] = sf.m.ior;
+        v.material[k] = sf.m.kind;
+        v.slot[k] = sf.emitter;
     }
     vec3 background = xyz(fr->background);
     for (int k = 0; k < LANES; k++) {
@@ -276,15 +271,14 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         emit[k] = hit & (v.slot[k] >= 0);
         any_emit |= emit[k];
         int go = hit & !(s->vertex[k] > fr->bounces); /* else the path ends at this hit */
-        int diffuse =
-            go & ((v.material[k] == TZ_MATERIAL_LAMBERTIAN) | (v.material[k] == TZ_MATERIAL_PHONG));
+        int diffuse = go & !bsdf_is_delta(v.material[k]);
         v.diffuse[k] = diffuse;
         v.specular[k] = go & !diffuse;
         /* facing_shading and facing_normal of primitive.h and shade.h */
         set3(&v.n, k, select3(v3_dot(nout, d) < 0.0f, shading, v3_scale(shading, -1.0f)));
         set3(&v.ng, k, facing_normal(nout, d));
         set3(&v.wo, k, v3_scale(d, -1.0f));
-        v.share[k] = diffuse_share(get3(&v.kd, k), v.ks[k]);
+        v.share[k] = bsdf_share(vertex_material(&v, k));
         s->active[k] = go;
     }
     if (any_emit) lanes_emission(scene, &v, emit, s);
