@@ -66,14 +66,43 @@ TZ_FN vec3 bsdf_f(bsdf_material m, vec3 n, vec3 wi, vec3 wo) {
  * nothing). */
 TZ_LANE_FN float bsdf_share(bsdf_material m) { return diffuse_share(m.color, m.ks); }
 
+/* The axis of the Phong lobe at shading normal n seen from wo: wo mirrored about n. */
+TZ_LANE_FN vec3 phong_lobe_axis(vec3 n, vec3 wo) {
+    TZ_PRECISE vec3 wr = v3_sub(v3_scale(n, 2.0f * v3_dot(n, wo)), wo);
+    return wr;
+}
+
+/* What fold_at takes at the mirror image of wi in the face's plane (geometric normal ng): its
+ * shading cosine cos_m and lobe cosine xm. */
+TZ_STRUCT(fold_mirror) {
+    float cos_m;
+    float xm;
+}
+TZ_STRUCT_END(fold_mirror)
+
+TZ_LANE_FN fold_mirror fold_mirror_of(vec3 n, vec3 ng, vec3 wi, vec3 wo) {
+    vec3 wm = mirror_in_plane(wi, ng);
+    fold_mirror r;
+    r.cos_m = v3_dot(n, wm);
+    r.xm = phong_lobe_cos(n, wm, wo);
+    return r;
+}
+
+/* fold_terms of material m (share its bsdf_share) over the terms at wi itself (BRDF f_i, shading
+ * cosine cos_i, pdf pdf_i) and at its mirror image (cos_m, and lobe_m: phong_lobe of its xm). */
+TZ_LANE_FN folded_bsdf fold_of_lobe(bsdf_material m, float share, vec3 f_i, float cos_i,
+                                    float pdf_i, float cos_m, float lobe_m) {
+    return fold_terms(f_i, cos_i, pdf_i, bsdf_f_of_lobe(m, lobe_m), cos_m,
+                      bsdf_pdf_of_lobe(share, m.alpha, cos_m, lobe_m));
+}
+
 /* The folded BSDF (fold_terms) at direction wi of a smooth vertex (shading normal n, geometric
  * normal ng, wo the way back, material m, share its bsdf_share), given its terms at wi itself:
  * BRDF f_i, shading cosine cos_i and pdf pdf_i. */
 TZ_FN folded_bsdf fold_at(vec3 n, vec3 ng, vec3 wi, vec3 wo, bsdf_material m, float share,
                           vec3 f_i, float cos_i, float pdf_i) {
-    vec3 wm = mirror_in_plane(wi, ng);
-    float cos_m = v3_dot(n, wm), xm = phong_lobe_cos(n, wm, wo);
-    return fold_terms(f_i, cos_i, pdf_i, bsdf_f_at(m, xm), cos_m, bsdf_pdf(share, m.alpha, cos_m, xm));
+    fold_mirror fm = fold_mirror_of(n, ng, wi, wo);
+    return fold_of_lobe(m, share, f_i, cos_i, pdf_i, fm.cos_m, phong_lobe(fm.xm, m.alpha));
 }
 
 /* Lobe material m's BSDF at wi seen from wo at a vertex of facing shading normal n and geometric
@@ -121,6 +150,13 @@ TZ_STRUCT(bsdf_sample) {
 }
 TZ_STRUCT_END(bsdf_sample)
 
+/* Whether a path goes on along wi drawn at a vertex of geometric normal ng (cos_i the shading
+ * cosine, pdf the BSDF's, folds whether it folds): above the face, and above the shading normal
+ * unless folded, with a pdf above 0. */
+TZ_LANE_FN TZ_BOOL bsdf_goes_on(TZ_BOOL folds, float cos_i, vec3 ng, vec3 wi, float pdf) {
+    return (folds TZ_OR(cos_i > 0.0f)) TZ_AND(v3_dot(ng, wi) > 0.0f) TZ_AND(pdf > 0.0f);
+}
+
 /* Draws wi for lobe material m (share its bsdf_share, at least 0) from uniform us, u1, u2 at a
  * vertex of facing normals n and ng, wo the way back: us < share the cosine direction of (u1,
  * u2), else the Phong lobe about n's mirror of wo; a smooth face folds a direction below it above
@@ -131,8 +167,7 @@ TZ_FN bsdf_sample bsdf_sample_lobe(bsdf_material m, float share, vec3 n, vec3 ng
     if (us < share) {
         wi = cosine_direction(n, u1, u2);
     } else {
-        TZ_PRECISE vec3 wr = v3_sub(v3_scale(n, 2.0f * v3_dot(n, wo)), wo);
-        wi = phong_lobe_direction(wr, m.alpha, u1, u2);
+        wi = phong_lobe_direction(phong_lobe_axis(n, wo), m.alpha, u1, u2);
     }
     TZ_BOOL folds = folds_at(n, ng);
     if (folds && !(v3_dot(ng, wi) > 0.0f)) wi = mirror_in_plane(wi, ng);
@@ -140,7 +175,7 @@ TZ_FN bsdf_sample bsdf_sample_lobe(bsdf_material m, float share, vec3 n, vec3 ng
     bsdf_sample s;
     s.wi = wi;
     s.pdf = v.pdf;
-    s.ok = (folds || v.cos_i > 0.0f) && v3_dot(ng, wi) > 0.0f && v.pdf > 0.0f;
+    s.ok = bsdf_goes_on(folds, v.cos_i, ng, wi, v.pdf);
     TZ_PRECISE vec3 f = v3_scale(v.f, v.f_scale / v.pdf);
     s.weight = f;
     return s;

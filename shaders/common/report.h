@@ -8,6 +8,7 @@
 #include "bsdf.h"
 #include "camera.h"
 #include "dialect.h"
+#include "emitter.h"
 #include "lights.h"
 #include "primitive.h"
 #include "ray.h"
@@ -64,11 +65,11 @@ TZ_FN specular_chain follow_specular(TZ_SCENE_PARAM vec3 o, vec3 d, int self) {
     }
 }
 
-/* The radiance a chain ends with, before its tints: the background on a miss, black past the
+/* The radiance a chain ends with, before its tints: the environment's on a miss, black past the
  * bounce limit, else the point lights at its diffuse hit. */
 TZ_FN vec3 chain_direct(TZ_SCENE_PARAM specular_chain c) {
     vec3 black = v3(0.0f, 0.0f, 0.0f);
-    if (c.id == -1) return xyz(TZ_FRAME.background);
+    if (c.id == -1) return environment_radiance(TZ_SCENE_ARG c.d);
     if (c.id == -2) return black;
     return point_lights(TZ_SCENE_ARG c.s, c.id, c.n, c.ng, v3_scale(c.d, -1.0f));
 }

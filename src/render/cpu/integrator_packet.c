@@ -9,6 +9,7 @@
 
 /* The shared text calls the accessors above. */
 #include "common/bsdf.h"
+#include "common/emitter.h"
 #include "common/primitive.h"
 #include "common/ray.h"
 #include "common/shade.h"
@@ -167,10 +168,11 @@ LANE_FN void packet_diffuse_hits(const int *active, const int *id, const lanes3 
     }
 }
 
-/* What a path ending as id brings back: its weight times the background on a miss (-1), black
- * past the bounce limit (-2), else its weight times the light found at its diffuse hit. */
-LANE_FN vec3 path_radiance(int id, vec3 weight, vec3 background, vec3 found) {
-    vec3 lit = id == -1 ? v3_mul(weight, background) : v3_mul(weight, found);
+/* What a path ending as id along d brings back: its weight times the environment on a miss
+ * (-1), black past the bounce limit (-2), else its weight times the light found at its diffuse
+ * hit. */
+LANE_FN vec3 path_radiance(const packed_scene *p, int id, vec3 d, vec3 weight, vec3 found) {
+    vec3 lit = id == -1 ? v3_mul(weight, environment_radiance(p, d)) : v3_mul(weight, found);
     return id == -2 ? v3(0.0f, 0.0f, 0.0f) : lit;
 }
 
@@ -220,9 +222,8 @@ LANE_FN void packet_radiance_direct_only(const packed_scene *p, lanes3 *o, lanes
     int diffuse[LANES];
     packet_diffuse_hits(active, id, d, diffuse, &wo);
     packet_direct_light(p, id, &pos, &n, &ng, &m, &wo, diffuse, &direct);
-    vec3 background = xyz(p->frame.background);
     for (int k = 0; k < LANES; k++)
-        set3(radiance, k, path_radiance(id[k], get3(&weight, k), background, get3(&direct, k)));
+        set3(radiance, k, path_radiance(p, id[k], get3(d, k), get3(&weight, k), get3(&direct, k)));
 }
 
 /* One cosine-weighted bounce at the active lanes' diffuse hits (indirect_light of integrator.c),
@@ -295,7 +296,6 @@ void PACKET_ENTRY(PACKET_BUILD)(const packed_scene *p, uint32_t i, uint32_t j, u
     packet_direct_light(p, id, &pos, &n, &ng, &m, &wo, diffuse, &radiance);
     if (fr->flags & TZ_FLAG_INDIRECT)
         packet_indirect_light(p, id, &pos, &n, &ng, &m, &wo, diffuse, &rng, &radiance);
-    vec3 background = xyz(fr->background);
     for (int k = 0; k < LANES; k++)
-        out[k] = path_radiance(id[k], get3(&weight, k), background, get3(&radiance, k));
+        out[k] = path_radiance(p, id[k], get3(&d, k), get3(&weight, k), get3(&radiance, k));
 }

@@ -56,8 +56,7 @@ LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float
     }
     for (int k = 0; any_lobe && k < LANES; k++) {
         vec3 n = get3(&v->n, k), wo = get3(&v->wo, k);
-        vec3 wr = v3_sub(v3_scale(n, 2.0f * v3_dot(n, wo)), wo);
-        set3(&lobe_wi, k, phong_lobe_direction(wr, v->alpha[k], u1[k], u2[k]));
+        set3(&lobe_wi, k, phong_lobe_direction(phong_lobe_axis(n, wo), v->alpha[k], u1[k], u2[k]));
     }
     for (int k = 0; k < LANES; k++) {
         vec3 n = get3(&v->n, k);
@@ -82,8 +81,7 @@ LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float
     for (int k = 0; k < LANES; k++) {
         vec3 n = get3(&v->n, k), ng = get3(&v->ng, k), pos = get3(&v->pos, k);
         /* On a face that does not fold, a direction below it ends the path. */
-        int ok = go[k] & (folds[k] | (cos_i[k] > 0.0f)) & (v3_dot(ng, get3(&wi, k)) > 0.0f) &
-                 (pdf[k] > 0.0f);
+        int ok = go[k] & bsdf_goes_on(folds[k], cos_i[k], ng, get3(&wi, k), pdf[k]);
         vec3 f = v3_scale(get3(&fv, k), f_scale[k] / pdf[k]);
         vec3 o = offset_origin(pos, ng);
         set3(&s->beta, k, select3(ok, v3_mul(get3(&s->beta, k), f), get3(&s->beta, k)));
@@ -140,8 +138,7 @@ LANE_FN void lanes_emission(const packed_scene *scene, const vertex_lanes *v, co
                                         (float)scene->frame.light_samples *
                                             light_pdf_at(scene, last, v->id[k], get3(&v->pos, k),
                                                          get3(&s->d, k)));
-        vec3 emitted =
-            v3_scale(v3_mul(get3(&s->beta, k), xyz(emitter_emission_pick(scene, v->slot[k]))), w);
+        vec3 emitted = v3_scale(v3_mul(get3(&s->beta, k), emitter_radiance(scene, v->slot[k])), w);
         set3(&s->radiance, k, v3_add(get3(&s->radiance, k), emitted));
     }
 }
@@ -261,13 +258,13 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         v.material[k] = sf.m.kind;
         v.slot[k] = sf.emitter;
     }
-    vec3 background = xyz(fr->background);
     for (int k = 0; k < LANES; k++) {
         int hit = s->active[k] & (v.id[k] >= 0), miss = s->active[k] & (v.id[k] < 0);
         vec3 radiance = get3(&s->radiance, k);
-        set3(&s->radiance, k,
-             select3(miss, v3_add(radiance, v3_mul(get3(&s->beta, k), background)), radiance));
         vec3 d = get3(&s->d, k), nout = get3(&v.nout, k), shading = get3(&v.shading, k);
+        float w = environment_mis_weight(scene, s->specular[k], s->last_pdf[k], d);
+        vec3 seen = v3_scale(v3_mul(get3(&s->beta, k), environment_radiance(scene, d)), w);
+        set3(&s->radiance, k, select3(miss, v3_add(radiance, seen), radiance));
         emit[k] = hit & (v.slot[k] >= 0);
         any_emit |= emit[k];
         int go = hit & !(s->vertex[k] > fr->bounces); /* else the path ends at this hit */

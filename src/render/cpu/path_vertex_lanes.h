@@ -95,16 +95,16 @@ static __attribute__((noinline)) void lanes_fold(const vertex_lanes *v, const in
                                                  float *f_scale, float *pdf) {
     float cos_m[LANES], xm[LANES], lobe_m[LANES];
     for (int k = 0; k < LANES; k++) {
-        vec3 n = get3(&v->n, k), wm = mirror_in_plane(get3(wi, k), get3(&v->ng, k));
-        cos_m[k] = v3_dot(n, wm);
-        xm[k] = phong_lobe_cos(n, wm, get3(&v->wo, k));
+        fold_mirror fm =
+            fold_mirror_of(get3(&v->n, k), get3(&v->ng, k), get3(wi, k), get3(&v->wo, k));
+        cos_m[k] = fm.cos_m;
+        xm[k] = fm.xm;
     }
     lobe_lanes(xm, v->alpha, folds, lobe_m);
     for (int k = 0; k < LANES; k++) {
         if (!folds[k]) continue;
-        folded_bsdf fb = fold_terms(
-            get3(fv, k), cos_i[k], pdf[k], bsdf_f_of_lobe(vertex_material(v, k), lobe_m[k]),
-            cos_m[k], bsdf_pdf_of_lobe(v->share[k], v->alpha[k], cos_m[k], lobe_m[k]));
+        folded_bsdf fb = fold_of_lobe(vertex_material(v, k), v->share[k], get3(fv, k), cos_i[k],
+                                      pdf[k], cos_m[k], lobe_m[k]);
         set3(fv, k, fb.f_cos);
         f_scale[k] = 1.0f;
         pdf[k] = fb.pdf;
