@@ -58,7 +58,7 @@ typedef struct tz_uvec4 {
 #define TZ_BAND_ROWS 256u
 
 /* Descriptor bindings of set 0. Spheres and lights are uniform texel buffers (RGBA32F) over the
- * very bytes of the gpu_sphere and gpu_light arrays: a sphere is texels 3k..3k+2, a light texels
+ * very bytes of the gpu_sphere and gpu_light arrays: a sphere is texels 2k, 2k+1, a light texels
  * 2k, 2k+1. lavapipe gathers texels with a few vector loads where a storage buffer read at a
  * per-lane index costs a scalar loop over the lanes; no size limit short of
  * maxTexelBufferElements. */
@@ -86,7 +86,8 @@ typedef struct tz_uvec4 {
 #define TZ_BINDING_STACK 8
 /* Texels 3t..3t+2: gpu_triangle t (one zeroed triangle without any). */
 #define TZ_BINDING_TRIANGLES 9
-/* Texels 2m, 2m + 1: gpu_material m, the materials of the triangles (one zeroed without any). */
+/* Texels 3m..3m+2: gpu_material m, the materials of the spheres and the triangles (one zeroed
+ * without any). */
 #define TZ_BINDING_MATERIALS 10
 /* Texels 3s..3s+2: gpu_normals s, the shading normals of the smooth triangles (one zeroed). */
 #define TZ_BINDING_NORMALS 11
@@ -119,11 +120,13 @@ typedef struct tz_uvec4 {
 #define TZ_UNROLL_MAX_LIGHTS 4
 #define TZ_SPEC_SCENE 5
 
-/* One sphere, 48 bytes. material is stored as an exactly representable float. */
+/* One sphere, 32 bytes. Its indices are exactly representable floats (texel buffers and
+ * specialization constants are floats; there are at most SCENE_MAX_PRIMITIVES of each). */
 struct gpu_sphere {
     TZ_VEC4 center_radius; /* xyz centre, w radius */
-    TZ_VEC4 color_ks;      /* rgb kd or tint, w phong ks */
-    TZ_VEC4 params;        /* x phong alpha, y ior, z material, w its emitter + 1 (0: none) */
+    float material;        /* its gpu_material */
+    float emitter;         /* its gpu_emitter + 1 (0: none) */
+    float pad0, pad1;      /* 0 */
 };
 
 /* One triangle, 48 bytes: its corners, what the walks read (the watertight test needs them, not
@@ -137,11 +140,19 @@ struct gpu_triangle {
 };
 #define TZ_FLAT 0xffffffffu
 
-/* The material of triangles, 32 bytes: the fields of a sphere's color_ks and params (params.w
- * unused: emitters are per triangle). */
+/* A material of spheres and triangles (struct material of the scene, packed once), 48 bytes.
+ * The kind is an exactly representable float, as gpu_sphere's indices. Room is left for what
+ * later materials add (roughness, metallic: the reserved floats; texture indices: a fourth
+ * group of four). */
 struct gpu_material {
-    TZ_VEC4 color_ks;
-    TZ_VEC4 params;
+    TZ_VEC4 color_ks; /* rgb the colour (kd of lambertian and phong, the tint of mirror and
+                       * refractive), w the Phong specular weight ks (0: no lobe) */
+    float alpha;      /* the Phong exponent */
+    float ior;        /* the refractive index (1 but for refractive) */
+    float kind;       /* TZ_MATERIAL_* */
+    float reserved0;  /* 0 */
+    TZ_VEC4 emission; /* rgb the radiance emitted (path mode reads it through gpu_emitter),
+                       * w reserved (0) */
 };
 
 /* The unit shading normals at a smooth triangle's corners, 48 bytes. */
@@ -207,8 +218,10 @@ struct gpu_pass {
 #define TZ_CHUNK_OPEN 1u
 #define TZ_CHUNK_CLOSE 2u
 
-/* The spheres and lights of an unrolled scene in the texel layout of TZ_BINDING_SPHERES and
- * TZ_BINDING_LIGHTS (sphere k: vec4s 3k..3k+2, light k: 2k, 2k+1), zero past the scene's. */
+/* The spheres and lights of an unrolled scene, zero past the scene's (scene_pack_unrolled):
+ * sphere k is vec4s 3k..3k+2, its centre and radius, then its material's colour and ks, and
+ * alpha, ior, kind and its emitter + 1 (the fields a hit reads, without a fetch of its
+ * material); light k is vec4s 2k, 2k + 1, in the texel layout of TZ_BINDING_LIGHTS. */
 struct gpu_unrolled {
     TZ_VEC4 spheres[3 * TZ_UNROLL_MAX_SPHERES];
     TZ_VEC4 lights[2 * TZ_UNROLL_MAX_LIGHTS];

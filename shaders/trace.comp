@@ -59,16 +59,24 @@ layout(constant_id = TZ_SPEC_WIDE_BVH) const uint WIDE_BVH = 0u;
 
 #include "spec_scene.glsl"
 
-/* The fields of struct gpu_sphere k and gpu_light k: specialization constants when their loops
- * are unrolled, else from the texel buffers (see TZ_BINDING_SPHERES). */
+/* The fields of struct gpu_material m (params: alpha, ior, kind, reserved0). */
+vec4 material_color_ks(int m) { return texelFetch(material_texels, 3 * m); }
+vec4 material_params(int m) { return texelFetch(material_texels, 3 * m + 1); }
+/* The fields of struct gpu_sphere k and its material (sphere_params: alpha, ior, kind and its
+ * emitter + 1), and of gpu_light k: specialization constants when their loops are unrolled
+ * (struct gpu_unrolled), else from the texel buffers (see TZ_BINDING_SPHERES). */
 vec4 sphere_center_radius(int k) {
-    return UNROLLED_SPHERES > 0u ? spec_sphere_center_radius(k) : texelFetch(sphere_texels, 3 * k);
+    return UNROLLED_SPHERES > 0u ? spec_sphere_center_radius(k) : texelFetch(sphere_texels, 2 * k);
 }
 vec4 sphere_color_ks(int k) {
-    return UNROLLED_SPHERES > 0u ? spec_sphere_color_ks(k) : texelFetch(sphere_texels, 3 * k + 1);
+    return UNROLLED_SPHERES > 0u
+               ? spec_sphere_color_ks(k)
+               : material_color_ks(int(texelFetch(sphere_texels, 2 * k + 1).x));
 }
 vec4 sphere_params(int k) {
-    return UNROLLED_SPHERES > 0u ? spec_sphere_params(k) : texelFetch(sphere_texels, 3 * k + 2);
+    if (UNROLLED_SPHERES > 0u) return spec_sphere_params(k);
+    vec4 links = texelFetch(sphere_texels, 2 * k + 1); /* material, emitter */
+    return vec4(material_params(int(links.x)).xyz, links.y);
 }
 vec4 light_position_power(int k) {
     return UNROLLED_LIGHTS > 0u ? spec_light_position_power(k) : texelFetch(light_texels, 2 * k);
@@ -76,12 +84,10 @@ vec4 light_position_power(int k) {
 vec4 light_color(int k) {
     return UNROLLED_LIGHTS > 0u ? spec_light_color(k) : texelFetch(light_texels, 2 * k + 1);
 }
-/* The fields of struct gpu_triangle t, gpu_material m and gpu_normals n. */
+/* The fields of struct gpu_triangle t and gpu_normals n. */
 vec4 triangle_v0(int t) { return texelFetch(triangle_texels, 3 * t); }
 vec4 triangle_v1(int t) { return texelFetch(triangle_texels, 3 * t + 1); }
 vec4 triangle_v2(int t) { return texelFetch(triangle_texels, 3 * t + 2); }
-vec4 material_color_ks(int m) { return texelFetch(material_texels, 2 * m); }
-vec4 material_params(int m) { return texelFetch(material_texels, 2 * m + 1); }
 vec4 normals_n0(int n) { return texelFetch(normals_texels, 3 * n); }
 vec4 normals_n1(int n) { return texelFetch(normals_texels, 3 * n + 1); }
 vec4 normals_n2(int n) { return texelFetch(normals_texels, 3 * n + 2); }

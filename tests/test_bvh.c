@@ -42,9 +42,7 @@ static void random_scene(scene *s, int n) {
     for (int k = 0; k < n; k++) {
         float r = rng_next(&rng_state) < 0.1f ? uniform(1.0f, 4.0f) : uniform(0.01f, 0.6f);
         s->spheres[k] = (sphere){.center = v3(uniform(-10, 10), uniform(-10, 10), uniform(-10, 10)),
-                                 .radius = r,
-                                 .color = {0.5f, 0.5f, 0.5f},
-                                 .ior = 1.0f};
+                                 .radius = r};
     }
 }
 

@@ -34,23 +34,25 @@ static void test_digest(void) {
     scene_digest(&s, spheres);
     /* the value the digest had before the scene gained triangles (commit adbf42e) */
     CHECK(!strcmp(spheres, "f73fd51f075a1740"), "sphere-only digest %s", spheres);
-    shape_material m = {
-        .material = TZ_MATERIAL_LAMBERTIAN, .color = {0.8f, 0.8f, 0.8f}, .ior = 1.0f};
+    /* the sphere's material, then the face's */
+    material *parsed = s.materials, both[2] = {s.materials[0], {0}};
+    material *m = &both[1];
+    *m = (material){.kind = TZ_MATERIAL_LAMBERTIAN, .color = {0.8f, 0.8f, 0.8f}, .ior = 1.0f};
     face_normals n = {{{0, 0, 1}, {0, 0, 1}, {0, 0, 1}}};
-    triangle t = {.v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, .material = 0, .normals = TRIANGLE_FLAT};
+    triangle t = {.v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, .material = 1, .normals = TRIANGLE_FLAT};
     s.triangles = &t;
     s.triangle_count = 1;
-    s.materials = &m;
-    s.material_count = 1;
+    s.materials = both;
+    s.material_count = 2;
     s.normals = &n;
     s.normals_count = 1;
     scene_digest(&s, faces);
     CHECK(strcmp(faces, spheres), "a triangle leaves the digest %s", faces);
     /* every float of the face and its material */
-    float *fields[] = {&t.v[0].x,     &t.v[0].y,     &t.v[0].z,    &t.v[1].x, &t.v[1].y,
-                       &t.v[1].z,     &t.v[2].x,     &t.v[2].y,    &t.v[2].z, &m.color.x,
-                       &m.color.y,    &m.color.z,    &m.ks,        &m.alpha,  &m.ior,
-                       &m.emission.x, &m.emission.y, &m.emission.z};
+    float *fields[] = {&t.v[0].x,      &t.v[0].y,      &t.v[0].z,     &t.v[1].x, &t.v[1].y,
+                       &t.v[1].z,      &t.v[2].x,      &t.v[2].y,     &t.v[2].z, &m->color.x,
+                       &m->color.y,    &m->color.z,    &m->ks,        &m->alpha, &m->ior,
+                       &m->emission.x, &m->emission.y, &m->emission.z};
     for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++) {
         float kept = *fields[k];
         *fields[k] = kept + 0.5f;
@@ -58,10 +60,10 @@ static void test_digest(void) {
         CHECK(strcmp(other, faces), "triangle float %zu leaves the digest", k);
         *fields[k] = kept;
     }
-    m.material = TZ_MATERIAL_PHONG;
+    m->kind = TZ_MATERIAL_PHONG;
     scene_digest(&s, other);
     CHECK(strcmp(other, faces), "material leaves the digest");
-    m.material = TZ_MATERIAL_LAMBERTIAN;
+    m->kind = TZ_MATERIAL_LAMBERTIAN;
     /* shading normals, then each of their floats */
     char smooth[sizeof spheres];
     t.normals = 0;
@@ -81,8 +83,9 @@ static void test_digest(void) {
     scene_digest(&s, other);
     CHECK(!strcmp(other, faces), "the digest is not a function of the fields: %s, %s", other,
           faces);
-    s.triangles = NULL, s.materials = NULL, s.normals = NULL;
-    s.triangle_count = s.material_count = s.normals_count = 0;
+    s.triangles = NULL, s.materials = parsed, s.normals = NULL;
+    s.triangle_count = s.normals_count = 0;
+    s.material_count = 1;
     scene_free(&s);
 }
 

@@ -103,7 +103,7 @@ static bool in_view(const scene *s, vec3 c, float r) {
 
 static void count_materials(const scene *s, int counts[4]) {
     memset(counts, 0, 4 * sizeof counts[0]);
-    for (int k = 0; k < s->sphere_count; k++) counts[s->spheres[k].material]++;
+    for (int k = 0; k < s->sphere_count; k++) counts[sphere_material(s, &s->spheres[k])->kind]++;
 }
 
 /* ---- sphereflake ---- */
@@ -169,7 +169,8 @@ static void test_sphereflake(void) {
         check_common(name, &s);
         /* sphere 0 is the ground: a huge Lambertian sphere whose top the flake rests on */
         const sphere *ground = &s.spheres[0];
-        CHECK(ground->material == TZ_MATERIAL_LAMBERTIAN && ground->radius >= 1000.0f,
+        CHECK(sphere_material(&s, ground)->kind == TZ_MATERIAL_LAMBERTIAN &&
+                  ground->radius >= 1000.0f,
               "depth %d: sphere 0 is not the ground", depth);
         double top = ground->center.y + ground->radius, lowest = 1e30;
         for (int k = 1; k < s.sphere_count; k++) {
@@ -231,11 +232,12 @@ static void test_random(void) {
         check_common(name, &s);
         /* the ground, then the book's three: brown Lambertian, glass, metal */
         const sphere *ground = &s.spheres[0];
-        CHECK(ground->material == TZ_MATERIAL_LAMBERTIAN && ground->radius >= 1000.0f,
+        CHECK(sphere_material(&s, ground)->kind == TZ_MATERIAL_LAMBERTIAN &&
+                  ground->radius >= 1000.0f,
               "count %ld: sphere 0 is not the ground", n);
-        CHECK(s.spheres[1].material == TZ_MATERIAL_LAMBERTIAN &&
-                  s.spheres[2].material == TZ_MATERIAL_REFRACTIVE &&
-                  s.spheres[3].material == TZ_MATERIAL_MIRROR,
+        CHECK(sphere_material(&s, &s.spheres[1])->kind == TZ_MATERIAL_LAMBERTIAN &&
+                  sphere_material(&s, &s.spheres[2])->kind == TZ_MATERIAL_REFRACTIVE &&
+                  sphere_material(&s, &s.spheres[3])->kind == TZ_MATERIAL_MIRROR,
               "count %ld: the three big spheres", n);
         for (int k = 1; k <= 3; k++)
             CHECK(in_view(&s, s.spheres[k].center, s.spheres[k].radius),
@@ -267,8 +269,8 @@ static void test_random(void) {
         /* random colours: some dark, some bright */
         double lo = 1, hi = 0;
         for (int k = 4; k < s.sphere_count; k++) {
-            lo = fmin(lo, s.spheres[k].color.x);
-            hi = fmax(hi, s.spheres[k].color.x);
+            lo = fmin(lo, sphere_material(&s, &s.spheres[k])->color.x);
+            hi = fmax(hi, sphere_material(&s, &s.spheres[k])->color.x);
         }
         if (n >= 500) CHECK(lo < 0.1 && hi > 0.9, "count %ld: colours span %g..%g", n, lo, hi);
         scene_free(&s);

@@ -104,8 +104,8 @@ static bool same_triangles(const scene *a, const scene *b) {
         bool found = false;
         for (int j = 0; j < b->triangle_count && !found; j++) {
             const triangle *t = &a->triangles[i], *u = &b->triangles[j];
-            const shape_material *tm = triangle_material(a, t), *um = triangle_material(b, u);
-            found = same_corners(t, u, 1e-5) && tm->material == um->material &&
+            const material *tm = triangle_material(a, t), *um = triangle_material(b, u);
+            found = same_corners(t, u, 1e-5) && tm->kind == um->kind &&
                     fabsf(tm->color.x - um->color.x) < 1e-6f && fabsf(tm->ks - um->ks) < 1e-6f &&
                     fabsf(tm->alpha - um->alpha) < 1e-6f && fabsf(tm->ior - um->ior) < 1e-6f;
         }
@@ -448,7 +448,7 @@ static void expect_concatenation(const char *name, const char *a, const char *b,
                     first ? &sb.triangles[k] : &sc.triangles[k - sb.triangle_count];
                 const scene *sx = first ? &sb : &sc;
                 same = !memcmp(ta->v, tb->v, sizeof ta->v) &&
-                       shape_material_same(triangle_material(&sa, ta), triangle_material(sx, tb)) &&
+                       material_same(triangle_material(&sa, ta), triangle_material(sx, tb)) &&
                        (ta->normals == TRIANGLE_FLAT) == (tb->normals == TRIANGLE_FLAT) &&
                        (ta->normals == TRIANGLE_FLAT ||
                         !memcmp(&sa.normals[ta->normals], &sx->normals[tb->normals],

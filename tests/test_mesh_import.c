@@ -150,7 +150,7 @@ static void test_handedness(void) {
 }
 
 /* The material of the first face of `mesh file NAME`; false (checked) when it does not parse. */
-static bool first_material(const char *name, shape_material *out) {
+static bool first_material(const char *name, material *out) {
     char text[256];
     snprintf(text, sizeof text, L_HEADER "mesh file %s\n", name);
     scene s;
@@ -184,18 +184,18 @@ static void test_no_material(void) {
                "f 1 2 3\n");
     const char *bare[] = {"bare.ply", "bare.stl", "bare.off", "bare.obj", "l.gltf"};
     for (size_t k = 0; k < sizeof bare / sizeof bare[0]; k++) {
-        shape_material m;
+        material m;
         if (!first_material(bare[k], &m)) continue;
-        CHECK(m.material == TZ_MATERIAL_LAMBERTIAN && m.color.x == 0.8f && m.color.y == 0.8f &&
+        CHECK(m.kind == TZ_MATERIAL_LAMBERTIAN && m.color.x == 0.8f && m.color.y == 0.8f &&
                   m.color.z == 0.8f && m.ks == 0.0f,
               "%s: material %d colour %g %g %g ks %g, want lambertian 0.8", bare[k],
-              (int)m.material, (double)m.color.x, (double)m.color.y, (double)m.color.z,
+              (int)m.kind, (double)m.color.x, (double)m.color.y, (double)m.color.z,
               (double)m.ks);
     }
-    shape_material m;
+    material m;
     if (first_material("white.obj", &m))
-        CHECK(m.material == TZ_MATERIAL_PHONG && m.color.x == 1.0f && m.ks == 1.0f,
-              "white.obj: its own material became %d colour %g ks %g", (int)m.material,
+        CHECK(m.kind == TZ_MATERIAL_PHONG && m.color.x == 1.0f && m.ks == 1.0f,
+              "white.obj: its own material became %d colour %g ks %g", (int)m.kind,
               (double)m.color.x, (double)m.ks);
 }
 
@@ -232,10 +232,10 @@ static void test_bright_materials(void) {
             write_text("metal.gltf", gltf);
             scene s;
             if (!parse_path_mode("metal.gltf", &s)) continue;
-            const shape_material *m = triangle_material(&s, &s.triangles[0]);
+            const material *m = triangle_material(&s, &s.triangles[0]);
             float most = fmaxf(m->color.x, fmaxf(m->color.y, m->color.z)),
                   mean = (bases[b][0] + bases[b][1] + bases[b][2]) / 3.0f;
-            CHECK(m->material == TZ_MATERIAL_PHONG && most + m->ks <= 1.0f + 1e-6f,
+            CHECK(m->kind == TZ_MATERIAL_PHONG && most + m->ks <= 1.0f + 1e-6f,
                   "base %g metallic %g: max(color) %g + ks %g above 1", (double)bases[b][1],
                   (double)metals[k], (double)most, (double)m->ks);
             if (metals[k] == 1.0f)
@@ -383,7 +383,7 @@ static void test_glass_parts(void) {
     if (ok) {
         int glass = 0;
         for (int t = 0; t < s.triangle_count; t++)
-            glass += triangle_material(&s, &s.triangles[t])->material == TZ_MATERIAL_REFRACTIVE;
+            glass += triangle_material(&s, &s.triangles[t])->kind == TZ_MATERIAL_REFRACTIVE;
         CHECK(glass == 2 * L_QUADS, "glTF glass beside a floor: %d glass faces", glass);
         scene_free(&s);
     }
@@ -436,7 +436,7 @@ static void test_emission_strength(void) {
     for (int k = 0; k < 3; k++) {
         scene s;
         if (!parse_path_mode(files[k], &s)) continue;
-        const shape_material *m = triangle_material(&s, &s.triangles[0]);
+        const material *m = triangle_material(&s, &s.triangles[0]);
         CHECK(m->emission.x == 1.0f && m->emission.y == 0.5f && m->emission.z == 0.25f,
               "%s: emission %g %g %g", files[k], (double)m->emission.x, (double)m->emission.y,
               (double)m->emission.z);

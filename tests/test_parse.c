@@ -14,6 +14,9 @@
 
 #include "parse_check.h"
 
+/* The material of sphere k of s. */
+static const material *mat_of(const scene *s, int k) { return sphere_material(s, &s->spheres[k]); }
+
 static const char full_example[] =
     "camera  position 0 1 -8   direction 0 0 1   up 0 1 0\n"
     "plane   width 4  height 3  pixel 0.01\n"
@@ -44,21 +47,25 @@ static void check_full_example(const char *name, const scene *s) {
     check(vec_is(l->position, -2, 3, -1) && l->power == 60.0f && vec_is(l->color, 1, 1, 1), name,
           "light");
     const sphere *p = s->spheres;
-    check(p[0].material == TZ_MATERIAL_LAMBERTIAN && vec_is(p[0].center, 0, -1001, 0) &&
-              p[0].radius == 1000.0f && vec_is(p[0].color, 0.8f, 0.8f, 0.8f) && p[0].ks == 0 &&
-              p[0].alpha == 0 && p[0].ior == 1.0f && vec_is(p[0].emission, 0, 0, 0),
+    check(mat_of(s, 0)->kind == TZ_MATERIAL_LAMBERTIAN && vec_is(p[0].center, 0, -1001, 0) &&
+              p[0].radius == 1000.0f && vec_is(mat_of(s, 0)->color, 0.8f, 0.8f, 0.8f) &&
+              mat_of(s, 0)->ks == 0 && mat_of(s, 0)->alpha == 0 && mat_of(s, 0)->ior == 1.0f &&
+              vec_is(mat_of(s, 0)->emission, 0, 0, 0),
           name, "lambertian sphere");
-    check(p[1].material == TZ_MATERIAL_PHONG && vec_is(p[1].center, -1, 0, 2) && p[1].radius == 1 &&
-              vec_is(p[1].color, 0.6f, 0.1f, 0.1f) && p[1].ks == 0.3f && p[1].alpha == 40.0f &&
-              p[1].ior == 1.0f && vec_is(p[1].emission, 0, 0, 0),
+    check(mat_of(s, 1)->kind == TZ_MATERIAL_PHONG && vec_is(p[1].center, -1, 0, 2) &&
+              p[1].radius == 1 && vec_is(mat_of(s, 1)->color, 0.6f, 0.1f, 0.1f) &&
+              mat_of(s, 1)->ks == 0.3f && mat_of(s, 1)->alpha == 40.0f &&
+              mat_of(s, 1)->ior == 1.0f && vec_is(mat_of(s, 1)->emission, 0, 0, 0),
           name, "phong sphere");
-    check(p[2].material == TZ_MATERIAL_MIRROR && vec_is(p[2].center, 1, 0, 3) && p[2].radius == 1 &&
-              vec_is(p[2].color, 1, 1, 1) && p[2].ks == 0 && p[2].alpha == 0 && p[2].ior == 1.0f &&
-              vec_is(p[2].emission, 0, 0, 0),
+    check(mat_of(s, 2)->kind == TZ_MATERIAL_MIRROR && vec_is(p[2].center, 1, 0, 3) &&
+              p[2].radius == 1 && vec_is(mat_of(s, 2)->color, 1, 1, 1) && mat_of(s, 2)->ks == 0 &&
+              mat_of(s, 2)->alpha == 0 && mat_of(s, 2)->ior == 1.0f &&
+              vec_is(mat_of(s, 2)->emission, 0, 0, 0),
           name, "mirror sphere");
-    check(p[3].material == TZ_MATERIAL_REFRACTIVE && vec_is(p[3].center, 0, 0, 1) &&
-              p[3].radius == 0.7f && vec_is(p[3].color, 1, 1, 1) && p[3].ks == 0 &&
-              p[3].alpha == 0 && p[3].ior == 1.5f && vec_is(p[3].emission, 0, 0, 0),
+    check(mat_of(s, 3)->kind == TZ_MATERIAL_REFRACTIVE && vec_is(p[3].center, 0, 0, 1) &&
+              p[3].radius == 0.7f && vec_is(mat_of(s, 3)->color, 1, 1, 1) &&
+              mat_of(s, 3)->ks == 0 && mat_of(s, 3)->alpha == 0 && mat_of(s, 3)->ior == 1.5f &&
+              vec_is(mat_of(s, 3)->emission, 0, 0, 0),
           name, "refractive sphere");
 }
 
@@ -93,21 +100,23 @@ static void test_valid(void) {
         check(s.spp == 64 && s.indirect && s.bounces == 5 && s.seed == 1 &&
                   s.mode == RENDER_MODE_REPORT,
               n, "render settings");
-        const sphere *p = s.spheres;
-        check(p[0].material == TZ_MATERIAL_PHONG && vec_is(p[0].color, 0.8f, 0.8f, 0.8f) &&
-                  p[0].ks == 0.5f && p[0].alpha == 32.0f && p[0].ior == 1.0f,
+        check(mat_of(&s, 0)->kind == TZ_MATERIAL_PHONG &&
+                  vec_is(mat_of(&s, 0)->color, 0.8f, 0.8f, 0.8f) && mat_of(&s, 0)->ks == 0.5f &&
+                  mat_of(&s, 0)->alpha == 32.0f && mat_of(&s, 0)->ior == 1.0f,
               n, "phong defaults");
-        check(p[1].material == TZ_MATERIAL_LAMBERTIAN && vec_is(p[1].color, 0.8f, 0.8f, 0.8f) &&
-                  p[1].ks == 0 && p[1].alpha == 0 && p[1].ior == 1.0f,
+        check(mat_of(&s, 1)->kind == TZ_MATERIAL_LAMBERTIAN &&
+                  vec_is(mat_of(&s, 1)->color, 0.8f, 0.8f, 0.8f) && mat_of(&s, 1)->ks == 0 &&
+                  mat_of(&s, 1)->alpha == 0 && mat_of(&s, 1)->ior == 1.0f,
               n, "lambertiana");
-        check(
-            p[2].material == TZ_MATERIAL_MIRROR && vec_is(p[2].color, 1, 1, 1) && p[2].ior == 1.0f,
-            n, "espejo");
-        check(p[3].material == TZ_MATERIAL_REFRACTIVE && vec_is(p[3].color, 1, 1, 1) &&
-                  p[3].ior == 1.5f,
+        check(mat_of(&s, 2)->kind == TZ_MATERIAL_MIRROR && vec_is(mat_of(&s, 2)->color, 1, 1, 1) &&
+                  mat_of(&s, 2)->ior == 1.0f,
+              n, "espejo");
+        check(mat_of(&s, 3)->kind == TZ_MATERIAL_REFRACTIVE &&
+                  vec_is(mat_of(&s, 3)->color, 1, 1, 1) && mat_of(&s, 3)->ior == 1.5f,
               n, "refractada");
-        check(p[4].material == TZ_MATERIAL_LAMBERTIAN && vec_is(p[4].color, 0.8f, 0.8f, 0.8f), n,
-              "lambertian color");
+        check(mat_of(&s, 4)->kind == TZ_MATERIAL_LAMBERTIAN &&
+                  vec_is(mat_of(&s, 4)->color, 0.8f, 0.8f, 0.8f),
+              n, "lambertian color");
         scene_free(&s);
     }
 
@@ -122,7 +131,7 @@ static void test_valid(void) {
               n, "got %d %d %d %u", s.spp, s.indirect, s.bounces, s.seed);
         check(vec_is(s.background, 0.5f, 2, 0), n, "background above 1 is allowed");
         check(vec_is(s.spheres[0].center, 1, 2, 3) && s.spheres[0].radius == 2 &&
-                  vec_is(s.spheres[0].color, 0.5f, 0.25f, 0),
+                  vec_is(mat_of(&s, 0)->color, 0.5f, 0.25f, 0),
               n, "keys in any order");
         scene_free(&s);
     }

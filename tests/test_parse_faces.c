@@ -33,7 +33,7 @@ static void test_faces(void) {
     const triangle *t = s.triangles;
     check(triangle_at(&t[0], v3(0, 0, 0), v3(1, 0, 0), v3(0, 1, 0)) &&
               t[0].normals == TRIANGLE_FLAT &&
-              triangle_material(&s, &t[0])->material == TZ_MATERIAL_LAMBERTIAN &&
+              triangle_material(&s, &t[0])->kind == TZ_MATERIAL_LAMBERTIAN &&
               vec_is(triangle_material(&s, &t[0])->color, 0.8f, 0.8f, 0.8f) &&
               triangle_material(&s, &t[0])->ks == 0 && triangle_material(&s, &t[0])->alpha == 0 &&
               triangle_material(&s, &t[0])->ior == 1.0f &&
@@ -44,7 +44,7 @@ static void test_faces(void) {
               (t[1].normals != TRIANGLE_FLAT) && vec_is(s.normals[t[1].normals].n[0], 0, 0, -1) &&
               vec_is(s.normals[t[1].normals].n[1], 0.6f, 0.8f, 0) &&
               vec_is(s.normals[t[1].normals].n[2], 0, 0, -1) &&
-              triangle_material(&s, &t[1])->material == TZ_MATERIAL_PHONG &&
+              triangle_material(&s, &t[1])->kind == TZ_MATERIAL_PHONG &&
               vec_is(triangle_material(&s, &t[1])->color, 0.5f, 0.25f, 1) &&
               triangle_material(&s, &t[1])->ks == 0.1f &&
               triangle_material(&s, &t[1])->alpha == 8.0f &&
@@ -55,25 +55,25 @@ static void test_faces(void) {
               triangle_at(&t[3], v3(0, 0, 0), v3(2, 0, 2), v3(0, 0, 2)),
           n, "quad split");
     for (int k = 2; k <= 3; k++)
-        check(triangle_material(&s, &t[k])->material == TZ_MATERIAL_MIRROR &&
+        check(triangle_material(&s, &t[k])->kind == TZ_MATERIAL_MIRROR &&
                   vec_is(triangle_material(&s, &t[k])->color, 0.9f, 0.5f, 0.1f) &&
                   t[k].normals == TRIANGLE_FLAT && triangle_material(&s, &t[k])->ks == 0 &&
                   triangle_material(&s, &t[k])->ior == 1.0f,
               n, "espejo quad half %d", k - 2);
-    check(triangle_material(&s, &t[4])->material == TZ_MATERIAL_LAMBERTIAN &&
+    check(triangle_material(&s, &t[4])->kind == TZ_MATERIAL_LAMBERTIAN &&
               vec_is(triangle_material(&s, &t[4])->color, 0.8f, 0.8f, 0.8f) &&
               vec_is(triangle_material(&s, &t[4])->emission, 1, 2, 3) && triangle_emits(&s, &t[4]),
           n, "lambertiana triangle with emission");
     check(triangle_at(&t[5], v3(-1, -1, 5), v3(1, -1, 5), v3(1, 1, 5)) &&
               triangle_at(&t[6], v3(-1, -1, 5), v3(1, 1, 5), v3(-1, 1, 5)) &&
-              triangle_material(&s, &t[5])->material == TZ_MATERIAL_MIRROR &&
+              triangle_material(&s, &t[5])->kind == TZ_MATERIAL_MIRROR &&
               vec_is(triangle_material(&s, &t[5])->color, 1, 1, 1),
           n, "mirror quad");
-    check(triangle_material(&s, &t[7])->material == TZ_MATERIAL_MIRROR &&
+    check(triangle_material(&s, &t[7])->kind == TZ_MATERIAL_MIRROR &&
               vec_is(triangle_material(&s, &t[7])->color, 1, 1, 1),
           n, "espejo triangle");
     for (int k = 8; k <= 9; k++)
-        check(triangle_material(&s, &t[k])->material == TZ_MATERIAL_PHONG &&
+        check(triangle_material(&s, &t[k])->kind == TZ_MATERIAL_PHONG &&
                   triangle_material(&s, &t[k])->ks == 1.0f &&
                   triangle_material(&s, &t[k])->alpha == 0.0f &&
                   vec_is(triangle_material(&s, &t[k])->color, 0.8f, 0.8f, 0.8f) &&

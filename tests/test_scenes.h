@@ -31,15 +31,27 @@ static inline bool render_on(bool vulkan, const scene *s, const render_opts *opt
                   : render_film(&render_backend_cpu, s, opts, f);
 }
 
-/* A sphere: Phong parameters 0 and ior 1, 1.5 for glass (callers set others). */
-static inline sphere ball(float x, float y, float z, float radius, material_kind material, float r,
-                          float g, float b) {
-    return (sphere){.center = {x, y, z},
-                    .radius = radius,
-                    .material = material,
-                    .color = {r, g, b},
-                    .ior = material == TZ_MATERIAL_REFRACTIVE ? 1.5f : 1.0f};
+/* The materials of the spheres ball() makes, one each, for every scene view() makes (they hold
+ * the whole table): TEST_MATERIALS of them, the oldest reused past that. */
+#define TEST_MATERIALS 65536
+static inline material *test_materials(void) {
+    static material table[TEST_MATERIALS];
+    return table;
 }
+
+/* A sphere of a material of its own: Phong parameters 0 and ior 1, 1.5 for glass (callers set
+ * others through ball_material). */
+static inline sphere ball(float x, float y, float z, float radius, material_kind kind, float r,
+                          float g, float b) {
+    static uint32_t next;
+    uint32_t index = next++ % TEST_MATERIALS;
+    test_materials()[index] = (material){
+        .kind = kind, .color = {r, g, b}, .ior = kind == TZ_MATERIAL_REFRACTIVE ? 1.5f : 1.0f};
+    return (sphere){.center = {x, y, z}, .radius = radius, .material = index};
+}
+
+/* The material of a sphere ball() made. */
+static inline material *ball_material(const sphere *b) { return &test_materials()[b->material]; }
 
 /* A view from `camera` along +z (up +y) through a plane_w x plane_h plane, `width` pixels
  * across, indirect light on, 5 bounces; the spheres and lights are the caller's. */
@@ -61,6 +73,8 @@ static inline scene view(float camera_z, float plane_w, float plane_h, int width
                    .seed = seed,
                    .spheres = spheres,
                    .sphere_count = sphere_count,
+                   .materials = test_materials(),
+                   .material_count = TEST_MATERIALS,
                    .lights = lights,
                    .light_count = light_count};
 }

@@ -86,7 +86,7 @@ static scene materials_scene(void) {
     b[0] = ball(0.0f, -1000.0f, 0.0f, 999.0f, TZ_MATERIAL_LAMBERTIAN, 0.7f, 0.7f, 0.6f);
     b[1] = ball(-1.6f, 0.0f, 3.0f, 1.0f, TZ_MATERIAL_LAMBERTIAN, 0.8f, 0.2f, 0.2f);
     b[2] = ball(0.6f, -0.3f, 2.0f, 0.7f, TZ_MATERIAL_PHONG, 0.2f, 0.3f, 0.8f);
-    b[2].ks = 0.4f, b[2].alpha = 30.0f;
+    ball_material(&b[2])->ks = 0.4f, ball_material(&b[2])->alpha = 30.0f;
     b[3] = ball(1.2f, 0.4f, 5.0f, 1.4f, TZ_MATERIAL_MIRROR, 0.9f, 0.9f, 0.8f);
     b[4] = ball(-0.4f, -0.5f, 0.8f, 0.5f, TZ_MATERIAL_REFRACTIVE, 1.0f, 1.0f, 1.0f);
     scene s = view(-4.0f, 4.0f, 3.0f, 96, 16, 7, b, 5, materials_lights, 2);
@@ -110,7 +110,7 @@ static scene room_scene(void) {
     b[4] = ball(0.0f, 0.0f, wall + 3.0f, wall, TZ_MATERIAL_LAMBERTIAN, 0.75f, 0.75f, 0.75f);
     b[5] = ball(0.0f, 0.0f, -wall - 8.0f, wall, TZ_MATERIAL_LAMBERTIAN, 0.75f, 0.75f, 0.75f);
     b[6] = ball(-0.85f, -1.3f, 1.4f, 0.7f, TZ_MATERIAL_PHONG, 0.85f, 0.85f, 0.85f);
-    b[6].ks = 0.25f, b[6].alpha = 40.0f;
+    ball_material(&b[6])->ks = 0.25f, ball_material(&b[6])->alpha = 40.0f;
     b[7] = ball(0.85f, -1.4f, 0.3f, 0.6f, TZ_MATERIAL_REFRACTIVE, 1.0f, 1.0f, 1.0f);
     return view(-6.9f, 4.0f, 4.0f, 96, 16, 3, b, 8, &room_light, 1);
 }
@@ -134,8 +134,9 @@ static void check_crowd(const char *name, int n, int m, int width, int samples, 
         spheres[k] =
             ball((float)(k % 8) - 3.5f, (float)(k / 8) - 2.0f, 3.0f, 0.35f + 0.02f * (float)(k % 5),
                  kind, 0.3f + 0.08f * (float)(k % 7), 0.5f, 0.9f - 0.1f * (float)(k % 6));
-        if (kind == TZ_MATERIAL_PHONG) spheres[k].ks = 0.3f, spheres[k].alpha = 25.0f;
-        if (kind == TZ_MATERIAL_REFRACTIVE) spheres[k].ior = 1.45f;
+        material *mk = ball_material(&spheres[k]);
+        if (kind == TZ_MATERIAL_PHONG) mk->ks = 0.3f, mk->alpha = 25.0f;
+        if (kind == TZ_MATERIAL_REFRACTIVE) mk->ior = 1.45f;
     }
     for (int k = 0; k < m; k++)
         lights[k] = (light){.position = {2.0f * (float)k - (float)m, 3.0f, -1.0f + 0.5f * (float)k},
@@ -173,7 +174,7 @@ static void test_built_scenes(void) {
     opts.indirect = false;
     opts.no_jitter = true;
     check_agreement("materials direct", &s, &opts);
-    s.spheres[2].ks = 0.0f; /* no Phong lobe: Lambertian, mirror and glass */
+    ball_material(&s.spheres[2])->ks = 0.0f; /* no Phong lobe: Lambertian, mirror and glass */
     check_agreement("materials direct, ks 0", &s, &opts);
     s = room_scene();
     render_opts_from_scene(&s, &opts);
@@ -220,7 +221,9 @@ static void test_ties(void) {
             int first = -1; /* the pair's first stored sphere */
             for (int k = 0; k < 20 && first < 0; k++)
                 if (packed.spheres[k].center_radius.w == 1.0f) first = k;
-            red_stored_first = first >= 0 && packed.spheres[first].color_ks.x > 0.5f;
+            red_stored_first =
+                first >= 0 &&
+                packed.materials[(int)packed.spheres[first].material].color_ks.x > 0.5f;
             scene_pack_free(&packed);
         }
         film cpu = {0}, vk = {0}, brute = {0};

@@ -37,6 +37,8 @@
 #define TZ_FALSE false
 /* An argument to a TZ_INOUT parameter, from a local variable. */
 #define TZ_REF(x) (x)
+/* A parameter a function does not read (yet): C warns, GLSL has no cast to void. */
+#define TZ_UNUSED(x)
 #define TZ_UNROLL [[unroll]]
 /* The scene: globals of the shader (frame, the accessors), so no parameter. */
 #define TZ_SCENE_PARAM
@@ -117,6 +119,7 @@ float v3_max_abs(vec3 a) { return max(abs(a.x), max(abs(a.y), abs(a.z))); }
 #define TZ_TRUE 1
 #define TZ_FALSE 0
 #define TZ_REF(x) (&(x))
+#define TZ_UNUSED(x) (void)(x)
 #define TZ_UNROLL
 /* The scene: a packed_scene parameter named scene, first (the includer declares the type and
  * the accessors). */

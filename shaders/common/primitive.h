@@ -5,6 +5,7 @@
 #ifndef TRAZADOR_COMMON_PRIMITIVE_H
 #define TRAZADOR_COMMON_PRIMITIVE_H
 
+#include "bsdf.h"
 #include "dialect.h"
 #include "ray.h"
 
@@ -59,14 +60,14 @@ TZ_FN vec3 triangle_normal(triangle_corners k) {
 }
 
 /* A hit surface: pos the point, nout its outward normal (a sphere's, or a triangle's geometric
- * one), shading the shading normal on nout's side (nout itself for spheres and flat faces),
- * color_ks and params as gpu_sphere's (params.w the emitter + 1). */
+ * one), shading the shading normal on nout's side (nout itself for spheres and flat faces), m its
+ * material, emitter its emitter slot (-1: none). */
 TZ_STRUCT(surface) {
     vec3 pos;
     vec3 nout;
     vec3 shading;
-    TZ_VEC4 color_ks;
-    TZ_VEC4 params;
+    bsdf_material m;
+    int emitter;
 }
 TZ_STRUCT_END(surface)
 
@@ -76,8 +77,8 @@ TZ_FN surface surface_none(void) {
     s.pos = v3(0.0f, 0.0f, 0.0f);
     s.nout = s.pos;
     s.shading = s.pos;
-    s.color_ks = TZ_VEC4_ZERO;
-    s.params = TZ_VEC4_ZERO;
+    s.m = bsdf_material_of(TZ_VEC4_ZERO, TZ_VEC4_ZERO);
+    s.emitter = -1;
     return s;
 }
 
@@ -95,9 +96,9 @@ TZ_FN surface triangle_surface(TZ_SCENE_PARAM int id, vec3 pos, vec3 o, vec3 d) 
     s.pos = plane_hit(k.a, s.nout, o, d, pos);
     s.shading = s.nout;
     TZ_UINT material = uint_bits(v0.w), normals = uint_bits(v1.w);
-    s.color_ks = material_color_ks(TZ_SCENE_ARG TZ_INT(material));
-    s.params = material_params(TZ_SCENE_ARG TZ_INT(material));
-    s.params.w = v2.w;
+    s.m = bsdf_material_of(material_color_ks(TZ_SCENE_ARG TZ_INT(material)),
+                           material_params(TZ_SCENE_ARG TZ_INT(material)));
+    s.emitter = TZ_INT(v2.w) - 1;
     if (normals != TZ_FLAT) {
         /* Barycentric weights of the hit from the very edge functions the walk tested. */
         triangle_edges e = triangle_edge_functions(k.a, k.b, k.c, o, shear_of(d));
@@ -115,18 +116,31 @@ TZ_FN surface triangle_surface(TZ_SCENE_PARAM int id, vec3 pos, vec3 o, vec3 d) 
     return s;
 }
 
+/* The point o + t d where a ray meets a primitive (a face's is then put on its plane). */
+TZ_LANE_FN vec3 ray_point(vec3 o, vec3 d, float t) {
+    TZ_PRECISE vec3 pos = v3_add(o, v3_scale(d, t));
+    return pos;
+}
+
+/* The outward normal of the sphere of centre c and radius r at its point pos. */
+TZ_LANE_FN vec3 sphere_normal(vec3 c, float r, vec3 pos) {
+    TZ_PRECISE vec3 n = v3_scale(v3_sub(pos, c), 1.0f / r);
+    return n;
+}
+
 /* The surface of primitive id where the ray o + t d meets it. */
 TZ_FN surface surface_at(TZ_SCENE_PARAM int id, vec3 o, vec3 d, float t) {
-    TZ_PRECISE vec3 pos = v3_add(o, v3_scale(d, t));
+    vec3 pos = ray_point(o, d, t);
     if (is_triangle(TZ_SCENE_ARG id)) return triangle_surface(TZ_SCENE_ARG id, pos, o, d);
     TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG id);
     surface s;
     s.pos = pos;
-    TZ_PRECISE vec3 nout = v3_scale(v3_sub(pos, xyz(cr)), 1.0f / cr.w);
+    vec3 nout = sphere_normal(xyz(cr), cr.w, pos);
     s.nout = nout;
     s.shading = nout;
-    s.color_ks = sphere_color_ks(TZ_SCENE_ARG id);
-    s.params = sphere_params(TZ_SCENE_ARG id);
+    TZ_VEC4 params = sphere_params(TZ_SCENE_ARG id);
+    s.m = bsdf_material_of(sphere_color_ks(TZ_SCENE_ARG id), params);
+    s.emitter = TZ_INT(params.w) - 1;
     return s;
 }
 

@@ -5,8 +5,10 @@
 #ifndef TRAZADOR_COMMON_REPORT_H
 #define TRAZADOR_COMMON_REPORT_H
 
+#include "bsdf.h"
 #include "camera.h"
 #include "dialect.h"
+#include "emitter.h"
 #include "lights.h"
 #include "primitive.h"
 #include "ray.h"
@@ -44,8 +46,7 @@ TZ_FN specular_chain follow_specular(TZ_SCENE_PARAM vec3 o, vec3 d, int self) {
         if (id < 0) return c;
         surface s = surface_at(TZ_SCENE_ARG id, o, d, t);
         c.s = s;
-        int material = TZ_INT(s.params.z);
-        if (material == TZ_MATERIAL_LAMBERTIAN || material == TZ_MATERIAL_PHONG) {
+        if (!bsdf_is_delta(s.m.kind)) {
             c.n = facing_shading(s, d);
             c.ng = facing_normal(s.nout, d);
             c.id = id;
@@ -55,20 +56,20 @@ TZ_FN specular_chain follow_specular(TZ_SCENE_PARAM vec3 o, vec3 d, int self) {
             c.id = -2;
             return c;
         }
-        weight = v3_mul(weight, xyz(s.color_ks));
+        weight = v3_mul(weight, s.m.color);
         next_ray next = specular_next(s.pos, s.nout, specular_normal(s.nout, s.shading, d), d,
-                                      material == TZ_MATERIAL_REFRACTIVE, s.params.y);
+                                      bsdf_refracts(s.m.kind), s.m.ior);
         o = next.o;
         d = next.d;
         self = id;
     }
 }
 
-/* The radiance a chain ends with, before its tints: the background on a miss, black past the
+/* The radiance a chain ends with, before its tints: the environment's on a miss, black past the
  * bounce limit, else the point lights at its diffuse hit. */
 TZ_FN vec3 chain_direct(TZ_SCENE_PARAM specular_chain c) {
     vec3 black = v3(0.0f, 0.0f, 0.0f);
-    if (c.id == -1) return xyz(TZ_FRAME.background);
+    if (c.id == -1) return environment_radiance(TZ_SCENE_ARG c.d);
     if (c.id == -2) return black;
     return point_lights(TZ_SCENE_ARG c.s, c.id, c.n, c.ng, v3_scale(c.d, -1.0f));
 }
@@ -84,7 +85,7 @@ TZ_FN vec3 indirect_light(TZ_SCENE_PARAM specular_chain c, vec3 wo, float y1, fl
     specular_chain next = follow_specular(TZ_SCENE_ARG offset_origin(c.s.pos, c.ng), wi, c.id);
     TZ_PRECISE vec3 incoming = v3_mul(next.weight, chain_direct(TZ_SCENE_ARG next));
     TZ_PRECISE float pdf = cos_t / TZ_PI;
-    vec3 f = brdf_at(c.s.color_ks, c.s.params.x, phong_lobe_cos(c.n, wi, wo));
+    vec3 f = bsdf_f(c.s.m, c.n, wi, wo);
     TZ_PRECISE vec3 r = v3_mul(f, v3_scale(incoming, cos_t / pdf));
     return r;
 }

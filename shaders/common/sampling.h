@@ -64,13 +64,19 @@ TZ_FN float diffuse_share(vec3 kd, float ks) {
     return total > 0.0f ? share : -1.0f;
 }
 
+/* bsdf_pdf with the lobe's phong_lobe(lobe_cos, alpha) given as lobe (the packet builds take
+ * it lane by lane). */
+TZ_LANE_FN float bsdf_pdf_of_lobe(float share, float alpha, float cos_i, float lobe) {
+    TZ_PRECISE float diffuse = cos_i * (1.0f / TZ_PI);
+    TZ_PRECISE float lobe_pdf = (alpha + 1.0f) * (1.0f / (2.0f * TZ_PI)) * lobe;
+    TZ_PRECISE float pdf = share * (cos_i > 0.0f ? diffuse : 0.0f) + (1.0f - share) * lobe_pdf;
+    return pdf;
+}
+
 /* The solid-angle pdf with which the BSDF samples wi: share cos/pi + (1 - share) times the lobe's
  * pdf, the lobe at the cosine the BRDF takes (phong_lobe_cos). */
 TZ_FN float bsdf_pdf(float share, float alpha, float cos_i, float lobe_cos) {
-    TZ_PRECISE float diffuse = cos_i * (1.0f / TZ_PI);
-    TZ_PRECISE float lobe = (alpha + 1.0f) * (1.0f / (2.0f * TZ_PI)) * phong_lobe(lobe_cos, alpha);
-    TZ_PRECISE float pdf = share * (cos_i > 0.0f ? diffuse : 0.0f) + (1.0f - share) * lobe;
-    return pdf;
+    return bsdf_pdf_of_lobe(share, alpha, cos_i, phong_lobe(lobe_cos, alpha));
 }
 
 /* 1 - cos(theta_max) of the cone that a sphere of squared radius r2 subtends at squared distance
@@ -82,25 +88,34 @@ TZ_FN float cone_one_minus_cos(float r2, float d2) {
     return omc;
 }
 
-/* A direction uniform in the cone about unit w whose 1 - cos(theta_max) is omc, for uniform u1,
- * u2; pdf 1 / (2 pi omc). */
-TZ_FN direction_sample cone_direction(vec3 w, float omc, float u1, float u2) {
+/* A direction uniform in the cone about unit w whose 1 - cos(theta_max) is omc, for uniform u1
+ * and azimuth phi (cos_sin_turn of a uniform number); pdf 1 / (2 pi omc). */
+TZ_LANE_FN direction_sample cone_direction_at(vec3 w, float omc, float u1, cos_sin phi) {
     TZ_PRECISE float x = u1 * omc; /* 1 - cos theta */
     TZ_PRECISE float sin2 = x * (2.0f - x);
     TZ_PRECISE float pdf = 1.0f / (2.0f * TZ_PI * omc);
     direction_sample s;
-    s.wi = direction_about(w, 1.0f - x, TZ_SQRT(TZ_MAX(sin2, 0.0f)), cos_sin_turn(u2));
+    s.wi = direction_about(w, 1.0f - x, TZ_SQRT(TZ_MAX(sin2, 0.0f)), phi);
     s.pdf = pdf;
     return s;
 }
 
-/* The unit vector uniform on the sphere for uniform u1, u2: z = 1 - 2 u1, phi = 2 pi u2. */
-TZ_FN vec3 sphere_area_direction(float u1, float u2) {
+/* cone_direction_at for uniform u1, u2 (phi = 2 pi u2). */
+TZ_FN direction_sample cone_direction(vec3 w, float omc, float u1, float u2) {
+    return cone_direction_at(w, omc, u1, cos_sin_turn(u2));
+}
+
+/* The unit vector uniform on the sphere for uniform u1 and azimuth phi: z = 1 - 2 u1. */
+TZ_LANE_FN vec3 sphere_area_direction_at(float u1, cos_sin phi) {
     TZ_PRECISE float z = 1.0f - 2.0f * u1;
     TZ_PRECISE float rho = TZ_SQRT(TZ_MAX(1.0f - z * z, 0.0f));
-    cos_sin phi = cos_sin_turn(u2);
     TZ_PRECISE vec3 d = v3(rho * phi.c, rho * phi.s, z);
     return d;
+}
+
+/* sphere_area_direction_at for uniform u1, u2 (phi = 2 pi u2). */
+TZ_FN vec3 sphere_area_direction(float u1, float u2) {
+    return sphere_area_direction_at(u1, cos_sin_turn(u2));
 }
 
 /* A point of the triangle (a, b, c) uniform by area from two uniform numbers: the square-root

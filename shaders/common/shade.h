@@ -94,13 +94,6 @@ TZ_FN vec3 phong_from_lobe(vec3 kd, float ks, float alpha, float lobe) {
     return ks > 0.0f ? glossy : f;
 }
 
-/* The Phong BRDF of a sphere (kd, ks, alpha) for light from wi seen from wo at normal n; pow only
- * where ks > 0. */
-TZ_FN vec3 phong_brdf(vec3 kd, float ks, float alpha, vec3 n, vec3 wi, vec3 wo) {
-    float lobe = ks > 0.0f ? phong_lobe(phong_lobe_cos(n, wi, wo), alpha) : 0.0f;
-    return phong_from_lobe(kd, ks, alpha, lobe);
-}
-
 /* What a point light sends to a surface point, before the BRDF and the shadow ray. */
 TZ_STRUCT(light_sample) {
     vec3 wi;       /* unit direction to the light */

@@ -118,33 +118,24 @@ static bool triangle_scene(long count, scene *out) {
     if (!scaling_scene(gen_sphere_count(&desc), out)) return false;
     int kept = 4, balls = out->sphere_count - kept; /* the ground and three big spheres first */
     triangle *t = calloc((size_t)balls * ICO_FACES, sizeof *t);
-    shape_material *m = calloc((size_t)balls + 1, sizeof *m); /* a ball's */
-    if (!t || !m) {
-        free(t), free(m);
+    if (!t) {
         scene_free(out);
         return false;
     }
     for (int b = 0; b < balls; b++) {
         const sphere *sp = &out->spheres[kept + b];
-        m[b] = (shape_material){.material = sp->material,
-                                .color = sp->color,
-                                .ks = sp->ks,
-                                .alpha = sp->alpha,
-                                .ior = sp->ior};
         for (int f = 0; f < ICO_FACES; f++) {
             triangle *face = &t[b * ICO_FACES + f];
             for (int c = 0; c < 3; c++) {
                 const float *v = ico_corner[ico_face[f][c]];
                 face->v[c] = v3_add(sp->center, v3_scale(v3(v[0], v[1], v[2]), sp->radius));
             }
-            face->material = (uint32_t)b;
+            face->material = sp->material; /* the ball's */
             face->normals = TRIANGLE_FLAT;
         }
     }
     out->triangles = t;
     out->triangle_count = balls * ICO_FACES;
-    out->materials = m;
-    out->material_count = balls;
     out->sphere_count = kept;
     return true;
 }

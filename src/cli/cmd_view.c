@@ -100,7 +100,7 @@ typedef struct view_state {
 /* Whether any sphere or face of s emits light. */
 static bool scene_emits(const scene *s) {
     for (int k = 0; k < s->sphere_count; k++)
-        if (sphere_emits(&s->spheres[k])) return true;
+        if (sphere_emits(s, &s->spheres[k])) return true;
     for (int k = 0; k < s->triangle_count; k++)
         if (triangle_emits(s, &s->triangles[k])) return true;
     return false;

@@ -53,6 +53,15 @@ static uint64_t digest_int(uint64_t h, int64_t v) { return digest_bytes(h, &v, s
 /* FNV-1a's step over a 32-bit word at once. */
 static uint64_t digest_word(uint64_t h, uint32_t w) { return (h ^ w) * 0x100000001b3u; }
 
+/* The floats of material m that the digest holds, in its fixed order (its kind apart). */
+#define MATERIAL_FLOATS 9
+static void material_floats(const material *m, float out[MATERIAL_FLOATS]) {
+    float f[] = {m->color.x, m->color.y,    m->color.z,    m->ks,        m->alpha,
+                 m->ior,     m->emission.x, m->emission.y, m->emission.z};
+    _Static_assert(sizeof f / sizeof f[0] == MATERIAL_FLOATS, "a material's floats");
+    memcpy(out, f, sizeof f);
+}
+
 /* Triangles a block of the triangles' digest holds. */
 #define DIGEST_BLOCK 16384
 /* The words a triangle is hashed as. */
@@ -62,17 +71,16 @@ static uint64_t digest_word(uint64_t h, uint32_t w) { return (h ^ w) * 0x1000000
 static void triangle_words(const scene *s, const triangle *t, uint32_t out[TRIANGLE_WORDS]) {
     static const face_normals flat = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
     const face_normals *nf = t->normals != TRIANGLE_FLAT ? &s->normals[t->normals] : &flat;
-    const shape_material *m = triangle_material(s, t);
+    const material *m = triangle_material(s, t);
     const vec3 *n = nf->n;
-    float f[] = {t->v[0].x,     t->v[0].y,     t->v[0].z,    t->v[1].x, t->v[1].y, t->v[1].z,
-                 t->v[2].x,     t->v[2].y,     t->v[2].z,    n[0].x,    n[0].y,    n[0].z,
-                 n[1].x,        n[1].y,        n[1].z,       n[2].x,    n[2].y,    n[2].z,
-                 m->color.x,    m->color.y,    m->color.z,   m->ks,     m->alpha,  m->ior,
-                 m->emission.x, m->emission.y, m->emission.z};
-    _Static_assert(sizeof f / sizeof f[0] + 2 == TRIANGLE_WORDS, "a triangle's words");
+    float f[TRIANGLE_WORDS - 2] = {t->v[0].x, t->v[0].y, t->v[0].z, t->v[1].x, t->v[1].y, t->v[1].z,
+                                   t->v[2].x, t->v[2].y, t->v[2].z, n[0].x,    n[0].y,    n[0].z,
+                                   n[1].x,    n[1].y,    n[1].z,    n[2].x,    n[2].y,    n[2].z};
+    _Static_assert(18 + MATERIAL_FLOATS + 2 == TRIANGLE_WORDS, "a triangle's words");
+    material_floats(m, f + 18);
     memcpy(out, f, sizeof f);
     out[TRIANGLE_WORDS - 2] = (uint32_t)(t->normals != TRIANGLE_FLAT);
-    out[TRIANGLE_WORDS - 1] = (uint32_t)m->material;
+    out[TRIANGLE_WORDS - 1] = (uint32_t)m->kind;
 }
 
 /* Blocks [begin, end) of a scene's triangles, block b hashed into digests[b - begin]. */
@@ -132,7 +140,7 @@ static uint64_t digest_triangles(uint64_t h, const scene *s) {
 static bool has_smooth_specular_faces(const scene *s) {
     for (int k = 0; k < s->triangle_count; k++) {
         const triangle *t = &s->triangles[k];
-        material_kind kind = triangle_material(s, t)->material;
+        material_kind kind = triangle_material(s, t)->kind;
         if (t->normals != TRIANGLE_FLAT &&
             (kind == TZ_MATERIAL_MIRROR || kind == TZ_MATERIAL_REFRACTIVE))
             return true;
@@ -158,14 +166,13 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
     h = digest_int(h, s->sphere_count);
     for (int k = 0; k < s->sphere_count; k++) {
         const sphere *p = &s->spheres[k];
+        const material *m = sphere_material(s, p);
+        float f[MATERIAL_FLOATS];
+        material_floats(m, f);
         h = digest_vec3(h, p->center);
         h = digest_float(h, p->radius);
-        h = digest_int(h, p->material);
-        h = digest_vec3(h, p->color);
-        h = digest_float(h, p->ks);
-        h = digest_float(h, p->alpha);
-        h = digest_float(h, p->ior);
-        h = digest_vec3(h, p->emission);
+        h = digest_int(h, m->kind);
+        for (int c = 0; c < MATERIAL_FLOATS; c++) h = digest_float(h, f[c]);
     }
     h = digest_int(h, s->light_count);
     for (int k = 0; k < s->light_count; k++) {

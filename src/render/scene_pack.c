@@ -15,15 +15,22 @@
  */
 _Static_assert(sizeof(tz_vec4) == 16, "vec4 is 16 bytes");
 _Static_assert(sizeof(tz_uvec4) == 16, "uvec4 is 16 bytes");
-_Static_assert(sizeof(struct gpu_sphere) == 48, "gpu_sphere is 48 bytes");
+_Static_assert(sizeof(struct gpu_sphere) == 32, "gpu_sphere is 32 bytes");
 _Static_assert(offsetof(struct gpu_sphere, center_radius) == 0, "gpu_sphere layout");
-_Static_assert(offsetof(struct gpu_sphere, color_ks) == 16, "gpu_sphere layout");
-_Static_assert(offsetof(struct gpu_sphere, params) == 32, "gpu_sphere layout");
+_Static_assert(offsetof(struct gpu_sphere, material) == 16, "gpu_sphere layout");
+_Static_assert(offsetof(struct gpu_sphere, emitter) == 20, "gpu_sphere layout");
+_Static_assert(offsetof(struct gpu_sphere, pad0) == 24, "gpu_sphere layout");
+_Static_assert(offsetof(struct gpu_sphere, pad1) == 28, "gpu_sphere layout");
 _Static_assert(sizeof(struct gpu_triangle) == 48, "gpu_triangle is 48 bytes");
 _Static_assert(offsetof(struct gpu_triangle, v1) == 16, "gpu_triangle layout");
 _Static_assert(offsetof(struct gpu_triangle, v2) == 32, "gpu_triangle layout");
-_Static_assert(sizeof(struct gpu_material) == 32, "gpu_material is 32 bytes");
-_Static_assert(offsetof(struct gpu_material, params) == 16, "gpu_material layout");
+_Static_assert(sizeof(struct gpu_material) == 48, "gpu_material is 48 bytes");
+_Static_assert(offsetof(struct gpu_material, color_ks) == 0, "gpu_material layout");
+_Static_assert(offsetof(struct gpu_material, alpha) == 16, "gpu_material layout");
+_Static_assert(offsetof(struct gpu_material, ior) == 20, "gpu_material layout");
+_Static_assert(offsetof(struct gpu_material, kind) == 24, "gpu_material layout");
+_Static_assert(offsetof(struct gpu_material, reserved0) == 28, "gpu_material layout");
+_Static_assert(offsetof(struct gpu_material, emission) == 32, "gpu_material layout");
 _Static_assert(sizeof(struct gpu_normals) == 48, "gpu_normals is 48 bytes");
 _Static_assert(sizeof(struct gpu_light) == 32, "gpu_light is 32 bytes");
 _Static_assert(offsetof(struct gpu_light, position_power) == 0, "gpu_light layout");
@@ -55,11 +62,10 @@ _Static_assert(offsetof(struct gpu_pass, sample_count) == 12, "gpu_pass layout")
 _Static_assert(offsetof(struct gpu_pass, group_stride) == 16, "gpu_pass layout");
 _Static_assert(offsetof(struct gpu_pass, stack_depth) == 44, "gpu_pass layout");
 
-_Static_assert(sizeof(struct gpu_unrolled) == TZ_UNROLL_MAX_SPHERES * sizeof(struct gpu_sphere) +
+_Static_assert(sizeof(struct gpu_unrolled) == TZ_UNROLL_MAX_SPHERES * 3 * sizeof(tz_vec4) +
                                                   TZ_UNROLL_MAX_LIGHTS * sizeof(struct gpu_light),
                "gpu_unrolled is its spheres and lights");
-_Static_assert(offsetof(struct gpu_unrolled, lights) ==
-                   TZ_UNROLL_MAX_SPHERES * sizeof(struct gpu_sphere),
+_Static_assert(offsetof(struct gpu_unrolled, lights) == TZ_UNROLL_MAX_SPHERES * 3 * sizeof(tz_vec4),
                "gpu_unrolled layout");
 _Static_assert(sizeof(struct gpu_emitter) == 32, "gpu_emitter is 32 bytes");
 _Static_assert(offsetof(struct gpu_emitter, primitive_cdf) == 16, "gpu_emitter layout");
@@ -139,8 +145,8 @@ static double triangle_area(const triangle *t) {
 
 /* The power an emitter is picked by, in units of a sphere's r^2 mean(Le) (its flux over 4 pi^2):
  * a two-sided triangle of area A emits 2 pi A Le, so A mean(Le) / (2 pi). */
-static double sphere_power(const sphere *sp) {
-    return (double)sp->radius * sp->radius * emission_mean(sp->emission);
+static double sphere_power(const scene *s, const sphere *sp) {
+    return (double)sp->radius * sp->radius * emission_mean(sphere_material(s, sp)->emission);
 }
 static double triangle_power(const scene *s, const triangle *t) {
     return triangle_area(t) * emission_mean(triangle_material(s, t)->emission) /
@@ -159,9 +165,9 @@ static void put_emitter(packed_scene *out, uint32_t slot, uint32_t id, vec3 emis
 }
 
 /* The emitters of path mode from the spheres, then the triangles, in their final (BVH) order
- * (a sphere's params.w holds its index in the scene until here, triangle_source[t] the scene
+ * (a sphere's emitter holds its index in the scene until here, triangle_source[t] the scene
  * index of triangle t): each emitter is picked in proportion to its power (sphere_power,
- * triangle_power), the shares summed in double; a sphere's params.w becomes its emitter's
+ * triangle_power), the shares summed in double; a sphere's emitter becomes its emitter's
  * slot + 1 or 0, an emitting triangle's v2.w (0 from pack_triangles) its slot + 1. False (logged)
  * on out-of-memory. */
 static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
@@ -169,7 +175,7 @@ static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
     uint32_t count = (uint32_t)sc->sphere_count, triangles = (uint32_t)sc->triangle_count, n = 0;
     double total = 0.0;
     for (uint32_t k = 0; path_mode && k < count; k++) {
-        double power = sphere_power(&sc->spheres[k]);
+        double power = sphere_power(sc, &sc->spheres[k]);
         if (power > 0.0) total += power, n++;
     }
     for (uint32_t k = 0; path_mode && k < triangles; k++) {
@@ -185,13 +191,14 @@ static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
     uint32_t slot = 0;
     for (uint32_t k = 0; k < count; k++) {
         struct gpu_sphere *g = &out->spheres[k];
-        const sphere *sp = &sc->spheres[(uint32_t)g->params.w];
-        double power = sphere_power(sp);
-        g->params.w = 0.0f;
+        const sphere *sp = &sc->spheres[(uint32_t)g->emitter];
+        double power = sphere_power(sc, sp);
+        g->emitter = 0.0f;
         if (!path_mode || !(power > 0.0)) continue;
         running += power;
-        put_emitter(out, slot, k, sp->emission, power, running, total, n, 0.0f);
-        g->params.w = (float)++slot;
+        put_emitter(out, slot, k, sphere_material(sc, sp)->emission, power, running, total, n,
+                    0.0f);
+        g->emitter = (float)++slot;
     }
     /* A triangle's v2.w is 0 from pack_triangles; report mode has no emitters to look up (the
      * scene's triangles in BVH order are scattered reads). */
@@ -208,58 +215,52 @@ static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
     return true;
 }
 
-/* Whether two materials render the same (the fields a gpu_material holds, bit for bit). */
-static bool same_gpu_material(const shape_material *a, const shape_material *b) {
-    return a->material == b->material && !memcmp(&a->color, &b->color, sizeof a->color) &&
-           !memcmp(&a->ks, &b->ks, sizeof a->ks) &&
-           !memcmp(&a->alpha, &b->alpha, sizeof a->alpha) &&
-           !memcmp(&a->ior, &b->ior, sizeof a->ior);
+/* The material m as the shaders read it: the one packing of a material, a sphere's or a
+ * face's. */
+static struct gpu_material gpu_material_of(const material *m) {
+    return (struct gpu_material){
+        .color_ks = vec4_from(m->color, m->ks),
+        .alpha = m->alpha,
+        .ior = m->ior,
+        .kind = (float)m->kind,
+        .emission = vec4_from(m->emission, 0.0f),
+    };
 }
 
-/* Whether triangle k of s starts a run of another material than triangle k - 1's. */
-static bool new_material(const scene *s, uint32_t k) {
-    const triangle *t = &s->triangles[k];
-    return k == 0 || (t->material != t[-1].material &&
-                      !same_gpu_material(triangle_material(s, t), triangle_material(s, t - 1)));
+/* The scene's materials, in its order (spheres and faces refer to them by the same index). */
+static bool pack_materials(packed_scene *out, const scene *s) {
+    uint32_t count = (uint32_t)s->material_count;
+    out->materials = big_calloc(count ? count : 1, sizeof *out->materials);
+    if (!out->materials) return false;
+    for (uint32_t k = 0; k < count; k++) out->materials[k] = gpu_material_of(&s->materials[k]);
+    out->material_count = count;
+    return true;
 }
 
-/* The triangles in scene order, their materials (one per run of triangles that share one: a
- * mesh's faces come in runs) and the normals of the smooth ones; v2.w holds nothing yet
- * (pack_emitters). False on out-of-memory. */
+/* The triangles in scene order (v0.w the index of their material, as the scene's) and the
+ * normals of the smooth ones; v2.w holds nothing yet (pack_emitters). False on out-of-memory. */
 static bool pack_triangles(packed_scene *out, const scene *s) {
-    uint32_t count = (uint32_t)s->triangle_count, materials = 0, smooth = 0;
-    for (uint32_t k = 0; k < count; k++) {
-        materials += new_material(s, k);
-        smooth += s->triangles[k].normals != TRIANGLE_FLAT;
-    }
+    uint32_t count = (uint32_t)s->triangle_count, smooth = 0;
+    for (uint32_t k = 0; k < count; k++) smooth += s->triangles[k].normals != TRIANGLE_FLAT;
     out->triangles = big_calloc(count ? count : 1, sizeof *out->triangles);
-    out->materials = calloc(materials ? materials : 1, sizeof *out->materials);
     out->normals = big_calloc(smooth ? smooth : 1, sizeof *out->normals);
-    if (!out->triangles || !out->materials || !out->normals) return false;
-    uint32_t m = 0, n = 0;
+    if (!out->triangles || !out->normals) return false;
+    uint32_t n = 0;
     for (uint32_t k = 0; k < count; k++) {
         const triangle *t = &s->triangles[k];
-        if (new_material(s, k)) {
-            const shape_material *sm = triangle_material(s, t);
-            out->materials[m++] = (struct gpu_material){
-                .color_ks = vec4_from(sm->color, sm->ks),
-                .params = {sm->alpha, sm->ior, (float)sm->material, 0.0f},
-            };
-        }
-        uint32_t material = m - 1, normals = t->normals != TRIANGLE_FLAT ? n : TZ_FLAT;
+        uint32_t normals = t->normals != TRIANGLE_FLAT ? n : TZ_FLAT;
         if (t->normals != TRIANGLE_FLAT) {
             const vec3 *sn = s->normals[t->normals].n;
             out->normals[n++] = (struct gpu_normals){vec4_from(sn[0], 0.0f), vec4_from(sn[1], 0.0f),
                                                      vec4_from(sn[2], 0.0f)};
         }
         float material_bits, normals_bits;
-        memcpy(&material_bits, &material, sizeof material_bits);
+        memcpy(&material_bits, &t->material, sizeof material_bits);
         memcpy(&normals_bits, &normals, sizeof normals_bits);
         out->triangles[k] =
             (struct gpu_triangle){vec4_from(t->v[0], material_bits),
                                   vec4_from(t->v[1], normals_bits), vec4_from(t->v[2], 0.0f)};
     }
-    out->material_count = materials;
     out->normals_count = smooth;
     return true;
 }
@@ -305,7 +306,7 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     /* One zero element when empty keeps every buffer non-empty for Vulkan. */
     out->spheres = big_calloc(count ? count : 1, sizeof *out->spheres);
     out->lights = calloc(s->light_count ? (size_t)s->light_count : 1, sizeof *out->lights);
-    if (!out->spheres || !out->lights || !pack_triangles(out, s)) {
+    if (!out->spheres || !out->lights || !pack_materials(out, s) || !pack_triangles(out, s)) {
         log_error("out of memory packing %u spheres and %d triangles", count, s->triangle_count);
         scene_pack_free(out);
         return false;
@@ -314,8 +315,8 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         const sphere *sp = &s->spheres[k];
         out->spheres[k] = (struct gpu_sphere){
             .center_radius = vec4_from(sp->center, sp->radius),
-            .color_ks = vec4_from(sp->color, sp->ks),
-            .params = {sp->alpha, sp->ior, (float)sp->material, (float)k}, /* pack_emitters */
+            .material = (float)sp->material,
+            .emitter = (float)k, /* pack_emitters */
         };
     }
     for (int k = 0; k < s->light_count; k++) {
@@ -372,6 +373,16 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         return false;
     }
     return true;
+}
+
+void scene_pack_unrolled(const packed_scene *p, uint32_t spheres, struct gpu_unrolled *out) {
+    for (uint32_t k = 0; k < spheres; k++) {
+        const struct gpu_sphere *g = &p->spheres[k];
+        const struct gpu_material *m = &p->materials[(uint32_t)g->material];
+        out->spheres[3 * k] = g->center_radius;
+        out->spheres[3 * k + 1] = m->color_ks;
+        out->spheres[3 * k + 2] = (tz_vec4){m->alpha, m->ior, m->kind, g->emitter};
+    }
 }
 
 void scene_pack_report(const packed_scene *p, const render_opts *opts, double pack_start) {

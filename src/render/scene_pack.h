@@ -23,7 +23,7 @@ typedef struct packed_scene {
     struct gpu_frame frame;
     struct gpu_sphere *spheres;
     struct gpu_triangle *triangles; /* frame.triangle_count, one zeroed when none */
-    struct gpu_material *materials; /* the triangles' materials, one zeroed when none */
+    struct gpu_material *materials; /* the scene's materials, one zeroed when none */
     struct gpu_normals *normals;    /* the smooth triangles' normals, one zeroed when none */
     uint32_t material_count, normals_count;
     struct gpu_light *lights;
@@ -38,6 +38,8 @@ typedef struct packed_scene {
 /* Packs the scene with the options applied, spheres in BVH order unless opts->no_bvh;
  * false (logged) on out-of-memory. */
 bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out);
+/* Fills the first `spheres` spheres of out (gpu_unrolled's layout) from p; never fails. */
+void scene_pack_unrolled(const packed_scene *p, uint32_t spheres, struct gpu_unrolled *out);
 /* Records the packing's figures (time since pack_start, BVH, sizes) into opts->stats if any;
  * never fails. */
 void scene_pack_report(const packed_scene *p, const render_opts *opts, double pack_start);

@@ -95,8 +95,8 @@ void material_list(char *out, size_t size, const shape_spec *shape, const char *
 bool shape_read(parser *p, const shape_spec *shape, const material_spec **material, key_values *kv);
 /* The material of a shape's line, defaults filled in; records the line's emission for report mode.
  */
-shape_material shape_material_of(parser *p, const shape_spec *shape, const material_spec *m,
-                                 const key_values *kv);
+material shape_material_of(parser *p, const shape_spec *shape, const material_spec *m,
+                           const key_values *kv);
 
 /* Records, if it is the first, a Phong material (colour, ks) that reflects more light than it
  * receives (max(colour) + ks above 1) at column col of the line, `what` describing it for the
@@ -111,9 +111,9 @@ bool faces_reserve(parser *p, int adding);
 /* Appends one face of material `material` and shading normals `normals` (TRIANGLE_FLAT: none)
  * to the scene's triangles (room reserved by faces_reserve). */
 void face_add(parser *p, vec3 a, vec3 b, vec3 c, uint32_t material, uint32_t normals);
-/* The index in the scene's materials of m: the last one's when it is the same, else a new one;
- * false (reported) out of memory. */
-bool face_material(parser *p, const shape_material *m, uint32_t *index);
+/* The index in the scene's materials of m (a sphere's or a face's): the last one's when it is
+ * the same, else a new one; false (reported) out of memory. */
+bool material_add(parser *p, const material *m, uint32_t *index);
 /* Room for `adding` sets of shading normals; false (reported) past the limits or out of memory. */
 bool normals_reserve(parser *p, int adding);
 /* Appends shading normals n (room reserved by normals_reserve); returns their index. */

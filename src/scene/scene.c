@@ -33,11 +33,9 @@ bool scene_has_light(const scene *s) {
         if (l->power > 0.0f && (l->color.x > 0.0f || l->color.y > 0.0f || l->color.z > 0.0f))
             return true;
     }
-    for (int k = 0; k < s->sphere_count; k++)
-        if (sphere_emits(&s->spheres[k])) return true;
-    /* a face's material is in the scene's only when some face takes it */
+    /* a material is in the scene's table only when some sphere or face takes it */
     for (int k = 0; k < s->material_count; k++)
-        if (shape_material_emits(&s->materials[k])) return true;
+        if (material_emits(&s->materials[k])) return true;
     return false;
 }
 

@@ -82,25 +82,24 @@ static inline int scene_default_bounces(render_mode mode) {
     return mode == RENDER_MODE_PATH ? 16 : 5;
 }
 
+/* A material (DESIGN section 2): what a sphere's or a face's line gives, or a model file's
+ * material mapped. Held once, in scene.materials; spheres and faces refer to theirs by index,
+ * and consecutive shapes that give the same share one (a quad's halves, a mesh's faces). */
+typedef struct material {
+    material_kind kind; /* a face's: lambertian, phong or mirror (glass needs a closed mesh) */
+    vec3 color;         /* kd for lambertian/phong, tint for mirror/refractive */
+    float ks;           /* phong specular weight, 0 for the others */
+    float alpha;        /* phong exponent */
+    float ior;          /* refractive index, 1 for the others */
+    vec3 emission;      /* radiance emitted (path mode; an error in report mode); a face's is
+                         * emitted from both sides */
+} material;
+
 typedef struct sphere {
     vec3 center;
     float radius;
-    material_kind material;
-    vec3 color;    /* kd for lambertian/phong, tint for mirror/refractive */
-    float ks;      /* phong specular weight, 0 for the others */
-    float alpha;   /* phong exponent */
-    float ior;     /* refractive index, 1 for the others */
-    vec3 emission; /* radiance emitted (path mode; an error in report mode) */
+    uint32_t material; /* scene.materials[material] */
 } sphere;
-
-/* The material a shape's line gives (or a model file's, mapped): a sphere's fields. Faces share
- * one: a quad's halves, a mesh's faces of one material, consecutive lines that give the same. */
-typedef struct shape_material {
-    material_kind material; /* a face's: lambertian, phong or mirror (glass needs a closed mesh) */
-    vec3 color;
-    float ks, alpha, ior; /* as a sphere's */
-    vec3 emission;        /* as a sphere's; a face's is emitted from both sides (path mode) */
-} shape_material;
 
 /* The unit shading normals at a face's corners, interpolated across it. */
 typedef struct face_normals {
@@ -167,7 +166,7 @@ typedef struct scene {
     int sphere_count;
     triangle *triangles;
     int triangle_count;
-    shape_material *materials; /* the triangles' */
+    material *materials; /* the spheres' and the triangles' */
     int material_count;
     face_normals *normals; /* the smooth triangles' */
     int normals_count;
@@ -204,29 +203,33 @@ bool scene_parse_file_in_mode(const char *path, int mode, scene *out, scene_erro
 /* Prints err to stderr as "file:line:col: message" ("file: message" for errors about the file
  * itself, which have line 0); never fails. */
 void scene_error_print(const scene_error *err);
-/* Whether the sphere emits light (path mode's emitters); never fails. */
-static inline bool sphere_emits(const sphere *sp) {
-    return sp->emission.x > 0.0f || sp->emission.y > 0.0f || sp->emission.z > 0.0f;
+/* The material of sphere sp of scene s. */
+static inline const material *sphere_material(const scene *s, const sphere *sp) {
+    return &s->materials[sp->material];
 }
 /* The material of triangle t of scene s. */
-static inline const shape_material *triangle_material(const scene *s, const triangle *t) {
+static inline const material *triangle_material(const scene *s, const triangle *t) {
     return &s->materials[t->material];
 }
 /* Whether two materials are the same, field by field, bit for bit. */
-static inline bool shape_material_same(const shape_material *a, const shape_material *b) {
-    return a->material == b->material && !memcmp(&a->color, &b->color, sizeof a->color) &&
+static inline bool material_same(const material *a, const material *b) {
+    return a->kind == b->kind && !memcmp(&a->color, &b->color, sizeof a->color) &&
            !memcmp(&a->ks, &b->ks, sizeof a->ks) &&
            !memcmp(&a->alpha, &b->alpha, sizeof a->alpha) &&
            !memcmp(&a->ior, &b->ior, sizeof a->ior) &&
            !memcmp(&a->emission, &b->emission, sizeof a->emission);
 }
-/* Whether faces of material m emit light (path mode's emitters); never fails. */
-static inline bool shape_material_emits(const shape_material *m) {
+/* Whether shapes of material m emit light (path mode's emitters); never fails. */
+static inline bool material_emits(const material *m) {
     return m->emission.x > 0.0f || m->emission.y > 0.0f || m->emission.z > 0.0f;
+}
+/* Whether sphere sp of scene s emits light (path mode's emitters); never fails. */
+static inline bool sphere_emits(const scene *s, const sphere *sp) {
+    return material_emits(sphere_material(s, sp));
 }
 /* Whether triangle t of scene s emits light (path mode's emitters); never fails. */
 static inline bool triangle_emits(const scene *s, const triangle *t) {
-    return shape_material_emits(triangle_material(s, t));
+    return material_emits(triangle_material(s, t));
 }
 /* Whether anything can light the image: a point light of some power and colour (both modes), an
  * emitting sphere or face (path mode: report mode refuses emission) or a background that is not

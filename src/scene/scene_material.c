@@ -94,8 +94,8 @@ void phong_note_bright(parser *p, int col, vec3 color, float ks, const char *wha
 /* The material of a shape's line, defaults filled in; records the first emission, which report
  * mode refuses once the whole text is read (render mode may come later), and the first Phong
  * material brighter than the light it receives. */
-shape_material shape_material_of(parser *p, const shape_spec *shape, const material_spec *m,
-                                 const key_values *kv) {
+material shape_material_of(parser *p, const shape_spec *shape, const material_spec *m,
+                           const key_values *kv) {
     int k = shape->material_first;
     bool phong = m->kind == TZ_MATERIAL_PHONG;
     float c = m->default_color;
@@ -103,8 +103,8 @@ shape_material shape_material_of(parser *p, const shape_spec *shape, const mater
         p->emission_line = p->line;
         p->emission_col = p->tokens[kv->key_token[k + MAT_EMISSION]].col;
     }
-    shape_material out = {
-        .material = m->kind,
+    material out = {
+        .kind = m->kind,
         .color = parser_vec3(kv, k + MAT_COLOR, v3(c, c, c)),
         .ks = phong ? (float)parser_value_or(kv, k + MAT_KS, 0.5) : 0.0f,
         .alpha = phong ? (float)parser_value_or(kv, k + MAT_ALPHA, 32.0) : 0.0f,

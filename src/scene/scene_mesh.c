@@ -182,18 +182,17 @@ static bool read_mesh_keys(parser *p, const material_spec *m, int next, key_valu
 }
 
 /* A file material as trazador's (a lambertian grey when the face has none). */
-static shape_material mapped_material(const mesh *me, int material) {
-    if (material < 0 || material >= me->material_count) {
-        return (shape_material){
-            .material = TZ_MATERIAL_LAMBERTIAN, .color = v3(0.8f, 0.8f, 0.8f), .ior = 1};
+static material mapped_material(const mesh *me, int index) {
+    if (index < 0 || index >= me->material_count) {
+        return (material){.kind = TZ_MATERIAL_LAMBERTIAN, .color = v3(0.8f, 0.8f, 0.8f), .ior = 1};
     }
-    const mesh_material *mm = &me->materials[material];
-    return (shape_material){.material = mm->kind,
-                            .color = mm->color,
-                            .ks = mm->ks,
-                            .alpha = mm->alpha,
-                            .ior = mm->ior,
-                            .emission = mm->emission};
+    const mesh_material *mm = &me->materials[index];
+    return (material){.kind = mm->kind,
+                      .color = mm->color,
+                      .ks = mm->ks,
+                      .alpha = mm->alpha,
+                      .ior = mm->ior,
+                      .emission = mm->emission};
 }
 
 /* One thread's share of transform_faces: faces [begin, end), its kept ones first. */
@@ -263,10 +262,10 @@ static bool transform_faces(mesh *me, const mesh_transform *xf, bool smooth, siz
  * material added to the scene's when a face first takes it (a Phong one brighter than the light
  * it receives noted, by its name, for path mode's warning); *emits says whether one emits. False
  * (reported) out of memory. */
-static bool add_faces(parser *p, const mesh *me, size_t kept, const shape_material *given,
+static bool add_faces(parser *p, const mesh *me, size_t kept, const material *given,
                       const char *path, int col, bool *emits) {
-    uint32_t material = 0, *mapped = NULL; /* mapped[k]: the scene's index of file material k */
-    if (given && !face_material(p, given, &material)) return false;
+    uint32_t index = 0, *mapped = NULL; /* mapped[k]: the scene's index of file material k */
+    if (given && !material_add(p, given, &index)) return false;
     if (!given) {
         mapped = malloc(((size_t)me->material_count + 1) * sizeof *mapped);
         if (!mapped) {
@@ -282,23 +281,23 @@ static bool add_faces(parser *p, const mesh *me, size_t kept, const shape_materi
                            ? face->material
                            : me->material_count; /* the last: no material */
             if (mapped[slot] == UINT32_MAX) {
-                shape_material s = mapped_material(me, face->material);
-                *emits |= shape_material_emits(&s);
-                if (s.material == TZ_MATERIAL_PHONG && slot < me->material_count) {
+                material s = mapped_material(me, face->material);
+                *emits |= material_emits(&s);
+                if (s.kind == TZ_MATERIAL_PHONG && slot < me->material_count) {
                     char what[PATH_MAX + 96];
                     snprintf(what, sizeof what, "mesh '%s': its material '%s'", path,
                              me->materials[face->material].name);
                     phong_note_bright(p, col, s.color, s.ks, what);
                 }
-                if (!face_material(p, &s, &mapped[slot])) {
+                if (!material_add(p, &s, &mapped[slot])) {
                     free(mapped);
                     return false;
                 }
             }
-            material = mapped[slot];
+            index = mapped[slot];
         }
         bool flat = v3_is_zero(face->n[0]);
-        face_add(p, face->v[0], face->v[1], face->v[2], material,
+        face_add(p, face->v[0], face->v[1], face->v[2], index,
                  flat ? TRIANGLE_FLAT : normals_add(p, face->n));
     }
     free(mapped);
@@ -445,7 +444,7 @@ bool directive_mesh(parser *p) {
     for (int k = 0; k < 3 && (kv.given & BIT(MESH_TRANSLATE)); k++)
         translate[k] = kv.value[MESH_TRANSLATE][k];
     mesh_transform xf = make_transform(scale, rotate, translate);
-    shape_material given = {0};
+    material given = {0};
     if (m) given = shape_material_of(p, &mesh_shape, m, &kv);
     bool glass = false, emits = false;
     if (!check_glass(p, &me, m, scale, path, file->col, &glass)) {

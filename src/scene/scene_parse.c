@@ -110,19 +110,23 @@ static bool append_items(void **array, int *used, size_t *capacity, const void *
     return true;
 }
 
-/* Appends the triangles of chunk scene cs to p's with their materials and normals, as if p had
- * parsed them: its first material is p's last when they are the same (face_material); false
- * (nothing appended) when out of memory. */
-static bool append_faces(parser *p, const scene *cs) {
+/* Appends the spheres and triangles of chunk scene cs to p's with their materials and normals,
+ * as if p had parsed them: its first material is p's last when they are the same
+ * (material_add); false (nothing appended) when out of memory. */
+static bool append_shapes(parser *p, const scene *cs) {
     int materials = p->s.material_count, normals = p->s.normals_count;
-    int triangles = p->s.triangle_count;
+    int triangles = p->s.triangle_count, spheres = p->s.sphere_count;
     bool shared = materials > 0 && cs->material_count > 0 &&
-                  shape_material_same(&p->s.materials[materials - 1], &cs->materials[0]);
+                  material_same(&p->s.materials[materials - 1], &cs->materials[0]);
     int skip = shared ? 1 : 0;
     void *m = p->s.materials, *n = p->s.normals, *t = p->s.triangles;
     bool ok = append_items(&m, &p->s.material_count, &p->material_capacity, cs->materials + skip,
                            cs->material_count - skip, sizeof *cs->materials);
     p->s.materials = m;
+    void *sp = p->s.spheres;
+    ok = ok && append_items(&sp, &p->s.sphere_count, &p->sphere_capacity, cs->spheres,
+                            cs->sphere_count, sizeof *cs->spheres);
+    p->s.spheres = sp;
     ok = ok && append_items(&n, &p->s.normals_count, &p->normals_capacity, cs->normals,
                             cs->normals_count, sizeof *cs->normals);
     p->s.normals = n;
@@ -131,9 +135,11 @@ static bool append_faces(parser *p, const scene *cs) {
     p->s.triangles = t;
     if (!ok) {
         p->s.material_count = materials, p->s.normals_count = normals;
-        p->s.triangle_count = triangles;
+        p->s.triangle_count = triangles, p->s.sphere_count = spheres;
         return false;
     }
+    for (int k = spheres; k < p->s.sphere_count; k++)
+        p->s.spheres[k].material += (uint32_t)materials - (uint32_t)skip;
     for (int k = triangles; k < p->s.triangle_count; k++) {
         triangle *f = &p->s.triangles[k];
         f->material = f->material + (uint32_t)materials - (uint32_t)skip;
@@ -152,16 +158,7 @@ static bool chunk_adopt(parser *p, const chunk *c) {
     if (!c->ok || cs->sphere_count > SCENE_MAX_SPHERES - p->s.sphere_count ||
         primitives > PARSER_MAX_PRIMITIVES)
         return false;
-    void *spheres = p->s.spheres;
-    bool ok = append_items(&spheres, &p->s.sphere_count, &p->sphere_capacity, cs->spheres,
-                           cs->sphere_count, sizeof *cs->spheres);
-    p->s.spheres = spheres;
-    /* Spheres appended without triangles would count twice when the chunk is parsed again. */
-    if (ok && !append_faces(p, cs)) {
-        p->s.sphere_count -= cs->sphere_count;
-        ok = false;
-    }
-    if (!ok) return false;
+    if (!append_shapes(p, cs)) return false;
     /* Its only possible warning is its first tiny sphere, which counts if p had none yet. */
     if (cs->warning_count > 0 && !p->tiny_warned) {
         p->tiny_warned = true;

@@ -98,16 +98,13 @@ bool directive_sphere(parser *p) {
                              SCENE_MAX_SPHERES, sizeof(sphere), "spheres");
     p->s.spheres = array;
     if (!ok || !reserve_primitives(p, 1)) return false;
-    shape_material f = shape_material_of(p, &sphere_shape, m, &kv);
+    material f = shape_material_of(p, &sphere_shape, m, &kv);
+    uint32_t index;
+    if (!material_add(p, &f, &index)) return false;
     p->s.spheres[p->s.sphere_count++] = (sphere){
         .center = parser_vec3(&kv, SPHERE_CENTER, v3(0, 0, 0)),
         .radius = (float)parser_value_or(&kv, SPHERE_RADIUS, 0.0),
-        .material = f.material,
-        .color = f.color,
-        .ks = f.ks,
-        .alpha = f.alpha,
-        .ior = f.ior,
-        .emission = f.emission,
+        .material = index,
     };
     const sphere *added = &p->s.spheres[p->s.sphere_count - 1];
     float offset = TZ_EPS * parser_largest_coordinate(added->center);
@@ -169,15 +166,15 @@ void face_add(parser *p, vec3 a, vec3 b, vec3 c, uint32_t material, uint32_t nor
     p->s.triangles[p->s.triangle_count++] = (triangle){{a, b, c}, material, normals};
 }
 
-bool face_material(parser *p, const shape_material *m, uint32_t *index) {
+bool material_add(parser *p, const material *m, uint32_t *index) {
     int n = p->s.material_count;
-    if (n > 0 && shape_material_same(&p->s.materials[n - 1], m)) {
+    if (n > 0 && material_same(&p->s.materials[n - 1], m)) {
         *index = (uint32_t)n - 1;
         return true;
     }
     void *array = p->s.materials;
     bool ok = directive_grow(p, &array, &p->material_capacity, n, 1, PARSER_MAX_PRIMITIVES,
-                             sizeof(shape_material), "materials");
+                             sizeof(material), "materials");
     p->s.materials = array;
     if (!ok) return false;
     p->s.materials[n] = *m;
@@ -240,10 +237,10 @@ bool directive_triangle(parser *p) {
     if (!check_face(p, v[0], v[1], v[2], "triangle") || !faces_reserve(p, 1) ||
         (normals && !normals_reserve(p, 1)))
         return false;
-    shape_material f = shape_material_of(p, &triangle_shape, m, &kv);
-    uint32_t material;
-    if (!face_material(p, &f, &material)) return false;
-    face_add(p, v[0], v[1], v[2], material, normals ? normals_add(p, n) : TRIANGLE_FLAT);
+    material f = shape_material_of(p, &triangle_shape, m, &kv);
+    uint32_t index;
+    if (!material_add(p, &f, &index)) return false;
+    face_add(p, v[0], v[1], v[2], index, normals ? normals_add(p, n) : TRIANGLE_FLAT);
     return true;
 }
 
@@ -279,10 +276,10 @@ bool directive_quad(parser *p) {
         }
     }
     if (!faces_reserve(p, 2)) return false;
-    shape_material f = shape_material_of(p, &quad_shape, m, &kv);
-    uint32_t material;
-    if (!face_material(p, &f, &material)) return false;
-    face_add(p, v[0], v[1], v[2], material, TRIANGLE_FLAT);
-    face_add(p, v[0], v[2], v[3], material, TRIANGLE_FLAT);
+    material f = shape_material_of(p, &quad_shape, m, &kv);
+    uint32_t index;
+    if (!material_add(p, &f, &index)) return false;
+    face_add(p, v[0], v[1], v[2], index, TRIANGLE_FLAT);
+    face_add(p, v[0], v[2], v[3], index, TRIANGLE_FLAT);
     return true;
 }

@@ -8,6 +8,8 @@
 #include "render/cpu/scene_accessors.h"
 
 /* The shared text calls the accessors above. */
+#include "common/bsdf.h"
+#include "common/emitter.h"
 #include "common/primitive.h"
 #include "common/ray.h"
 #include "common/shade.h"
@@ -27,12 +29,23 @@
 #include "render/cpu/packet_trace.h"
 #include "render/cpu/sampler_lanes.h"
 
-/* The Phong parameters of each lane's diffuse hit, gathered once for all the BRDF evaluations
- * there. */
+/* The material of each lane's diffuse hit, gathered once for all the BRDF evaluations there. */
 typedef struct phong_lanes {
     lanes3 kd;
     float ks[LANES], alpha[LANES];
+    int material[LANES];
 } phong_lanes;
+
+/* Lane k's material of m (bsdf.h's; a lobe's, so no ior). */
+LANE_FN bsdf_material phong_lane(const phong_lanes *m, int k) {
+    bsdf_material b;
+    b.kind = m->material[k];
+    b.color = get3(&m->kd, k);
+    b.ks = m->ks[k];
+    b.alpha = m->alpha[k];
+    b.ior = 1.0f;
+    return b;
+}
 
 /* Where the lanes' rays meet primitives id[k] at t[k] (surface_at, sphere 0's surface where
  * none): pos, nout, shading and the material's tint (kd), ks, alpha, ior and kind. */
@@ -47,17 +60,19 @@ LANE_FN void packet_surfaces(const packed_scene *p, const lanes3 *o, const lanes
     int triangle[LANES];
     for (int k = 0; k < LANES; k++) { /* spheres, in SIMD */
         triangle[k] = id[k] >= 0 && is_triangle(p, id[k]);
-        const struct gpu_sphere *s = &p->spheres[id[k] >= 0 && !triangle[k] ? id[k] : 0];
-        vec3 pk = v3_add(get3(o, k), v3_scale(get3(d, k), t[k]));
-        vec3 nk = v3_scale(v3_sub(pk, xyz(s->center_radius)), 1.0f / s->center_radius.w);
+        int sk = id[k] >= 0 && !triangle[k] ? id[k] : 0;
+        const struct gpu_sphere *s = &p->spheres[sk];
+        tz_vec4 color_ks = sphere_color_ks(p, sk), params = sphere_params(p, sk);
+        vec3 pk = ray_point(get3(o, k), get3(d, k), t[k]);
+        vec3 nk = sphere_normal(xyz(s->center_radius), s->center_radius.w, pk);
         set3(&h->pos, k, pk);
         set3(&h->nout, k, nk);
         set3(&h->shading, k, nk);
-        set3(&h->kd, k, xyz(s->color_ks));
-        h->ks[k] = s->color_ks.w;
-        h->alpha[k] = s->params.x;
-        h->ior[k] = s->params.y;
-        h->material[k] = (int)s->params.z;
+        set3(&h->kd, k, xyz(color_ks));
+        h->ks[k] = color_ks.w;
+        h->alpha[k] = params.x;
+        h->ior[k] = params.y;
+        h->material[k] = (int)params.z;
     }
     for (int k = 0; any_lane(triangle) && k < LANES; k++) { /* triangles, lane by lane */
         if (!triangle[k]) continue;
@@ -65,11 +80,11 @@ LANE_FN void packet_surfaces(const packed_scene *p, const lanes3 *o, const lanes
         set3(&h->pos, k, sf.pos);
         set3(&h->nout, k, sf.nout);
         set3(&h->shading, k, sf.shading);
-        set3(&h->kd, k, xyz(sf.color_ks));
-        h->ks[k] = sf.color_ks.w;
-        h->alpha[k] = sf.params.x;
-        h->ior[k] = sf.params.y;
-        h->material[k] = (int)sf.params.z;
+        set3(&h->kd, k, sf.m.color);
+        h->ks[k] = sf.m.ks;
+        h->alpha[k] = sf.m.alpha;
+        h->ior[k] = sf.m.ior;
+        h->material[k] = sf.m.kind;
     }
 }
 
@@ -92,6 +107,7 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
         set3(ng, k, v3(0.0f, 0.0f, 0.0f));
         set3(&m->kd, k, v3(0.0f, 0.0f, 0.0f));
         m->ks[k] = m->alpha[k] = 0.0f;
+        m->material[k] = TZ_MATERIAL_LAMBERTIAN;
     }
     for (uint32_t chain = 0; any_lane(active); chain++) {
         int id[LANES];
@@ -103,8 +119,7 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
         for (int k = 0; k < LANES; k++) {
             vec3 dk = get3(d, k), nk = get3(&h.nout, k), sk = get3(&h.shading, k);
             int hit = active[k] & (id[k] >= 0);
-            int diffuse = hit & ((h.material[k] == TZ_MATERIAL_LAMBERTIAN) |
-                                 (h.material[k] == TZ_MATERIAL_PHONG));
+            int diffuse = hit & !bsdf_is_delta(h.material[k]);
             onward[k] = hit & !diffuse & (chain != bounces);
             int done = active[k] & !onward[k];
             result[k] = done ? (diffuse ? id[k] : hit ? -2 : -1) : result[k];
@@ -116,12 +131,13 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
             set3(&m->kd, k, select3(diffuse, get3(&h.kd, k), get3(&m->kd, k)));
             m->ks[k] = diffuse ? h.ks[k] : m->ks[k];
             m->alpha[k] = diffuse ? h.alpha[k] : m->alpha[k];
+            m->material[k] = diffuse ? h.material[k] : m->material[k];
         }
         for (int k = 0; k < LANES; k++) { /* mirror and glass lanes go on */
             vec3 nk = get3(&h.nout, k), dk = get3(d, k);
             next_ray next =
                 specular_next(get3(&h.pos, k), nk, specular_normal(nk, get3(&h.shading, k), dk), dk,
-                              h.material[k] == TZ_MATERIAL_REFRACTIVE, h.ior[k]);
+                              bsdf_refracts(h.material[k]), h.ior[k]);
             set3(weight, k,
                  select3(onward[k], v3_mul(get3(weight, k), get3(&h.kd, k)), get3(weight, k)));
             set3(o, k, select3(onward[k], next.o, get3(o, k)));
@@ -132,15 +148,14 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
     }
 }
 
-/* Normalized Phong BRDF per lane (brdf_at of lights.h). */
+/* The BRDF per lane (bsdf_f of bsdf.h, its pow lane by lane where ks > 0). */
 LANE_FN void packet_phong(const phong_lanes *m, const lanes3 *n, const lanes3 *wi, const lanes3 *wo,
                           const int *active, lanes3 *f) {
     float x[LANES], lobe[LANES];
     for (int k = 0; k < LANES; k++) x[k] = phong_lobe_cos(get3(n, k), get3(wi, k), get3(wo, k));
     for (int k = 0; k < LANES; k++)
         lobe[k] = active[k] && m->ks[k] > 0.0f ? phong_lobe(x[k], m->alpha[k]) : 0.0f;
-    for (int k = 0; k < LANES; k++)
-        set3(f, k, phong_from_lobe(get3(&m->kd, k), m->ks[k], m->alpha[k], lobe[k]));
+    for (int k = 0; k < LANES; k++) set3(f, k, bsdf_f_of_lobe(phong_lane(m, k), lobe[k]));
 }
 
 /* The lanes whose path reached a diffuse hit (id[k] >= 0), and wo, the way back along their last
@@ -153,10 +168,11 @@ LANE_FN void packet_diffuse_hits(const int *active, const int *id, const lanes3 
     }
 }
 
-/* What a path ending as id brings back: its weight times the background on a miss (-1), black
- * past the bounce limit (-2), else its weight times the light found at its diffuse hit. */
-LANE_FN vec3 path_radiance(int id, vec3 weight, vec3 background, vec3 found) {
-    vec3 lit = id == -1 ? v3_mul(weight, background) : v3_mul(weight, found);
+/* What a path ending as id along d brings back: its weight times the environment on a miss
+ * (-1), black past the bounce limit (-2), else its weight times the light found at its diffuse
+ * hit. */
+LANE_FN vec3 path_radiance(const packed_scene *p, int id, vec3 d, vec3 weight, vec3 found) {
+    vec3 lit = id == -1 ? v3_mul(weight, environment_radiance(p, d)) : v3_mul(weight, found);
     return id == -2 ? v3(0.0f, 0.0f, 0.0f) : lit;
 }
 
@@ -206,9 +222,8 @@ LANE_FN void packet_radiance_direct_only(const packed_scene *p, lanes3 *o, lanes
     int diffuse[LANES];
     packet_diffuse_hits(active, id, d, diffuse, &wo);
     packet_direct_light(p, id, &pos, &n, &ng, &m, &wo, diffuse, &direct);
-    vec3 background = xyz(p->frame.background);
     for (int k = 0; k < LANES; k++)
-        set3(radiance, k, path_radiance(id[k], get3(&weight, k), background, get3(&direct, k)));
+        set3(radiance, k, path_radiance(p, id[k], get3(d, k), get3(&weight, k), get3(&direct, k)));
 }
 
 /* One cosine-weighted bounce at the active lanes' diffuse hits (indirect_light of report.h),
@@ -281,7 +296,6 @@ void PACKET_ENTRY(PACKET_BUILD)(const packed_scene *p, uint32_t i, uint32_t j, u
     packet_direct_light(p, id, &pos, &n, &ng, &m, &wo, diffuse, &radiance);
     if (fr->flags & TZ_FLAG_INDIRECT)
         packet_indirect_light(p, id, &pos, &n, &ng, &m, &wo, diffuse, &rng, &radiance);
-    vec3 background = xyz(fr->background);
     for (int k = 0; k < LANES; k++)
-        out[k] = path_radiance(id[k], get3(&weight, k), background, get3(&radiance, k));
+        out[k] = path_radiance(p, id[k], get3(&d, k), get3(&weight, k), get3(&radiance, k));
 }

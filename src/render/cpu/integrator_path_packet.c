@@ -56,8 +56,7 @@ LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float
     }
     for (int k = 0; any_lobe && k < LANES; k++) {
         vec3 n = get3(&v->n, k), wo = get3(&v->wo, k);
-        vec3 wr = v3_sub(v3_scale(n, 2.0f * v3_dot(n, wo)), wo);
-        set3(&lobe_wi, k, phong_lobe_direction(wr, v->alpha[k], u1[k], u2[k]));
+        set3(&lobe_wi, k, phong_lobe_direction(phong_lobe_axis(n, wo), v->alpha[k], u1[k], u2[k]));
     }
     for (int k = 0; k < LANES; k++) {
         vec3 n = get3(&v->n, k);
@@ -75,15 +74,14 @@ LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float
     lobe_lanes(x, v->alpha, go, lobe);
     for (int k = 0; k < LANES; k++) {
         pdf[k] = bsdf_pdf_of_lobe(v->share[k], v->alpha[k], cos_i[k], lobe[k]);
-        set3(&fv, k, brdf_of_lobe(v, k, lobe[k]));
+        set3(&fv, k, bsdf_f_of_lobe(vertex_material(v, k), lobe[k]));
         f_scale[k] = cos_i[k];
     }
     if (any_fold) lanes_fold(v, folds, &wi, cos_i, &fv, f_scale, pdf);
     for (int k = 0; k < LANES; k++) {
         vec3 n = get3(&v->n, k), ng = get3(&v->ng, k), pos = get3(&v->pos, k);
         /* On a face that does not fold, a direction below it ends the path. */
-        int ok = go[k] & (folds[k] | (cos_i[k] > 0.0f)) & (v3_dot(ng, get3(&wi, k)) > 0.0f) &
-                 (pdf[k] > 0.0f);
+        int ok = go[k] & bsdf_goes_on(folds[k], cos_i[k], ng, get3(&wi, k), pdf[k]);
         vec3 f = v3_scale(get3(&fv, k), f_scale[k] / pdf[k]);
         vec3 o = offset_origin(pos, ng);
         set3(&s->beta, k, select3(ok, v3_mul(get3(&s->beta, k), f), get3(&s->beta, k)));
@@ -103,22 +101,17 @@ LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float
 LANE_FN void lanes_specular_bounce(uint32_t flags, const vertex_lanes *v, path_lanes *s) {
     int refractive[LANES];
     float uf[LANES];
-    for (int k = 0; k < LANES; k++)
-        refractive[k] = v->specular[k] & (v->material[k] == TZ_MATERIAL_REFRACTIVE);
+    for (int k = 0; k < LANES; k++) refractive[k] = v->specular[k] & bsdf_refracts(v->material[k]);
     draw_lanes_1d(flags, &s->rng, refractive, uf);
     for (int k = 0; k < LANES; k++) {
         vec3 d = get3(&s->d, k), nout = get3(&v->nout, k);
         vec3 n = specular_normal(nout, get3(&v->shading, k), d);
-        float ior = v->ior[k];
-        int entering = v3_dot(d, nout) < 0.0f;
-        float eta = entering ? 1.0f / ior : ior;
-        float c1 = -v3_dot(d, n);
-        float kk = 1.0f - eta * eta * (1.0f - c1 * c1);
-        int transmits = refractive[k] & !(uf[k] < fresnel_dielectric(eta, c1, kk));
+        bsdf_material m = vertex_material(v, k);
+        int transmits = bsdf_delta_transmits(m, d, nout, n, uf[k]);
         int on = v->specular[k];
         vec3 beta = get3(&s->beta, k);
-        set3(&s->beta, k, select3(on, v3_mul(beta, get3(&v->kd, k)), beta));
-        next_ray next = specular_next(get3(&v->pos, k), nout, n, d, transmits, ior);
+        set3(&s->beta, k, select3(on, v3_mul(beta, m.color), beta));
+        next_ray next = specular_next(get3(&v->pos, k), nout, n, d, transmits, m.ior);
         set3(&s->o, k, select3(on, next.o, get3(&s->o, k)));
         set3(&s->d, k, select3(on, next.d, d));
         s->specular[k] = on ? 1 : s->specular[k];
@@ -145,8 +138,7 @@ LANE_FN void lanes_emission(const packed_scene *scene, const vertex_lanes *v, co
                                         (float)scene->frame.light_samples *
                                             light_pdf_at(scene, last, v->id[k], get3(&v->pos, k),
                                                          get3(&s->d, k)));
-        vec3 emitted =
-            v3_scale(v3_mul(get3(&s->beta, k), xyz(emitter_emission_pick(scene, v->slot[k]))), w);
+        vec3 emitted = v3_scale(v3_mul(get3(&s->beta, k), emitter_radiance(scene, v->slot[k])), w);
         set3(&s->radiance, k, v3_add(get3(&s->radiance, k), emitted));
     }
 }
@@ -168,11 +160,12 @@ LANE_FN int small_spheres_of(const packed_scene *scene, small_spheres *t) {
     memset(t, 0, sizeof *t);
     for (uint32_t k = 0; k < count; k++) {
         const struct gpu_sphere *g = &scene->spheres[k];
+        tz_vec4 color_ks = sphere_color_ks(scene, (int)k), params = sphere_params(scene, (int)k);
         t->cx[k] = g->center_radius.x, t->cy[k] = g->center_radius.y;
         t->cz[k] = g->center_radius.z, t->r[k] = g->center_radius.w;
-        t->kr[k] = g->color_ks.x, t->kg[k] = g->color_ks.y, t->kb[k] = g->color_ks.z;
-        t->ks[k] = g->color_ks.w, t->alpha[k] = g->params.x, t->ior[k] = g->params.y;
-        t->material[k] = g->params.z, t->slot[k] = g->params.w;
+        t->kr[k] = color_ks.x, t->kg[k] = color_ks.y, t->kb[k] = color_ks.z;
+        t->ks[k] = color_ks.w, t->alpha[k] = params.x, t->ior[k] = params.y;
+        t->material[k] = params.z, t->slot[k] = params.w;
     }
     return 1;
 }
@@ -232,19 +225,21 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         lanes_pick_spheres(small, index, &v);
     }
     for (int k = 0; !small && k < LANES; k++) { /* gather the hit spheres */
-        const struct gpu_sphere *g = &scene->spheres[v.id[k] >= 0 && !triangle[k] ? v.id[k] : 0];
+        int sk = v.id[k] >= 0 && !triangle[k] ? v.id[k] : 0;
+        const struct gpu_sphere *g = &scene->spheres[sk];
+        tz_vec4 color_ks = sphere_color_ks(scene, sk), params = sphere_params(scene, sk);
         set3(&v.c, k, xyz(g->center_radius));
         v.r[k] = g->center_radius.w;
-        set3(&v.kd, k, xyz(g->color_ks));
-        v.ks[k] = g->color_ks.w;
-        v.alpha[k] = g->params.x;
-        v.ior[k] = g->params.y;
-        v.material[k] = (int)g->params.z;
-        v.slot[k] = (int)g->params.w - 1;
+        set3(&v.kd, k, xyz(color_ks));
+        v.ks[k] = color_ks.w;
+        v.alpha[k] = params.x;
+        v.ior[k] = params.y;
+        v.material[k] = (int)params.z;
+        v.slot[k] = (int)params.w - 1;
     }
     for (int k = 0; k < LANES; k++) { /* surface_at of a sphere */
-        vec3 pos = v3_add(get3(&s->o, k), v3_scale(get3(&s->d, k), v.t[k]));
-        vec3 nout = v3_scale(v3_sub(pos, get3(&v.c, k)), 1.0f / v.r[k]);
+        vec3 pos = ray_point(get3(&s->o, k), get3(&s->d, k), v.t[k]);
+        vec3 nout = sphere_normal(get3(&v.c, k), v.r[k], pos);
         set3(&v.pos, k, pos);
         set3(&v.nout, k, nout);
         set3(&v.shading, k, nout);
@@ -256,32 +251,31 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         set3(&v.pos, k, sf.pos);
         set3(&v.nout, k, sf.nout);
         set3(&v.shading, k, sf.shading);
-        set3(&v.kd, k, xyz(sf.color_ks));
-        v.ks[k] = sf.color_ks.w;
-        v.alpha[k] = sf.params.x;
-        v.ior[k] = sf.params.y;
-        v.material[k] = (int)sf.params.z;
-        v.slot[k] = (int)sf.params.w - 1;
+        set3(&v.kd, k, sf.m.color);
+        v.ks[k] = sf.m.ks;
+        v.alpha[k] = sf.m.alpha;
+        v.ior[k] = sf.m.ior;
+        v.material[k] = sf.m.kind;
+        v.slot[k] = sf.emitter;
     }
-    vec3 background = xyz(fr->background);
     for (int k = 0; k < LANES; k++) {
         int hit = s->active[k] & (v.id[k] >= 0), miss = s->active[k] & (v.id[k] < 0);
         vec3 radiance = get3(&s->radiance, k);
-        set3(&s->radiance, k,
-             select3(miss, v3_add(radiance, v3_mul(get3(&s->beta, k), background)), radiance));
         vec3 d = get3(&s->d, k), nout = get3(&v.nout, k), shading = get3(&v.shading, k);
+        float w = environment_mis_weight(scene, s->specular[k], s->last_pdf[k], d);
+        vec3 seen = v3_scale(v3_mul(get3(&s->beta, k), environment_radiance(scene, d)), w);
+        set3(&s->radiance, k, select3(miss, v3_add(radiance, seen), radiance));
         emit[k] = hit & (v.slot[k] >= 0);
         any_emit |= emit[k];
         int go = hit & !(s->vertex[k] > fr->bounces); /* else the path ends at this hit */
-        int diffuse =
-            go & ((v.material[k] == TZ_MATERIAL_LAMBERTIAN) | (v.material[k] == TZ_MATERIAL_PHONG));
+        int diffuse = go & !bsdf_is_delta(v.material[k]);
         v.diffuse[k] = diffuse;
         v.specular[k] = go & !diffuse;
         /* facing_shading and facing_normal of primitive.h and shade.h */
         set3(&v.n, k, select3(v3_dot(nout, d) < 0.0f, shading, v3_scale(shading, -1.0f)));
         set3(&v.ng, k, facing_normal(nout, d));
         set3(&v.wo, k, v3_scale(d, -1.0f));
-        v.share[k] = diffuse_share(get3(&v.kd, k), v.ks[k]);
+        v.share[k] = bsdf_share(vertex_material(&v, k));
         s->active[k] = go;
     }
     if (any_emit) lanes_emission(scene, &v, emit, s);

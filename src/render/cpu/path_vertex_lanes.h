@@ -47,16 +47,15 @@ LANE_FN void lobe_lanes(const float *x, const float *alpha, const int *want, flo
         if (pow_lane[k]) lobe[k] = pow_unit(x[k], alpha[k]);
 }
 
-/* bsdf_pdf of sampling.h with its phong_lobe(lobe_cos, alpha) given as lobe. */
-LANE_FN float bsdf_pdf_of_lobe(float share, float alpha, float cos_i, float lobe) {
-    float diffuse = cos_i * (1.0f / TZ_PI);
-    float l = (alpha + 1.0f) * (1.0f / (2.0f * TZ_PI)) * lobe;
-    return share * (cos_i > 0.0f ? diffuse : 0.0f) + (1.0f - share) * l;
-}
-
-/* brdf_at of lights.h for lane k of the vertex, phong_lobe(x, alpha) given as lobe. */
-LANE_FN vec3 brdf_of_lobe(const vertex_lanes *v, int k, float lobe) {
-    return phong_from_lobe(get3(&v->kd, k), v->ks[k], v->alpha[k], v->ks[k] > 0.0f ? lobe : 0.0f);
+/* Lane k's material of the vertex (bsdf.h's). */
+LANE_FN bsdf_material vertex_material(const vertex_lanes *v, int k) {
+    bsdf_material m;
+    m.kind = v->material[k];
+    m.color = get3(&v->kd, k);
+    m.ks = v->ks[k];
+    m.alpha = v->alpha[k];
+    m.ior = v->ior[k];
+    return m;
 }
 
 /* The light of the point lights at the diffuse lanes' vertices into direct (point_lights). */
@@ -81,8 +80,7 @@ LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v
         trace_lanes(scene, &so, &wi, v->id, dist, want, 1, NULL, blocked, t);
         for (int k = 0; k < LANES; k++) {
             if (!want[k] || blocked[k] >= 0) continue;
-            float x = phong_lobe_cos(get3(&v->n, k), get3(&wi, k), get3(&v->wo, k));
-            vec3 f = brdf_of_lobe(v, k, phong_lobe(x, v->alpha[k]));
+            vec3 f = bsdf_f(vertex_material(v, k), get3(&v->n, k), get3(&wi, k), get3(&v->wo, k));
             set3(direct, k, v3_add(get3(direct, k), v3_mul(f, get3(&rad, k))));
         }
     }
@@ -97,16 +95,16 @@ static __attribute__((noinline)) void lanes_fold(const vertex_lanes *v, const in
                                                  float *f_scale, float *pdf) {
     float cos_m[LANES], xm[LANES], lobe_m[LANES];
     for (int k = 0; k < LANES; k++) {
-        vec3 n = get3(&v->n, k), wm = mirror_in_plane(get3(wi, k), get3(&v->ng, k));
-        cos_m[k] = v3_dot(n, wm);
-        xm[k] = phong_lobe_cos(n, wm, get3(&v->wo, k));
+        fold_mirror fm =
+            fold_mirror_of(get3(&v->n, k), get3(&v->ng, k), get3(wi, k), get3(&v->wo, k));
+        cos_m[k] = fm.cos_m;
+        xm[k] = fm.xm;
     }
     lobe_lanes(xm, v->alpha, folds, lobe_m);
     for (int k = 0; k < LANES; k++) {
         if (!folds[k]) continue;
-        folded_bsdf fb =
-            fold_terms(get3(fv, k), cos_i[k], pdf[k], brdf_of_lobe(v, k, lobe_m[k]), cos_m[k],
-                       bsdf_pdf_of_lobe(v->share[k], v->alpha[k], cos_m[k], lobe_m[k]));
+        folded_bsdf fb = fold_of_lobe(vertex_material(v, k), v->share[k], get3(fv, k), cos_i[k],
+                                      pdf[k], cos_m[k], lobe_m[k]);
         set3(fv, k, fb.f_cos);
         f_scale[k] = 1.0f;
         pdf[k] = fb.pdf;
@@ -140,9 +138,10 @@ static __attribute__((noinline)) light_direction lanes_solid_angle(triangle_corn
     return solid_angle_light_direction(k, o, ua, ub, by_area);
 }
 
-/* emitter_light of path.h for the diffuse lanes (a sphere's strategies both computed and one
- * selected, a triangle's direction lane by lane), the shadow rays traced together (hint as
- * packet_trace's), added to direct; ul, ua, ub the lanes' numbers. */
+/* emitter_light of path.h for the diffuse lanes (a sphere's strategies, sphere_cone_light and
+ * sphere_area_light, both computed and one selected, a triangle's direction lane by lane), the
+ * shadow rays traced together (hint as packet_trace's), added to direct; ul, ua, ub the lanes'
+ * numbers. */
 LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *v, const float *ul,
                                  const float *ua, const float *ub, uint32_t *hint, lanes3 *direct) {
     int e[LANES], slot[LANES], triangle[LANES], strategy[LANES], blocked[LANES];
@@ -183,28 +182,11 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         cos_sin phi;
         phi.c = cos_phi[k];
         phi.s = sin_phi[k];
-        /* the cone (cone_direction) */
-        vec3 to_c = v3_sub(ck, pos);
-        float d2 = v3_dot(to_c, to_c);
-        vec3 axis = v3_scale(to_c, 1.0f / TZ_SQRT(d2));
-        float omc = cone_one_minus_cos(rk * rk, d2);
-        float xc = ua[k] * omc;
-        float sin2 = xc * (2.0f - xc);
-        float cone_pdf = 1.0f / (2.0f * TZ_PI * omc);
-        vec3 cone_wi = direction_about(axis, 1.0f - xc, TZ_SQRT(TZ_MAX(sin2, 0.0f)), phi);
-        float cone_p = pick[k] * cone_pdf;
-        /* the area (sphere_area_direction) */
-        float z = 1.0f - 2.0f * ua[k];
-        float rho = TZ_SQRT(TZ_MAX(1.0f - z * z, 0.0f));
-        vec3 dir = v3(rho * phi.c, rho * phi.s, z);
-        vec3 q = v3_add(ck, v3_scale(dir, rk));
-        vec3 to_q = v3_sub(q, pos);
-        float dist2 = v3_dot(to_q, to_q);
-        vec3 area_wi = v3_scale(to_q, 1.0f / TZ_SQRT(dist2));
-        vec3 nq = v3_scale(v3_sub(q, ck), 1.0f / rk);
-        float area_p = pick[k] * area_pdf(rk, dist2, v3_dot(nq, area_wi));
+        light_direction by_cone = sphere_cone_light(ck, rk, pos, ua[k], phi);
+        light_direction by_area = sphere_area_light(ck, rk, pos, ua[k], phi);
+        float cone_p = pick[k] * by_cone.pdf, area_p = pick[k] * by_area.pdf;
         int cone = strategy[k] == LIGHT_CONE;
-        vec3 w = select3(cone, cone_wi, area_wi);
+        vec3 w = select3(cone, by_cone.wi, by_area.wi);
         float p = cone ? cone_p : area_p;
         float ci = v3_dot(n, w);
         int ok = v->diffuse[k] & (strategy[k] != LIGHT_NONE) & (folds[k] | (ci > 0.0f)) &
@@ -242,7 +224,7 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
     lanes3 f;
     for (int k = 0; k < LANES; k++) {
         b[k] = bsdf_pdf_of_lobe(v->share[k], v->alpha[k], s.cos_i[k], lobe[k]);
-        set3(&f, k, brdf_of_lobe(v, k, lobe[k]));
+        set3(&f, k, bsdf_f_of_lobe(vertex_material(v, k), lobe[k]));
         f_scale[k] = s.cos_i[k];
     }
     if (any_fold) lanes_fold(v, folds, &s.dir, s.cos_i, &f, f_scale, b); /* emitter_light's */

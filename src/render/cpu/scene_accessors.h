@@ -9,18 +9,26 @@
 static inline tz_vec4 sphere_center_radius(const packed_scene *p, int k) {
     return p->spheres[k].center_radius;
 }
-static inline tz_vec4 sphere_color_ks(const packed_scene *p, int k) {
-    return p->spheres[k].color_ks;
+/* The material fields as the shared text reads them: color_ks, and params x alpha, y ior, z the
+ * kind and w (a sphere's) its emitter + 1. */
+static inline tz_vec4 material_params(const packed_scene *p, int m) {
+    const struct gpu_material *g = &p->materials[m];
+    return (tz_vec4){g->alpha, g->ior, g->kind, g->reserved0};
 }
-static inline tz_vec4 sphere_params(const packed_scene *p, int k) { return p->spheres[k].params; }
+static inline tz_vec4 sphere_color_ks(const packed_scene *p, int k) {
+    return p->materials[(int)p->spheres[k].material].color_ks;
+}
+static inline tz_vec4 sphere_params(const packed_scene *p, int k) {
+    const struct gpu_sphere *s = &p->spheres[k];
+    tz_vec4 params = material_params(p, (int)s->material);
+    params.w = s->emitter;
+    return params;
+}
 static inline tz_vec4 triangle_v0(const packed_scene *p, int t) { return p->triangles[t].v0; }
 static inline tz_vec4 triangle_v1(const packed_scene *p, int t) { return p->triangles[t].v1; }
 static inline tz_vec4 triangle_v2(const packed_scene *p, int t) { return p->triangles[t].v2; }
 static inline tz_vec4 material_color_ks(const packed_scene *p, int m) {
     return p->materials[m].color_ks;
-}
-static inline tz_vec4 material_params(const packed_scene *p, int m) {
-    return p->materials[m].params;
 }
 static inline tz_vec4 normals_n0(const packed_scene *p, int s) { return p->normals[s].n0; }
 static inline tz_vec4 normals_n1(const packed_scene *p, int s) { return p->normals[s].n1; }

@@ -215,8 +215,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
                                [TZ_SPEC_WIDE_BVH] = st->wide_bvh,
                            }};
     /* The unrolled spheres and lights, zero past the scene's (the shader reads none of those). */
-    memcpy(constants.scene.spheres, packed->spheres,
-           st->unrolled_spheres * sizeof *packed->spheres);
+    scene_pack_unrolled(packed, st->unrolled_spheres, &constants.scene);
     if (unroll_lights)
         memcpy(constants.scene.lights, packed->lights, lights * sizeof *packed->lights);
     VkSpecializationMapEntry entries[SPEC_COUNT];

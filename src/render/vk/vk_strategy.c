@@ -228,7 +228,7 @@ vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const rend
     /* A ray tests spheres and triangles alike: one loop pass a primitive. */
     uint32_t spheres = (uint32_t)s->sphere_count + (uint32_t)s->triangle_count, emitters = 0;
     for (int k = 0; opts->mode == RENDER_MODE_PATH && k < s->sphere_count; k++)
-        emitters += sphere_emits(&s->spheres[k]);
+        emitters += sphere_emits(s, &s->spheres[k]);
     for (int k = 0; opts->mode == RENDER_MODE_PATH && k < s->triangle_count; k++)
         emitters += triangle_emits(s, &s->triangles[k]);
     /* Only spheres are unrolled (their data become specialization constants). */
