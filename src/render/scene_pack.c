@@ -93,7 +93,7 @@ static bool pack_bvh(packed_scene *out, uint32_t spheres, uint32_t triangles, bo
     bvh tree;
     bvh_input in = {out->spheres, spheres, out->triangles, triangles};
     if (!bvh_build_primitives(&in, TZ_BVH_MAX_DEPTH, 0, &tree)) return false;
-    struct gpu_sphere *sorted = big_malloc((spheres ? spheres : 1) * sizeof *sorted);
+    struct gpu_sphere *sorted = big_calloc(spheres ? spheres : 1, sizeof *sorted);
     struct gpu_triangle *sorted_t = big_calloc(triangles ? triangles : 1, sizeof *sorted_t);
     *triangle_source = big_malloc((triangles ? triangles : 1) * sizeof **triangle_source);
     if (!sorted || !sorted_t || !*triangle_source) {
