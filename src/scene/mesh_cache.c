@@ -35,10 +35,14 @@ static bool mesh_copy(const mesh *from, mesh *to) {
     *to = *from;
     to->faces = malloc(from->face_count * sizeof *from->faces);
     to->materials = malloc(((size_t)from->material_count + 1) * sizeof *from->materials);
-    if (!to->faces || !to->materials) {
+    to->cameras = malloc(((size_t)from->camera_count + 1) * sizeof *from->cameras);
+    to->lights = malloc(((size_t)from->light_count + 1) * sizeof *from->lights);
+    if (!to->faces || !to->materials || !to->cameras || !to->lights) {
         mesh_free(to);
         return false;
     }
+    memcpy(to->cameras, from->cameras, (size_t)from->camera_count * sizeof *from->cameras);
+    memcpy(to->lights, from->lights, (size_t)from->light_count * sizeof *from->lights);
     memcpy(to->faces, from->faces, from->face_count * sizeof *from->faces);
     memcpy(to->materials, from->materials, (size_t)from->material_count * sizeof *from->materials);
     return true;
