@@ -511,7 +511,10 @@ int cmd_render(int argc, char **argv) {
     log_debug("scene: read and parsed in %.1f ms", (clock_seconds() - parse_start) * 1e3);
     for (int k = 0; k < s.warning_count; k++) {
         const scene_error *w = &s.warnings[k];
-        log_warn("%s:%d:%d: %s", w->file, w->line, w->col, w->message);
+        if (w->line > 0)
+            log_warn("%s:%d:%d: %s", w->file, w->line, w->col, w->message);
+        else /* a model file's, given as the scene: no line of the user's */
+            log_warn("%s: %s", w->file, w->message);
     }
     /* A black image with exit 0 and no word looked like a broken renderer. */
     if (!scene_has_light(&s))

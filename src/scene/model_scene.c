@@ -13,8 +13,10 @@
 #include <string.h>
 #include <strings.h>
 
+#include "scene/mesh_cache.h"
 #include "scene/mesh_load.h"
 #include "scene/model_formats.h"
+#include "scene/parser.h"
 #include "util/log.h"
 
 /* The camera that frames a model without one: this horizontal fov (degrees), this image shape,
@@ -260,7 +262,9 @@ bool model_scene_parse(const char *path, const model_scene_opts *o, scene *out, 
     if (ok && camera >= 0)
         log_debug("%s: rendered from camera %d '%s'", path, camera, m.cameras[camera].name);
     if (ok && camera < 0) log_debug("%s: no camera: one frames the model", path);
-    mesh_free(&m);
+    /* the mesh line takes the model loaded here rather than import it again */
+    mesh_cache *cache = NULL;
+    if (!ok || !mesh_cache_adopt(&cache, path, false, &m)) mesh_free(&m);
     if (ok) {
         quoted_path(path, quoted, sizeof quoted);
         ok = add(text, size, &used, "mesh file %s\n%srender mode path\n", quoted,
@@ -270,7 +274,12 @@ bool model_scene_parse(const char *path, const model_scene_opts *o, scene *out, 
     if (ok) {
         char name[300];
         snprintf(name, sizeof name, "<%s as a scene>", path);
-        ok = scene_parse_string_in_mode(text, used, name, o->mode, out, err);
+        ok = parser_run_cached(text, used, name, o->mode, cache, out, err);
+        cache = NULL;
+        for (int k = 0; ok && k < out->warning_count; k++) { /* as the errors below */
+            snprintf(out->warnings[k].file, sizeof out->warnings[k].file, "%s", path);
+            out->warnings[k].line = out->warnings[k].col = 0;
+        }
         if (!ok && !err->out_of_memory) {
             /* the text is ours: its line and column would mean nothing to the user */
             char message[sizeof err->message];
@@ -278,6 +287,7 @@ bool model_scene_parse(const char *path, const model_scene_opts *o, scene *out, 
             fail(err, path, "%s", message);
         }
     }
+    mesh_cache_free(cache);
     free(text);
     return ok;
 }

@@ -157,5 +157,8 @@ scene parser_scene_defaults(void);
  * own mode) into *out, written only on success; false (reported in *err) on any error. */
 bool parser_run(const char *text, size_t length, const char *filename, int threads, int mode,
                 scene *out, scene_error *err);
+/* parser_run with the models of cache (mesh_cache.h) already loaded, which it releases. */
+bool parser_run_cached(const char *text, size_t length, const char *filename, int mode,
+                       struct mesh_cache *cache, scene *out, scene_error *err);
 
 #endif
