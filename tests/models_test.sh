@@ -160,6 +160,11 @@ render_quiet "$cameras" --width 32 -o "$tmp/model.pfm" || fail "Cameras.gltf: ex
 render_quiet "$tmp/cam0.scene" -o "$tmp/hand.pfm" || fail "cam0.scene: $(cat "$tmp/err")"
 same "Cameras.gltf camera 0" "$tmp/model.pfm" "$tmp/hand.pfm"
 render_quiet "$cameras" --camera 0 --width 32 -o "$tmp/model0.pfm" && same "--camera 0" "$tmp/model.pfm" "$tmp/model0.pfm"
+# `trazador info` lists the cameras as converted
+"$tz" info "$cameras" >"$tmp/info" || fail "info Cameras.gltf: exit $?"
+grep -qF "camera 0 'nodes[1]': at 0.5 0.5 -3 looking along 0 0 1, up 0 1 0, fov 40.107, aspect 1" \
+    "$tmp/info" || fail "info Cameras.gltf: $(cat "$tmp/info")"
+grep -qF "camera 1 'nodes[2]': orthographic" "$tmp/info" || fail "info Cameras.gltf: $(cat "$tmp/info")"
 # its camera 1 is orthographic: refused, named; a camera it has not: its cameras listed
 # expect_refusal NAME WANT ARGS...: exit 2 with WANT in the message.
 expect_refusal() {

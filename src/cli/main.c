@@ -22,6 +22,7 @@ static const char usage_text[] =
     "       trazador view [SCENE] [--backend auto|vulkan|cpu] [--spp N] [--width N] ...\n"
     "       trazador devices\n"
     "       trazador formats\n"
+    "       trazador info MODEL\n"
     "       trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
     "       trazador gen sphereflake --depth N [-o FILE] [--seed N] [--force]\n"
     "       trazador gen random --count N [-o FILE] [--seed N] [--force]\n"
@@ -40,8 +41,9 @@ typedef struct command {
 } command;
 
 static const command commands[] = {
-    {"render", cmd_render},   {"merge", cmd_merge}, {"diff", cmd_diff},       {"gen", cmd_gen},
-    {"devices", cmd_devices}, {"bench", cmd_bench}, {"formats", cmd_formats}, {"view", cmd_view},
+    {"render", cmd_render},   {"merge", cmd_merge},     {"diff", cmd_diff},
+    {"gen", cmd_gen},         {"devices", cmd_devices}, {"bench", cmd_bench},
+    {"formats", cmd_formats}, {"view", cmd_view},       {"info", cmd_info},
 };
 
 /* Runs the subcommand argv[1]; its exit code. */
