@@ -157,8 +157,8 @@ render_quiet() { "$tz" render "$@" --backend cpu --spp 2 --quiet 2>"$tmp/err"; }
     printf 'render mode path\n'
 } >"$tmp/cam0.scene"
 render_quiet "$cameras" --width 32 -o "$tmp/model.pfm" || fail "Cameras.gltf: exit $?: $(cat "$tmp/err")"
-render_quiet "$tmp/cam0.scene" -o "$tmp/hand.pfm" || fail "cam0.scene: $(cat "$tmp/err")"
-same "Cameras.gltf camera 0" "$tmp/model.pfm" "$tmp/hand.pfm"
+render_quiet "$tmp/cam0.scene" -o "$tmp/hand0.pfm" || fail "cam0.scene: $(cat "$tmp/err")"
+same "Cameras.gltf camera 0" "$tmp/model.pfm" "$tmp/hand0.pfm"
 render_quiet "$cameras" --camera 0 --width 32 -o "$tmp/model0.pfm" && same "--camera 0" "$tmp/model.pfm" "$tmp/model0.pfm"
 # `trazador info` lists the cameras as converted
 "$tz" info "$cameras" >"$tmp/info" || fail "info Cameras.gltf: exit $?"
@@ -209,6 +209,35 @@ render_quiet "$tmp/lit.gltf" --width 32 -o "$tmp/model.pfm" || fail "lit.gltf: e
 render_quiet "$tmp/lit.scene" -o "$tmp/hand.pfm" || fail "lit.scene: $(cat "$tmp/err")"
 same "a turned camera and a point light" "$tmp/model.pfm" "$tmp/hand.pfm"
 "$tz" diff "$tmp/model.pfm" "$tmp/black.pfm" >/dev/null 2>&1 && fail "lit.gltf: rendered black" || true
+# In a scene: `camera file` takes the file's camera and `mesh ... lights on` its point lights,
+# both moved by the line's transform: the hand-converted scene moved by 1 along x.
+{
+    printf 'camera file %s index 0 translate 1 0 0
+' "$tmp/lit.gltf"
+    printf 'plane width 32 height 16 pixel 1
+mesh file %s lights on translate 1 0 0
+' "$tmp/lit.gltf"
+    printf 'render mode path
+'
+} >"$tmp/moved.scene"
+sed 's/^camera position 0.5 /camera position 1.5 /; s/^light position 0.5 /light position 1.5 /; s/^\(mesh file .*\)$/\1 translate 1 0 0/' \
+    "$tmp/lit.scene" >"$tmp/moved_hand.scene"
+render_quiet "$tmp/moved.scene" -o "$tmp/model.pfm" || fail "moved.scene: exit $?: $(cat "$tmp/err")"
+render_quiet "$tmp/moved_hand.scene" -o "$tmp/hand.pfm" || fail "moved_hand.scene: $(cat "$tmp/err")"
+same "camera file and lights on, translated" "$tmp/model.pfm" "$tmp/hand.pfm"
+printf 'camera file %s name eye
+plane width 32 height 32 pixel 1
+mesh file %s
+background 1 1 1
+render mode path
+' \
+    "$cameras" "$cameras" | sed 's/name eye/index 0/' >"$tmp/cam0_file.scene"
+render_quiet "$tmp/cam0_file.scene" -o "$tmp/model.pfm" || fail "cam0_file.scene: $(cat "$tmp/err")"
+same "camera file Cameras.gltf" "$tmp/model.pfm" "$tmp/hand0.pfm"
+printf 'camera file %s name nobody
+plane width 8 height 8 pixel 1
+' "$cameras" >"$tmp/nobody.scene"
+expect_refusal "camera file name" "camera file '$cameras' has 2 cameras: 0 'nodes[1]', 1 'nodes[2]'" "$tmp/nobody.scene"
 # bad input: a light of negative intensity (named), a camera of aspect 0, a spot light (warned)
 gltf_with '"translation":[0.5,0.5,3]' '{"aspectRatio":1.0,"yfov":0.7}' \
     '{"type":"point","intensity":-5}' 3 \

@@ -5,6 +5,7 @@
 #include <assimp/camera.h>
 #include <assimp/light.h>
 #include <assimp/scene.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -128,5 +129,17 @@ bool mesh_read_views(const struct aiScene *sc, bool gltf, mesh *m) {
         out->color[1] = l->mColorDiffuse.g;
         out->color[2] = l->mColorDiffuse.b;
     }
+    return true;
+}
+
+bool mesh_light_power(const mesh_light *l, float *power, vec3 *color) {
+    const double *c = l->color;
+    for (int j = 0; j < 3; j++)
+        if (!isfinite(c[j]) || c[j] < 0.0 || c[j] > FLT_MAX) return false;
+    /* glTF's intensity is in candela, light arriving as I cos / d^2: trazador's power is that I */
+    double most = fmax(c[0], fmax(c[1], c[2]));
+    *power = (float)most;
+    *color = most > 0.0 ? v3((float)(c[0] / most), (float)(c[1] / most), (float)(c[2] / most))
+                        : v3(1, 1, 1);
     return true;
 }

@@ -115,6 +115,10 @@ bool mesh_smooth_normals(mesh *m, float max_angle_degrees);
  * its horizontal fov. False out of memory. */
 struct aiScene;
 bool mesh_read_views(const struct aiScene *sc, bool gltf, mesh *m);
+/* Point light l as trazador's light: power the largest of its colour x intensity, colour that
+ * over the power (white at power 0); false when a component is negative, not finite or past the
+ * float range. */
+bool mesh_light_power(const mesh_light *l, float *power, vec3 *color);
 /* Releases a loaded mesh; safe on a zeroed one. */
 void mesh_free(mesh *m);
 

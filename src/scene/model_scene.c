@@ -25,7 +25,7 @@
 #define FRAME_FOV 50.0
 #define FRAME_ASPECT (4.0 / 3.0)
 static const double frame_from[3] = {1.0, 1.0, -1.0};
-/* The scene text: a camera, a plane and a mesh line, a line per light and two more. */
+/* The scene text: a camera, a plane and a mesh line and two more. */
 #define LINE_BYTES (PATH_MAX * 2 + 256)
 
 static bool fail(scene_error *err, const char *path, const char *fmt, ...)
@@ -186,43 +186,22 @@ static bool view_lines(const char *path, const mesh *m, int k, long long width, 
     return add(text, size, used, "plane width %lld height %.0f pixel 1\n", width, rows);
 }
 
-/* The light lines of the file's point lights (power the largest of colour x intensity, colour
- * that over the power), and the warning for the kinds trazador lacks; *points: how many. False
- * (err) on a negative or non-finite intensity. */
-static bool light_lines(const char *path, const mesh *m, char *text, size_t size, size_t *used,
-                        int *points, scene_error *err) {
-    char others[256] = "";
-    size_t other_used = 0;
+/* False (err) when a point light of the file has a negative or non-finite intensity; *points:
+ * how many point lights it has (the mesh line's `lights on` brings them in). */
+static bool check_lights(const char *path, const mesh *m, int *points, scene_error *err) {
     *points = 0;
     for (int k = 0; k < m->light_count; k++) {
         const mesh_light *l = &m->lights[k];
-        const double *c = l->color;
-        for (int j = 0; j < 3; j++)
-            if (!isfinite(c[j]) || c[j] < 0.0 || c[j] > FLT_MAX)
-                return fail(err, path,
-                            "light %d '%s' (%s) has colour x intensity %g %g %g: each must be "
-                            "finite and at least 0",
-                            k, l->name, l->kind, c[0], c[1], c[2]);
-        if (strcmp(l->kind, "point")) {
-            if (other_used < sizeof others)
-                other_used +=
-                    (size_t)snprintf(others + other_used, sizeof others - other_used,
-                                     "%s%s light '%s'", other_used ? ", " : "", l->kind, l->name);
-            continue;
-        }
-        double power = fmax(c[0], fmax(c[1], c[2]));
-        double color[3] = {1, 1, 1};
-        for (int j = 0; j < 3 && power > 0.0; j++) color[j] = c[j] / power;
+        float power;
+        vec3 color;
+        if (strcmp(l->kind, "point")) continue;
+        if (!mesh_light_power(l, &power, &color))
+            return fail(err, path,
+                        "light %d '%s' (%s) has colour x intensity %g %g %g: each must be finite "
+                        "and at least 0",
+                        k, l->name, l->kind, l->color[0], l->color[1], l->color[2]);
         (*points)++;
-        if (!add(text, size, used,
-                 "light position %.9g %.9g %.9g power %.9g color %.9g %.9g %.9g\n", l->position.x,
-                 l->position.y, l->position.z, (double)(float)power, (double)(float)color[0],
-                 (double)(float)color[1], (double)(float)color[2]))
-            return fail(err, path, "out of memory");
     }
-    if (others[0])
-        log_warn("%s: its %s %s not rendered: trazador has point lights only (yet)", path, others,
-                 strchr(others, ',') ? "are" : "is");
     return true;
 }
 
@@ -251,13 +230,13 @@ bool model_scene_parse(const char *path, const model_scene_opts *o, scene *out, 
     }
     int camera = -1;
     long long width = o->width > 0 ? o->width : MODEL_DEFAULT_WIDTH;
-    size_t size = LINE_BYTES * (size_t)(m.light_count + 4), used = 0;
+    size_t size = LINE_BYTES * 4, used = 0;
     char *text = malloc(size), quoted[PATH_MAX * 2 + 4];
     int points = 0;
     bool ok = text && pick_camera(path, &m, o->camera, &camera, err) &&
               (camera < 0 || check_camera(path, &m.cameras[camera], camera, err)) &&
               view_lines(path, &m, camera, width, text, size, &used, err) &&
-              light_lines(path, &m, text, size, &used, &points, err);
+              check_lights(path, &m, &points, err);
     if (!text) fail(err, path, "out of memory");
     if (ok && camera >= 0)
         log_debug("%s: rendered from camera %d '%s'", path, camera, m.cameras[camera].name);
@@ -267,7 +246,7 @@ bool model_scene_parse(const char *path, const model_scene_opts *o, scene *out, 
     if (!ok || !mesh_cache_adopt(&cache, path, false, &m)) mesh_free(&m);
     if (ok) {
         quoted_path(path, quoted, sizeof quoted);
-        ok = add(text, size, &used, "mesh file %s\n%srender mode path\n", quoted,
+        ok = add(text, size, &used, "mesh file %s lights on\n%srender mode path\n", quoted,
                  points ? "" : "background 1 1 1\n");
         if (!ok) fail(err, path, "its path is too long");
     }
