@@ -10,6 +10,7 @@ static const char usage_text[] =
     "usage: trazador render [SCENE] [-o OUT] [--backend auto|vulkan|cpu] [--spp N] [--seed N]\n"
     "                       [--mode report|path] [--no-jitter] [--no-indirect] [--indirect]\n"
     "                       [--bounces N] [--sampler auto|random|sobol] [--light-samples N]\n"
+    "                       [--camera N|NAME]\n"
     "                       [--threads N] [--device N] [--walk auto|compute|cooperative|rayquery]\n"
     "                       [--validate] [--quiet]\n"
     "                       [--verbose] [--tonemap srgb|linear] [--width N] [--no-bvh]\n"
