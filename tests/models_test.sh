@@ -253,6 +253,20 @@ gltf_with '"translation":[0.5,0.5,3]' '{"aspectRatio":1.0,"yfov":0.7}' \
     fail "spot.gltf: exit $?"
 grep -qF "its spot light 'cone' is not rendered: trazador has point lights only" "$tmp/err" ||
     fail "spot.gltf: no warning naming the spot light: $(cat "$tmp/err")"
+# No camera: one framing the box (scenes/README.md's rule): from its centre c along (1, 1, -1),
+# d = r / sin(min(fov, vertical fov) / 2), r half the diagonal, fov 50, 4:3. A triangle's box is
+# 0 0 0 to 1 1 0 (z negated: 0); 32 x 24 pixels.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$tmp/tri.obj"
+awk -v f="$tmp/tri.obj" 'BEGIN {
+    pi = atan2(0, -1); h = 50 * pi / 360; v = atan2(sin(h) / cos(h) * 24 / 32, 1)
+    r = 0.5 * sqrt(2); d = r / sin(h < v ? h : v); k = d / sqrt(3)
+    printf "camera position %.9g %.9g %.9g look_at 0.5 0.5 0 fov 50\n", 0.5 + k, 0.5 + k, -k
+    printf "plane width 32 height 24 pixel 1\nmesh file %s lights on\nbackground 1 1 1\nrender mode path\n", f
+}' >"$tmp/framed.scene"
+render_quiet "$tmp/tri.obj" --width 32 -o "$tmp/model.pfm" || fail "tri.obj: exit $?: $(cat "$tmp/err")"
+render_quiet "$tmp/framed.scene" -o "$tmp/hand.pfm" || fail "framed.scene: $(cat "$tmp/err")"
+"$tz" diff "$tmp/model.pfm" "$tmp/hand.pfm" --max-rmse 0.001 >/dev/null ||
+    fail "tri.obj: not framed by the documented rule: $("$tz" diff "$tmp/model.pfm" "$tmp/hand.pfm" 2>&1)"
 # Every glTF, OBJ and PLY of assimp-testmodels given as the scene: an image (exit 0) or a
 # message (exit 2), never a crash or a hang.
 while IFS= read -r -d '' file; do

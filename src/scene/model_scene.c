@@ -4,7 +4,6 @@
 #include "scene/model_scene.h"
 
 #include <errno.h>
-#include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
