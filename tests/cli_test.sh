@@ -94,18 +94,17 @@ has formats out "Blender 3D Importer (http://www.blender3d.org) (Blender 2.7x an
 ! grep -q "assimp listext" "$src/README.md" "$src/scenes/README.md" && grep -q "trazador formats" "$src/README.md" \
     && ok || bad "formats: the READMEs still name assimp listext"
 printf '# a triangle\n\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >tri.obj
-run model-as-scene 2 "$tz" render tri.obj --backend cpu -o model.png
-has model-as-scene err "trazador: render: 'tri.obj' is a model file (OBJ), not a scene: render it from a scene that loads it with a mesh line"
-has model-as-scene err "    mesh   file tri.obj"
+# A model file given as the scene is rendered (issue 51): framed, lit by a white background.
+run model-as-scene 0 "$tz" render tri.obj --backend cpu --spp 1 --width 8 -o model.png
 grep -q "unknown directive" "$tmp/err" && bad "model-as-scene: the parser's error: $(cat "$tmp/err")" || ok
 printf 'glTF\002\000\000\000\020\000\000\000' >"my model.glb"
 run glb-as-scene 2 "$tz" render "$tmp/my model.glb" --backend cpu -o model.png
-has glb-as-scene err "is a model file (glTF binary), not a scene"
-has glb-as-scene err '    mesh   file "my model.glb"'
+has glb-as-scene err "my model.glb: cannot load: "
 printf 'BLENDER-v300REND\000\000\000\000garbage' >new.blend
 run blend-as-scene 2 "$tz" render new.blend --backend cpu -o model.png
-has blend-as-scene err "is a model file (Blender), not a scene"
-has blend-as-scene err "; assimp reads no Blender file newer than 2.7x: export it from Blender as glTF"
+has blend-as-scene err "new.blend: assimp reads no Blender file newer than 2.7x: export it from Blender as glTF"
+run camera-of-scene 2 "$tz" render grid.scene --camera 1 --backend cpu -o model.png
+has camera-of-scene err "--camera picks a camera of a model file given as the scene"
 printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nlight position 0 5 -5 power 10\nmesh file new.blend\n' >blend.scene
 run blend-mesh 2 "$tz" render blend.scene --backend cpu -o model.png
 has blend-mesh err "blend.scene:4:11: mesh 'new.blend': assimp reads no Blender file newer than 2.7x: export it from Blender as glTF (File > Export > glTF 2.0, a .glb) and load that (assimp: cannot load: "

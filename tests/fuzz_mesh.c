@@ -1,7 +1,8 @@
 /* fuzz_mesh.c: libFuzzer target for the mesh loader's input path: an input is a model file whose
  * first byte picks its format (the extension assimp goes by) and the mesh line's options, loaded
  * through a scene's `mesh` line as a user's file is: assimp in its child process, the faces and
- * materials received, transformed, checked and turned into triangles. A crash, leak, hang or UB
+ * materials received, transformed, checked and turned into triangles, its cameras and lights
+ * (`camera file`, `lights on`) too. A crash, leak, hang or UB
  * in trazador is a bug; assimp's own crashes and hangs end in its child as an error message.
  * Its corpus (.ci/run): tests/corpus_mesh/, small models behind their format byte. */
 #include <stdint.h>
@@ -37,13 +38,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (!f) abort();
     if (size > 1 && fwrite(data + 1, 1, size - 1, f) != size - 1) abort();
     if (fclose(f) != 0) abort();
-    /* Bit 3: the file's own materials or one of trazador's; bit 4: smooth; bit 5: a transform. */
-    char text[512];
+    /* Bit 3: the file's own materials or one of trazador's; bit 4: smooth; bit 5: a transform;
+     * bit 6: the file's lights (`lights on`); bit 7: the file's camera (`camera file`). */
+    const char *transform = pick & 32u ? "scale 2 0.5 1 rotate 1 1 0 30 translate 0 1 2" : "";
+    char text[1024], camera[512];
+    if (pick & 128u)
+        snprintf(camera, sizeof camera, "camera file %s %s", path, transform);
+    else
+        snprintf(camera, sizeof camera, "camera position 0 0 -5");
     int n = snprintf(text, sizeof text,
-                     "camera position 0 0 -5\nplane width 4 height 3 pixel 0.05\n"
-                     "render mode path\nmesh %s file %s smooth %s %s\n",
-                     pick & 8u ? "lambertian" : "", path, pick & 16u ? "on" : "off",
-                     pick & 32u ? "scale 2 0.5 1 rotate 1 1 0 30 translate 0 1 2" : "");
+                     "%s\nplane width 4 height 3 pixel 0.05\n"
+                     "render mode path\nmesh %s file %s smooth %s lights %s %s\n",
+                     camera, pick & 8u ? "lambertian" : "", path, pick & 16u ? "on" : "off",
+                     pick & 64u ? "on" : "off", transform);
     scene s;
     scene_error err;
     if (scene_parse_string(text, (size_t)n, "fuzz.scene", &s, &err)) scene_free(&s);

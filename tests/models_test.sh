@@ -169,5 +169,143 @@ refused invalid/malformed.obj
 refused invalid/OutOfMemory.off
 refused invalid/readme.txt
 
+# A model file as the scene (issue 51): its cameras and point lights converted into trazador's
+# space (the node's transform in the file's right-handed space, then z negated), each image the
+# bits of a scene written by hand with the camera and lights converted here. Path mode, CPU.
+cameras=$models/glTF2/cameras/Cameras.gltf
+# same NAME A B: two renders wrote the very same file.
+same() { cmp -s "$2" "$3" && return 0; fail "$1: the model's image is not the hand-converted scene's"; }
+render_quiet() { "$tz" render "$@" --backend cpu --spp 2 --quiet 2>"$tmp/err"; }
+# Cameras.gltf's camera 0: node translation 0.5 0.5 3, looking along -z (glTF's), up +y; yfov
+# 0.7 rad at aspect 1: a horizontal fov of 2 atan(1 tan(0.7 / 2)) = 40.1070442 degrees (float).
+{
+    printf 'camera position 0.5 0.5 -3 direction 0 0 1 up 0 1 0 fov 40.1070442\n'
+    printf 'plane width 32 height 32 pixel 1\nmesh file %s\nbackground 1 1 1\n' "$cameras"
+    printf 'render mode path\n'
+} >"$tmp/cam0.scene"
+render_quiet "$cameras" --width 32 -o "$tmp/model.pfm" || fail "Cameras.gltf: exit $?: $(cat "$tmp/err")"
+render_quiet "$tmp/cam0.scene" -o "$tmp/hand0.pfm" || fail "cam0.scene: $(cat "$tmp/err")"
+same "Cameras.gltf camera 0" "$tmp/model.pfm" "$tmp/hand0.pfm"
+render_quiet "$cameras" --camera 0 --width 32 -o "$tmp/model0.pfm" && same "--camera 0" "$tmp/model.pfm" "$tmp/model0.pfm"
+# `trazador info` lists the cameras as converted
+"$tz" info "$cameras" >"$tmp/info" || fail "info Cameras.gltf: exit $?"
+grep -qF "camera 0 'nodes[1]': at 0.5 0.5 -3 looking along 0 0 1, up 0 1 0, fov 40.107, aspect 1" \
+    "$tmp/info" || fail "info Cameras.gltf: $(cat "$tmp/info")"
+grep -qF "camera 1 'nodes[2]': orthographic" "$tmp/info" || fail "info Cameras.gltf: $(cat "$tmp/info")"
+# its camera 1 is orthographic: refused, named; a camera it has not: its cameras listed
+# expect_refusal NAME WANT ARGS...: exit 2 with WANT in the message.
+expect_refusal() {
+    local name=$1 want=$2 rc=0
+    shift 2
+    "$tz" render "$@" --backend cpu --spp 1 -o "$tmp/refused.pfm" >"$tmp/out" 2>&1 || rc=$?
+    [ $rc = 2 ] || fail "$name: exit $rc, expected 2: $(cat "$tmp/out")"
+    grep -qF -- "$want" "$tmp/out" || fail "$name: '$want' not in: $(cat "$tmp/out")"
+}
+expect_refusal "orthographic camera" "Cameras.gltf: camera 1 'nodes[2]' is orthographic" "$cameras" --camera 1
+expect_refusal "--camera 5" "Cameras.gltf: --camera 5: the file has 2 cameras: 0 'nodes[1]', 1 'nodes[2]' (orthographic)" "$cameras" --camera 5
+expect_refusal "--camera of a scene" "--camera picks a camera of a model file" "$tmp/cam0.scene" --camera 0
+# gltf_with CAMERA_NODE CAMERA LIGHTS LIGHT_NODES: the square of Cameras.gltf, a camera on a
+# node of its own and point lights on nodes under a parent moved up by 1.
+cp "$models/glTF2/cameras/simpleSquare.bin" "$tmp/"
+gltf_with() {
+    printf '{"asset":{"version":"2.0"},"extensionsUsed":["KHR_lights_punctual"],\n'
+    printf '"extensions":{"KHR_lights_punctual":{"lights":[%s]}},\n' "$3"
+    printf '"scenes":[{"nodes":[0,1,2]}],\n'
+    printf '"nodes":[{"mesh":0},{"name":"eye",%s,"camera":0},{"translation":[0,1,0],"children":[%s]}%s],\n' \
+        "$1" "$4" "$5"
+    printf '"cameras":[{"type":"perspective","perspective":%s}],\n' "$2"
+    printf '"meshes":[{"primitives":[{"attributes":{"POSITION":1},"indices":0}]}],\n'
+    printf '"buffers":[{"uri":"simpleSquare.bin","byteLength":60}],\n'
+    printf '"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":12},{"buffer":0,"byteOffset":12,"byteLength":48}],\n'
+    printf '"accessors":[{"bufferView":0,"componentType":5123,"count":6,"type":"SCALAR"},'
+    printf '{"bufferView":1,"componentType":5126,"count":4,"type":"VEC3","max":[1,1,0],"min":[0,0,0]}]}\n'
+}
+# A camera turned half round about y at 0.5 0.5 -3 (the file's), aspect 2: trazador's 0.5 0.5 3
+# looking along -z (assimp 5.2.5 alone doubles the translation, and turns the square's back
+# away); 2 atan(2 tan(0.35)) = 72.2631454 degrees; 32 x 16 pixels. A point light of colour
+# 1 0.5 0.25 and 40 candela at 0.5 1 -1 under the parent's 0 1 0: trazador's 0.5 2 1, power 40.
+gltf_with '"translation":[0.5,0.5,-3],"rotation":[0,1,0,0]' '{"aspectRatio":2.0,"yfov":0.7,"znear":0.01}' \
+    '{"type":"point","color":[1,0.5,0.25],"intensity":40}' 3 \
+    ',{"name":"lamp","translation":[0.5,1,-1],"extensions":{"KHR_lights_punctual":{"light":0}}}' >"$tmp/lit.gltf"
+{
+    printf 'camera position 0.5 0.5 3 direction 0 0 -1 up 0 1 0 fov 72.2631454\n'
+    printf 'plane width 32 height 16 pixel 1\nlight position 0.5 2 1 power 40 color 1 0.5 0.25\n'
+    printf 'mesh file %s\nrender mode path\n' "$tmp/lit.gltf"
+} >"$tmp/lit.scene"
+render_quiet "$tmp/lit.gltf" --width 32 -o "$tmp/model.pfm" || fail "lit.gltf: exit $?: $(cat "$tmp/err")"
+render_quiet "$tmp/lit.scene" -o "$tmp/hand.pfm" || fail "lit.scene: $(cat "$tmp/err")"
+same "a turned camera and a point light" "$tmp/model.pfm" "$tmp/hand.pfm"
+"$tz" diff "$tmp/model.pfm" "$tmp/black.pfm" >/dev/null 2>&1 && fail "lit.gltf: rendered black" || true
+# In a scene: `camera file` takes the file's camera and `mesh ... lights on` its point lights,
+# both moved by the line's transform: the hand-converted scene moved by 1 along x.
+{
+    printf 'camera file %s index 0 translate 1 0 0
+' "$tmp/lit.gltf"
+    printf 'plane width 32 height 16 pixel 1
+mesh file %s lights on translate 1 0 0
+' "$tmp/lit.gltf"
+    printf 'render mode path
+'
+} >"$tmp/moved.scene"
+sed 's/^camera position 0.5 /camera position 1.5 /; s/^light position 0.5 /light position 1.5 /; s/^\(mesh file .*\)$/\1 translate 1 0 0/' \
+    "$tmp/lit.scene" >"$tmp/moved_hand.scene"
+render_quiet "$tmp/moved.scene" -o "$tmp/model.pfm" || fail "moved.scene: exit $?: $(cat "$tmp/err")"
+render_quiet "$tmp/moved_hand.scene" -o "$tmp/hand.pfm" || fail "moved_hand.scene: $(cat "$tmp/err")"
+same "camera file and lights on, translated" "$tmp/model.pfm" "$tmp/hand.pfm"
+printf 'camera file %s name eye
+plane width 32 height 32 pixel 1
+mesh file %s
+background 1 1 1
+render mode path
+' \
+    "$cameras" "$cameras" | sed 's/name eye/index 0/' >"$tmp/cam0_file.scene"
+render_quiet "$tmp/cam0_file.scene" -o "$tmp/model.pfm" || fail "cam0_file.scene: $(cat "$tmp/err")"
+same "camera file Cameras.gltf" "$tmp/model.pfm" "$tmp/hand0.pfm"
+printf 'camera file %s name nobody
+plane width 8 height 8 pixel 1
+' "$cameras" >"$tmp/nobody.scene"
+expect_refusal "camera file name" "camera file '$cameras' has 2 cameras: 0 'nodes[1]', 1 'nodes[2]'" "$tmp/nobody.scene"
+# bad input: a light of negative intensity (named), a camera of aspect 0, a spot light (warned)
+gltf_with '"translation":[0.5,0.5,3]' '{"aspectRatio":1.0,"yfov":0.7}' \
+    '{"type":"point","intensity":-5}' 3 \
+    ',{"name":"lamp","extensions":{"KHR_lights_punctual":{"light":0}}}' >"$tmp/dark.gltf"
+expect_refusal "negative light" "dark.gltf: light 0 'lamp' (point) has colour x intensity -5 -5 -5" "$tmp/dark.gltf"
+gltf_with '"translation":[0.5,0.5,3]' '{"aspectRatio":0,"yfov":0.7}' '{"type":"point"}' 3 \
+    ',{"extensions":{"KHR_lights_punctual":{"light":0}}}' >"$tmp/flat.gltf"
+expect_refusal "aspect 0" "flat.gltf: camera 0 'eye' has an aspect ratio of 0" "$tmp/flat.gltf"
+gltf_with '"translation":[0.5,0.5,3]' '{"aspectRatio":1.0,"yfov":0.7}' \
+    '{"type":"spot","spot":{}}' 3 \
+    ',{"name":"cone","extensions":{"KHR_lights_punctual":{"light":0}}}' >"$tmp/spot.gltf"
+"$tz" render "$tmp/spot.gltf" --backend cpu --spp 1 --width 8 -o "$tmp/spot.pfm" 2>"$tmp/err" ||
+    fail "spot.gltf: exit $?"
+grep -qF "its spot light 'cone' is not rendered: trazador has point lights only" "$tmp/err" ||
+    fail "spot.gltf: no warning naming the spot light: $(cat "$tmp/err")"
+# No camera: one framing the box (scenes/README.md's rule): from its centre c along (1, 1, -1),
+# d = r / sin(min(fov, vertical fov) / 2), r half the diagonal, fov 50, 4:3. A triangle's box is
+# 0 0 0 to 1 1 0 (z negated: 0); 32 x 24 pixels.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$tmp/tri.obj"
+awk -v f="$tmp/tri.obj" 'BEGIN {
+    pi = atan2(0, -1); h = 50 * pi / 360; v = atan2(sin(h) / cos(h) * 24 / 32, 1)
+    r = 0.5 * sqrt(2); d = r / sin(h < v ? h : v); k = d / sqrt(3)
+    printf "camera position %.9g %.9g %.9g look_at 0.5 0.5 0 fov 50\n", 0.5 + k, 0.5 + k, -k
+    printf "plane width 32 height 24 pixel 1\nmesh file %s lights on\nbackground 1 1 1\nrender mode path\n", f
+}' >"$tmp/framed.scene"
+render_quiet "$tmp/tri.obj" --width 32 -o "$tmp/model.pfm" || fail "tri.obj: exit $?: $(cat "$tmp/err")"
+render_quiet "$tmp/framed.scene" -o "$tmp/hand.pfm" || fail "framed.scene: $(cat "$tmp/err")"
+"$tz" diff "$tmp/model.pfm" "$tmp/hand.pfm" --max-rmse 0.001 >/dev/null ||
+    fail "tri.obj: not framed by the documented rule: $("$tz" diff "$tmp/model.pfm" "$tmp/hand.pfm" 2>&1)"
+# Every glTF, OBJ and PLY of assimp-testmodels given as the scene: an image (exit 0) or a
+# message (exit 2), never a crash or a hang.
+while IFS= read -r -d '' file; do
+    rc=0
+    timeout 60 "$tz" render "$file" --backend cpu --spp 1 --width 16 -o "$tmp/any.pfm" \
+        >"$tmp/out" 2>&1 || rc=$?
+    if [ $rc = 2 ]; then
+        [ -s "$tmp/out" ] || fail "$file: exit 2 without a message"
+    elif [ $rc != 0 ]; then
+        fail "$file as the scene: exit $rc: $(tail -c 300 "$tmp/out")"
+    fi
+done < <(find "$models" \( -iname '*.gltf' -o -iname '*.glb' -o -iname '*.obj' -o -iname '*.ply' \) -print0 | sort -z)
+
 [ $failures = 0 ] || exit 1
 echo "models: all passed"

@@ -30,6 +30,8 @@ int cmd_gen(int argc, char **argv);
 int cmd_devices(int argc, char **argv);
 /* `trazador formats`: lists the model formats assimp reads. */
 int cmd_formats(int argc, char **argv);
+/* `trazador info MODEL`: lists a model file's faces, cameras and lights. */
+int cmd_info(int argc, char **argv);
 /* `trazador bench`: fixed workloads timed on the back ends. */
 int cmd_bench(int argc, char **argv);
 /* `trazador view SCENE`: a window showing the render converge, its camera moved by the mouse. */

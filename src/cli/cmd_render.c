@@ -18,6 +18,7 @@
 #include "image/image.h"
 #include "render/part.h"
 #include "scene/model_formats.h"
+#include "scene/model_scene.h"
 #include "scene/scene.h"
 #include "util/atomic_file.h"
 #include "util/clock.h"
@@ -38,6 +39,7 @@ typedef struct render_args {
     int sampler;                     /* render_sampler */
     const char *region, *samples;    /* "x0,x1,y0,y1", "A:B"; NULL: all */
     const char *checkpoint, *resume; /* part files; NULL: none */
+    const char *camera;              /* a model file's camera, index or name; NULL: its first */
     double checkpoint_every;         /* seconds; -1: not given (CHECKPOINT_EVERY) */
     double time_limit;               /* seconds; -1: none */
     int exr_type;                    /* 0 half, 1 float */
@@ -90,6 +92,9 @@ static const opt_spec render_specs[] = {
     OPT_WHOLE("--width", NULL, ARG(width), 1, SCENE_MAX_RESOLUTION,
               "N pixels across the scene's plane, 1 to " CLI_AS_TEXT(
                   SCENE_MAX_RESOLUTION) " (default: the scene's pixel size)"),
+    OPT_TEXT("--camera", NULL, ARG(camera), "N|NAME", "a camera's index or name",
+             "a model file given as the scene: its camera N (from 0) or NAME (default: its "
+             "first, or without one a camera that frames the model; `trazador info` lists them)"),
     OPT_WHOLE(
         "--threads", NULL, ARG(threads), 1, RENDER_MAX_THREADS,
         "CPU back end threads, 1 to " CLI_AS_TEXT(RENDER_MAX_THREADS) " (default: one per core)"),
@@ -456,42 +461,21 @@ static int render_and_write(const render_args *a, const scene *s, double started
     return ok ? 0 : 1;
 }
 
-/* Writes path as a scene's mesh line names it: quoted, with \" and \\, where a bare word would
- * not hold it. */
-static void mesh_path_text(const char *path, char *out, size_t size) {
-    if (!path[strcspn(path, " \t\"\\#")]) {
-        snprintf(out, size, "%s", path);
-        return;
-    }
-    size_t n = 0;
-    out[n++] = '"';
-    for (const char *c = path; *c && n + 4 < size; c++) {
-        if (*c == '"' || *c == '\\') out[n++] = '\\';
-        out[n++] = *c;
-    }
-    out[n++] = '"';
-    out[n] = '\0';
-}
-
-/* True (said) when the scene path, which failed to parse at line error_line, is a model file
- * (model_file_kind): how to render it then says more than the parser's byte or directive error. */
-static bool say_model_file(const char *path, int error_line) {
-    char kind[64], named[512];
-    if (!strcmp(path, "-") || !model_file_kind(path, error_line, kind, sizeof kind)) return false;
-    const char *slash = strrchr(path, '/');
-    mesh_path_text(slash ? slash + 1 : path, named, sizeof named); /* from a scene beside it */
-    fprintf(stderr,
-            "trazador: render: '%s' is a model file (%s), not a scene: render it from a scene that "
-            "loads it with a mesh line, such as\n"
-            "    camera position 0 1 -4 look_at 0 0 0 fov 45\n"
-            "    plane  width 4 height 3 pixel 0.01\n"
-            "    light  position -2 4 -3 power 80\n"
-            "    mesh   file %s\n"
-            "in a file beside it (README.md, \"Scenes\"; `trazador formats` lists the model "
-            "formats)%s%s\n",
-            path, kind, named, strcmp(kind, "Blender") ? "" : "; ",
-            strcmp(kind, "Blender") ? "" : MODEL_BLENDER_ADVICE);
-    return true;
+/* Parses the scene, or the model file given as one (model_scene.c): a file that fails to parse
+ * on its first line and whose bytes or extension are a model format's (model_file_kind). False
+ * with *err filled; *model: whether it was a model. */
+static bool parse_scene_or_model(const render_args *a, const char *scene_path, scene *s,
+                                 scene_error *err, bool *model) {
+    *model = false;
+    if (scene_parse_file_in_mode(scene_path, a->mode, s, err)) return true;
+    char kind[64];
+    if (err->out_of_memory || !strcmp(scene_path, "-") ||
+        !model_file_kind(scene_path, err->line, kind, sizeof kind))
+        return false;
+    *model = true;
+    log_debug("%s: a model file (%s), rendered as the scene", scene_path, kind);
+    model_scene_opts o = {.camera = a->camera, .width = a->width, .mode = a->mode};
+    return model_scene_parse(scene_path, &o, s, err);
 }
 
 int cmd_render(int argc, char **argv) {
@@ -507,19 +491,30 @@ int cmd_render(int argc, char **argv) {
     scene_error err;
     double parse_start = clock_seconds();
     /* --mode decides whether emission is allowed, so the parser is told it. */
-    bool parsed = scene_path ? scene_parse_file_in_mode(scene_path, a.mode, &s, &err)
+    bool model = false;
+    bool parsed = scene_path ? parse_scene_or_model(&a, scene_path, &s, &err, &model)
                              : scene_parse_string_in_mode(
                                    default_scene_text, strlen(default_scene_text),
                                    "scenes/cornell.scene (embedded)", a.mode, &s, &err);
     if (!parsed) {
-        if (!scene_path || err.out_of_memory || !say_model_file(scene_path, err.line))
-            scene_error_print(&err);
+        scene_error_print(&err);
         return err.out_of_memory ? 1 : 2;
+    }
+    if (a.camera && !model) {
+        fprintf(stderr,
+                "trazador: render: --camera picks a camera of a model file given as the "
+                "scene (render model.glb --camera 1): '%s' is a scene\n",
+                scene_path ? scene_path : "scenes/cornell.scene (embedded)");
+        scene_free(&s);
+        return 2;
     }
     log_debug("scene: read and parsed in %.1f ms", (clock_seconds() - parse_start) * 1e3);
     for (int k = 0; k < s.warning_count; k++) {
         const scene_error *w = &s.warnings[k];
-        log_warn("%s:%d:%d: %s", w->file, w->line, w->col, w->message);
+        if (w->line > 0)
+            log_warn("%s:%d:%d: %s", w->file, w->line, w->col, w->message);
+        else /* a model file's, given as the scene: no line of the user's */
+            log_warn("%s: %s", w->file, w->message);
     }
     /* A black image with exit 0 and no word looked like a broken renderer. */
     if (!scene_has_light(&s))

@@ -10,6 +10,7 @@ static const char usage_text[] =
     "usage: trazador render [SCENE] [-o OUT] [--backend auto|vulkan|cpu] [--spp N] [--seed N]\n"
     "                       [--mode report|path] [--no-jitter] [--no-indirect] [--indirect]\n"
     "                       [--bounces N] [--sampler auto|random|sobol] [--light-samples N]\n"
+    "                       [--camera N|NAME]\n"
     "                       [--threads N] [--device N] [--walk auto|compute|cooperative|rayquery]\n"
     "                       [--validate] [--quiet]\n"
     "                       [--verbose] [--tonemap srgb|linear] [--width N] [--no-bvh]\n"
@@ -22,6 +23,7 @@ static const char usage_text[] =
     "       trazador view [SCENE] [--backend auto|vulkan|cpu] [--spp N] [--width N] ...\n"
     "       trazador devices\n"
     "       trazador formats\n"
+    "       trazador info MODEL\n"
     "       trazador bench [--backend auto|vulkan|cpu|both] [--spp N]\n"
     "       trazador gen sphereflake --depth N [-o FILE] [--seed N] [--force]\n"
     "       trazador gen random --count N [-o FILE] [--seed N] [--force]\n"
@@ -40,8 +42,9 @@ typedef struct command {
 } command;
 
 static const command commands[] = {
-    {"render", cmd_render},   {"merge", cmd_merge}, {"diff", cmd_diff},       {"gen", cmd_gen},
-    {"devices", cmd_devices}, {"bench", cmd_bench}, {"formats", cmd_formats}, {"view", cmd_view},
+    {"render", cmd_render},   {"merge", cmd_merge},     {"diff", cmd_diff},
+    {"gen", cmd_gen},         {"devices", cmd_devices}, {"bench", cmd_bench},
+    {"formats", cmd_formats}, {"view", cmd_view},       {"info", cmd_info},
 };
 
 /* Runs the subcommand argv[1]; its exit code. */

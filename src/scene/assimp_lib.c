@@ -32,6 +32,7 @@ static void open_library(void) {
         return;
     }
     opened = find(handle, "aiImportFileEx", &lib.import_file_ex) &&
+             find(handle, "aiApplyPostProcessing", &lib.apply_post_processing) &&
              find(handle, "aiReleaseImport", &lib.release_import) &&
              find(handle, "aiGetErrorString", &lib.get_error_string) &&
              find(handle, "aiIsExtensionSupported", &lib.is_extension_supported) &&

@@ -12,6 +12,7 @@
 /* Each member has the type of a pointer to the assimp function it is named after. */
 typedef struct assimp_lib {
     __typeof__(&aiImportFileEx) import_file_ex;
+    __typeof__(&aiApplyPostProcessing) apply_post_processing;
     __typeof__(&aiReleaseImport) release_import;
     __typeof__(&aiGetErrorString) get_error_string;
     __typeof__(&aiIsExtensionSupported) is_extension_supported;

@@ -66,6 +66,21 @@ static inline dvec3 d3_cross(dvec3 a, dvec3 b) {
 static inline double d3_dot(dvec3 a, dvec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 static inline double d3_length(dvec3 a) { return sqrt(d3_dot(a, a)); }
 
+/* A model's transform on a mesh or `camera file` line: scale, then rotation about a unit axis,
+ * then translation (scene_mesh.c). */
+typedef struct mesh_transform {
+    double scale[3], r[3][3], translate[3];
+} mesh_transform;
+/* The transform of scale (per axis), rotate (axis and degrees, right-handed) and translate. */
+mesh_transform mesh_transform_make(const double scale[3], const double rotate[4],
+                                   const double translate[3]);
+/* A point moved by the transform; false when it leaves the coordinate range (1e18). */
+bool mesh_transform_point(const mesh_transform *m, vec3 v, vec3 *out);
+/* A direction (a camera's) by the transform's scale and rotation, in double rounded once. */
+vec3 mesh_transform_direction(const mesh_transform *m, vec3 v);
+/* A `camera file PATH` line (scene_camera_file.c), the camera directive's word checked. */
+bool directive_camera_file(parser *p);
+
 /* The directives' parsers (scene_setup.c, scene_primitives.c, scene_mesh.c): each parses the
  * tokenized line p->tokens into p->s; false (reported) on any error. */
 bool directive_camera(parser *p);

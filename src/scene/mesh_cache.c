@@ -17,6 +17,7 @@
 typedef struct cached_mesh {
     struct stat file;
     bool smooth, kept; /* kept: the copy was made (not out of memory) */
+    bool once;         /* adopted: the next load takes the model itself */
     mesh model;
 } cached_mesh;
 
@@ -35,10 +36,14 @@ static bool mesh_copy(const mesh *from, mesh *to) {
     *to = *from;
     to->faces = malloc(from->face_count * sizeof *from->faces);
     to->materials = malloc(((size_t)from->material_count + 1) * sizeof *from->materials);
-    if (!to->faces || !to->materials) {
+    to->cameras = malloc(((size_t)from->camera_count + 1) * sizeof *from->cameras);
+    to->lights = malloc(((size_t)from->light_count + 1) * sizeof *from->lights);
+    if (!to->faces || !to->materials || !to->cameras || !to->lights) {
         mesh_free(to);
         return false;
     }
+    memcpy(to->cameras, from->cameras, (size_t)from->camera_count * sizeof *from->cameras);
+    memcpy(to->lights, from->lights, (size_t)from->light_count * sizeof *from->lights);
     memcpy(to->faces, from->faces, from->face_count * sizeof *from->faces);
     memcpy(to->materials, from->materials, (size_t)from->material_count * sizeof *from->materials);
     return true;
@@ -49,8 +54,16 @@ bool mesh_cache_load(mesh_cache **cache, const char *path, bool smooth, mesh *ou
     struct stat file;
     bool known = stat(path, &file) == 0 && S_ISREG(file.st_mode);
     for (int k = 0; known && *cache && k < (*cache)->count; k++) {
-        const cached_mesh *c = &(*cache)->slot[k];
+        cached_mesh *c = &(*cache)->slot[k];
         if (!c->kept || c->smooth != smooth || !same_file(&c->file, &file)) continue;
+        if (c->once) { /* a model's scene: its one mesh line takes the model loaded for it */
+            *out = c->model;
+            memset(&c->model, 0, sizeof c->model);
+            c->kept = false;
+            log_debug("mesh %s: %zu faces, the import made for the model's scene", path,
+                      out->face_count);
+            return true;
+        }
         if (!mesh_copy(&c->model, out)) break; /* out of memory: load it as if new */
         log_debug("mesh %s: %zu faces, the import of an earlier line", path, out->face_count);
         return true;
@@ -66,6 +79,17 @@ bool mesh_cache_load(mesh_cache **cache, const char *path, bool smooth, mesh *ou
     c->slot[k].file = file;
     c->slot[k].smooth = smooth;
     c->slot[k].kept = mesh_copy(out, &c->slot[k].model);
+    return true;
+}
+
+bool mesh_cache_adopt(mesh_cache **cache, const char *path, bool smooth, mesh *model) {
+    struct stat file;
+    if (stat(path, &file) != 0 || !S_ISREG(file.st_mode)) return false;
+    if (!*cache) *cache = calloc(1, sizeof **cache);
+    if (!*cache || (*cache)->count == CACHE_SLOTS) return false;
+    cached_mesh *c = &(*cache)->slot[(*cache)->count++];
+    *c = (cached_mesh){.file = file, .smooth = smooth, .kept = true, .once = true, .model = *model};
+    memset(model, 0, sizeof *model);
     return true;
 }
 

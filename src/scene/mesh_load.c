@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/mman.h> /* memfd_create */
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -259,11 +260,23 @@ static void note_lost_strength(const char *path, mesh *out) {
 static bool import(const char *path, bool smooth, int fd, mesh *out, char *error,
                    size_t error_size) {
     memset(out, 0, sizeof *out);
-    unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices |
-                     aiProcess_SortByPType | aiProcess_ValidateDataStructure;
+    /* The cameras and lights are read before the post-processing, which renames them */
+    unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType;
     struct aiFileIO files = {file_open, file_close, (char *)(void *)out};
-    const struct aiScene *sc = ai->import_file_ex(path, flags, &files);
+    const struct aiScene *sc = ai->import_file_ex(path, aiProcess_ValidateDataStructure, &files);
     if (!sc) return fail(error, error_size, "cannot load: %s", ai->get_error_string());
+    const char *dot = strrchr(path, '.');
+    bool gltf = dot && (!strcasecmp(dot, ".gltf") || !strcasecmp(dot, ".glb"));
+    if (!mesh_read_views(sc, gltf, out)) {
+        ai->release_import(sc);
+        mesh_free(out);
+        return fail(error, error_size, "out of memory");
+    }
+    sc = ai->apply_post_processing(sc, flags);
+    if (!sc) {
+        mesh_free(out);
+        return fail(error, error_size, "cannot load: %s", ai->get_error_string());
+    }
     size_t faces = 0;
     for (unsigned i = 0; i < sc->mNumMeshes; i++) {
         const struct aiMesh *me = sc->mMeshes[i];
@@ -314,6 +327,7 @@ typedef struct reply {
     char unsupported[384];
     scene_input inputs[MESH_MAX_INPUTS];
     int input_count;
+    int camera_count, light_count; /* follow the materials */
     char error[512];
 } reply;
 
@@ -346,8 +360,12 @@ static void child_run(int fd, int shm, const char *path, bool smooth, size_t fil
     memcpy(r.unsupported, m.unsupported, sizeof r.unsupported);
     memcpy(r.inputs, m.inputs, sizeof r.inputs);
     r.input_count = m.input_count;
-    if (fd_write_all(fd, &r, sizeof r) && r.ok)
-        fd_write_all(fd, m.materials, (size_t)m.material_count * sizeof *m.materials);
+    r.camera_count = m.camera_count;
+    r.light_count = m.light_count;
+    if (fd_write_all(fd, &r, sizeof r) && r.ok &&
+        fd_write_all(fd, m.materials, (size_t)m.material_count * sizeof *m.materials) &&
+        fd_write_all(fd, m.cameras, (size_t)m.camera_count * sizeof *m.cameras))
+        fd_write_all(fd, m.lights, (size_t)m.light_count * sizeof *m.lights);
     _exit(0);
 }
 
@@ -429,7 +447,11 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
                     (uint64_t)shared.st_size >= r.face_count * sizeof *out->faces;
         out->faces = fits && r.face_count > 0 ? faces_room(r.face_count) : NULL;
         out->materials = calloc((size_t)r.material_count + 1, sizeof *out->materials);
-        if (!out->faces || !out->materials) {
+        bool views = r.camera_count >= 0 && r.camera_count <= MESH_MAX_CAMERAS &&
+                     r.light_count >= 0 && r.light_count <= MESH_MAX_LIGHTS;
+        out->cameras = views ? calloc((size_t)r.camera_count + 1, sizeof *out->cameras) : NULL;
+        out->lights = views ? calloc((size_t)r.light_count + 1, sizeof *out->lights) : NULL;
+        if (!out->faces || !out->materials || !out->cameras || !out->lights) {
             fail(error, error_size, "out of memory for %zu faces", r.face_count);
             reported = true;
         } else if (!copy_faces(shm, out->faces, r.face_count, false)) {
@@ -438,7 +460,20 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
             reported = true;
         } else {
             ok = fd_read_all_by(fds[0], out->materials,
-                                (size_t)r.material_count * sizeof *out->materials, deadline, &late);
+                                (size_t)r.material_count * sizeof *out->materials, deadline,
+                                &late) &&
+                 fd_read_all_by(fds[0], out->cameras, (size_t)r.camera_count * sizeof *out->cameras,
+                                deadline, &late) &&
+                 fd_read_all_by(fds[0], out->lights, (size_t)r.light_count * sizeof *out->lights,
+                                deadline, &late);
+            out->camera_count = r.camera_count;
+            out->light_count = r.light_count;
+            for (int k = 0; k < out->camera_count; k++)
+                out->cameras[k].name[sizeof out->cameras[k].name - 1] = '\0';
+            for (int k = 0; k < out->light_count; k++) {
+                out->lights[k].name[sizeof out->lights[k].name - 1] = '\0';
+                out->lights[k].kind[sizeof out->lights[k].kind - 1] = '\0';
+            }
         }
     } else if (got) {
         r.error[sizeof r.error - 1] = '\0';
@@ -475,5 +510,7 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
 void mesh_free(mesh *m) {
     free(m->faces);
     free(m->materials);
+    free(m->cameras);
+    free(m->lights);
     memset(m, 0, sizeof *m);
 }

@@ -31,6 +31,28 @@ typedef struct mesh_face {
     int material;
 } mesh_face;
 
+/* A camera of the file in trazador's space (mesh_cameras.c): its node's transform applied in the
+ * file's right-handed space, then z negated. */
+typedef struct mesh_camera {
+    char name[64];
+    vec3 position, direction, up;
+    double fov;    /* horizontal field of view, degrees (0: orthographic or none given) */
+    double aspect; /* width over height, as the file gives it (0: none) */
+    bool orthographic;
+} mesh_camera;
+
+/* A light of the file in trazador's space, as mesh_camera; its colour times its intensity. */
+typedef struct mesh_light {
+    char name[64];
+    char kind[16]; /* "point", "spot", "directional", "ambient", "area" or "undefined" */
+    vec3 position;
+    double color[3];
+} mesh_light;
+
+/* The most cameras and lights kept of a file (a scene takes SCENE_MAX_LIGHTS lights). */
+#define MESH_MAX_CAMERAS 256
+#define MESH_MAX_LIGHTS SCENE_MAX_LIGHTS
+
 typedef struct mesh {
     mesh_face *faces;
     size_t face_count;
@@ -42,6 +64,10 @@ typedef struct mesh {
     /* The files the import read (the model and those it names), the first MESH_MAX_INPUTS. */
     scene_input inputs[MESH_MAX_INPUTS];
     int input_count;
+    mesh_camera *cameras; /* the file's, in its order */
+    int camera_count;
+    mesh_light *lights;
+    int light_count;
 } mesh;
 
 /* Loads path; smooth: generate normals (by angle) where the file has none. False with a message
@@ -83,6 +109,16 @@ mesh_glass_outcome mesh_glass_parts(mesh *m, const bool *glass, bool mirrored,
 /* Gives the corners that have no normal (zero) the mean normal of the faces at their position
  * that meet their own face at under max_angle_degrees; false out of memory. */
 bool mesh_smooth_normals(mesh *m, float max_angle_degrees);
+/* Reads sc's cameras and lights (before any post-processing, whose PreTransformVertices renames
+ * them and, for glTF, applies a camera's node twice) into m; gltf: the file is glTF, whose
+ * assimp 5.2.5 importer gives the camera's node translation as its position and yfov x aspect as
+ * its horizontal fov. False out of memory. */
+struct aiScene;
+bool mesh_read_views(const struct aiScene *sc, bool gltf, mesh *m);
+/* Point light l as trazador's light: power the largest of its colour x intensity, colour that
+ * over the power (white at power 0); false when a component is negative, not finite or past the
+ * float range. */
+bool mesh_light_power(const mesh_light *l, float *power, vec3 *color);
 /* Releases a loaded mesh; safe on a zeroed one. */
 void mesh_free(mesh *m);
 

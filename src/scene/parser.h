@@ -16,9 +16,9 @@
 #define MAX_TOKENS (SCENE_MAX_LINE / 2 + 1)
 /* Characters of a bad token quoted back in an error message. */
 #define MAX_QUOTED_CHARS 60
-/* Keys per directive: the triangle has the most (v0 v1 v2 n0 n1 n2 and the five material keys:
- * color ks alpha ior emission). */
-#define MAX_KEYS 11
+/* Keys per directive: the mesh has the most (file scale rotate translate smooth lights and the
+ * five material keys: color ks alpha ior emission). */
+#define MAX_KEYS 12
 /* Spheres and triangles in all (a quad is two). A test build lowers it (test_parse_limit) to
  * reach the limit with a small text. */
 #ifndef PARSER_MAX_PRIMITIVES
@@ -157,5 +157,8 @@ scene parser_scene_defaults(void);
  * own mode) into *out, written only on success; false (reported in *err) on any error. */
 bool parser_run(const char *text, size_t length, const char *filename, int threads, int mode,
                 scene *out, scene_error *err);
+/* parser_run with the models of cache (mesh_cache.h) already loaded, which it releases. */
+bool parser_run_cached(const char *text, size_t length, const char *filename, int mode,
+                       struct mesh_cache *cache, scene *out, scene_error *err);
 
 #endif

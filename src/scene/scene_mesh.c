@@ -27,6 +27,7 @@ enum {
     MESH_ROTATE,
     MESH_TRANSLATE,
     MESH_SMOOTH,
+    MESH_LIGHTS,
     MESH_MATERIAL,
     MESH_KEY_COUNT = MESH_MATERIAL + MAT_KEY_COUNT
 };
@@ -36,6 +37,7 @@ static const key_spec mesh_keys[MESH_KEY_COUNT] = {
     {"rotate", NULL, VALUE_NUMBER, NO_RANGE},
     {"translate", "x y z", VALUE_NUMBER, COORD_RANGE},
     {"smooth", NULL, VALUE_SWITCH, 0.0, 1.0, false},
+    {"lights", NULL, VALUE_SWITCH, 0.0, 1.0, false},
     MATERIAL_KEY_SPECS,
 };
 _Static_assert(MESH_KEY_COUNT <= MAX_KEYS, "raise MAX_KEYS");
@@ -69,13 +71,8 @@ static bool mesh_path(parser *p, const token *t, char *out, size_t size) {
     return (n >= 0 && (size_t)n < size) || parser_fail(p, t->col, "mesh path is too long");
 }
 
-/* A mesh line's transform: scale, then rotation about a unit axis, then translation. */
-typedef struct mesh_transform {
-    double scale[3], r[3][3], translate[3];
-} mesh_transform;
-
-static mesh_transform make_transform(const double scale[3], const double rotate[4],
-                                     const double translate[3]) {
+mesh_transform mesh_transform_make(const double scale[3], const double rotate[4],
+                                   const double translate[3]) {
     mesh_transform m;
     double length = sqrt(rotate[0] * rotate[0] + rotate[1] * rotate[1] + rotate[2] * rotate[2]);
     double u[3] = {rotate[0] / length, rotate[1] / length, rotate[2] / length};
@@ -91,8 +88,7 @@ static mesh_transform make_transform(const double scale[3], const double rotate[
     return m;
 }
 
-/* A corner moved by the transform; false when it leaves the coordinate range. */
-static bool transform_point(const mesh_transform *m, vec3 v, vec3 *out) {
+bool mesh_transform_point(const mesh_transform *m, vec3 v, vec3 *out) {
     double in[3] = {(double)v.x * m->scale[0], (double)v.y * m->scale[1],
                     (double)v.z * m->scale[2]};
     float o[3];
@@ -103,6 +99,15 @@ static bool transform_point(const mesh_transform *m, vec3 v, vec3 *out) {
     }
     *out = v3(o[0], o[1], o[2]);
     return true;
+}
+
+vec3 mesh_transform_direction(const mesh_transform *m, vec3 v) {
+    double in[3] = {(double)v.x * m->scale[0], (double)v.y * m->scale[1],
+                    (double)v.z * m->scale[2]};
+    float o[3];
+    for (int i = 0; i < 3; i++)
+        o[i] = (float)(m->r[i][0] * in[0] + m->r[i][1] * in[1] + m->r[i][2] * in[2]) + 0.0f;
+    return v3(o[0], o[1], o[2]);
 }
 
 /* A normal by the inverse transpose, R S^-1, renormalized; false when it is zero. */
@@ -210,7 +215,7 @@ static void *transform_run(void *arg) {
     for (size_t f = t->begin; f < t->end; f++) {
         mesh_face face = t->faces[f];
         for (int k = 0; k < 3; k++) {
-            if (!transform_point(t->xf, t->faces[f].v[k], &face.v[k])) {
+            if (!mesh_transform_point(t->xf, t->faces[f].v[k], &face.v[k])) {
                 t->outside = f + 1;
                 return NULL;
             }
@@ -401,6 +406,46 @@ static bool check_glass(parser *p, mesh *me, const material_spec *m, const doubl
         (double)-open.edge[1].z);
 }
 
+/* With `lights on`, the file's point lights moved by the line's transform xf into the scene's
+ * lights; its other lights warned of by name. False (reported at col) on a light of negative or
+ * non-finite intensity, past the coordinate range or the lights' limit. */
+static bool add_lights(parser *p, const mesh *me, const mesh_transform *xf, const char *path,
+                       int col) {
+    char others[256] = "";
+    size_t used = 0;
+    for (int k = 0; k < me->light_count; k++) {
+        const mesh_light *l = &me->lights[k];
+        if (strcmp(l->kind, "point")) {
+            if (used < sizeof others)
+                used += (size_t)snprintf(others + used, sizeof others - used, "%s%s light '%s'",
+                                         used ? ", " : "", l->kind, l->name);
+            continue;
+        }
+        light out;
+        if (!mesh_light_power(l, &out.power, &out.color))
+            return parser_fail(p, col,
+                               "mesh '%s': light %d '%s' (%s) has colour x intensity %g %g %g: "
+                               "each must be finite and at least 0",
+                               path, k, l->name, l->kind, l->color[0], l->color[1], l->color[2]);
+        if (!mesh_transform_point(xf, l->position, &out.position))
+            return parser_fail(p, col,
+                               "mesh '%s': light %d '%s' leaves the coordinate range (1e18) once "
+                               "transformed",
+                               path, k, l->name);
+        void *array = p->s.lights;
+        bool ok = directive_grow(p, &array, &p->light_capacity, p->s.light_count, 1,
+                                 SCENE_MAX_LIGHTS, sizeof(light), "lights");
+        p->s.lights = array;
+        if (!ok) return false;
+        p->s.lights[p->s.light_count++] = out;
+    }
+    if (others[0])
+        parser_warn(p, p->line, col,
+                    "mesh '%s': its %s %s not rendered: trazador has point lights only (yet)", path,
+                    others, strchr(others, ',') ? "are" : "is");
+    return true;
+}
+
 /* A mesh from a model file (mesh_load.c): transformed, its degenerate faces dropped (one
  * warning), glass only when each of its parts is closed. */
 bool directive_mesh(parser *p) {
@@ -443,7 +488,7 @@ bool directive_mesh(parser *p) {
     double translate[3] = {0, 0, 0};
     for (int k = 0; k < 3 && (kv.given & BIT(MESH_TRANSLATE)); k++)
         translate[k] = kv.value[MESH_TRANSLATE][k];
-    mesh_transform xf = make_transform(scale, rotate, translate);
+    mesh_transform xf = mesh_transform_make(scale, rotate, translate);
     material given = {0};
     if (m) given = shape_material_of(p, &mesh_shape, m, &kv);
     bool glass = false, emits = false;
@@ -470,6 +515,10 @@ bool directive_mesh(parser *p) {
     int room = kept > (size_t)INT_MAX / 2 ? INT_MAX / 2 : (int)kept;
     if (!faces_reserve(p, room) || (smooth && !normals_reserve(p, room)) ||
         !add_faces(p, &me, kept, m ? &given : NULL, path, file->col, &emits)) {
+        mesh_free(&me);
+        return false;
+    }
+    if (parser_value_or(&kv, MESH_LIGHTS, 0) != 0 && !add_lights(p, &me, &xf, path, file->col)) {
         mesh_free(&me);
         return false;
     }

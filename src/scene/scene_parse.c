@@ -314,14 +314,17 @@ scene parser_scene_defaults(void) {
     };
 }
 
-bool parser_run(const char *text, size_t length, const char *filename, int threads, int mode,
-                scene *out, scene_error *err) {
+/* parser_run of threads threads with the models of cache (NULL: none yet), which it releases. */
+static bool run_with(const char *text, size_t length, const char *filename, int threads, int mode,
+                     struct mesh_cache *cache, scene *out, scene_error *err) {
     if (err) err->out_of_memory = false;
     parser *p = calloc(1, sizeof *p);
     if (!p) {
+        mesh_cache_free(cache);
         if (err) *err = (scene_error){.message = "out of memory", .out_of_memory = true};
         return false;
     }
+    p->meshes = cache;
     p->text = text;
     p->length = length;
     p->filename = filename ? filename : "<string>";
@@ -346,6 +349,16 @@ bool parser_run(const char *text, size_t length, const char *filename, int threa
     free(p->views);
     free(p);
     return ok;
+}
+
+bool parser_run(const char *text, size_t length, const char *filename, int threads, int mode,
+                scene *out, scene_error *err) {
+    return run_with(text, length, filename, threads, mode, NULL, out, err);
+}
+
+bool parser_run_cached(const char *text, size_t length, const char *filename, int mode,
+                       struct mesh_cache *cache, scene *out, scene_error *err) {
+    return run_with(text, length, filename, 0, mode, cache, out, err);
 }
 
 bool scene_parse_string_threads(const char *text, size_t length, const char *filename, int threads,

@@ -130,8 +130,10 @@ static bool check_camera_vector(parser *p, const key_values *kv, int key, vec3 *
 
 bool directive_camera(parser *p) {
     key_values kv;
-    if (!claim_once(p, &p->camera_line) ||
-        !parser_keys(p, "camera", camera_keys, CAMERA_KEY_COUNT, ~0u, 1, &kv) ||
+    if (!claim_once(p, &p->camera_line)) return false;
+    if (p->token_count > 1 && parser_token_is(&p->tokens[1], "file"))
+        return directive_camera_file(p);
+    if (!parser_keys(p, "camera", camera_keys, CAMERA_KEY_COUNT, ~0u, 1, &kv) ||
         !parser_require_keys(p, "camera", camera_keys, CAMERA_KEY_COUNT, BIT(CAMERA_POSITION),
                              &kv)) {
         return false;
