@@ -188,9 +188,8 @@ static void test_no_material(void) {
         if (!first_material(bare[k], &m)) continue;
         CHECK(m.kind == TZ_MATERIAL_LAMBERTIAN && m.color.x == 0.8f && m.color.y == 0.8f &&
                   m.color.z == 0.8f && m.ks == 0.0f,
-              "%s: material %d colour %g %g %g ks %g, want lambertian 0.8", bare[k],
-              (int)m.kind, (double)m.color.x, (double)m.color.y, (double)m.color.z,
-              (double)m.ks);
+              "%s: material %d colour %g %g %g ks %g, want lambertian 0.8", bare[k], (int)m.kind,
+              (double)m.color.x, (double)m.color.y, (double)m.color.z, (double)m.ks);
     }
     material m;
     if (first_material("white.obj", &m))

@@ -99,8 +99,8 @@ TZ_LANE_FN folded_bsdf fold_of_lobe(bsdf_material m, float share, vec3 f_i, floa
 /* The folded BSDF (fold_terms) at direction wi of a smooth vertex (shading normal n, geometric
  * normal ng, wo the way back, material m, share its bsdf_share), given its terms at wi itself:
  * BRDF f_i, shading cosine cos_i and pdf pdf_i. */
-TZ_FN folded_bsdf fold_at(vec3 n, vec3 ng, vec3 wi, vec3 wo, bsdf_material m, float share,
-                          vec3 f_i, float cos_i, float pdf_i) {
+TZ_FN folded_bsdf fold_at(vec3 n, vec3 ng, vec3 wi, vec3 wo, bsdf_material m, float share, vec3 f_i,
+                          float cos_i, float pdf_i) {
     fold_mirror fm = fold_mirror_of(n, ng, wi, wo);
     return fold_of_lobe(m, share, f_i, cos_i, pdf_i, fm.cos_m, phong_lobe(fm.xm, m.alpha));
 }
@@ -161,8 +161,8 @@ TZ_LANE_FN TZ_BOOL bsdf_goes_on(TZ_BOOL folds, float cos_i, vec3 ng, vec3 wi, fl
  * vertex of facing normals n and ng, wo the way back: us < share the cosine direction of (u1,
  * u2), else the Phong lobe about n's mirror of wo; a smooth face folds a direction below it above
  * it (folds_at), any other ends the path there. */
-TZ_FN bsdf_sample bsdf_sample_lobe(bsdf_material m, float share, vec3 n, vec3 ng, vec3 wo,
-                                   float us, float u1, float u2) {
+TZ_FN bsdf_sample bsdf_sample_lobe(bsdf_material m, float share, vec3 n, vec3 ng, vec3 wo, float us,
+                                   float u1, float u2) {
     vec3 wi;
     if (us < share) {
         wi = cosine_direction(n, u1, u2);
