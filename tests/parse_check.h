@@ -138,7 +138,8 @@ static inline bool parse_all_threads(const char *name, const char *text, size_t 
             continue;
         }
         check(t.sphere_count == s->sphere_count && t.light_count == s->light_count &&
-                  !memcmp(t.spheres, s->spheres, (size_t)s->sphere_count * sizeof *s->spheres) &&
+                  (!s->sphere_count ||
+                   !memcmp(t.spheres, s->spheres, (size_t)s->sphere_count * sizeof *s->spheres)) &&
                   same_faces(&t, s) && t.warning_count == s->warning_count &&
                   !memcmp(t.warnings, s->warnings, (size_t)s->warning_count * sizeof *t.warnings),
               name, "%d threads: %d spheres, %d triangles, %d warnings; one thread: %d, %d, %d",

@@ -39,6 +39,11 @@ static void random_scene(scene *s, int n) {
                  .bounces = 5};
     s->spheres = calloc((size_t)n, sizeof *s->spheres);
     s->sphere_count = n;
+    /* every sphere names material 0, a grey lambertian */
+    s->materials = calloc(1, sizeof *s->materials);
+    *s->materials =
+        (material){.kind = TZ_MATERIAL_LAMBERTIAN, .color = {0.8f, 0.8f, 0.8f}, .ior = 1};
+    s->material_count = 1;
     for (int k = 0; k < n; k++) {
         float r = rng_next(&rng_state) < 0.1f ? uniform(1.0f, 4.0f) : uniform(0.01f, 0.6f);
         s->spheres[k] = (sphere){.center = v3(uniform(-10, 10), uniform(-10, 10), uniform(-10, 10)),
