@@ -67,7 +67,7 @@ static inline double d3_dot(dvec3 a, dvec3 b) { return a.x * b.x + a.y * b.y + a
 static inline double d3_length(dvec3 a) { return sqrt(d3_dot(a, a)); }
 
 /* A model's transform on a mesh or `camera file` line: scale, then rotation about a unit axis,
- * then translation (scene_mesh.c). */
+ * then translation (mesh_transform.c). */
 typedef struct mesh_transform {
     double scale[3], r[3][3], translate[3];
 } mesh_transform;
@@ -78,6 +78,8 @@ mesh_transform mesh_transform_make(const double scale[3], const double rotate[4]
 bool mesh_transform_point(const mesh_transform *m, vec3 v, vec3 *out);
 /* A direction (a camera's) by the transform's scale and rotation, in double rounded once. */
 vec3 mesh_transform_direction(const mesh_transform *m, vec3 v);
+/* A normal by the inverse transpose, R S^-1, renormalized; false when it is zero. */
+bool mesh_transform_normal(const mesh_transform *m, vec3 n, vec3 *out);
 /* A `camera file PATH` line (scene_camera_file.c), the camera directive's word checked. */
 bool directive_camera_file(parser *p);
 
