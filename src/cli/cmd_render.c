@@ -489,13 +489,17 @@ int cmd_render(int argc, char **argv) {
     if (a.quiet) log_set_level(LOG_WARN);
     scene s;
     scene_error err;
+    /* what messages call the scene */
+    const char *scene_name = !scene_path               ? "scenes/cornell.scene (embedded)"
+                             : strcmp(scene_path, "-") ? scene_path
+                                                       : "<stdin>";
     double parse_start = clock_seconds();
     /* --mode decides whether emission is allowed, so the parser is told it. */
     bool model = false;
-    bool parsed = scene_path ? parse_scene_or_model(&a, scene_path, &s, &err, &model)
-                             : scene_parse_string_in_mode(
-                                   default_scene_text, strlen(default_scene_text),
-                                   "scenes/cornell.scene (embedded)", a.mode, &s, &err);
+    bool parsed = scene_path
+                      ? parse_scene_or_model(&a, scene_path, &s, &err, &model)
+                      : scene_parse_string_in_mode(default_scene_text, strlen(default_scene_text),
+                                                   scene_name, a.mode, &s, &err);
     if (!parsed) {
         scene_error_print(&err);
         return err.out_of_memory ? 1 : 2;
@@ -504,7 +508,7 @@ int cmd_render(int argc, char **argv) {
         fprintf(stderr,
                 "trazador: render: --camera picks a camera of a model file given as the "
                 "scene (render model.glb --camera 1): '%s' is a scene\n",
-                scene_path ? scene_path : "scenes/cornell.scene (embedded)");
+                scene_name);
         scene_free(&s);
         return 2;
     }
@@ -521,9 +525,7 @@ int cmd_render(int argc, char **argv) {
         log_warn(
             "%s: nothing lights this scene (no light of some power and colour, no emitting "
             "sphere or face, a black background): the image will be black",
-            !scene_path               ? "scenes/cornell.scene (embedded)"
-            : strcmp(scene_path, "-") ? scene_path
-                                      : "<stdin>");
+            scene_name);
     /* An output that cannot be written is said before the render, not after it. */
     int rc = !cli_apply_width(a.width, &s)                  ? 2
              : is_input("output", a.output, scene_path, &s) ? 2

@@ -97,15 +97,6 @@ typedef struct view_state {
     int saved; /* the last N of PREFIX-N */
 } view_state;
 
-/* Whether any sphere or face of s emits light. */
-static bool scene_emits(const scene *s) {
-    for (int k = 0; k < s->sphere_count; k++)
-        if (sphere_emits(s, &s->spheres[k])) return true;
-    for (int k = 0; k < s->triangle_count; k++)
-        if (triangle_emits(s, &s->triangles[k])) return true;
-    return false;
-}
-
 /* The window's title: the scene, the samples of f (NULL: none yet), the rate, the back end, the
  * mode, the exposure. */
 static void set_title(const view_state *st, const view_frame *f) {

@@ -26,6 +26,13 @@ void scene_free(scene *s) {
     s->input_count = 0;
 }
 
+bool scene_emits(const scene *s) {
+    /* a material is in the scene's table only when some sphere or face takes it */
+    for (int k = 0; k < s->material_count; k++)
+        if (material_emits(&s->materials[k])) return true;
+    return false;
+}
+
 bool scene_has_light(const scene *s) {
     if (s->background.x > 0.0f || s->background.y > 0.0f || s->background.z > 0.0f) return true;
     for (int k = 0; k < s->light_count; k++) {
@@ -33,10 +40,7 @@ bool scene_has_light(const scene *s) {
         if (l->power > 0.0f && (l->color.x > 0.0f || l->color.y > 0.0f || l->color.z > 0.0f))
             return true;
     }
-    /* a material is in the scene's table only when some sphere or face takes it */
-    for (int k = 0; k < s->material_count; k++)
-        if (material_emits(&s->materials[k])) return true;
-    return false;
+    return scene_emits(s);
 }
 
 void scene_error_print(const scene_error *err) {

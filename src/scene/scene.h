@@ -231,6 +231,8 @@ static inline bool sphere_emits(const scene *s, const sphere *sp) {
 static inline bool triangle_emits(const scene *s, const triangle *t) {
     return material_emits(triangle_material(s, t));
 }
+/* Whether some sphere or face emits light (path mode's emitters); never fails. */
+bool scene_emits(const scene *s);
 /* Whether anything can light the image: a point light of some power and colour (both modes), an
  * emitting sphere or face (path mode: report mode refuses emission) or a background that is not
  * black (seen by camera and mirror rays, and by report mode's indirect bounce); never fails. */
