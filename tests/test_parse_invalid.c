@@ -55,6 +55,8 @@ static const invalid_case invalid_cases[] = {
     {"look_at parallel to up",
      BYTES("camera position 0 0 0 look_at 0 5 0\nplane width 1 height 1 pixel 1\n"), 1, 23,
      "camera up (0 1 0) is parallel to direction (0 1 0)"},
+    {"camera file without its path", BYTES("camera file\n" BASE), 1, 12,
+     "expected a path after 'file'"},
     {"missing value", BYTES(BASE "sphere lambertian center 0 0 0 radius"), 3, 38,
      "expected a value for 'radius', got end of line"},
     {"missing value before comment", BYTES(BASE "sphere lambertian center 0 0 0 radius # r"), 3, 38,

@@ -48,7 +48,8 @@ static bool read_keys(parser *p, int *file, int *name, int *index, double scale[
         if (key == CF_FILE || key == CF_NAME) {
             if (next >= p->token_count)
                 return parser_fail(p, parser_end_col(p), "expected a %s after '%s'",
-                                   key == CF_FILE ? "path" : "camera's name", t->text);
+                                   key == CF_FILE ? "path" : "camera's name",
+                                   camera_file_keys[key].name);
             *(key == CF_FILE ? file : name) = next++;
             continue;
         }
