@@ -47,6 +47,8 @@ typedef struct tz_uvec4 {
 /* The scene has triangles; without it their code is dead wherever the flags are a
  * specialization constant (trace.comp's FLAGS). */
 #define TZ_FLAG_TRIANGLES 128u
+/* The scene places models as instances (struct gpu_instance): its walks take the two levels. */
+#define TZ_FLAG_INSTANCES 256u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
  * pixels, whose rays stay coherent; 4 x 8 ran more instructions: docs/PERF.md), 32 lanes on real
@@ -182,6 +184,24 @@ struct gpu_frame {
     TZ_UINT emitter_count;  /* path mode's emissive spheres and triangles */
     TZ_UINT triangle_count; /* primitives sphere_count to sphere_count + triangle_count - 1 */
     TZ_UINT light_samples;  /* path mode: emitter samples a diffuse vertex, at least 1 */
+    TZ_UINT instance_count; /* struct gpu_instance, 0 without instances */
+    TZ_UINT instance_leaf;  /* the id of instance 0 in the BVH's leaves (instances follow the
+                             * triangles, the models' included) */
+    TZ_UINT instance_shift; /* an instance's faces' keys: bits of its index's shift (below) */
+    TZ_UINT pad0;           /* 0 */
+};
+
+/* Instances (DESIGN section 3.4): one model's faces and BVH, stored once (triangles after the
+ * scene's own, the model's nodes after the scene's tree) and placed by a transform. A hit on
+ * face f of instance i (f counted from its model's first triangle) is primitive id
+ * TZ_INSTANCE_KEY + (i << frame.instance_shift) + f: the tie rule orders instances, and a ray
+ * leaving one face of one instance (`self`) still meets the same face of another. */
+#define TZ_INSTANCE_KEY 0x40000000
+struct gpu_instance {
+    TZ_VEC4 to_object[3]; /* rows of world -> model space: xyz the 3 x 3 part, w translation */
+    TZ_VEC4 to_world[3];  /* rows of model -> world space, the same way */
+    TZ_UVEC4 model;       /* x its model's root node, y its first triangle, z 1 when its
+                           * transform is the identity (then never applied: exact bits), w 0 */
 };
 
 /* One emissive sphere or triangle of path mode, 32 bytes: emitters are picked in proportion to

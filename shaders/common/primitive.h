@@ -7,6 +7,9 @@
 
 #include "bsdf.h"
 #include "dialect.h"
+#ifndef GL_core_profile
+#include "instance.h"
+#endif
 #include "ray.h"
 
 /* Whether the scene has triangles, from the flags: where they are a specialization constant
@@ -27,13 +30,51 @@ TZ_STRUCT(triangle_corners) {
 }
 TZ_STRUCT_END(triangle_corners)
 
+#ifdef GL_core_profile
+/* The shaders' walks take no instances yet (the Vulkan back end refuses scenes that have them):
+ * their text stays as it was, which glslang's optimizer compiles in seconds (the instances'
+ * branches inlined into the cooperative walk took it minutes and gigabytes). */
+#define triangle_of(id) ((id)-TZ_INT(TZ_FRAME.sphere_count))
+#define corners_in_world(id, k) (k)
+#define normal_in_world(id, n) (n)
+#else
+/* The triangle index of triangle primitive id (an instance's face's too). */
+TZ_FN int triangle_of(TZ_SCENE_PARAM int id) {
+    if (is_instance_key(TZ_SCENE_ARG id)) return triangle_of_key(TZ_SCENE_ARG id);
+    return id - TZ_INT(TZ_FRAME.sphere_count);
+}
+
+/* Corners k of triangle primitive id in world space: an instance's moved by its transform. */
+TZ_FN triangle_corners corners_in_world(TZ_SCENE_PARAM int id, triangle_corners k) {
+    if (is_instance_key(TZ_SCENE_ARG id)) {
+        int i = instance_of_key(TZ_SCENE_ARG id);
+        if (!instance_is_identity(TZ_SCENE_ARG i)) {
+            k.a = instance_point(TZ_SCENE_ARG i, k.a);
+            k.b = instance_point(TZ_SCENE_ARG i, k.b);
+            k.c = instance_point(TZ_SCENE_ARG i, k.c);
+        }
+    }
+    return k;
+}
+
+/* The shading normal n of triangle primitive id in world space: an instance's by its inverse
+ * transpose (the blend is normalized after). */
+TZ_FN vec3 normal_in_world(TZ_SCENE_PARAM int id, vec3 n) {
+    if (is_instance_key(TZ_SCENE_ARG id)) {
+        int i = instance_of_key(TZ_SCENE_ARG id);
+        if (!instance_is_identity(TZ_SCENE_ARG i)) return instance_normal(TZ_SCENE_ARG i, n);
+    }
+    return n;
+}
+#endif
+
 TZ_FN triangle_corners corners_of(TZ_SCENE_PARAM int id) {
-    int t = id - TZ_INT(TZ_FRAME.sphere_count);
+    int t = triangle_of(TZ_SCENE_ARG id);
     triangle_corners k;
     k.a = xyz(triangle_v0(TZ_SCENE_ARG t));
     k.b = xyz(triangle_v1(TZ_SCENE_ARG t));
     k.c = xyz(triangle_v2(TZ_SCENE_ARG t));
-    return k;
+    return corners_in_world(TZ_SCENE_ARG id, k);
 }
 
 /* Distance to triangle primitive id along o + t d, sh the ray's shear_of(d) (triangle_distance). */
@@ -82,15 +123,17 @@ TZ_FN surface surface_none(void) {
     return s;
 }
 
-/* The surface of triangle primitive id at pos, hit by o + t d. */
+/* The surface of triangle primitive id at pos, hit by o + t d: an instance's face as its
+ * corners and normals are in world space, moved there right after the hit. */
 TZ_FN surface triangle_surface(TZ_SCENE_PARAM int id, vec3 pos, vec3 o, vec3 d) {
-    int t = id - TZ_INT(TZ_FRAME.sphere_count);
+    int t = triangle_of(TZ_SCENE_ARG id);
     TZ_VEC4 v0 = triangle_v0(TZ_SCENE_ARG t), v1 = triangle_v1(TZ_SCENE_ARG t);
     TZ_VEC4 v2 = triangle_v2(TZ_SCENE_ARG t);
     triangle_corners k; /* corners_of's, from the fields read once */
     k.a = xyz(v0);
     k.b = xyz(v1);
     k.c = xyz(v2);
+    k = corners_in_world(TZ_SCENE_ARG id, k);
     surface s;
     s.nout = triangle_normal(k);
     s.pos = plane_hit(k.a, s.nout, o, d, pos);
@@ -103,10 +146,11 @@ TZ_FN surface triangle_surface(TZ_SCENE_PARAM int id, vec3 pos, vec3 o, vec3 d) 
         /* Barycentric weights of the hit from the very edge functions the walk tested. */
         triangle_edges e = triangle_edge_functions(k.a, k.b, k.c, o, shear_of(d));
         TZ_PRECISE float inv = 1.0f / e.det;
+        vec3 n0 = normal_in_world(TZ_SCENE_ARG id, xyz(normals_n0(TZ_SCENE_ARG TZ_INT(normals))));
+        vec3 n1 = normal_in_world(TZ_SCENE_ARG id, xyz(normals_n1(TZ_SCENE_ARG TZ_INT(normals))));
+        vec3 n2 = normal_in_world(TZ_SCENE_ARG id, xyz(normals_n2(TZ_SCENE_ARG TZ_INT(normals))));
         TZ_PRECISE vec3 n =
-            v3_add(v3_add(v3_scale(xyz(normals_n0(TZ_SCENE_ARG TZ_INT(normals))), e.u * inv),
-                          v3_scale(xyz(normals_n1(TZ_SCENE_ARG TZ_INT(normals))), e.v * inv)),
-                   v3_scale(xyz(normals_n2(TZ_SCENE_ARG TZ_INT(normals))), e.w * inv));
+            v3_add(v3_add(v3_scale(n0, e.u * inv), v3_scale(n1, e.v * inv)), v3_scale(n2, e.w * inv));
         TZ_PRECISE float len = v3_length(n);
         vec3 unit = v3_scale(n, 1.0f / len);
         /* A normal that interpolates to nothing or faces away from the face: the face's own. */
@@ -153,7 +197,7 @@ TZ_FN vec3 facing_shading(surface s, vec3 d) {
 /* The emitter slot of primitive id, -1 when it emits nothing. */
 TZ_FN int emitter_of(TZ_SCENE_PARAM int id) {
     if (is_triangle(TZ_SCENE_ARG id))
-        return TZ_INT(triangle_v2(TZ_SCENE_ARG id - TZ_INT(TZ_FRAME.sphere_count)).w) - 1;
+        return TZ_INT(triangle_v2(TZ_SCENE_ARG triangle_of(TZ_SCENE_ARG id)).w) - 1;
     return TZ_INT(sphere_params(TZ_SCENE_ARG id).w) - 1;
 }
 

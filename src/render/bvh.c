@@ -59,6 +59,20 @@ static item triangle_item(const struct gpu_triangle *t) {
     return it;
 }
 
+/* The item of an instance's box, padded as a triangle's. */
+static item box_item(const bvh_box *bx) {
+    item it = {{0}, {0}};
+    float m = 0.0f, h = 0.0f;
+    for (int a = 0; a < 3; a++) {
+        it.centroid[a] = 0.5f * bx->lo[a] + 0.5f * bx->hi[a];
+        it.half[a] = 0.5f * bx->hi[a] - 0.5f * bx->lo[a];
+        m = larger(m, larger(fabsf(bx->lo[a]), fabsf(bx->hi[a])));
+        h = larger(h, it.half[a]);
+    }
+    for (int a = 0; a < 3; a++) it.half[a] += (m + h) * 4e-6f;
+    return it;
+}
+
 /* The items of primitives [begin, end) of in, and their box and centroid box. */
 typedef struct item_share {
     const bvh_input *in;
@@ -73,8 +87,10 @@ static void *item_share_run(void *arg) {
     s->bounds = box_empty(), s->cbox = box_empty();
     for (uint32_t k = s->begin; k < s->end; k++) {
         item *it = &s->b->items[k];
+        uint32_t instance = in->sphere_count + in->triangle_count;
         *it = k < in->sphere_count ? sphere_item(&in->spheres[k])
-                                   : triangle_item(&in->triangles[k - in->sphere_count]);
+              : k < instance       ? triangle_item(&in->triangles[k - in->sphere_count])
+                                   : box_item(&in->instances[k - instance]);
         s->b->order[k] = k;
         box ib = item_box(it);
         box_grow(&s->bounds, &ib);
@@ -106,10 +122,11 @@ static void make_items(const bvh_input *in, builder *b, uint32_t count, task *ro
 
 bool bvh_build_primitives(const bvh_input *in, uint32_t max_depth, int threads, bvh *out) {
     *out = (bvh){0};
-    uint32_t count = in->sphere_count + in->triangle_count;
+    uint32_t count = in->sphere_count + in->triangle_count + in->instance_count;
     builder b = {.max_depth = max_depth,
                  .threads = thread_count(threads, THREADS_MAX),
-                 .first_triangle = in->sphere_count};
+                 .first_triangle = in->sphere_count,
+                 .first_instance = in->sphere_count + in->triangle_count};
     size_t n = count ? count : 1;
     b.items = big_malloc(n * sizeof *b.items);
     b.nodes = big_malloc(2 * n * sizeof *b.nodes);
@@ -130,7 +147,8 @@ bool bvh_build_primitives(const bvh_input *in, uint32_t max_depth, int threads, 
         if (task_depth > depth) depth = task_depth;
         if (!b.failed) flat_count = bvh_flatten_all(&b, flat);
         if (b.failed ||
-            (in->triangle_count > 0 && !bvh_renumber_leaves(&b, count, flat, flat_count))) {
+            (in->triangle_count + in->instance_count > 0 &&
+             !bvh_renumber_leaves(&b, count, in->instance_id, flat, flat_count))) {
             log_error("out of memory building a BVH over %u primitives", count);
             free(b.items), free(b.nodes), free(b.order), free(flat), free(b.tasks);
             return false;

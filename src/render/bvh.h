@@ -33,7 +33,16 @@ typedef struct bvh_input {
     uint32_t sphere_count;
     const struct gpu_triangle *triangles;
     uint32_t triangle_count;
+    /* Instances (input ids after the triangles), each by its box in world space; their leaves
+     * refer to ids from instance_id on, in their order of `order`. */
+    const struct bvh_box *instances;
+    uint32_t instance_count, instance_id;
 } bvh_input;
+
+/* An axis-aligned box. */
+typedef struct bvh_box {
+    float lo[3], hi[3];
+} bvh_box;
 
 /* Builds the tree over the input's primitives on at most threads threads (0: one per online
  * processor), every leaf at depth < max_depth; the same tree for every thread count. False

@@ -56,8 +56,9 @@ typedef struct task {
 typedef struct builder {
     item *items;
     uint32_t *order; /* order[k]: the input primitive at position k */
-    /* Inputs from here on are triangles, which share no leaf with spheres. */
-    uint32_t first_triangle;
+    /* Inputs from here on are triangles, which share no leaf with spheres, and from
+     * first_instance on instances (bvh_input), which share none with either. */
+    uint32_t first_triangle, first_instance;
     binary_node *nodes;
     uint32_t max_depth;
     int threads;
@@ -159,8 +160,9 @@ uint32_t bvh_build_node(builder *b, const task *t, bool top, uint32_t *depth);
 uint32_t bvh_build_tasks(builder *b);
 /* Writes b's tree into out, depth first; returns the node count. */
 uint32_t bvh_flatten_all(builder *b, struct gpu_bvh_node *out);
-/* Turns the leaves' positions into primitive ids; false on out-of-memory. */
-bool bvh_renumber_leaves(const builder *b, uint32_t count, struct gpu_bvh_node *nodes,
-                         uint32_t node_count);
+/* Turns the leaves' positions into primitive ids (instances' from instance_id); false on
+ * out-of-memory. */
+bool bvh_renumber_leaves(const builder *b, uint32_t count, uint32_t instance_id,
+                         struct gpu_bvh_node *nodes, uint32_t node_count);
 
 #endif

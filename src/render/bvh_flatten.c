@@ -97,14 +97,17 @@ uint32_t bvh_flatten_all(builder *b, struct gpu_bvh_node *out) {
 }
 
 /* Leaf references hold positions until here; a walk wants primitive ids, spheres numbered in
- * their order, then triangles: each leaf's range (of one kind) maps to consecutive ids. */
-bool bvh_renumber_leaves(const builder *b, uint32_t count, struct gpu_bvh_node *nodes,
-                         uint32_t node_count) {
+ * their order, then triangles, then instances from instance_id: each leaf's range (of one kind)
+ * maps to consecutive ids. */
+bool bvh_renumber_leaves(const builder *b, uint32_t count, uint32_t instance_id,
+                         struct gpu_bvh_node *nodes, uint32_t node_count) {
     uint32_t *id = big_malloc((count ? count : 1) * sizeof *id);
     if (!id) return false;
-    uint32_t spheres = 0, triangles = 0;
+    uint32_t spheres = 0, triangles = 0, instances = 0;
     for (uint32_t k = 0; k < count; k++)
-        id[k] = b->order[k] < b->first_triangle ? spheres++ : b->first_triangle + triangles++;
+        id[k] = b->order[k] < b->first_triangle   ? spheres++
+                : b->order[k] < b->first_instance ? b->first_triangle + triangles++
+                                                  : instance_id + instances++;
     for (uint32_t k = 0; k < node_count; k++) {
         tz_vec4 *lo[2] = {&nodes[k].left_lo, &nodes[k].right_lo};
         for (int c = 0; c < 2; c++) {

@@ -23,12 +23,17 @@ static void swap_items(const builder *b, uint32_t i, uint32_t j) {
     b->order[j] = o;
 }
 
-/* Whether positions [begin, end) hold primitives of one kind: a leaf holds spheres or triangles,
- * so that a walk tests it with one test. */
+/* The kind of input primitive k: 0 a sphere, 1 a triangle, 2 an instance. */
+static int kind_of(const builder *b, uint32_t k) {
+    return (k >= b->first_triangle) + (k >= b->first_instance);
+}
+
+/* Whether positions [begin, end) hold primitives of one kind: a leaf holds spheres, triangles or
+ * instances, so that a walk tests it with one test. */
 static bool one_kind(const builder *b, uint32_t begin, uint32_t end) {
-    bool first = b->order[begin] >= b->first_triangle;
+    int first = kind_of(b, b->order[begin]);
     for (uint32_t k = begin + 1; k < end; k++)
-        if ((b->order[k] >= b->first_triangle) != first) return false;
+        if (kind_of(b, b->order[k]) != first) return false;
     return true;
 }
 

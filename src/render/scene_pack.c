@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "render/bvh.h"
+#include "render/scene_pack_instances.h"
 #include "util/big_memory.h"
 #include "util/clock.h"
 #include "util/log.h"
@@ -35,7 +36,11 @@ _Static_assert(sizeof(struct gpu_normals) == 48, "gpu_normals is 48 bytes");
 _Static_assert(sizeof(struct gpu_light) == 32, "gpu_light is 32 bytes");
 _Static_assert(offsetof(struct gpu_light, position_power) == 0, "gpu_light layout");
 _Static_assert(offsetof(struct gpu_light, color) == 16, "gpu_light layout");
-_Static_assert(sizeof(struct gpu_frame) == 128, "gpu_frame is 128 bytes");
+_Static_assert(sizeof(struct gpu_frame) == 144, "gpu_frame is 144 bytes");
+_Static_assert(offsetof(struct gpu_frame, instance_count) == 128, "gpu_frame layout");
+_Static_assert(sizeof(struct gpu_instance) == 112, "gpu_instance is 112 bytes");
+_Static_assert(offsetof(struct gpu_instance, to_world) == 48, "gpu_instance layout");
+_Static_assert(offsetof(struct gpu_instance, model) == 96, "gpu_instance layout");
 _Static_assert(offsetof(struct gpu_frame, origin) == 0, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, right) == 16, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, up) == 32, "gpu_frame layout");
@@ -83,31 +88,41 @@ _Static_assert(TZ_BVH_LEAF_MAX < 1u << (32u - TZ_BVH_COUNT_SHIFT) &&
 
 static tz_vec4 vec4_from(vec3 v, float w) { return (tz_vec4){v.x, v.y, v.z, w}; }
 
-/* Sorts the spheres and triangles into BVH order and keeps the tree unless no_bvh (the order
- * stays: exact ties go to the lower index, so the same order gives the same image with and
- * without the tree); *triangle_source[t] becomes the scene index of stored triangle t. False
- * (logged) on out-of-memory. */
-static bool pack_bvh(packed_scene *out, uint32_t spheres, uint32_t triangles, bool no_bvh,
+/* Sorts the spheres and the scene's own triangles into BVH order and keeps the tree unless no_bvh
+ * (the order stays: exact ties go to the lower index, so the same order gives the same image with
+ * and without the tree); *triangle_source[t] becomes the scene index of stored triangle t. With
+ * instances the tree is kept whatever no_bvh says, its leaves hold them too, and they are packed
+ * in its order with their models (pack_instances). False (logged) on out-of-memory. */
+static bool pack_bvh(packed_scene *out, const scene *s, uint32_t triangles, bool no_bvh,
                      uint32_t **triangle_source) {
     double start = clock_seconds();
+    uint32_t spheres = (uint32_t)s->sphere_count, instances = (uint32_t)s->instance_count;
     bvh tree;
-    bvh_input in = {out->spheres, spheres, out->triangles, triangles};
-    if (!bvh_build_primitives(&in, TZ_BVH_MAX_DEPTH, 0, &tree)) return false;
+    bvh_box *boxes = NULL;
+    if (instances && !pack_instance_boxes(out, s, &boxes)) return false;
+    bvh_input in = {out->spheres, spheres, out->triangles, triangles, boxes, instances,
+                    spheres + out->frame.triangle_count};
+    bool built = bvh_build_primitives(&in, TZ_BVH_MAX_DEPTH, 0, &tree);
+    free(boxes);
+    if (!built) return false;
+    uint32_t *instance_order = big_malloc((instances ? instances : 1) * sizeof *instance_order);
     struct gpu_sphere *sorted = big_calloc(spheres ? spheres : 1, sizeof *sorted);
     struct gpu_triangle *sorted_t = big_calloc(triangles ? triangles : 1, sizeof *sorted_t);
     *triangle_source = big_malloc((triangles ? triangles : 1) * sizeof **triangle_source);
-    if (!sorted || !sorted_t || !*triangle_source) {
+    if (!sorted || !sorted_t || !*triangle_source || !instance_order) {
         log_error("out of memory sorting %u primitives into BVH order", spheres + triangles);
-        free(sorted), free(sorted_t), free(*triangle_source);
+        free(sorted), free(sorted_t), free(*triangle_source), free(instance_order);
         *triangle_source = NULL;
         bvh_free(&tree);
         return false;
     }
-    uint32_t ns = 0, nt = 0;
-    for (uint32_t k = 0; k < spheres + triangles; k++) {
+    uint32_t ns = 0, nt = 0, ni = 0;
+    for (uint32_t k = 0; k < spheres + triangles + instances; k++) {
         uint32_t from = tree.order[k];
         if (from < spheres) {
             sorted[ns++] = out->spheres[from];
+        } else if (from >= spheres + triangles) {
+            instance_order[ni++] = from - spheres - triangles;
         } else {
             (*triangle_source)[nt] = from - spheres;
             sorted_t[nt++] = out->triangles[from - spheres];
@@ -115,18 +130,20 @@ static bool pack_bvh(packed_scene *out, uint32_t spheres, uint32_t triangles, bo
     }
     free(out->spheres);
     out->spheres = sorted;
-    free(out->triangles);
-    out->triangles = sorted_t;
+    memcpy(out->triangles, sorted_t, (size_t)triangles * sizeof *sorted_t); /* models' stay */
+    free(sorted_t);
     free(tree.order);
-    if (no_bvh) {
+    if (no_bvh && !instances) {
         free(tree.nodes);
     } else {
         out->nodes = tree.nodes;
         out->bvh_depth = tree.depth;
         out->frame.node_count = tree.node_count;
     }
+    bool packed = !instances || pack_instances(out, s, instance_order);
+    free(instance_order);
     out->bvh_seconds = clock_seconds() - start;
-    return true;
+    return packed;
 }
 
 /* The mean of an emission's channels, as double. */
@@ -240,14 +257,16 @@ static bool pack_materials(packed_scene *out, const scene *s) {
 /* The triangles in scene order (v0.w the index of their material, as the scene's) and the
  * normals of the smooth ones; v2.w holds nothing yet (pack_emitters). False on out-of-memory. */
 static bool pack_triangles(packed_scene *out, const scene *s) {
-    uint32_t count = (uint32_t)s->triangle_count, smooth = 0;
-    for (uint32_t k = 0; k < count; k++) smooth += s->triangles[k].normals != TRIANGLE_FLAT;
+    uint32_t flat = (uint32_t)s->triangle_count, smooth = 0;
+    uint32_t count = flat + (uint32_t)s->model_face_count; /* the models' faces after the scene's */
+    for (uint32_t k = 0; k < count; k++)
+        smooth += (k < flat ? s->triangles[k] : s->model_faces[k - flat]).normals != TRIANGLE_FLAT;
     out->triangles = big_calloc(count ? count : 1, sizeof *out->triangles);
     out->normals = big_calloc(smooth ? smooth : 1, sizeof *out->normals);
     if (!out->triangles || !out->normals) return false;
     uint32_t n = 0;
     for (uint32_t k = 0; k < count; k++) {
-        const triangle *t = &s->triangles[k];
+        const triangle *t = k < flat ? &s->triangles[k] : &s->model_faces[k - flat];
         uint32_t normals = t->normals != TRIANGLE_FLAT ? n : TZ_FLAT;
         if (t->normals != TRIANGLE_FLAT) {
             const vec3 *sn = s->normals[t->normals].n;
@@ -338,7 +357,7 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         (opts->strategy == PATH_LIGHTS_ONLY ? TZ_FLAG_LIGHTS_ONLY : 0u) |
         (opts->strategy == PATH_BSDF_ONLY ? TZ_FLAG_BSDF_ONLY : 0u) |
         (scene_sampler_of(opts->sampler, opts->mode) == RENDER_SAMPLER_SOBOL ? TZ_FLAG_SOBOL : 0u) |
-        (s->triangle_count > 0 ? TZ_FLAG_TRIANGLES : 0u);
+        (s->triangle_count + s->model_face_count > 0 ? TZ_FLAG_TRIANGLES : 0u);
     /* The plane's distance: 2 x width (the seed's), or what the field of view asks. */
     float distance = s->camera_fov > 0.0f
                          ? (float)(0.5 * s->plane_width /
@@ -353,7 +372,7 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         .width = (uint32_t)s->width,
         .height = (uint32_t)s->height,
         .sphere_count = (uint32_t)s->sphere_count,
-        .triangle_count = (uint32_t)s->triangle_count,
+        .triangle_count = (uint32_t)(s->triangle_count + s->model_face_count),
         .light_count = (uint32_t)s->light_count,
         .seed = opts->seed,
         .bounces = (uint32_t)opts->bounces,
@@ -363,7 +382,7 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     };
     uint32_t *triangle_source = NULL;
     bool sorted =
-        pack_bvh(out, count, (uint32_t)s->triangle_count, opts->no_bvh, &triangle_source) &&
+        pack_bvh(out, s, (uint32_t)s->triangle_count, opts->no_bvh, &triangle_source) &&
         pack_emitters(out, s, path, triangle_source); /* logged */
     free(triangle_source);
     if (sorted && (!pack_soa(out, count) || !pack_triangle_soa(out, out->frame.triangle_count)))
@@ -397,7 +416,8 @@ void scene_pack_report(const packed_scene *p, const render_opts *opts, double pa
                       (uint64_t)p->material_count * sizeof *p->materials +
                       (uint64_t)p->normals_count * sizeof *p->normals +
                       (uint64_t)p->frame.light_count * sizeof *p->lights +
-                      (uint64_t)p->frame.node_count * sizeof *p->nodes;
+                      (uint64_t)p->frame.node_count * sizeof *p->nodes +
+                      (uint64_t)p->frame.instance_count * sizeof(struct gpu_instance);
     log_debug(
         "scene: %u sphere%s, %u triangle%s (%u smooth, %u material%s), %u BVH node%s (depth %u) "
         "built in %.3f s, %.1f MB for the shaders, packed in %.3f s in all",
@@ -417,5 +437,6 @@ void scene_pack_free(packed_scene *p) {
     free(p->triangle_soa.v[0]);
     free(p->nodes);
     free(p->emitters);
+    free(p->instances);
     *p = (packed_scene){0};
 }

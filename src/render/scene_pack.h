@@ -31,6 +31,7 @@ typedef struct packed_scene {
     triangle_soa triangle_soa;    /* and of triangles[]' corners */
     struct gpu_bvh_node *nodes;   /* frame.node_count of them; NULL (0) without a BVH */
     struct gpu_emitter *emitters; /* frame.emitter_count (path mode), one zeroed when none */
+    struct gpu_instance *instances; /* frame.instance_count, NULL when none */
     uint32_t bvh_depth;
     double bvh_seconds; /* build time */
 } packed_scene;

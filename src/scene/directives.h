@@ -80,6 +80,32 @@ bool mesh_transform_point(const mesh_transform *m, vec3 v, vec3 *out);
 vec3 mesh_transform_direction(const mesh_transform *m, vec3 v);
 /* A normal by the inverse transpose, R S^-1, renormalized; false when it is zero. */
 bool mesh_transform_normal(const mesh_transform *m, vec3 n, vec3 *out);
+/* Instances (scene_instance.c): the models the parse's mesh lines loaded, by their key (path,
+ * smooth and the line's material, NULL for the file's own). */
+typedef struct mesh_placed mesh_placed;
+/* The model an earlier line loaded with this key, NULL when none did. */
+mesh_placed *mesh_placed_find(parser *p, const char *path, bool smooth, const material *given);
+/* Keeps the key of a mesh line loaded as faces, scene.triangles[first, end) and its normals from
+ * normals_first, moved by xf, unless an earlier line has it; instanceable: whether later lines
+ * may share its faces. False (reported) out of memory. */
+bool mesh_placed_note(parser *p, const char *path, bool smooth, const material *given,
+                      bool instanceable, int first, int normals_first, const mesh_transform *xf);
+/* Whether later lines may place r's model as instances. */
+bool mesh_placed_instanceable(const mesh_placed *r);
+/* Whether r's model is made (a second line placed it). */
+bool mesh_placed_has_model(const mesh_placed *r);
+/* Moves scene.triangles[first, end), a line's faces loaded untransformed, into a new model of
+ * r and places it where r's first line was; false (reported at col) out of memory or when
+ * instance_add refuses. */
+bool mesh_placed_make_model(parser *p, mesh_placed *r, int first, int col);
+/* Places r's model by xf; false (reported at col) when xf is singular or the instances pass
+ * their limit (SCENE_MAX_INSTANCE_KEYS). */
+bool mesh_placed_instance(parser *p, mesh_placed *r, const mesh_transform *xf, int col);
+/* Takes out the faces (and their normals) of the first lines whose models became instances;
+ * false (reported) out of memory. */
+bool mesh_placed_finish(parser *p);
+/* Releases the keys; safe when there are none. */
+void mesh_placed_free(parser *p);
 /* A `camera file PATH` line (scene_camera_file.c), the camera directive's word checked. */
 bool directive_camera_file(parser *p);
 

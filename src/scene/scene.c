@@ -12,6 +12,13 @@ void scene_free(scene *s) {
     free(s->normals);
     free(s->lights);
     free(s->inputs);
+    free(s->model_faces);
+    free(s->models);
+    free(s->instances);
+    s->model_faces = NULL;
+    s->models = NULL;
+    s->instances = NULL;
+    s->model_face_count = s->model_count = s->instance_count = 0;
     s->spheres = NULL;
     s->triangles = NULL;
     s->materials = NULL;

@@ -118,6 +118,21 @@ typedef struct triangle {
     uint32_t normals;  /* scene.normals[normals], or TRIANGLE_FLAT */
 } triangle;
 
+/* Instances (DESIGN section 3.4): `mesh` lines that name one model again share one copy of its
+ * faces, each placing it by its own transform. A model's faces are scene.model_faces[first,
+ * first + count), in the model's own space. */
+typedef struct scene_model {
+    int first, count;
+} scene_model;
+/* At most this many instances: a hit on one is a primitive id TZ_INSTANCE_KEY + (instance <<
+ * bits) + face, where bits is the bits of the largest instanced model's face count, under 2^31. */
+#define SCENE_MAX_INSTANCE_KEYS 1073741824LL
+/* One placement of scene.models[model]: world = to_world x (its 3 x 3 part, then column 3). */
+typedef struct scene_instance {
+    int model;
+    double to_world[3][4];
+} scene_instance;
+
 typedef struct light {
     vec3 position;
     float power;
@@ -170,6 +185,12 @@ typedef struct scene {
     int material_count;
     face_normals *normals; /* the smooth triangles' */
     int normals_count;
+    triangle *model_faces; /* the instanced models' faces (scene_model) */
+    int model_face_count;
+    scene_model *models;
+    int model_count;
+    scene_instance *instances;
+    int instance_count;
     light *lights;
     int light_count;
     scene_input *inputs; /* the meshes' files, each once */

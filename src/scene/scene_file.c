@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "scene/directives.h"
 #include "scene/parser.h"
 #include "scene/scene.h"
 #include "util/big_memory.h"
@@ -51,7 +52,7 @@ static void stream_check_init(stream_check *c, const char *path) {
 }
 
 static void stream_check_free(stream_check *c) {
-    if (c->p) scene_free(&c->p->s), free(c->p->views);
+    if (c->p) scene_free(&c->p->s), free(c->p->views), mesh_placed_free(c->p);
     free(c->p);
 }
 

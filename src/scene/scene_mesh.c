@@ -421,6 +421,25 @@ bool directive_mesh(parser *p) {
     char path[PATH_MAX];
     if (!mesh_path(p, file, path, sizeof path)) return false;
     bool smooth = parser_value_or(&kv, MESH_SMOOTH, 0) != 0;
+    bool lights = parser_value_or(&kv, MESH_LIGHTS, 0) != 0;
+    double translate[3] = {0, 0, 0};
+    for (int k = 0; k < 3 && (kv.given & BIT(MESH_TRANSLATE)); k++)
+        translate[k] = kv.value[MESH_TRANSLATE][k];
+    mesh_transform xf = mesh_transform_make(scale, rotate, translate);
+    material given = {0};
+    if (m) given = shape_material_of(p, &mesh_shape, m, &kv);
+    /* A model an earlier line loaded, placed again: an instance (scene_instance.c). A mirroring
+     * scale would turn glass inside out and `lights on` needs the file: those load faces. */
+    bool mirror = scale[0] * scale[1] * scale[2] < 0.0;
+    mesh_placed *placed = mesh_placed_find(p, path, smooth, m ? &given : NULL);
+    bool instance = placed && mesh_placed_instanceable(placed) && !mirror && !lights;
+    if (instance && mesh_placed_has_model(placed))
+        return mesh_placed_instance(p, placed, &xf, file->col);
+    /* The model's own faces are loaded untransformed for the instances to share. */
+    const double unit_scale[3] = {1, 1, 1}, unit_rotate[4] = {0, 0, 1, 0}, origin[3] = {0, 0, 0};
+    mesh_transform faces_xf =
+        instance ? mesh_transform_make(unit_scale, unit_rotate, origin) : xf;
+    int first = p->s.triangle_count, normals_first = p->s.normals_count;
     mesh me;
     char error[512];
     if (!mesh_cache_load(&p->meshes, path, smooth, &me, error, sizeof error)) {
@@ -436,21 +455,15 @@ bool directive_mesh(parser *p) {
         mesh_free(&me);
         return false;
     }
-    double translate[3] = {0, 0, 0};
-    for (int k = 0; k < 3 && (kv.given & BIT(MESH_TRANSLATE)); k++)
-        translate[k] = kv.value[MESH_TRANSLATE][k];
-    mesh_transform xf = mesh_transform_make(scale, rotate, translate);
-    material given = {0};
-    if (m) given = shape_material_of(p, &mesh_shape, m, &kv);
     bool glass = false, emits = false;
-    if (!check_glass(p, &me, m, scale, path, file->col, &glass)) {
+    if (!check_glass(p, &me, m, instance ? unit_scale : scale, path, file->col, &glass)) {
         mesh_free(&me);
         return false;
     }
     /* Transformed in place; kept faces first. */
     size_t kept = 0, dropped = 0, outside = 0;
     char first_drop[320] = "";
-    if (!transform_faces(&me, &xf, smooth, &kept, &dropped, first_drop, sizeof first_drop,
+    if (!transform_faces(&me, &faces_xf, smooth, &kept, &dropped, first_drop, sizeof first_drop,
                          &outside)) {
         mesh_free(&me);
         return parser_fail(p, file->col,
@@ -469,7 +482,7 @@ bool directive_mesh(parser *p) {
         mesh_free(&me);
         return false;
     }
-    if (parser_value_or(&kv, MESH_LIGHTS, 0) != 0 && !add_lights(p, &me, &xf, path, file->col)) {
+    if (lights && !add_lights(p, &me, &xf, path, file->col)) {
         mesh_free(&me);
         return false;
     }
@@ -479,8 +492,14 @@ bool directive_mesh(parser *p) {
     }
     vec3 lo, hi;
     mesh_box(&me, kept, &lo, &hi);
-    if (glass) warn_tiny_glass(p, lo, hi, path, file->col);
-    if (!parser_note_mesh(p, file->col, kept, lo, hi, path)) {
+    if (glass && !instance) warn_tiny_glass(p, lo, hi, path, file->col);
+    bool noted = instance ? mesh_placed_make_model(p, placed, first, file->col) &&
+                                mesh_placed_instance(p, placed, &xf, file->col)
+                          : parser_note_mesh(p, file->col, kept, lo, hi, path) &&
+                                mesh_placed_note(p, path, smooth, m ? &given : NULL,
+                                                 !emits && !(m && material_emits(&given)) && !mirror && !lights, first,
+                                                 normals_first, &xf);
+    if (!noted) {
         mesh_free(&me);
         return false;
     }

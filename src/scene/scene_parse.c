@@ -25,6 +25,7 @@
 #include <strings.h>
 
 #include "scene/mesh_cache.h"
+#include "scene/directives.h"
 #include "scene/parser.h"
 #include "scene/scene.h"
 #include "shared_layout.h"
@@ -258,7 +259,7 @@ static bool check_fov(parser *p) {
 }
 
 static bool parse_text(parser *p, int threads) {
-    if (!parse_chunks(p, threads)) return false;
+    if (!parse_chunks(p, threads) || !mesh_placed_finish(p)) return false;
     /* Whole-scene errors are reported at the end of the file: the line after the last '\n'. */
     if (!p->camera_line) return parser_fail(p, 1, "missing 'camera' directive");
     if (!p->plane_line) return parser_fail(p, 1, "missing 'plane' directive");
@@ -346,6 +347,7 @@ static bool run_with(const char *text, size_t length, const char *filename, int 
         scene_free(&p->s);
     }
     mesh_cache_free(p->meshes);
+    mesh_placed_free(p);
     free(p->views);
     free(p);
     return ok;

@@ -81,7 +81,8 @@ static const shape_spec quad_shape = {
 /* Spheres and triangles share one primitive index: false (reported at the directive word) when
  * `adding` more would pass PARSER_MAX_PRIMITIVES. */
 static bool reserve_primitives(parser *p, int adding) {
-    long long total = (long long)p->s.sphere_count + p->s.triangle_count + adding;
+    long long total =
+        (long long)p->s.sphere_count + p->s.triangle_count + p->s.model_face_count + adding;
     if (total <= PARSER_MAX_PRIMITIVES) return true;
     return parser_fail(p, p->tokens[0].col,
                        "too many primitives (spheres and triangles together, a quad counting as "

@@ -6,6 +6,8 @@
 
 #include <math.h>
 
+#include "render/cpu/scene_accessors.h"
+#include "common/instance.h"
 #include "common/ray.h"
 #include "common/rng.h"
 #include "common/shade.h"
@@ -61,23 +63,32 @@ static inline void triangles_hit(const triangle_soa *tr, int begin, int end, int
 }
 
 /* Tests triangles [begin, end) (at most SOA_LANES, by triangle index) and keeps the nearest hit
- * below *best (nearer_hit, over primitive ids). */
-static inline void triangle_leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end, vec3 o,
-                                     vec3 d, float tmin, int self, float *best, int *id) {
+ * below *best (nearer_hit, over primitive ids: triangle t is first_id + t, sphere_count + t but
+ * in an instance, whose faces are keys). */
+static inline void triangle_leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end,
+                                     int first_id, vec3 o, vec3 d, float tmin, int self,
+                                     float *best, int *id) {
     float t[SOA_LANES];
-    int first_id = (int)p->frame.sphere_count;
     triangles_hit(&p->triangle_soa, (int)begin, (int)end, first_id, o, d, tmin, self, t);
     keep_nearest(t, first_id + (int)begin, best, id);
 }
 
-/* Tests the primitives [first, first + count) of one BVH leaf (one kind). */
-static inline void primitive_leaf_hit(const packed_scene *p, uint32_t first, uint32_t count, vec3 o,
-                                      vec3 d, float tmin, int self, float *best, int *id) {
+static void instances_hit(const packed_scene *p, uint32_t first, uint32_t count, vec3 o, vec3 d,
+                          float tmin, int self, int any_hit, float *best, int *id);
+
+/* Tests the primitives [first, first + count) of one BVH leaf (one kind), triangles by
+ * first_id (triangle_leaf_hit). */
+static inline void primitive_leaf_hit(const packed_scene *p, uint32_t first, uint32_t count,
+                                      int first_id, vec3 o, vec3 d, float tmin, int self,
+                                      int any_hit, float *best, int *id) {
     uint32_t spheres = p->frame.sphere_count;
     if (first < spheres)
         sphere_leaf_hit(p, first, first + count, o, d, tmin, self, best, id);
+    else if (p->frame.instance_count == 0 || first < p->frame.instance_leaf)
+        triangle_leaf_hit(p, first - spheres, first - spheres + count, first_id, o, d, tmin, self,
+                          best, id);
     else
-        triangle_leaf_hit(p, first - spheres, first - spheres + count, o, d, tmin, self, best, id);
+        instances_hit(p, first, count, o, d, tmin, self, any_hit, best, id);
 }
 
 /* Rays traced by this thread, for Mrays/s (render_cpu.c sums the threads'). */
@@ -87,24 +98,26 @@ uint64_t integrator_rays_traced(void) { return rays_traced; }
 
 void integrator_count_rays(uint64_t n) { rays_traced += n; }
 
-/* Nearest sphere hit below tmax through the BVH (*t its distance), or with any_hit the first one
- * found; -1 when none. Nearer child first, a stack of TZ_BVH_MAX_DEPTH child references (each
- * level pushes at most one), each leaf's spheres tested at once. Always inlined, so that it is
- * compiled into each of trace_ray's SIMD clones. */
-static inline __attribute__((always_inline)) int trace_bvh(const packed_scene *p, vec3 o, vec3 d,
-                                                           int self, float tmax, int any_hit,
-                                                           float *t) {
-    float tmin = ray_eps(o), best = tmax;
-    int id = -1;
+/* The nearest hit below *best through the tree from node root (*best its distance, *id its
+ * primitive), or with any_hit the first one found; triangles numbered from first_id (an
+ * instance's model walks with its ray in the model's space). Nearer child first, a stack of
+ * TZ_BVH_MAX_DEPTH child references (each level pushes at most one), each leaf's primitives tested
+ * at once. Always inlined, so that it is compiled into each of trace_ray's SIMD clones. */
+static inline __attribute__((always_inline)) void walk_bvh(const packed_scene *p, uint32_t root,
+                                                           int first_id, vec3 o, vec3 d,
+                                                           float tmin, int self, int any_hit,
+                                                           float *best_io, int *id_io) {
+    float best = *best_io;
+    int id = *id_io;
     vec3 inv = inverse_direction(d);
     uint32_t stack[TZ_BVH_MAX_DEPTH];
     float stack_t[TZ_BVH_MAX_DEPTH];
     int top = 0;
-    uint32_t ref = 0; /* the root */
+    uint32_t ref = root;
     for (;;) {
         uint32_t leaf = child_count(ref), first = child_index(ref);
         if (leaf > 0) {
-            primitive_leaf_hit(p, first, leaf, o, d, tmin, self, &best, &id);
+            primitive_leaf_hit(p, first, leaf, first_id, o, d, tmin, self, any_hit, &best, &id);
             if (any_hit && id >= 0) break;
         } else {
             const struct gpu_bvh_node *n = &p->nodes[first];
@@ -130,6 +143,41 @@ static inline __attribute__((always_inline)) int trace_bvh(const packed_scene *p
         }
         if (!go) break;
     }
+    *best_io = best;
+    *id_io = id;
+}
+
+/* The instances [first, first + count) of a leaf (ids from frame.instance_leaf): each walks its
+ * model's tree with the ray moved into its space (never by an identity: a flattened copy's bits),
+ * its faces numbered by their keys. Out of line: trace_bvh's clones share it. */
+static __attribute__((noinline)) void instances_hit(const packed_scene *p, uint32_t first,
+                                                    uint32_t count, vec3 o, vec3 d, float tmin,
+                                                    int self, int any_hit, float *best, int *id) {
+    for (uint32_t k = first - p->frame.instance_leaf; count-- > 0 && !(any_hit && *id >= 0); k++) {
+        const struct gpu_instance *in = &p->instances[k];
+        vec3 mo = o, md = d;
+        if (!in->model.z) {
+            mo = affine_point(in->to_object[0], in->to_object[1], in->to_object[2], o);
+            md = affine_direction(in->to_object[0], in->to_object[1], in->to_object[2], d);
+        }
+        int first_id = TZ_INSTANCE_KEY + (int)(k << p->frame.instance_shift) - (int)in->model.y;
+        walk_bvh(p, in->model.x, first_id, mo, md, tmin, self, any_hit, best, id);
+    }
+}
+
+void integrator_instances_hit(const packed_scene *p, uint32_t first, uint32_t count, vec3 o,
+                              vec3 d, int self, int any_hit, float *best, int *id) {
+    instances_hit(p, first, count, o, d, ray_eps(o), self, any_hit, best, id);
+}
+
+/* Nearest hit below tmax through the BVH (*t its distance), or with any_hit the first one found;
+ * -1 when none (walk_bvh from the root). */
+static inline __attribute__((always_inline)) int trace_bvh(const packed_scene *p, vec3 o, vec3 d,
+                                                           int self, float tmax, int any_hit,
+                                                           float *t) {
+    float best = tmax;
+    int id = -1;
+    walk_bvh(p, 0, (int)p->frame.sphere_count, o, d, ray_eps(o), self, any_hit, &best, &id);
     *t = best;
     return id;
 }
@@ -140,8 +188,7 @@ static inline __attribute__((always_inline)) int trace_bvh(const packed_scene *p
 SIMD_CLONES static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self, float tmax,
                                  int any_hit, float *t) {
     uint32_t count = p->frame.sphere_count, triangles = p->frame.triangle_count;
-    if (p->frame.node_count > 0 && count + triangles > PACKET_BRUTE_FORCE_MAX)
-        return trace_bvh(p, o, d, self, tmax, any_hit, t);
+    if (integrator_packet_walks(p)) return trace_bvh(p, o, d, self, tmax, any_hit, t);
     float tmin = ray_eps(o), best = tmax;
     int id = -1;
     for (uint32_t begin = 0; begin < count && !(any_hit && id >= 0); begin += SOA_LANES)
@@ -149,7 +196,7 @@ SIMD_CLONES static int trace_ray(const packed_scene *p, vec3 o, vec3 d, int self
                         self, &best, &id);
     for (uint32_t begin = 0; begin < triangles && !(any_hit && id >= 0); begin += SOA_LANES)
         triangle_leaf_hit(p, begin, begin + SOA_LANES < triangles ? begin + SOA_LANES : triangles,
-                          o, d, tmin, self, &best, &id);
+                          (int)count, o, d, tmin, self, &best, &id);
     *t = best;
     return id;
 }

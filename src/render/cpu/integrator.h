@@ -50,7 +50,8 @@ typedef struct packet_integrator {
  * PACKET_BRUTE_FORCE_MAX primitives), 0 when they test every one; never fails. */
 static inline int integrator_packet_walks(const packed_scene *p) {
     return p->frame.node_count > 0 &&
-           p->frame.sphere_count + p->frame.triangle_count > PACKET_BRUTE_FORCE_MAX;
+           (p->frame.sphere_count + p->frame.triangle_count > PACKET_BRUTE_FORCE_MAX ||
+            p->frame.instance_count > 0);
 }
 
 /* The packet integrators this processor runs into list, fastest first (the reference last);
@@ -75,6 +76,11 @@ int integrator_nearest(const packed_scene *p, vec3 o, vec3 d, int self, float *t
  * none. Through the BVH when the scene has one, else over every sphere; counts no ray. */
 int integrator_trace(const packed_scene *p, vec3 o, vec3 d, int self, float tmax, int any_hit,
                      float *t);
+/* Tests instances [first, first + count) (BVH leaf ids from frame.instance_leaf) against the ray
+ * o + t d leaving self, keeping in *best, *id the nearest hit below *best (or with any_hit the
+ * first found), as integrator_trace's walk does; counts no ray. */
+void integrator_instances_hit(const packed_scene *p, uint32_t first, uint32_t count, vec3 o,
+                              vec3 d, int self, int any_hit, float *best, int *id);
 /* Rays (nearest-hit and shadow) the calling thread has traced so far, counted by
  * integrator_nearest, integrator_occluded and integrator_count_rays; never fails. */
 uint64_t integrator_rays_traced(void);

@@ -224,12 +224,19 @@ LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d
     for (;;) {
         uint32_t leaf_count = child_count(ref), first = child_index(ref);
         if (leaf_count > 0) {
-            if (first < p->frame.sphere_count) /* a leaf holds one kind */
+            if (first < p->frame.sphere_count) { /* a leaf holds one kind */
                 for (uint32_t s = first; s < first + leaf_count; s++)
                     packet_sphere(p, s, o, d, self, tmin, 1, best, id);
-            else
+            } else if (p->frame.instance_count > 0 && first >= p->frame.instance_leaf) {
+                for (int k = 0; k < LANES; k++) { /* instances lane by lane (idle: -inf) */
+                    if (best[k] > -INFINITY)
+                        integrator_instances_hit(p, first, leaf_count, get3(o, k), get3(d, k),
+                                                 self[k], any_hit, &best[k], &id[k]);
+                }
+            } else {
                 for (uint32_t s = first; s < first + leaf_count; s++)
                     packet_triangle(p, s, &sh, o, self, tmin, 1, best, id);
+            }
             if (any_hit && all_hit(id, active)) return;
         } else {
             const struct gpu_bvh_node *n = &p->nodes[first];

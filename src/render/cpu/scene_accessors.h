@@ -38,6 +38,13 @@ static inline tz_vec4 light_position_power(const packed_scene *p, int k) {
 }
 static inline tz_vec4 light_color(const packed_scene *p, int k) { return p->lights[k].color; }
 static inline uint32_t light_count(const packed_scene *p) { return p->frame.light_count; }
+static inline tz_vec4 instance_to_object(const packed_scene *p, int i, int r) {
+    return p->instances[i].to_object[r];
+}
+static inline tz_vec4 instance_to_world(const packed_scene *p, int i, int r) {
+    return p->instances[i].to_world[r];
+}
+static inline tz_uvec4 instance_model(const packed_scene *p, int i) { return p->instances[i].model; }
 static inline tz_vec4 emitter_emission_pick(const packed_scene *p, int e) {
     return p->emitters[e].emission_pick;
 }

@@ -138,6 +138,13 @@ bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts 
     bool use_bvh = st->use_bvh;
     uint64_t sample_iterations = st->sample_iterations;
     uint32_t loop_limit = ctx->loop_limit;
+    if (s->instance_count > 0) { /* the shaders' walks have no second level yet */
+        snprintf(reason, RENDER_REASON_SIZE,
+                 "the scene places models as instances (%d), which the Vulkan walks do not "
+                 "take yet",
+                 s->instance_count);
+        return false;
+    }
     if (loop_limit && use_bvh && vk_strategy_walk_loop(st) < MIN_WALK_BUDGET) {
         snprintf(reason, RENDER_REASON_SIZE,
                  "with %d lights and this bounce limit a ray could walk the BVH only %u loop "

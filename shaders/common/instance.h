@@ -1,0 +1,80 @@
+/* instance.h: instances (DESIGN section 3.4), one text for C and GLSL (dialect.h) over the
+ * includer's accessors instance_to_object(i, r), instance_to_world(i, r) (rows of struct
+ * gpu_instance) and instance_model(i): a ray moved into a model's space for its walk, a hit's
+ * face found from its key, and its corners and normals moved back to world space. */
+#ifndef TRAZADOR_COMMON_INSTANCE_H
+#define TRAZADOR_COMMON_INSTANCE_H
+
+#include "dialect.h"
+
+/* Whether the scene has instances, from the flags. The shaders' walks take none yet (the Vulkan
+ * back end refuses such scenes): there the code is compiled out, which also spares glslang's
+ * optimizer (inlined into the cooperative walk it took minutes and gigabytes). */
+#ifdef GL_core_profile
+#define TZ_HAS_INSTANCES false
+#else
+#define TZ_HAS_INSTANCES ((TZ_FLAGS & TZ_FLAG_INSTANCES) != 0u)
+#endif
+
+/* Point p by the affine rows r0, r1, r2 (xyz the 3 x 3 part, w the translation), the products
+ * summed in that order, unfused: the same bits in C and GLSL. */
+TZ_LANE_FN vec3 affine_point(TZ_VEC4 r0, TZ_VEC4 r1, TZ_VEC4 r2, vec3 p) {
+    TZ_PRECISE float x = r0.x * p.x + r0.y * p.y + r0.z * p.z + r0.w;
+    TZ_PRECISE float y = r1.x * p.x + r1.y * p.y + r1.z * p.z + r1.w;
+    TZ_PRECISE float z = r2.x * p.x + r2.y * p.y + r2.z * p.z + r2.w;
+    return v3(x, y, z);
+}
+
+/* Direction d by the 3 x 3 part of the rows, as affine_point. */
+TZ_LANE_FN vec3 affine_direction(TZ_VEC4 r0, TZ_VEC4 r1, TZ_VEC4 r2, vec3 d) {
+    TZ_PRECISE float x = r0.x * d.x + r0.y * d.y + r0.z * d.z;
+    TZ_PRECISE float y = r1.x * d.x + r1.y * d.y + r1.z * d.z;
+    TZ_PRECISE float z = r2.x * d.x + r2.y * d.y + r2.z * d.z;
+    return v3(x, y, z);
+}
+
+/* A normal n of model space in world space: by the transpose of the world-to-model rows (the
+ * inverse transpose of model to world), not normalized. */
+TZ_LANE_FN vec3 affine_normal(TZ_VEC4 r0, TZ_VEC4 r1, TZ_VEC4 r2, vec3 n) {
+    TZ_PRECISE float x = r0.x * n.x + r1.x * n.y + r2.x * n.z;
+    TZ_PRECISE float y = r0.y * n.x + r1.y * n.y + r2.y * n.z;
+    TZ_PRECISE float z = r0.z * n.x + r1.z * n.y + r2.z * n.z;
+    return v3(x, y, z);
+}
+
+/* Whether primitive id is a face of an instance (a key, TZ_INSTANCE_KEY on). */
+TZ_FN TZ_BOOL is_instance_key(TZ_SCENE_PARAM int id) {
+    return TZ_HAS_INSTANCES TZ_AND(id >= TZ_INSTANCE_KEY);
+}
+
+/* The instance of key id. */
+TZ_FN int instance_of_key(TZ_SCENE_PARAM int id) {
+    return (id - TZ_INSTANCE_KEY) >> TZ_INT(TZ_FRAME.instance_shift);
+}
+
+/* The triangle index of key id's face: its instance's model's first face plus the key's low
+ * bits. */
+TZ_FN int triangle_of_key(TZ_SCENE_PARAM int id) {
+    int local = (id - TZ_INSTANCE_KEY) & ((1 << TZ_INT(TZ_FRAME.instance_shift)) - 1);
+    return TZ_INT(instance_model(TZ_SCENE_ARG instance_of_key(TZ_SCENE_ARG id)).y) + local;
+}
+
+/* Whether instance i's transform is the identity, never applied (a flattened copy's bits). */
+TZ_FN TZ_BOOL instance_is_identity(TZ_SCENE_PARAM int i) {
+    return instance_model(TZ_SCENE_ARG i).z != 0u;
+}
+
+/* Model point p of instance i in world space. */
+TZ_FN vec3 instance_point(TZ_SCENE_PARAM int i, vec3 p) {
+    return affine_point(instance_to_world(TZ_SCENE_ARG i, 0), instance_to_world(TZ_SCENE_ARG i, 1),
+                        instance_to_world(TZ_SCENE_ARG i, 2), p);
+}
+
+/* Model normal n of instance i in world space (not normalized). */
+TZ_FN vec3 instance_normal(TZ_SCENE_PARAM int i, vec3 n) {
+    return affine_normal(instance_to_object(TZ_SCENE_ARG i, 0),
+                         instance_to_object(TZ_SCENE_ARG i, 1),
+                         instance_to_object(TZ_SCENE_ARG i, 2), n);
+}
+
+#endif
