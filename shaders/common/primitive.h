@@ -149,8 +149,8 @@ TZ_FN surface triangle_surface(TZ_SCENE_PARAM int id, vec3 pos, vec3 o, vec3 d) 
         vec3 n0 = normal_in_world(TZ_SCENE_ARG id, xyz(normals_n0(TZ_SCENE_ARG TZ_INT(normals))));
         vec3 n1 = normal_in_world(TZ_SCENE_ARG id, xyz(normals_n1(TZ_SCENE_ARG TZ_INT(normals))));
         vec3 n2 = normal_in_world(TZ_SCENE_ARG id, xyz(normals_n2(TZ_SCENE_ARG TZ_INT(normals))));
-        TZ_PRECISE vec3 n =
-            v3_add(v3_add(v3_scale(n0, e.u * inv), v3_scale(n1, e.v * inv)), v3_scale(n2, e.w * inv));
+        TZ_PRECISE vec3 n = v3_add(v3_add(v3_scale(n0, e.u * inv), v3_scale(n1, e.v * inv)),
+                                   v3_scale(n2, e.w * inv));
         TZ_PRECISE float len = v3_length(n);
         vec3 unit = v3_scale(n, 1.0f / len);
         /* A normal that interpolates to nothing or faces away from the face: the face's own. */

@@ -146,9 +146,8 @@ bool bvh_build_primitives(const bvh_input *in, uint32_t max_depth, int threads, 
         uint32_t task_depth = b.failed ? 0 : bvh_build_tasks(&b);
         if (task_depth > depth) depth = task_depth;
         if (!b.failed) flat_count = bvh_flatten_all(&b, flat);
-        if (b.failed ||
-            (in->triangle_count + in->instance_count > 0 &&
-             !bvh_renumber_leaves(&b, count, in->instance_id, flat, flat_count))) {
+        if (b.failed || (in->triangle_count + in->instance_count > 0 &&
+                         !bvh_renumber_leaves(&b, count, in->instance_id, flat, flat_count))) {
             log_error("out of memory building a BVH over %u primitives", count);
             free(b.items), free(b.nodes), free(b.order), free(flat), free(b.tasks);
             return false;

@@ -100,7 +100,12 @@ static bool pack_bvh(packed_scene *out, const scene *s, uint32_t triangles, bool
     bvh tree;
     bvh_box *boxes = NULL;
     if (instances && !pack_instance_boxes(out, s, &boxes)) return false;
-    bvh_input in = {out->spheres, spheres, out->triangles, triangles, boxes, instances,
+    bvh_input in = {out->spheres,
+                    spheres,
+                    out->triangles,
+                    triangles,
+                    boxes,
+                    instances,
                     spheres + out->frame.triangle_count};
     bool built = bvh_build_primitives(&in, TZ_BVH_MAX_DEPTH, 0, &tree);
     free(boxes);
@@ -381,9 +386,8 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         .light_samples = (uint32_t)render_light_samples(opts),
     };
     uint32_t *triangle_source = NULL;
-    bool sorted =
-        pack_bvh(out, s, (uint32_t)s->triangle_count, opts->no_bvh, &triangle_source) &&
-        pack_emitters(out, s, path, triangle_source); /* logged */
+    bool sorted = pack_bvh(out, s, (uint32_t)s->triangle_count, opts->no_bvh, &triangle_source) &&
+                  pack_emitters(out, s, path, triangle_source); /* logged */
     free(triangle_source);
     if (sorted && (!pack_soa(out, count) || !pack_triangle_soa(out, out->frame.triangle_count)))
         log_error("out of memory packing %u spheres", count);

@@ -27,10 +27,10 @@ typedef struct packed_scene {
     struct gpu_normals *normals;    /* the smooth triangles' normals, one zeroed when none */
     uint32_t material_count, normals_count;
     struct gpu_light *lights;
-    sphere_soa sphere_soa;        /* the C back end's copy of spheres[].center_radius */
-    triangle_soa triangle_soa;    /* and of triangles[]' corners */
-    struct gpu_bvh_node *nodes;   /* frame.node_count of them; NULL (0) without a BVH */
-    struct gpu_emitter *emitters; /* frame.emitter_count (path mode), one zeroed when none */
+    sphere_soa sphere_soa;          /* the C back end's copy of spheres[].center_radius */
+    triangle_soa triangle_soa;      /* and of triangles[]' corners */
+    struct gpu_bvh_node *nodes;     /* frame.node_count of them; NULL (0) without a BVH */
+    struct gpu_emitter *emitters;   /* frame.emitter_count (path mode), one zeroed when none */
     struct gpu_instance *instances; /* frame.instance_count, NULL when none */
     uint32_t bvh_depth;
     double bvh_seconds; /* build time */

@@ -123,7 +123,8 @@ static bool pack_model(packed_scene *out, uint32_t first, uint32_t count, uint32
 bool pack_instance_boxes(const packed_scene *out, const scene *s, bvh_box **boxes) {
     uint32_t flat = (uint32_t)s->triangle_count;
     *boxes = malloc((size_t)(s->instance_count ? s->instance_count : 1) * sizeof **boxes);
-    double(*model_box)[6] = malloc((size_t)(s->model_count ? s->model_count : 1) * sizeof *model_box);
+    double(*model_box)[6] =
+        malloc((size_t)(s->model_count ? s->model_count : 1) * sizeof *model_box);
     if (!*boxes || !model_box) {
         log_error("out of memory packing %d instances", s->instance_count);
         free(*boxes), free(model_box);
@@ -161,8 +162,8 @@ bool pack_instances(packed_scene *out, const scene *s, const uint32_t *instance_
     }
     for (int k = 0; k < s->instance_count; k++) {
         const scene_instance *in = &s->instances[instance_order[k]];
-        out->instances[k] = gpu_instance_of(in, roots[in->model],
-                                            flat + (uint32_t)s->models[in->model].first);
+        out->instances[k] =
+            gpu_instance_of(in, roots[in->model], flat + (uint32_t)s->models[in->model].first);
     }
     free(roots);
     uint32_t shift = 0;

@@ -91,7 +91,7 @@ typedef struct parser {
     int mode_given; /* the render's mode from the command line; -1: the scene's */
     /* A chunk parsed ahead: any directive but sphere, triangle and quad stops it. */
     bool primitives_only;
-    struct mesh_cache *meshes; /* the models mesh lines loaded (mesh_cache.c), NULL before one */
+    struct mesh_cache *meshes;  /* the models mesh lines loaded (mesh_cache.c), NULL before one */
     struct mesh_placed *placed; /* the mesh lines' models, for instances (scene_instance.c) */
     size_t placed_count;
     mesh_view *views; /* the mesh lines' boxes, in order (parser_note_mesh); freed by the parse */

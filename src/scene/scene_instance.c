@@ -16,10 +16,10 @@
 struct mesh_placed {
     char *path;
     bool smooth, given;
-    material m;         /* the line's material, when given */
-    bool instanceable;  /* nothing that a copy shared with others cannot show (mesh_placed_note) */
-    int first, count;   /* the first line's faces in scene.triangles */
-    int normals_first;  /* and their normals in scene.normals, when smooth */
+    material m;        /* the line's material, when given */
+    bool instanceable; /* nothing that a copy shared with others cannot show (mesh_placed_note) */
+    int first, count;  /* the first line's faces in scene.triangles */
+    int normals_first; /* and their normals in scene.normals, when smooth */
     int normals_count;
     double to_world[3][4]; /* the first line's transform */
     int model;             /* its scene.models index, -1 before a second line */
@@ -102,8 +102,7 @@ static bool invertible(double rows[3][4]) {
 
 /* Appends an instance of model `model` with rows to_world; false (reported at col) when the
  * transform is singular or past the instances' limit. */
-static bool instance_add(parser *p, int model, double to_world[3][4], int col,
-                         const char *path) {
+static bool instance_add(parser *p, int model, double to_world[3][4], int col, const char *path) {
     if (!invertible(to_world))
         return parser_fail(p, col,
                            "mesh '%s': its transform is singular (an instance needs one that "
@@ -138,7 +137,8 @@ bool mesh_placed_instance(parser *p, mesh_placed *r, const mesh_transform *xf, i
 bool mesh_placed_make_model(parser *p, mesh_placed *r, int first, int col) {
     scene *s = &p->s;
     int count = s->triangle_count - first;
-    triangle *faces = realloc(s->model_faces, (size_t)(s->model_face_count + count) * sizeof *faces);
+    triangle *faces =
+        realloc(s->model_faces, (size_t)(s->model_face_count + count) * sizeof *faces);
     scene_model *models = realloc(s->models, (size_t)(s->model_count + 1) * sizeof *models);
     if (faces) s->model_faces = faces;
     if (models) s->models = models;

@@ -437,8 +437,7 @@ bool directive_mesh(parser *p) {
         return mesh_placed_instance(p, placed, &xf, file->col);
     /* The model's own faces are loaded untransformed for the instances to share. */
     const double unit_scale[3] = {1, 1, 1}, unit_rotate[4] = {0, 0, 1, 0}, origin[3] = {0, 0, 0};
-    mesh_transform faces_xf =
-        instance ? mesh_transform_make(unit_scale, unit_rotate, origin) : xf;
+    mesh_transform faces_xf = instance ? mesh_transform_make(unit_scale, unit_rotate, origin) : xf;
     int first = p->s.triangle_count, normals_first = p->s.normals_count;
     mesh me;
     char error[512];
@@ -496,9 +495,10 @@ bool directive_mesh(parser *p) {
     bool noted = instance ? mesh_placed_make_model(p, placed, first, file->col) &&
                                 mesh_placed_instance(p, placed, &xf, file->col)
                           : parser_note_mesh(p, file->col, kept, lo, hi, path) &&
-                                mesh_placed_note(p, path, smooth, m ? &given : NULL,
-                                                 !emits && !(m && material_emits(&given)) && !mirror && !lights, first,
-                                                 normals_first, &xf);
+                                mesh_placed_note(
+                                    p, path, smooth, m ? &given : NULL,
+                                    !emits && !(m && material_emits(&given)) && !mirror && !lights,
+                                    first, normals_first, &xf);
     if (!noted) {
         mesh_free(&me);
         return false;

@@ -24,8 +24,8 @@
 #include <string.h>
 #include <strings.h>
 
-#include "scene/mesh_cache.h"
 #include "scene/directives.h"
+#include "scene/mesh_cache.h"
 #include "scene/parser.h"
 #include "scene/scene.h"
 #include "shared_layout.h"

@@ -6,11 +6,11 @@
 
 #include <math.h>
 
-#include "render/cpu/scene_accessors.h"
 #include "common/instance.h"
 #include "common/ray.h"
 #include "common/rng.h"
 #include "common/shade.h"
+#include "render/cpu/scene_accessors.h"
 #include "render/cpu/simd_clones.h"
 
 /* Distances to spheres [begin, begin + SOA_LANES) into t[] (sphere_distance), INFINITY past
@@ -104,9 +104,9 @@ void integrator_count_rays(uint64_t n) { rays_traced += n; }
  * TZ_BVH_MAX_DEPTH child references (each level pushes at most one), each leaf's primitives tested
  * at once. Always inlined, so that it is compiled into each of trace_ray's SIMD clones. */
 static inline __attribute__((always_inline)) void walk_bvh(const packed_scene *p, uint32_t root,
-                                                           int first_id, vec3 o, vec3 d,
-                                                           float tmin, int self, int any_hit,
-                                                           float *best_io, int *id_io) {
+                                                           int first_id, vec3 o, vec3 d, float tmin,
+                                                           int self, int any_hit, float *best_io,
+                                                           int *id_io) {
     float best = *best_io;
     int id = *id_io;
     vec3 inv = inverse_direction(d);
@@ -165,8 +165,8 @@ static __attribute__((noinline)) void instances_hit(const packed_scene *p, uint3
     }
 }
 
-void integrator_instances_hit(const packed_scene *p, uint32_t first, uint32_t count, vec3 o,
-                              vec3 d, int self, int any_hit, float *best, int *id) {
+void integrator_instances_hit(const packed_scene *p, uint32_t first, uint32_t count, vec3 o, vec3 d,
+                              int self, int any_hit, float *best, int *id) {
     instances_hit(p, first, count, o, d, ray_eps(o), self, any_hit, best, id);
 }
 

@@ -79,8 +79,8 @@ int integrator_trace(const packed_scene *p, vec3 o, vec3 d, int self, float tmax
 /* Tests instances [first, first + count) (BVH leaf ids from frame.instance_leaf) against the ray
  * o + t d leaving self, keeping in *best, *id the nearest hit below *best (or with any_hit the
  * first found), as integrator_trace's walk does; counts no ray. */
-void integrator_instances_hit(const packed_scene *p, uint32_t first, uint32_t count, vec3 o,
-                              vec3 d, int self, int any_hit, float *best, int *id);
+void integrator_instances_hit(const packed_scene *p, uint32_t first, uint32_t count, vec3 o, vec3 d,
+                              int self, int any_hit, float *best, int *id);
 /* Rays (nearest-hit and shadow) the calling thread has traced so far, counted by
  * integrator_nearest, integrator_occluded and integrator_count_rays; never fails. */
 uint64_t integrator_rays_traced(void);

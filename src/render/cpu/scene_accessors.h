@@ -44,7 +44,9 @@ static inline tz_vec4 instance_to_object(const packed_scene *p, int i, int r) {
 static inline tz_vec4 instance_to_world(const packed_scene *p, int i, int r) {
     return p->instances[i].to_world[r];
 }
-static inline tz_uvec4 instance_model(const packed_scene *p, int i) { return p->instances[i].model; }
+static inline tz_uvec4 instance_model(const packed_scene *p, int i) {
+    return p->instances[i].model;
+}
 static inline tz_vec4 emitter_emission_pick(const packed_scene *p, int e) {
     return p->emitters[e].emission_pick;
 }
