@@ -6,11 +6,10 @@
 
 #include <math.h>
 
-#include "common/instance.h"
+#include "common/affine.h"
 #include "common/ray.h"
 #include "common/rng.h"
 #include "common/shade.h"
-#include "render/cpu/scene_accessors.h"
 #include "render/cpu/simd_clones.h"
 
 /* Distances to spheres [begin, begin + SOA_LANES) into t[] (sphere_distance), INFINITY past
