@@ -8,6 +8,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "common/affine.h"
 #include "common/ray.h"
 #include "render/cpu/integrator.h"
 
@@ -142,11 +143,11 @@ LANE_FN void shear_lanes_of(const lanes3 *o, const lanes3 *d, const int *active,
     for (int k = 0; k < LANES; k++) set3(&sh->o, k, shear_axes(get3(o, k), sh->kz, sh->swap));
 }
 
-/* packet_sphere for triangle primitive s (the triangles' ids follow the spheres'), the lanes'
- * rays sheared by sh. */
-LANE_FN void packet_triangle(const packed_scene *p, uint32_t s, const shear_lanes *sh,
-                             const lanes3 *o, const int *self, const float *tmin, int tie,
-                             float *best, int *id) {
+/* packet_triangle for the triangle of primitive id s, numbered key (an instance's face: its
+ * key, shaders/shared_layout.h). */
+LANE_FN void packet_triangle_keyed(const packed_scene *p, uint32_t s, int key,
+                                   const shear_lanes *sh, const lanes3 *o, const int *self,
+                                   const float *tmin, int tie, float *best, int *id) {
     const struct gpu_triangle *tr = &p->triangles[s - p->frame.sphere_count];
     vec3 a = v3(tr->v0.x, tr->v0.y, tr->v0.z);
     vec3 b = v3(tr->v1.x, tr->v1.y, tr->v1.z);
@@ -160,20 +161,28 @@ LANE_FN void packet_triangle(const packed_scene *p, uint32_t s, const shear_lane
             triangle_edges e =
                 sheared_edge_functions(v3_sub(as, os), v3_sub(bs, os), v3_sub(cs, os), sh->sx[lane],
                                        sh->sy[lane], sh->sz[lane]);
-            ts[lane] = edges_distance(e, tmin[lane], (int)s == self[lane]);
+            ts[lane] = edges_distance(e, tmin[lane], key == self[lane]);
         }
     } else { /* triangle_distance with each lane's shear of the trace */
         for (int lane = 0; lane < LANES; lane++) {
             ray_shear r = {sh->lane_kz[lane], sh->lane_swap[lane], sh->sx[lane], sh->sy[lane],
                            sh->sz[lane]};
-            ts[lane] = sheared_triangle_distance(a, b, c, get3(o, lane), r, tmin[lane],
-                                                 (int)s == self[lane]);
+            ts[lane] =
+                sheared_triangle_distance(a, b, c, get3(o, lane), r, tmin[lane], key == self[lane]);
         }
     }
     if (tie)
-        keep_nearer(best, id, ts, (int)s);
+        keep_nearer(best, id, ts, key);
     else
-        keep_nearer_in_order(best, id, ts, (int)s);
+        keep_nearer_in_order(best, id, ts, key);
+}
+
+/* packet_sphere for triangle primitive s (the triangles' ids follow the spheres'), the lanes'
+ * rays sheared by sh. */
+LANE_FN void packet_triangle(const packed_scene *p, uint32_t s, const shear_lanes *sh,
+                             const lanes3 *o, const int *self, const float *tmin, int tie,
+                             float *best, int *id) {
+    packet_triangle_keyed(p, s, (int)s, sh, o, self, tmin, tie, best, id);
 }
 
 /* 1 when every active lane has a hit. */
@@ -210,8 +219,16 @@ LANE_FN int packet_shadow_spheres(const packed_scene *p, const lanes3 *o, const 
  * when a lane's ray enters its box before that lane's hit so far, nearer child (over the lanes)
  * first, each level pushing at most one node; every entered leaf is tested against every lane.
  * With the tie rule, the spheres tested beyond one lane's own walk cannot change its hit. */
-LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d, const int *self,
-                         const float *tmin, const int *active, int any_hit, float *best, int *id) {
+static void packet_walk_instances(const packed_scene *p, uint32_t first, uint32_t count,
+                                  const lanes3 *o, const lanes3 *d, const int *self,
+                                  const float *tmin, const int *active, int any_hit, float *best,
+                                  int *id);
+
+/* packet_walk from node root, triangle primitive s numbered s + key_offset (an instance's model
+ * walks with the lanes' rays in its space, its faces numbered by their keys). */
+LANE_FN void packet_walk_from(const packed_scene *p, uint32_t root, int key_offset, const lanes3 *o,
+                              const lanes3 *d, const int *self, const float *tmin,
+                              const int *active, int any_hit, float *best, int *id) {
     lanes3 inv;
     for (int k = 0; k < LANES; k++) set3(&inv, k, inverse_direction(get3(d, k)));
     shear_lanes sh; /* read by triangle leaves alone */
@@ -220,7 +237,7 @@ LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d
     uint32_t stack[TZ_BVH_MAX_DEPTH];
     float stack_t[TZ_BVH_MAX_DEPTH][LANES];
     int top = 0;
-    uint32_t ref = 0; /* the root */
+    uint32_t ref = root;
     for (;;) {
         uint32_t leaf_count = child_count(ref), first = child_index(ref);
         if (leaf_count > 0) {
@@ -228,14 +245,12 @@ LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d
                 for (uint32_t s = first; s < first + leaf_count; s++)
                     packet_sphere(p, s, o, d, self, tmin, 1, best, id);
             } else if (p->frame.instance_count > 0 && first >= p->frame.instance_leaf) {
-                for (int k = 0; k < LANES; k++) { /* instances lane by lane (idle: -inf) */
-                    if (best[k] > -INFINITY)
-                        integrator_instances_hit(p, first, leaf_count, get3(o, k), get3(d, k),
-                                                 self[k], any_hit, &best[k], &id[k]);
-                }
+                packet_walk_instances(p, first, leaf_count, o, d, self, tmin, active, any_hit, best,
+                                      id);
             } else {
                 for (uint32_t s = first; s < first + leaf_count; s++)
-                    packet_triangle(p, s, &sh, o, self, tmin, 1, best, id);
+                    packet_triangle_keyed(p, s, (int)s + key_offset, &sh, o, self, tmin, 1, best,
+                                          id);
             }
             if (any_hit && all_hit(id, active)) return;
         } else {
@@ -266,6 +281,41 @@ LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d
             for (int k = 0; k < LANES; k++) go |= stack_t[top][k] < best[k];
         }
         if (!go) return;
+    }
+}
+
+/* The whole packet walks the scene's tree (packet_walk_from its root). */
+LANE_FN void packet_walk(const packed_scene *p, const lanes3 *o, const lanes3 *d, const int *self,
+                         const float *tmin, const int *active, int any_hit, float *best, int *id) {
+    packet_walk_from(p, 0, 0, o, d, self, tmin, active, any_hit, best, id);
+}
+
+/* The instances [first, first + count) of a leaf (ids from frame.instance_leaf): the packet's
+ * rays moved into each one's space (never by an identity) walk its model's tree together, as
+ * integrator_instances_hit walks it with one. Out of line: the walks above inline it once. */
+static __attribute__((noinline)) void packet_walk_instances(const packed_scene *p, uint32_t first,
+                                                            uint32_t count, const lanes3 *o,
+                                                            const lanes3 *d, const int *self,
+                                                            const float *tmin, const int *active,
+                                                            int any_hit, float *best, int *id) {
+    for (uint32_t k = first - p->frame.instance_leaf; count-- > 0; k++) {
+        if (any_hit && all_hit(id, active)) return;
+        const struct gpu_instance *in = &p->instances[k];
+        lanes3 mo = *o, md = *d;
+        if (!in->model.z) {
+            for (int lane = 0; lane < LANES; lane++) {
+                set3(&mo, lane,
+                     affine_point(in->to_object[0], in->to_object[1], in->to_object[2],
+                                  get3(o, lane)));
+                set3(&md, lane,
+                     affine_direction(in->to_object[0], in->to_object[1], in->to_object[2],
+                                      get3(d, lane)));
+            }
+        }
+        int key_offset = TZ_INSTANCE_KEY + (int)(k << p->frame.instance_shift) - (int)in->model.y -
+                         (int)p->frame.sphere_count;
+        packet_walk_from(p, in->model.x, key_offset, &mo, &md, self, tmin, active, any_hit, best,
+                         id);
     }
 }
 
