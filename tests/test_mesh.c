@@ -398,7 +398,18 @@ static void test_hostile(void) {
     CHECK(true, "hostile files survived");
 }
 
-/* Mesh lines among enough spheres to be cut into chunks parse the same on 1 and 4 threads. */
+/* Whether two scenes place the same models the same way (field by field: padding differs). */
+static bool same_instances(const scene *a, const scene *b) {
+    bool same = a->instance_count == b->instance_count;
+    for (int k = 0; same && k < a->instance_count; k++)
+        same = a->instances[k].model == b->instances[k].model &&
+               !memcmp(a->instances[k].to_world, b->instances[k].to_world,
+                       sizeof a->instances[k].to_world);
+    return same;
+}
+
+/* Mesh lines among enough spheres to be cut into chunks parse the same on 1 and 4 threads (the
+ * repeated lines as instances of the two models' 18 faces). */
 static void test_threads(void) {
     size_t size = 4 << 20, used = 0;
     char *text = malloc(size);
@@ -418,12 +429,15 @@ static void test_threads(void) {
     CHECK(ok_a && ok_b, "threads: parse failed: %s", err.message);
     if (ok_a && ok_b) {
         CHECK(
-            a.triangle_count == b.triangle_count && a.triangle_count == 5 * 18 &&
-                !memcmp(a.triangles, b.triangles, (size_t)a.triangle_count * sizeof *a.triangles) &&
-                a.material_count == b.material_count &&
+            a.triangle_count == 0 && b.triangle_count == 0 && a.model_face_count == 18 &&
+                b.model_face_count == 18 && a.instance_count == 10 && b.instance_count == 10 &&
+                !memcmp(a.model_faces, b.model_faces, 18 * sizeof *a.model_faces) &&
+                same_instances(&a, &b) && a.material_count == b.material_count &&
                 !memcmp(a.materials, b.materials, (size_t)a.material_count * sizeof *a.materials) &&
                 a.sphere_count == b.sphere_count,
-            "threads: %d and %d triangles", a.triangle_count, b.triangle_count);
+            "threads: %d and %d model faces, %d and %d faces, %d and %d instances",
+            a.model_face_count, b.model_face_count, a.triangle_count, b.triangle_count,
+            a.instance_count, b.instance_count);
     }
     if (ok_a) scene_free(&a);
     if (ok_b) scene_free(&b);
@@ -463,11 +477,14 @@ static void expect_concatenation(const char *name, const char *a, const char *b,
 }
 
 /* Lines naming one file import it once (mesh_cache.c) and each gets the faces its own import
- * would have: transformed, flipped for glass and smoothed on its own copy. */
+ * would have: transformed, flipped for glass and smoothed on its own copy (`lights on` keeps a
+ * repeated line's own copy: without it the line is an instance, tests/test_instances.c). */
 static void test_repeated(void) {
-    expect_concatenation(
-        "cube twice", HEADER "mesh file cube.obj " XF "\nmesh file cube.obj translate 0 0 9\n",
-        HEADER "mesh file cube.obj " XF "\n", HEADER "mesh file cube.obj translate 0 0 9\n");
+    expect_concatenation("cube twice",
+                         HEADER "mesh file cube.obj " XF
+                                "\nmesh file cube.obj translate 0 0 9 lights on\n",
+                         HEADER "mesh file cube.obj " XF "\n",
+                         HEADER "mesh file cube.obj translate 0 0 9 lights on\n");
     expect_concatenation(
         "glass flips its own copy",
         HEADER
@@ -483,8 +500,9 @@ static void test_repeated(void) {
         HEADER "mesh file sphere.obj smooth on translate 0 0 5\n");
     /* a file changed between parses is read again */
     write_text("moving.obj", "v 0 0 5\nv 1 0 5\nv 0 1 5\nf 1 2 3\n");
-    expect_concatenation("moving, first", HEADER "mesh file moving.obj\nmesh file moving.obj\n",
-                         HEADER "mesh file moving.obj\n", HEADER "mesh file moving.obj\n");
+    expect_concatenation(
+        "moving, first", HEADER "mesh file moving.obj\nmesh file moving.obj lights on\n",
+        HEADER "mesh file moving.obj\n", HEADER "mesh file moving.obj lights on\n");
     write_text("moving.obj", "v 0 0 5\nv 2 0 5\nv 0 1 5\nv 0 0 6\nf 1 2 3\nf 1 2 4\n");
     scene s;
     scene_error err;

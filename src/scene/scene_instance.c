@@ -100,6 +100,32 @@ static bool invertible(double rows[3][4]) {
            2.0 * largest * largest / fabs(det) < 1e38;
 }
 
+/* Notes the mesh line's box (parser_note_mesh): model `model`'s box moved by rows, corner by
+ * corner. */
+static bool note_box(parser *p, int model, double rows[3][4], int col, const char *path) {
+    const scene_model *m = &p->s.models[model];
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int f = m->first; f < m->first + m->count; f++) {
+        for (int c = 0; c < 3; c++) {
+            const vec3 *v = &p->s.model_faces[f].v[c];
+            double x[3] = {v->x, v->y, v->z};
+            for (int a = 0; a < 3; a++) lo[a] = fmin(lo[a], x[a]), hi[a] = fmax(hi[a], x[a]);
+        }
+    }
+    double wlo[3] = {INFINITY, INFINITY, INFINITY}, whi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int corner = 0; corner < 8; corner++) {
+        double x[3] = {corner & 1 ? hi[0] : lo[0], corner & 2 ? hi[1] : lo[1],
+                       corner & 4 ? hi[2] : lo[2]};
+        for (int i = 0; i < 3; i++) {
+            double w = rows[i][0] * x[0] + rows[i][1] * x[1] + rows[i][2] * x[2] + rows[i][3];
+            wlo[i] = fmin(wlo[i], w), whi[i] = fmax(whi[i], w);
+        }
+    }
+    return parser_note_mesh(p, col, (size_t)m->count,
+                            v3((float)wlo[0], (float)wlo[1], (float)wlo[2]),
+                            v3((float)whi[0], (float)whi[1], (float)whi[2]), path);
+}
+
 /* Appends an instance of model `model` with rows to_world; false (reported at col) when the
  * transform is singular or past the instances' limit. */
 static bool instance_add(parser *p, int model, double to_world[3][4], int col, const char *path) {
@@ -131,7 +157,8 @@ static bool instance_add(parser *p, int model, double to_world[3][4], int col, c
 bool mesh_placed_instance(parser *p, mesh_placed *r, const mesh_transform *xf, int col) {
     double rows[3][4];
     rows_of(xf, rows);
-    return instance_add(p, r->model, rows, col, r->path);
+    return instance_add(p, r->model, rows, col, r->path) &&
+           note_box(p, r->model, rows, col, r->path);
 }
 
 bool mesh_placed_make_model(parser *p, mesh_placed *r, int first, int col) {
