@@ -4,11 +4,14 @@
  * colour within the codec's error, EXR half and float and grey (Y) exactly; and the refusals:
  * not an image, truncated PNG and JPEG, corrupt bytes, an EXR without colour channels, a side
  * over the limit, a budget exceeded, a missing file. */
-#include <jpeglib.h> /* after stdio.h: it needs FILE and size_t */
 #include <png.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* clang-format off: jpeglib.h needs FILE and size_t declared before it */
+#include <jpeglib.h>
+/* clang-format on */
 
 #include "check.h"
 #include "image/exr.h"

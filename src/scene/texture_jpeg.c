@@ -1,9 +1,12 @@
 /* texture_jpeg.c: a JPEG image's bytes as texels through libjpeg-turbo: grey, RGB and YCbCr
  * images become 8-bit RGBA words (alpha 255); CMYK is refused. */
-#include <jpeglib.h>
 #include <setjmp.h>
 #include <stdio.h>
 #include <stdlib.h>
+
+/* clang-format off: jpeglib.h needs FILE and size_t declared before it */
+#include <jpeglib.h>
+/* clang-format on */
 
 #include "scene/texture.h"
 #include "shared_layout.h"
