@@ -42,7 +42,7 @@ typedef struct mesh_material {
 /* One triangle of the file, node transforms applied. */
 typedef struct mesh_face {
     vec3 v[3];
-    vec3 n[3]; /* the file's (or generated) normals; zero when the file gives none */
+    vec3 n[3];      /* the file's (or generated) normals; zero when the file gives none */
     float uv[3][2]; /* the first texture coordinates (OpenGL's: v up), zero without any */
     int material;
 } mesh_face;

@@ -160,8 +160,8 @@ static bool mapped_material(parser *p, const mesh *me, int index, const char *pa
             const char *slash = strrchr(path, '/');
             int dir = map->path[0] == '/' || !slash ? 0 : (int)(slash - path) + 1;
             snprintf(named, sizeof named, "%.*s%s", dir, path, map->path);
-            ok = texture_slot_of_file(p, col, named, map->flags,
-                                      k == MAP_ALPHA ? 0.5f : 1.0f, identity_uv, &out->maps[k]);
+            ok = texture_slot_of_file(p, col, named, map->flags, k == MAP_ALPHA ? 0.5f : 1.0f,
+                                      identity_uv, &out->maps[k]);
         }
         if (!ok) return false;
     }
