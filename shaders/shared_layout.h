@@ -47,6 +47,8 @@ typedef struct tz_uvec4 {
 /* The scene has triangles; without it their code is dead wherever the flags are a
  * specialization constant (trace.comp's FLAGS). */
 #define TZ_FLAG_TRIANGLES 128u
+/* Some material has a texture (TZ_BINDING_TEXTURES): without it the lookups are dead code. */
+#define TZ_FLAG_TEXTURES 256u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
  * pixels, whose rays stay coherent; 4 x 8 ran more instructions: docs/PERF.md), 32 lanes on real
@@ -93,10 +95,13 @@ typedef struct tz_uvec4 {
 #define TZ_BINDING_NORMALS 11
 /* Texels 4k..4k+3: gpu_wide_node k, read as uints (one zeroed node without a BVH). */
 #define TZ_BINDING_WIDE_NODES 12
-#define TZ_BINDING_COUNT 13
+/* Words (R32_UINT texels) of the texture table, TZ_TEXTURE_* below (one zeroed word without
+ * textures). */
+#define TZ_BINDING_TEXTURES 13
+#define TZ_BINDING_COUNT 14
 /* The ray query module only: the top-level acceleration structure of the scene's primitives
  * (AABB primitive k is primitive id k), one binding past the others. */
-#define TZ_BINDING_ACCEL 13
+#define TZ_BINDING_ACCEL 14
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
  * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.sphere_count
@@ -140,10 +145,9 @@ struct gpu_triangle {
 };
 #define TZ_FLAT 0xffffffffu
 
-/* A material of spheres and triangles (struct material of the scene, packed once), 48 bytes.
+/* A material of spheres and triangles (struct material of the scene, packed once), 64 bytes.
  * The kind is an exactly representable float, as gpu_sphere's indices. Room is left for what
- * later materials add (roughness, metallic: the reserved floats; texture indices: a fourth
- * group of four). */
+ * later materials add (roughness, metallic: the reserved floats). */
 struct gpu_material {
     TZ_VEC4 color_ks; /* rgb the colour (kd of lambertian and phong, the tint of mirror and
                        * refractive), w the Phong specular weight ks (0: no lobe) */
@@ -153,12 +157,38 @@ struct gpu_material {
     float reserved0;  /* 0 */
     TZ_VEC4 emission; /* rgb the radiance emitted (path mode reads it through gpu_emitter),
                        * w reserved (0) */
+    TZ_UVEC4 maps;    /* its textures, each a texture slot + 1 (0: none): x the colour map, y
+                       * the emission map, z the normal map, w the alpha map */
 };
 
 /* The unit shading normals at a smooth triangle's corners, 48 bytes. */
 struct gpu_normals {
     TZ_VEC4 n0, n1, n2; /* w unused (0) */
 };
+
+/* The texture table (TZ_BINDING_TEXTURES), 32-bit words: what decodes an 8-bit channel (word k
+ * of TZ_TEXTURE_SRGB the float bits of sRGB value k decoded, of TZ_TEXTURE_LINEAR k / 255), a
+ * header (TZ_TEXTURE_HEADER: the first word of the slots, of the images, of the faces' UVs),
+ * the slots (TZ_SLOT_WORDS each: an image, how it is read, and a transform of the UVs), the
+ * images (TZ_IMAGE_WORDS each: the first word of its texels, width, height, TZ_TEXEL_*), the
+ * UVs of the faces that have them (six floats, u and v of corners 0, 1, 2, at the face's
+ * gpu_normals index), then the texels, rows top first. */
+#define TZ_TEXTURE_SRGB 0u
+#define TZ_TEXTURE_LINEAR 256u
+#define TZ_TEXTURE_HEADER 512u
+#define TZ_TEXTURE_FIRST_SLOT 516u
+/* A slot: image index, flags (wrap of u in bits 0-3, of v in 4-7, TZ_SLOT_SRGB), a parameter
+ * (the alpha cutoff, the normal scale), the UV transform u' = m0 u + m1 v + m2, v' = m3 u + m4 v
+ * + m5 in words 3-8 (float bits), words 9-11 zero. */
+#define TZ_SLOT_WORDS 12u
+#define TZ_IMAGE_WORDS 4u
+#define TZ_WRAP_REPEAT 0u
+#define TZ_WRAP_CLAMP 1u
+#define TZ_WRAP_MIRROR 2u
+#define TZ_SLOT_SRGB 256u /* an 8-bit image's RGB is sRGB (colour and emission maps) */
+/* Texel formats: a word a texel (R in bits 0-7, G, B, A), or four floats a texel. */
+#define TZ_TEXEL_RGBA8 0u
+#define TZ_TEXEL_RGBA32F 1u
 
 /* One point light, 32 bytes. */
 struct gpu_light {

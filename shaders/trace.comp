@@ -46,6 +46,7 @@ layout(set = 0, binding = TZ_BINDING_TRIANGLES) uniform samplerBuffer triangle_t
 layout(set = 0, binding = TZ_BINDING_MATERIALS) uniform samplerBuffer material_texels;
 layout(set = 0, binding = TZ_BINDING_NORMALS) uniform samplerBuffer normals_texels;
 layout(set = 0, binding = TZ_BINDING_WIDE_NODES) uniform usamplerBuffer wide_node_texels;
+layout(set = 0, binding = TZ_BINDING_TEXTURES) uniform usamplerBuffer texture_texels;
 #ifdef TZ_RAY_QUERY_WALK
 /* The scene's primitives as one AABB geometry of one instance (src/render/vk/vk_accel.c). */
 layout(set = 0, binding = TZ_BINDING_ACCEL) uniform accelerationStructureEXT scene_accel;
@@ -60,8 +61,11 @@ layout(constant_id = TZ_SPEC_WIDE_BVH) const uint WIDE_BVH = 0u;
 #include "spec_scene.glsl"
 
 /* The fields of struct gpu_material m (params: alpha, ior, kind, reserved0). */
-vec4 material_color_ks(int m) { return texelFetch(material_texels, 3 * m); }
-vec4 material_params(int m) { return texelFetch(material_texels, 3 * m + 1); }
+vec4 material_color_ks(int m) { return texelFetch(material_texels, 4 * m); }
+vec4 material_params(int m) { return texelFetch(material_texels, 4 * m + 1); }
+uvec4 material_maps(int m) { return floatBitsToUint(texelFetch(material_texels, 4 * m + 3)); }
+/* Word i of the texture table (shared_layout.h, TZ_TEXTURE_*). */
+uint texture_word(uint i) { return texelFetch(texture_texels, int(i)).x; }
 /* The fields of struct gpu_sphere k and its material (sphere_params: alpha, ior, kind and its
  * emitter + 1), and of gpu_light k: specialization constants when their loops are unrolled
  * (struct gpu_unrolled), else from the texel buffers (see TZ_BINDING_SPHERES). */
@@ -73,6 +77,8 @@ vec4 sphere_color_ks(int k) {
                ? spec_sphere_color_ks(k)
                : material_color_ks(int(texelFetch(sphere_texels, 2 * k + 1).x));
 }
+/* The material of sphere k (scenes with textures are never unrolled: render_vk.c). */
+int sphere_material_index(int k) { return int(texelFetch(sphere_texels, 2 * k + 1).x); }
 vec4 sphere_params(int k) {
     if (UNROLLED_SPHERES > 0u) return spec_sphere_params(k);
     vec4 links = texelFetch(sphere_texels, 2 * k + 1); /* material, emitter */

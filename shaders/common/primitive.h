@@ -8,6 +8,7 @@
 #include "bsdf.h"
 #include "dialect.h"
 #include "ray.h"
+#include "texture.h"
 
 /* Whether the scene has triangles, from the flags: where they are a specialization constant
  * (trace.comp), lavapipe drops the triangle code of sphere scenes (docs/PERF.md, "Triangles'
@@ -99,21 +100,35 @@ TZ_FN surface triangle_surface(TZ_SCENE_PARAM int id, vec3 pos, vec3 o, vec3 d) 
     s.m = bsdf_material_of(material_color_ks(TZ_SCENE_ARG TZ_INT(material)),
                            material_params(TZ_SCENE_ARG TZ_INT(material)));
     s.emitter = TZ_INT(v2.w) - 1;
+    tex_uv uv = tex_uv_of(0.0f, 0.0f); /* a face without UVs reads its textures there */
     if (normals != TZ_FLAT) {
         /* Barycentric weights of the hit from the very edge functions the walk tested. */
         triangle_edges e = triangle_edge_functions(k.a, k.b, k.c, o, shear_of(d));
         TZ_PRECISE float inv = 1.0f / e.det;
+        TZ_PRECISE float b0 = e.u * inv, b1 = e.v * inv, b2 = e.w * inv;
         TZ_PRECISE vec3 n =
-            v3_add(v3_add(v3_scale(xyz(normals_n0(TZ_SCENE_ARG TZ_INT(normals))), e.u * inv),
-                          v3_scale(xyz(normals_n1(TZ_SCENE_ARG TZ_INT(normals))), e.v * inv)),
-                   v3_scale(xyz(normals_n2(TZ_SCENE_ARG TZ_INT(normals))), e.w * inv));
+            v3_add(v3_add(v3_scale(xyz(normals_n0(TZ_SCENE_ARG TZ_INT(normals))), b0),
+                          v3_scale(xyz(normals_n1(TZ_SCENE_ARG TZ_INT(normals))), b1)),
+                   v3_scale(xyz(normals_n2(TZ_SCENE_ARG TZ_INT(normals))), b2));
         TZ_PRECISE float len = v3_length(n);
         vec3 unit = v3_scale(n, 1.0f / len);
-        /* A normal that interpolates to nothing or faces away from the face: the face's own. */
+        /* A normal that interpolates to nothing (a flat face that has corner data for its UVs
+         * alone: zero normals) or faces away from the face: the face's own. */
         TZ_BOOL usable = (len > 0.0f) TZ_AND(v3_dot(unit, s.nout) > 0.0f);
         s.shading = select3(usable, unit, s.nout);
+        if (TZ_HAS_TEXTURES) uv = corner_uv(TZ_SCENE_ARG normals, b0, b1, b2);
     }
+    if (TZ_HAS_TEXTURES)
+        s.m = textured_material(TZ_SCENE_ARG s.m, material_maps(TZ_SCENE_ARG TZ_INT(material)), uv);
     return s;
+}
+
+/* Material m of sphere primitive id at the point of outward normal nout, its maps applied at
+ * the point's sphere_uv (the packet builds call it on the spheres they gather themselves). */
+TZ_FN bsdf_material sphere_textured(TZ_SCENE_PARAM int id, bsdf_material m, vec3 nout) {
+    TZ_UVEC4 maps = material_maps(TZ_SCENE_ARG sphere_material_index(TZ_SCENE_ARG id));
+    if (maps.x == 0u) return m;
+    return textured_material(TZ_SCENE_ARG m, maps, sphere_uv(nout));
 }
 
 /* The point o + t d where a ray meets a primitive (a face's is then put on its plane). */
@@ -141,6 +156,7 @@ TZ_FN surface surface_at(TZ_SCENE_PARAM int id, vec3 o, vec3 d, float t) {
     TZ_VEC4 params = sphere_params(TZ_SCENE_ARG id);
     s.m = bsdf_material_of(sphere_color_ks(TZ_SCENE_ARG id), params);
     s.emitter = TZ_INT(params.w) - 1;
+    if (TZ_HAS_TEXTURES) s.m = sphere_textured(TZ_SCENE_ARG id, s.m, nout);
     return s;
 }
 

@@ -69,7 +69,7 @@ static void material_floats(const material *m, float out[MATERIAL_FLOATS]) {
 
 /* The words of triangle t of s, in a fixed order (a flat face's normals zero). */
 static void triangle_words(const scene *s, const triangle *t, uint32_t out[TRIANGLE_WORDS]) {
-    static const face_normals flat = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    static const face_normals flat = {0};
     const face_normals *nf = t->normals != TRIANGLE_FLAT ? &s->normals[t->normals] : &flat;
     const material *m = triangle_material(s, t);
     const vec3 *n = nf->n;
@@ -148,6 +148,38 @@ static bool has_smooth_specular_faces(const scene *s) {
     return false;
 }
 
+/* h continued by what textures change: each material's maps, which material each sphere and
+ * face takes, the faces' UVs, the slots and the images' texels. */
+static uint64_t digest_textures(uint64_t h, const scene *s) {
+    for (int k = 0; k < s->material_count; k++)
+        for (int c = 0; c < MATERIAL_MAP_COUNT; c++) h = digest_int(h, s->materials[k].maps[c]);
+    for (int k = 0; k < s->sphere_count; k++) h = digest_int(h, s->spheres[k].material);
+    for (int k = 0; k < s->triangle_count; k++) {
+        const triangle *t = &s->triangles[k];
+        h = digest_int(h, t->material);
+        if (t->normals == TRIANGLE_FLAT) continue;
+        for (int c = 0; c < 3; c++) {
+            h = digest_float(h, s->normals[t->normals].uv[c][0]);
+            h = digest_float(h, s->normals[t->normals].uv[c][1]);
+        }
+    }
+    for (int k = 0; k < s->slot_count; k++) {
+        const texture_slot *sl = &s->slots[k];
+        h = digest_int(h, sl->image);
+        h = digest_int(h, sl->flags);
+        h = digest_float(h, sl->param);
+        for (int c = 0; c < 6; c++) h = digest_float(h, sl->transform[c]);
+    }
+    for (int k = 0; k < s->image_count; k++) {
+        const texture_image *t = &s->images[k].texels;
+        h = digest_int(h, t->width);
+        h = digest_int(h, t->height);
+        h = digest_int(h, t->format);
+        for (size_t w = 0; w < t->word_count; w++) h = digest_word(h, t->words[w]);
+    }
+    return h;
+}
+
 /* The scene's digest: every field of the scene and every setting that changes a sample, in a
  * fixed order, field by field (no padding bytes). */
 static uint64_t render_digest(const scene *s, const render_opts *o) {
@@ -202,6 +234,8 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
      * (plane_hit): parts rendered then differ in the last bits, so scenes with faces hash one more
      * word; scenes of spheres alone keep their digest. */
     if (s->triangle_count > 0) h = digest_int(h, 3);
+    /* Only textured scenes hash their textures: the others keep their digest. */
+    if (s->slot_count > 0) h = digest_textures(h, s);
     return h;
 }
 

@@ -24,13 +24,14 @@ _Static_assert(offsetof(struct gpu_sphere, pad1) == 28, "gpu_sphere layout");
 _Static_assert(sizeof(struct gpu_triangle) == 48, "gpu_triangle is 48 bytes");
 _Static_assert(offsetof(struct gpu_triangle, v1) == 16, "gpu_triangle layout");
 _Static_assert(offsetof(struct gpu_triangle, v2) == 32, "gpu_triangle layout");
-_Static_assert(sizeof(struct gpu_material) == 48, "gpu_material is 48 bytes");
+_Static_assert(sizeof(struct gpu_material) == 64, "gpu_material is 64 bytes");
 _Static_assert(offsetof(struct gpu_material, color_ks) == 0, "gpu_material layout");
 _Static_assert(offsetof(struct gpu_material, alpha) == 16, "gpu_material layout");
 _Static_assert(offsetof(struct gpu_material, ior) == 20, "gpu_material layout");
 _Static_assert(offsetof(struct gpu_material, kind) == 24, "gpu_material layout");
 _Static_assert(offsetof(struct gpu_material, reserved0) == 28, "gpu_material layout");
 _Static_assert(offsetof(struct gpu_material, emission) == 32, "gpu_material layout");
+_Static_assert(offsetof(struct gpu_material, maps) == 48, "gpu_material layout");
 _Static_assert(sizeof(struct gpu_normals) == 48, "gpu_normals is 48 bytes");
 _Static_assert(sizeof(struct gpu_light) == 32, "gpu_light is 32 bytes");
 _Static_assert(offsetof(struct gpu_light, position_power) == 0, "gpu_light layout");
@@ -224,6 +225,8 @@ static struct gpu_material gpu_material_of(const material *m) {
         .ior = m->ior,
         .kind = (float)m->kind,
         .emission = vec4_from(m->emission, 0.0f),
+        .maps = {m->maps[MAP_COLOR], m->maps[MAP_EMISSION], m->maps[MAP_NORMAL],
+                 m->maps[MAP_ALPHA]},
     };
 }
 
@@ -306,7 +309,8 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     /* One zero element when empty keeps every buffer non-empty for Vulkan. */
     out->spheres = big_calloc(count ? count : 1, sizeof *out->spheres);
     out->lights = calloc(s->light_count ? (size_t)s->light_count : 1, sizeof *out->lights);
-    if (!out->spheres || !out->lights || !pack_materials(out, s) || !pack_triangles(out, s)) {
+    if (!out->spheres || !out->lights || !pack_materials(out, s) || !pack_triangles(out, s) ||
+        !texture_pack(s, out)) {
         log_error("out of memory packing %u spheres and %d triangles", count, s->triangle_count);
         scene_pack_free(out);
         return false;
@@ -338,7 +342,8 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         (opts->strategy == PATH_LIGHTS_ONLY ? TZ_FLAG_LIGHTS_ONLY : 0u) |
         (opts->strategy == PATH_BSDF_ONLY ? TZ_FLAG_BSDF_ONLY : 0u) |
         (scene_sampler_of(opts->sampler, opts->mode) == RENDER_SAMPLER_SOBOL ? TZ_FLAG_SOBOL : 0u) |
-        (s->triangle_count > 0 ? TZ_FLAG_TRIANGLES : 0u);
+        (s->triangle_count > 0 ? TZ_FLAG_TRIANGLES : 0u) |
+        (s->slot_count > 0 ? TZ_FLAG_TEXTURES : 0u);
     /* The plane's distance: 2 x width (the seed's), or what the field of view asks. */
     float distance = s->camera_fov > 0.0f
                          ? (float)(0.5 * s->plane_width /
@@ -396,6 +401,7 @@ void scene_pack_report(const packed_scene *p, const render_opts *opts, double pa
                       (uint64_t)p->frame.triangle_count * sizeof *p->triangles +
                       (uint64_t)p->material_count * sizeof *p->materials +
                       (uint64_t)p->normals_count * sizeof *p->normals +
+                      (uint64_t)p->texture_word_count * sizeof *p->texture_words +
                       (uint64_t)p->frame.light_count * sizeof *p->lights +
                       (uint64_t)p->frame.node_count * sizeof *p->nodes;
     log_debug(
@@ -414,6 +420,7 @@ void scene_pack_free(packed_scene *p) {
     free(p->triangles);
     free(p->materials);
     free(p->normals);
+    free(p->texture_words);
     free(p->triangle_soa.v[0]);
     free(p->nodes);
     free(p->emitters);

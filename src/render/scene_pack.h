@@ -26,6 +26,8 @@ typedef struct packed_scene {
     struct gpu_material *materials; /* the scene's materials, one zeroed when none */
     struct gpu_normals *normals;    /* the smooth triangles' normals, one zeroed when none */
     uint32_t material_count, normals_count;
+    uint32_t *texture_words; /* the texture table (TZ_TEXTURE_*), one zeroed word without any */
+    size_t texture_word_count;
     struct gpu_light *lights;
     sphere_soa sphere_soa;        /* the C back end's copy of spheres[].center_radius */
     triangle_soa triangle_soa;    /* and of triangles[]' corners */
@@ -38,6 +40,10 @@ typedef struct packed_scene {
 /* Packs the scene with the options applied, spheres in BVH order unless opts->no_bvh;
  * false (logged) on out-of-memory. */
 bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out);
+/* The texture table of s (texture_pack.c) into out->texture_words, after the triangles are
+ * packed (their UVs follow the gpu_normals indices); false (logged) out of memory or past the
+ * 2^32 words the shaders address. */
+bool texture_pack(const scene *s, packed_scene *out);
 /* Fills the first `spheres` spheres of out (gpu_unrolled's layout) from p; never fails. */
 void scene_pack_unrolled(const packed_scene *p, uint32_t spheres, struct gpu_unrolled *out);
 /* Records the packing's figures (time since pack_start, BVH, sizes) into opts->stats if any;

@@ -59,7 +59,50 @@ void mesh_note_unsupported(char *list, size_t size, const char *what) {
     snprintf(list + used, size - used, "%s%s", used ? ", " : "", what);
 }
 
-/* The texture kinds a material uses, named into list. */
+/* The texture of `type` (its first) of material m into map, its wrap modes and srgb in flags;
+ * false (map empty) when it has none. */
+static bool map_of(const assimp_lib *ai, const struct aiMaterial *m, enum aiTextureType type,
+                   bool srgb, mesh_map *map) {
+    struct aiString path = {0};
+    if (ai->get_material_texture_count(m, type) == 0 ||
+        ai->get_material_string(m, _AI_MATKEY_TEXTURE_BASE, type, 0, &path) != aiReturn_SUCCESS ||
+        path.length == 0 || path.length >= sizeof map->path)
+        return false;
+    memcpy(map->path, path.data, path.length);
+    map->path[path.length] = '\0';
+    for (char *c = map->path; *c; c++) /* MTL files written on Windows: .\\wood.jpg */
+        if (*c == '\\') *c = '/';
+    int mode[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+    ai->get_material_integer_array(m, _AI_MATKEY_MAPPINGMODE_U_BASE, type, 0, &mode[0], NULL);
+    ai->get_material_integer_array(m, _AI_MATKEY_MAPPINGMODE_V_BASE, type, 0, &mode[1], NULL);
+    uint32_t wrap[2];
+    for (int k = 0; k < 2; k++)
+        wrap[k] = mode[k] == aiTextureMapMode_Mirror ? TZ_WRAP_MIRROR
+                  : mode[k] == aiTextureMapMode_Clamp || mode[k] == aiTextureMapMode_Decal
+                      ? TZ_WRAP_CLAMP
+                      : TZ_WRAP_REPEAT;
+    map->flags = wrap[0] | wrap[1] << 4 | (srgb ? TZ_SLOT_SRGB : 0u);
+    return true;
+}
+
+/* The textures of material m trazador keeps (MAP_*): the colour (glTF's base colour, else the
+ * diffuse map: MTL's map_Kd), emission (map_Ke), normal (glTF's normal texture, MTL's norm, or
+ * map_Bump where no normal map is given), alpha (map_d), glTF's metallic-roughness and MTL's
+ * map_Pr and map_Pm. */
+static void read_maps(const assimp_lib *ai, const struct aiMaterial *m, mesh_material *out) {
+    if (!map_of(ai, m, aiTextureType_BASE_COLOR, true, &out->maps[MAP_COLOR]))
+        map_of(ai, m, aiTextureType_DIFFUSE, true, &out->maps[MAP_COLOR]);
+    map_of(ai, m, aiTextureType_EMISSIVE, true, &out->maps[MAP_EMISSION]);
+    if (!map_of(ai, m, aiTextureType_NORMALS, false, &out->maps[MAP_NORMAL]))
+        map_of(ai, m, aiTextureType_HEIGHT, false, &out->maps[MAP_NORMAL]);
+    map_of(ai, m, aiTextureType_OPACITY, false, &out->maps[MAP_ALPHA]);
+    /* assimp 5.2's glTF importer gives the metallic-roughness texture as UNKNOWN's first. */
+    map_of(ai, m, aiTextureType_UNKNOWN, false, &out->maps[MAP_METALLIC_ROUGHNESS]);
+    map_of(ai, m, aiTextureType_DIFFUSE_ROUGHNESS, false, &out->maps[MAP_ROUGHNESS]);
+    map_of(ai, m, aiTextureType_METALNESS, false, &out->maps[MAP_METALLIC]);
+}
+
+/* The texture kinds a material uses, named into list (those the renderer shades left out). */
 static void note_textures(const assimp_lib *ai, const struct aiMaterial *m, char *list,
                           size_t size) {
     static const struct {
@@ -83,6 +126,8 @@ static void note_textures(const assimp_lib *ai, const struct aiMaterial *m, char
         {aiTextureType_UNKNOWN, "other texture"},
     };
     for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
+        if (kinds[k].type == aiTextureType_DIFFUSE || kinds[k].type == aiTextureType_BASE_COLOR)
+            continue; /* the colour map, shaded */
         if (ai->get_material_texture_count(m, kinds[k].type) > 0)
             mesh_note_unsupported(list, size, kinds[k].name);
     }
@@ -188,6 +233,7 @@ bool mesh_map_material(const assimp_lib *ai, const struct aiMaterial *m, unsigne
     ai->get_material_string(m, AI_MATKEY_NAME, &name);
     name.data[name.length < sizeof name.data ? name.length : sizeof name.data - 1] = '\0';
     *out = map_material(&r, name.data, unsupported, size);
+    read_maps(ai, m, out);
     snprintf(out->name, sizeof out->name, "%.*s", (int)sizeof out->name - 1, name.data);
     if (!r.bad[0]) return true;
     if (name.data[0])

@@ -16,9 +16,9 @@
 #define MAX_TOKENS (SCENE_MAX_LINE / 2 + 1)
 /* Characters of a bad token quoted back in an error message. */
 #define MAX_QUOTED_CHARS 60
-/* Keys per directive: the mesh has the most (file scale rotate translate smooth lights and the
- * five material keys: color ks alpha ior emission). */
-#define MAX_KEYS 12
+/* Keys per directive: the triangle has the most (v0 v1 v2 n0 n1 n2 uv0 uv1 uv2 and the
+ * material keys). */
+#define MAX_KEYS 24
 /* Spheres and triangles in all (a quad is two). A test build lowers it (test_parse_limit) to
  * reach the limit with a small text. */
 #ifndef PARSER_MAX_PRIMITIVES
@@ -36,8 +36,15 @@ typedef struct token {
     int col;
 } token;
 
-/* VALUE_WORD: one of the words listed in the key's `components`, its index the value. */
-typedef enum value_kind { VALUE_NUMBER, VALUE_INTEGER, VALUE_SWITCH, VALUE_WORD } value_kind;
+/* VALUE_WORD: one of the words listed in the key's `components`, its index the value;
+ * VALUE_PATH: one token, a file's path (parser_path reads it from value_token). */
+typedef enum value_kind {
+    VALUE_NUMBER,
+    VALUE_INTEGER,
+    VALUE_SWITCH,
+    VALUE_WORD,
+    VALUE_PATH
+} value_kind;
 
 typedef struct key_spec {
     const char *name;

@@ -12,6 +12,13 @@ void scene_free(scene *s) {
     free(s->normals);
     free(s->lights);
     free(s->inputs);
+    for (int k = 0; k < s->image_count; k++) texture_image_free(&s->images[k].texels);
+    free(s->images);
+    free(s->slots);
+    s->images = NULL;
+    s->slots = NULL;
+    s->image_count = s->slot_count = 0;
+    s->texel_bytes = 0;
     s->spheres = NULL;
     s->triangles = NULL;
     s->materials = NULL;

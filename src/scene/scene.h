@@ -7,6 +7,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "scene/texture.h"
 #include "shared_layout.h"
 #include "util/vec3.h"
 
@@ -82,6 +83,43 @@ static inline int scene_default_bounces(render_mode mode) {
     return mode == RENDER_MODE_PATH ? 16 : 5;
 }
 
+/* Bytes of an image's name kept for messages. */
+#define SCENE_IMAGE_NAME 256
+
+/* The texture maps a material may have (material.maps), each a slot of scene.slots. The colour,
+ * emission, normal and alpha maps are gpu_material.maps x, y, z, w; the metallic-roughness map
+ * (glTF's, MTL's map_Pr and map_Pm) is kept for the materials that will read it. */
+enum {
+    MAP_COLOR,
+    MAP_EMISSION,
+    MAP_NORMAL,
+    MAP_ALPHA,
+    MAP_METALLIC_ROUGHNESS,
+    MAP_ROUGHNESS, /* MTL's map_Pr: a grey image alone */
+    MAP_METALLIC,  /* MTL's map_Pm */
+    MATERIAL_MAP_COUNT
+};
+
+/* How a material reads an image (a slot of the texture table, shared_layout.h): the image
+ * (scene.images), TZ_WRAP_* of u and v and TZ_SLOT_SRGB in flags, a parameter (the alpha
+ * cutoff, the normal scale) and the transform of the UVs (u' = t0 u + t1 v + t2, v' = t3 u +
+ * t4 v + t5; KHR_texture_transform). */
+typedef struct texture_slot {
+    uint32_t image;
+    uint32_t flags;
+    float param;
+    float transform[6];
+} texture_slot;
+
+/* An image file decoded once however many slots read it: its texels, its identity (device and
+ * inode; 0 and 0 for an image embedded in a model, then keyed by its model and index in name)
+ * and its path for messages. */
+typedef struct scene_image {
+    texture_image texels;
+    uint64_t device, inode;
+    char name[SCENE_IMAGE_NAME];
+} scene_image;
+
 /* A material (DESIGN section 2): what a sphere's or a face's line gives, or a model file's
  * material mapped. Held once, in scene.materials; spheres and faces refer to theirs by index,
  * and consecutive shapes that give the same share one (a quad's halves, a mesh's faces). */
@@ -93,6 +131,7 @@ typedef struct material {
     float ior;          /* refractive index, 1 for the others */
     vec3 emission;      /* radiance emitted (path mode; an error in report mode); a face's is
                          * emitted from both sides */
+    uint32_t maps[MATERIAL_MAP_COUNT]; /* scene.slots index + 1 of each map, 0 for none */
 } material;
 
 typedef struct sphere {
@@ -101,9 +140,12 @@ typedef struct sphere {
     uint32_t material; /* scene.materials[material] */
 } sphere;
 
-/* The unit shading normals at a face's corners, interpolated across it. */
+/* The unit shading normals at a face's corners, interpolated across it, and the corners' texture
+ * coordinates (u, v). A flat face with UVs has zero normals here (the shaders then take its
+ * geometric normal). */
 typedef struct face_normals {
     vec3 n[3];
+    float uv[3][2];
 } face_normals;
 
 /* triangle.normals of a flat face. */
@@ -168,8 +210,13 @@ typedef struct scene {
     int triangle_count;
     material *materials; /* the spheres' and the triangles' */
     int material_count;
-    face_normals *normals; /* the smooth triangles' */
+    face_normals *normals; /* the smooth triangles', and those of the faces with UVs */
     int normals_count;
+    scene_image *images; /* the textures' images, each once */
+    int image_count;
+    texture_slot *slots; /* how materials read them (material.maps) */
+    int slot_count;
+    size_t texel_bytes; /* of every image, against TEXTURE_MAX_SCENE_BYTES */
     light *lights;
     int light_count;
     scene_input *inputs; /* the meshes' files, each once */
@@ -217,7 +264,14 @@ static inline bool material_same(const material *a, const material *b) {
            !memcmp(&a->ks, &b->ks, sizeof a->ks) &&
            !memcmp(&a->alpha, &b->alpha, sizeof a->alpha) &&
            !memcmp(&a->ior, &b->ior, sizeof a->ior) &&
-           !memcmp(&a->emission, &b->emission, sizeof a->emission);
+           !memcmp(&a->emission, &b->emission, sizeof a->emission) &&
+           !memcmp(a->maps, b->maps, sizeof a->maps);
+}
+/* Whether material m has a texture map. */
+static inline bool material_textured(const material *m) {
+    for (int k = 0; k < MATERIAL_MAP_COUNT; k++)
+        if (m->maps[k]) return true;
+    return false;
 }
 /* Whether shapes of material m emit light (path mode's emitters); never fails. */
 static inline bool material_emits(const material *m) {

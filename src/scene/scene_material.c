@@ -7,7 +7,7 @@
 #include "scene/directives.h"
 #include "scene/parser.h"
 
-#define MATERIAL_COMMON_KEYS (BIT(MAT_COLOR) | BIT(MAT_EMISSION))
+#define MATERIAL_COMMON_KEYS (BIT(MAT_COLOR) | BIT(MAT_EMISSION) | MATERIAL_TEXTURE_KEYS)
 /* max(color) + ks may pass 1 by this before it warns: float rounding of values that sum to 1
  * (0.7 and 0.3, glTF's mapped 0.96 base and 0.04). */
 #define BRIGHT_SLACK 1e-6f

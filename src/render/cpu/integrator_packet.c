@@ -74,6 +74,11 @@ LANE_FN void packet_surfaces(const packed_scene *p, const lanes3 *o, const lanes
         h->ior[k] = params.y;
         h->material[k] = (int)params.z;
     }
+    for (int k = 0; TZ_HAS_TEXTURES_OF(p) && k < LANES; k++) { /* textured spheres: surface_at's */
+        if (id[k] < 0 || triangle[k]) continue;
+        bsdf_material m = {.kind = h->material[k], .color = get3(&h->kd, k)};
+        set3(&h->kd, k, sphere_textured(p, id[k], m, get3(&h->nout, k)).color);
+    }
     for (int k = 0; any_lane(triangle) && k < LANES; k++) { /* triangles, lane by lane */
         if (!triangle[k]) continue;
         surface sf = triangle_surface(p, id[k], get3(&h->pos, k), get3(o, k), get3(d, k));

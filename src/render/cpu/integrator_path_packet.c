@@ -244,6 +244,11 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         set3(&v.nout, k, nout);
         set3(&v.shading, k, nout);
     }
+    for (int k = 0; TZ_HAS_TEXTURES_OF(scene) && k < LANES; k++) { /* a textured sphere's */
+        if (v.id[k] < 0 || triangle[k]) continue;
+        bsdf_material m = {.kind = v.material[k], .color = get3(&v.kd, k)};
+        set3(&v.kd, k, sphere_textured(scene, v.id[k], m, get3(&v.nout, k)).color);
+    }
     for (int k = 0; any_lane(triangle) && k < LANES; k++) { /* and of a triangle */
         if (!triangle[k]) continue;
         surface sf =

@@ -30,6 +30,13 @@ static inline tz_vec4 triangle_v2(const packed_scene *p, int t) { return p->tria
 static inline tz_vec4 material_color_ks(const packed_scene *p, int m) {
     return p->materials[m].color_ks;
 }
+static inline tz_uvec4 material_maps(const packed_scene *p, int m) { return p->materials[m].maps; }
+static inline int sphere_material_index(const packed_scene *p, int k) {
+    return (int)p->spheres[k].material;
+}
+static inline uint32_t texture_word(const packed_scene *p, uint32_t i) {
+    return p->texture_words[i];
+}
 static inline tz_vec4 normals_n0(const packed_scene *p, int s) { return p->normals[s].n0; }
 static inline tz_vec4 normals_n1(const packed_scene *p, int s) { return p->normals[s].n1; }
 static inline tz_vec4 normals_n2(const packed_scene *p, int s) { return p->normals[s].n2; }

@@ -129,6 +129,15 @@ uint32_t vk_strategy_walk_loop(const vk_strategy *st) {
     return st->walk > 1u ? (st->walk - 1u) / 2u : 1u;
 }
 
+/* The words of s's texture table (texture_pack.c): its header, slots, images, the UVs of every
+ * face with corner data (a bound: the packer gives UVs to those alone) and the texels. */
+static uint64_t texture_words(const scene *s) {
+    if (s->slot_count == 0) return 0;
+    return TZ_TEXTURE_FIRST_SLOT + (uint64_t)s->slot_count * TZ_SLOT_WORDS +
+           (uint64_t)s->image_count * TZ_IMAGE_WORDS + 6u * (uint64_t)s->normals_count +
+           s->texel_bytes / 4u;
+}
+
 /* Refuses what the device could not render right: scene or accumulation buffers past its limits,
  * and where the driver cuts loops (lavapipe 22.3) a sample whose worst-case loop work could
  * reach that limit; false with the reason in `reason` (RENDER_REASON_SIZE bytes), nothing
@@ -182,14 +191,17 @@ bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts 
                         (uint64_t)TZ_BAND_ROWS * row_bytes,
                         use_bvh ? primitives * 4u : 0u, /* < 1 node a primitive */
                         (uint64_t)s->triangle_count * 3u,
-                        (uint64_t)s->material_count * material_texels};
+                        (uint64_t)s->material_count * material_texels,
+                        texture_words(s)};
     uint64_t limit[] = {limits->maxTexelBufferElements, limits->maxTexelBufferElements,
                         limits->maxStorageBufferRange,  limits->maxTexelBufferElements,
-                        limits->maxTexelBufferElements, limits->maxTexelBufferElements};
+                        limits->maxTexelBufferElements, limits->maxTexelBufferElements,
+                        limits->maxTexelBufferElements};
     const char *what[] = {"texels of spheres",          "texels of lights",
                           "bytes of accumulation rows", "texels of BVH nodes",
-                          "texels of triangles",        "texels of materials"};
-    for (int k = 0; k < 6; k++) {
+                          "texels of triangles",        "texels of materials",
+                          "words of textures"};
+    for (int k = 0; k < 7; k++) {
         if (sizes[k] > limit[k]) {
             snprintf(reason, RENDER_REASON_SIZE,
                      "the scene needs %" PRIu64
@@ -244,7 +256,8 @@ vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const rend
         rq.sample_iterations = sample_iterations(s, opts, emitters, 64u);
         return rq;
     }
-    bool unroll = spheres <= TZ_UNROLL_MAX_SPHERES && s->triangle_count == 0;
+    /* Textured spheres need their material's index, which the unrolled constants leave out. */
+    bool unroll = spheres <= TZ_UNROLL_MAX_SPHERES && s->triangle_count == 0 && s->slot_count == 0;
     vk_strategy st = {.unrolled_spheres = unroll ? spheres : 0u};
     st.use_bvh = !opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u;
     st.cooperative = st.use_bvh && walk == RENDER_WALK_COOPERATIVE;
