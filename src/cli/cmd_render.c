@@ -45,6 +45,9 @@ typedef struct render_args {
     int exr_type;                    /* 0 half, 1 float */
     int part;                        /* an EXR output is a part file */
     int keep_checkpoint;             /* keep the checkpoint of a finished render */
+    const char *aov;                 /* --aov's list; NULL: none */
+    uint32_t aov_mask;               /* its kinds (image/aov.h) */
+    int aov_files;                   /* the feature images as files of their own */
 } render_args;
 
 #define FORMATS "png|ppm|pfm|exr"
@@ -137,6 +140,13 @@ static const opt_spec render_specs[] = {
     OPT_DECIMAL("--time-limit", ARG(time_limit), 0.001, 1e9, "SECONDS",
                 "render whole chunks of 16 samples until SECONDS have passed, then write the "
                 "image of the samples so far (default: no limit)"),
+    OPT_TEXT("--aov", NULL, ARG(aov), "LIST", "feature images, comma-separated",
+             "feature images for a denoiser, any of albedo,normal,depth,position,emission: of "
+             "each pixel's first 4 samples' first hit, albedo and normal through mirrors and "
+             "glass; layers of an EXR output or part (default: none)"),
+    OPT_SET("--aov-files", NULL, ARG(aov_files), 1,
+            "write the --aov images as files beside the image too, NAME.albedo.pfm (.exr for an "
+            "EXR output) and so on (default: layers only)"),
     OPT_ONE_OF("--exr-type", ARG(exr_type), "half|float",
                "an EXR image's channels (default half; parts are always float)"),
     OPT_SET("--part", NULL, ARG(part), 1,
@@ -210,6 +220,22 @@ static opt_result parse_render_args(int argc, char **argv, render_args *a,
         return opt_usage_error(&render_command,
                                "--region, --samples and --part write an EXR part: give -o "
                                "NAME.exr (and `trazador merge` the parts)");
+    size_t bad = 0;
+    if (a->aov && !aov_parse_list(a->aov, &a->aov_mask, &bad))
+        return opt_usage_error(&render_command,
+                               "--aov takes a list of albedo, normal, depth, position, emission, "
+                               "got '%s' (at character %zu)",
+                               a->aov, bad + 1);
+    if (a->aov_files && !a->aov)
+        return opt_usage_error(&render_command, "--aov-files writes the --aov images: give --aov");
+    if (a->aov && !exr && !a->aov_files)
+        return opt_usage_error(&render_command,
+                               "--aov writes layers of an EXR output: give -o NAME.exr, or "
+                               "--aov-files for files of their own");
+    if (a->aov_files && (a->region || a->samples || a->part))
+        return opt_usage_error(&render_command,
+                               "--aov-files writes beside an image: a part keeps its feature "
+                               "images as layers, which `trazador merge --aov-files` writes");
     /* A checkpoint is an EXR part whatever its name says: a name of another format would hide
      * it (and a later render could read it as that format). */
     const char *ck_format = a->checkpoint ? image_path_format(a->checkpoint) : NULL;
@@ -320,6 +346,7 @@ static void apply_overrides(const render_args *a, const scene *s, render_opts *o
     o->walk = (render_walk)a->walk;
     o->no_bvh = a->no_bvh;
     o->progress = !a->quiet && isatty(STDERR_FILENO);
+    o->aov = a->aov_mask;
 }
 
 /* Naming a device asks for Vulkan: none at all is the usual runtime failure (1), a number past
@@ -342,7 +369,8 @@ static int check_device(long long device) {
 /* Writes a whole-image film as the output image; false (logged) on failure. */
 static bool write_image(const render_args *a, const film *f) {
     const char *format = a->format >= 0 ? format_names[a->format] : NULL;
-    return image_write_film(a->output, format, f, a->tm, a->exr_type == 0);
+    return image_write_film(a->output, format, f, a->tm, a->exr_type == 0) &&
+           (!a->aov_files || image_write_aov_files(a->output, format, f, a->exr_type == 0));
 }
 
 /* Renders and writes the image or the part; the exit code. started: when the command began, so

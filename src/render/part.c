@@ -70,6 +70,11 @@ bool part_copy(const part *src, part *dst) {
             memcpy(dst->block[k], src->block[k], n * 3 * sizeof(float));
     if (ok && src->open && (ok = (dst->open = big_malloc(n * 6 * sizeof(float))) != NULL))
         memcpy(dst->open, src->open, n * 6 * sizeof(float));
+    if (ok && src->aov.mask && (ok = aov_alloc(&dst->aov, src->aov.mask, n)))
+        for (int k = 0; k < AOV_COUNT; k++)
+            if (src->aov.plane[k])
+                memcpy(dst->aov.plane[k], src->aov.plane[k],
+                       n * (size_t)aov_channels((aov_kind)k) * sizeof(float));
     if (!ok) {
         log_error("out of memory for a copy of a part of %zu pixels", n);
         part_free(dst);
@@ -81,6 +86,7 @@ void part_free(part *p) {
     for (int k = 0; k < CHUNK_STACK_MAX; k++) free(p->block[k]);
     free(p->count);
     free(p->open);
+    aov_free(&p->aov);
     *p = (part){0};
 }
 
@@ -149,6 +155,14 @@ static bool film_of(const part *p, film *out, bool whole) {
         out->accum[4 * i + 3] = (float)p->count[i];
     }
     out->nonfinite = p->meta.nonfinite;
+    if (p->aov.mask && !aov_alloc(&out->aov, p->aov.mask, n)) {
+        film_free(out);
+        return false;
+    }
+    for (int k = 0; k < AOV_COUNT; k++)
+        if (p->aov.plane[k])
+            memcpy(out->aov.plane[k], p->aov.plane[k],
+                   n * (size_t)aov_channels((aov_kind)k) * sizeof(float));
     return true;
 }
 

@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "image/aov.h"
 #include "render/chunk_tree.h"
 #include "render/render.h"
 
@@ -42,6 +43,9 @@ typedef struct part {
     float *block[CHUNK_STACK_MAX];
     uint32_t *count;
     float *open;
+    /* The feature images (image/aov.h) of the region, of samples 0 to min(RENDER_AOV_SAMPLES,
+     * spp) - 1 (in chunk 0): only a part that begins at sample 0 has them. */
+    aov_set aov;
 } part;
 
 /* The first sample of chunk k of part p, or its spp past the last chunk. */
