@@ -14,8 +14,12 @@
  * images. */
 typedef struct part_channels {
     int count;
-    exr_channel ch[4 + 3 * CHUNK_STACK_MAX + 6 + 3 * AOV_COUNT];
+    exr_channel ch[4 + 3 * CHUNK_STACK_MAX + 6 + 3 * AOV_COUNT + 4];
 } part_channels;
+
+/* The channels of a noise threshold's state (part.adaptive), in its order. */
+static const char *const adaptive_names[4] = {"adaptive.R", "adaptive.G", "adaptive.B",
+                                              "adaptive.stop"};
 
 /* Adds the channels of the feature images of mask. */
 static void name_aov_channels(uint32_t mask, part_channels *pc) {
@@ -55,6 +59,8 @@ static void name_channels(const part *p, part_channels *pc) {
         for (int c = 0; c < 3; c++) add_channel(pc, EXR_SAMPLE_FLOAT, "open.comp", rgb[c]);
     }
     name_aov_channels(p->aov.mask, pc);
+    for (int c = 0; p->meta.adaptive && c < 4; c++)
+        add_channel(pc, EXR_SAMPLE_FLOAT, adaptive_names[c], 0);
 }
 
 /* The feature images a part file has: those of which it has a first channel. */
@@ -163,8 +169,10 @@ bool part_write(const char *path, const part *p) {
             for (int c = 0; c < 3; c++)
                 planes[(size_t)(3 * k + c) * n + i] = p->block[k][3 * i + c];
     float *aov_planes = NULL; /* the feature images' channels, planar */
-    int aov_count = pc.count - (4 + 3 * p->stack.count + (has_open ? 6 : 0));
-    if (ok && aov_count > 0 && !(aov_planes = big_malloc((size_t)aov_count * n * sizeof(float)))) {
+    int aov_count =
+        pc.count - (4 + 3 * p->stack.count + (has_open ? 6 : 0) + (m->adaptive ? 4 : 0));
+    if (ok && aov_count + 4 > 0 &&
+        !(aov_planes = big_malloc((size_t)(aov_count + 4) * n * sizeof(float)))) {
         log_error("%s: out of memory for a part of %zu pixels", path, n);
         ok = false;
     }
@@ -180,6 +188,11 @@ bool part_write(const char *path, const part *p) {
     for (int k = 0; k < 3 * p->stack.count; k++) pc.ch[ch++].data = planes + (size_t)k * n;
     for (int c = 0; has_open && c < 6; c++) pc.ch[ch++].data = open[c];
     for (int a = 0; a < aov_count; a++) pc.ch[ch++].data = aov_planes + (size_t)a * n;
+    for (int c = 0; ok && m->adaptive && c < 4; c++) {
+        float *plane = aov_planes + (size_t)(aov_count + c) * n;
+        for (size_t i = 0; i < n; i++) plane[i] = p->adaptive[4 * i + (size_t)c];
+        pc.ch[ch++].data = plane;
+    }
     part_attrs pa;
     fill_attrs(m, &pa);
     exr_file f = {.display_width = m->width,
@@ -288,6 +301,7 @@ bool part_read(const char *path, part *out) {
     bool ok = read_meta(path, &f, &m);
     uint32_t samples = ok ? m.sample_end - m.sample_begin : 0;
     bool open = ok && !chunk_aligned(&m, m.sample_end);
+    m.adaptive = exr_file_channel(&f, adaptive_names[3]) != NULL;
     ok = ok && part_init(out, &m);
     if (ok) {
         out->meta = m;
@@ -341,6 +355,12 @@ bool part_read(const char *path, part *out) {
     for (int c = 0; ok && c < 3; c++)
         ok = need_channel(path, &f, pc.ch[c].name, EXR_SAMPLE_FLOAT) != NULL;
     int a = pc.count;
+    for (int c = 3; ok && m.adaptive && c >= 0; c--) {
+        const exr_channel *ch = need_channel(path, &f, pc.ch[--a].name, EXR_SAMPLE_FLOAT);
+        ok = ch != NULL;
+        for (size_t i = 0; ok && i < n; i++)
+            out->adaptive[4 * i + (size_t)c] = ((const float *)ch->data)[i];
+    }
     for (int k = AOV_COUNT - 1; ok && k >= 0; k--) {
         int w = aov_channels((aov_kind)k);
         for (int c = w - 1; out->aov.plane[k] && ok && c >= 0; c--) {

@@ -240,6 +240,12 @@ static bool merge_pixel(const part *parts, const int *order, int held, int x, in
     if (s.count != out->stack.count) return false;
     const part_meta *m = &out->meta;
     size_t o = (size_t)(y - m->y0) * (size_t)(m->x1 - m->x0) + (size_t)(x - m->x0);
+    for (int h = 0; h < held && out->adaptive; h++) { /* the noise threshold's state */
+        const part *q = &parts[order[h]];
+        size_t i =
+            (size_t)(y - q->meta.y0) * (size_t)(q->meta.x1 - q->meta.x0) + (size_t)(x - q->meta.x0);
+        if (q->adaptive) memcpy(&out->adaptive[4 * o], &q->adaptive[4 * i], 4 * sizeof(float));
+    }
     for (int h = 0; h < held && out->aov.mask; h++) { /* the part of chunk 0 has them */
         const part *q = &parts[order[h]];
         if (q->meta.sample_begin != 0) continue;

@@ -79,6 +79,9 @@ typedef struct render_opts {
     const render_control *control; /* NULL: every pass at once */
     double deadline; /* clock_seconds() when a time limit ends, for the progress line; 0: none */
     uint32_t aov;    /* the feature images (image/aov.h) a part of chunk 0 gets, a bit a kind */
+    /* Adaptive sampling (common/adaptive.h): a pixel whose estimated error is at most this
+     * renders no further chunk; 0: off, every pixel renders spp samples. */
+    float noise_threshold;
 } render_opts;
 
 /* Fills opts from the scene's `render` settings (flags override afterwards); never fails. */
