@@ -241,7 +241,11 @@ struct gpu_pass {
     TZ_UINT chunk_count; /* chunks the samples span, 1 to TZ_PASS_CHUNKS: the first and the last
                           * as the flags say, the others whole */
     TZ_UINT stack_depth; /* blocks a pixel has room for in TZ_BINDING_STACK */
-    TZ_UINT pad0, pad1, pad2, pad3; /* 0 */
+    /* The noise threshold's bits (a float; 0: off). When on, a pixel's last two blocks of
+     * TZ_BINDING_STACK hold its state (common/adaptive.h): the odd chunks' sum, then the chunk
+     * it stopped at (0 while sampled) and two zeros. */
+    TZ_UINT noise_threshold;
+    TZ_UINT pad1, pad2, pad3; /* 0 */
     /* chunk_stack_push for chunk c: where its value goes (low 16 bits), merges after (high) */
     TZ_UINT stack_slot[TZ_PASS_CHUNKS];
 };

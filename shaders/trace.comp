@@ -120,6 +120,7 @@ bool use_bvh() { return UNROLLED_SPHERES == 0u && frame.node_count > 0u; }
 #include "common/path.h"
 #include "common/report.h"
 #include "common/film_sum.h"
+#include "common/adaptive.h"
 
 /* The pixel of this invocation within the tile. Workgroup n of the dispatch takes block
  * (n * pass.group_stride) mod (the dispatch's workgroups), a stride coprime with that count:
@@ -171,6 +172,13 @@ void main() {
     loop_overflow = false;
     rays_traced = 0u;
     uint s = pass.first_sample, left = pass.sample_count;
+    /* The noise threshold's state (common/adaptive.h) in the pixel's last two blocks: the odd
+     * chunks' sum, the chunk it stopped at (0 while sampled). */
+    bool adaptive = pass.noise_threshold != 0u;
+    float threshold = uintBitsToFloat(pass.noise_threshold);
+    uint state = pass.stack_depth - 2u;
+    vec3 odd = adaptive ? chunk_stack_load(slot, state) : vec3(0.0);
+    uint stopped = adaptive ? uint(CHUNK_STACK_FLOAT(state + 1u, 0u)) : 0u;
     for (uint c = 0u; c < pass.chunk_count; c++) {
         if (c > 0u || (pass.chunk_flags & TZ_CHUNK_OPEN) != 0u) {
             sum = vec4(0.0, 0.0, 0.0, sum.w);
@@ -178,6 +186,19 @@ void main() {
         }
         bool last = c + 1u == pass.chunk_count;
         uint n = last ? left : TZ_CHUNK_SAMPLES - s % TZ_CHUNK_SAMPLES;
+        uint chunk = s / TZ_CHUNK_SAMPLES;
+        if (adaptive && stopped == 0u && s % TZ_CHUNK_SAMPLES == 0u &&
+            !adaptive_goes_on(chunk_stack_total(slot, pass.stack_slot[c] & 0xffffu), odd, chunk,
+                              threshold))
+            stopped = chunk;
+        if (stopped != 0u) { /* its samples are not drawn: the chunk is zero */
+            s += n;
+            left -= n;
+            if (!last || (pass.chunk_flags & TZ_CHUNK_CLOSE) != 0u)
+                chunk_push(slot, pass.stack_slot[c] & 0xffffu, pass.stack_slot[c] >> 16u,
+                           film_sum_value(sum.xyz, comp));
+            continue;
+        }
 #if defined(TZ_PATH_REGENERATE_MODULE)
         /* A pass a vertex, a lane whose path ended starting its pixel's next sample at once: the
          * batch's loop runs its longest lane's vertices, not each sample's longest path. For the
@@ -205,9 +226,14 @@ void main() {
         s += n;
         left -= n;
         if (!last || (pass.chunk_flags & TZ_CHUNK_CLOSE) != 0u) {
-            chunk_push(slot, pass.stack_slot[c] & 0xffffu, pass.stack_slot[c] >> 16u,
-                       film_sum_value(sum.xyz, comp));
+            vec3 v = film_sum_value(sum.xyz, comp);
+            chunk_push(slot, pass.stack_slot[c] & 0xffffu, pass.stack_slot[c] >> 16u, v);
+            if (adaptive && chunk % 2u == 1u) odd = odd + v;
         }
+    }
+    if (adaptive) {
+        chunk_stack_store(slot, state, odd);
+        chunk_stack_store(slot, state + 1u, vec3(float(stopped), 0.0, 0.0));
     }
     accum[slot] = sum;
     if ((pass.chunk_flags & TZ_CHUNK_CLOSE) == 0u) accum_comp[slot] = vec4(comp, 0.0);

@@ -62,6 +62,12 @@ TZ_FN vec3 bsdf_f(bsdf_material m, vec3 n, vec3 wi, vec3 wo) {
     return bsdf_f_at(m, phong_lobe_cos(n, wi, wo));
 }
 
+/* The colour a denoiser takes as material m's albedo (the AOV of shaders/common/aov.h): a lobe's
+ * head-on reflectance kd + ks, a delta's tint. The one place a new kind says its albedo. */
+TZ_LANE_FN vec3 bsdf_albedo(bsdf_material m) {
+    return bsdf_is_delta(m.kind) ? m.color : v3_add(m.color, v3(m.ks, m.ks, m.ks));
+}
+
 /* The share of the cosine lobe in lobe material m's sampling (diffuse_share; -1: it reflects
  * nothing). */
 TZ_LANE_FN float bsdf_share(bsdf_material m) { return diffuse_share(m.color, m.ks); }

@@ -19,6 +19,7 @@ void render_opts_from_scene(const scene *s, render_opts *opts) {
     opts->mode = s->mode;
     opts->roulette = s->roulette;
     opts->light_samples = s->light_samples;
+    opts->noise_threshold = s->noise_threshold;
     opts->sampler = s->sampler;
 }
 
@@ -226,6 +227,8 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
     if (scene_sampler_of(o->sampler, o->mode) == RENDER_SAMPLER_SOBOL) h = digest_int(h, 1);
     /* one light sample keeps the digests of before light_samples existed */
     if (render_light_samples(o) > 1) h = digest_int(h, render_light_samples(o));
+    /* the noise threshold decides which samples are drawn; off keeps the digests of before */
+    if (o->noise_threshold > 0.0f) h = digest_float(digest_int(h, 4), o->noise_threshold);
     /* Smooth mirror and glass faces once turned rays about their geometric normal: parts rendered
      * then estimate another image, so such scenes hash one more word and those parts do not
      * merge with newer ones; every other scene keeps its digest. */
@@ -246,7 +249,8 @@ void render_part_meta(const scene *s, const render_opts *opts, part_meta *m) {
                      .width = s->width,
                      .height = s->height,
                      .x1 = s->width,
-                     .y1 = s->height};
+                     .y1 = s->height,
+                     .adaptive = opts->noise_threshold > 0.0f};
     snprintf(m->digest, sizeof m->digest, "%016" PRIx64, render_digest(s, opts));
     snprintf(m->mode, sizeof m->mode, "%s", opts->mode == RENDER_MODE_PATH ? "path" : "report");
     snprintf(m->version, sizeof m->version, "%s", TRAZADOR_VERSION);

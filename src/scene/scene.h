@@ -201,6 +201,7 @@ typedef struct scene {
     bool bounces_given;
     bool roulette;          /* path mode: Russian roulette from the fourth vertex */
     int light_samples;      /* path mode: emitter samples a diffuse vertex (`light_samples`) */
+    float noise_threshold;  /* adaptive sampling's threshold (`noise_threshold`); 0: off */
     render_sampler sampler; /* auto unless the scene names one */
     uint32_t seed;
     render_mode mode;

@@ -64,6 +64,7 @@ enum {
     RENDER_ROULETTE,
     RENDER_SAMPLER,
     RENDER_LIGHT_SAMPLES,
+    RENDER_NOISE_THRESHOLD,
     RENDER_KEY_COUNT
 };
 /* The words of `render mode`, in render_mode order, then "seed", report's old name. */
@@ -79,6 +80,7 @@ static const key_spec render_keys[RENDER_KEY_COUNT] = {
     {"roulette", NULL, VALUE_SWITCH, 0.0, 1.0, false},
     {"sampler", RENDER_SAMPLER_WORDS, VALUE_WORD, 0.0, 1.0, false},
     {"light_samples", NULL, VALUE_INTEGER, 1.0, SCENE_MAX_LIGHT_SAMPLES, false},
+    {"noise_threshold", NULL, VALUE_NUMBER, 0.0, 1e6, false},
 };
 
 /* background takes three numbers and no key; this spec names them in messages. */
@@ -358,6 +360,7 @@ bool directive_render(parser *p) {
         p->s.sampler =
             (render_sampler)(RENDER_SAMPLER_RANDOM + (int)parser_value_or(&kv, RENDER_SAMPLER, 0));
     p->s.light_samples = (int)parser_value_or(&kv, RENDER_LIGHT_SAMPLES, 1);
+    p->s.noise_threshold = (float)parser_value_or(&kv, RENDER_NOISE_THRESHOLD, 0.0);
     if (kv.given & BIT(RENDER_ROULETTE))
         p->roulette_col = p->tokens[kv.key_token[RENDER_ROULETTE]].col;
     if (kv.given & BIT(RENDER_INDIRECT))
