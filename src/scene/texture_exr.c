@@ -49,9 +49,10 @@ static int texel_channel(const char *name) {
     return -1;
 }
 
-/* Decodes every scanline chunk into planes (R, G, B, A, Y: a float plane each of out's size);
- * false with the reason in error. Planes, not out's interleaved texels: OpenEXRCore 3.1's
- * interleaving unpacker put R, G, B, A in reverse order. */
+/* Decodes every scanline chunk into planes (R, G, B, A, Y and a scratch plane for the other
+ * channels: a float plane each of out's size); false with the reason in error. Planes, not out's
+ * interleaved texels: OpenEXRCore 3.1's interleaving unpacker put R, G, B, A in reverse order;
+ * every channel gets a plane: its unpackers wrote through a NULL one. */
 static bool decode_pixels(exr_context_t ctx, exr_attr_box2i_t data, const texture_image *out,
                           float *planes, exr_memory *m, char *error, size_t error_size) {
     int32_t lines = 1;
@@ -69,8 +70,7 @@ static bool decode_pixels(exr_context_t ctx, exr_attr_box2i_t data, const textur
         for (int16_t k = 0; k < dec.channel_count; k++) {
             exr_coding_channel_info_t *ch = &dec.channels[k];
             int c = texel_channel(ch->channel_name);
-            ch->decode_to_ptr = NULL;
-            if (c < 0 || ch->x_samples != 1 || ch->y_samples != 1) continue;
+            if (c < 0) c = 5;
             ch->user_bytes_per_element = 4;
             ch->user_data_type = EXR_PIXEL_FLOAT;
             ch->user_pixel_stride = 4;
@@ -113,8 +113,11 @@ static bool decode_part(exr_context_t ctx, exr_memory *m, size_t budget_bytes, t
     bool found[5] = {false};
     for (int c = 0; c < list->num_channels; c++) {
         int t = texel_channel(list->entries[c].name.str);
-        if (t >= 0 && list->entries[c].x_sampling == 1 && list->entries[c].y_sampling == 1)
-            found[t] = true;
+        if (list->entries[c].x_sampling != 1 || list->entries[c].y_sampling != 1) {
+            snprintf(error, error_size, "OpenEXR with subsampled channels (not read)");
+            return false;
+        }
+        if (t >= 0) found[t] = true;
     }
     bool rgb = found[0] && found[1] && found[2], grey = found[4];
     if (!rgb && !grey) {
@@ -132,7 +135,7 @@ static bool decode_part(exr_context_t ctx, exr_memory *m, size_t budget_bytes, t
                              error_size))
         return false;
     size_t texels = (size_t)w * (size_t)h;
-    float *planes = calloc(5 * texels, sizeof *planes);
+    float *planes = calloc(6 * texels, sizeof *planes);
     if (!planes) {
         snprintf(error, error_size, "out of memory decoding the OpenEXR");
         return false;
