@@ -1,6 +1,7 @@
 /* part_file.c: a render part as an EXR file (image/exr.h): the mean, the count and the stack's
  * blocks as channels, the render's description and a checksum as attributes. */
 #include <inttypes.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -360,6 +361,16 @@ bool part_read(const char *path, part *out) {
         ok = ch != NULL;
         for (size_t i = 0; ok && i < n; i++)
             out->adaptive[4 * i + (size_t)c] = ((const float *)ch->data)[i];
+    }
+    /* a stop is a chunk the part has passed, so that the renderer may take it as a whole number */
+    float last_stop = (float)out->stack.end;
+    for (size_t i = 0; ok && m.adaptive && i < n; i++) {
+        float stop = out->adaptive[4 * i + 3];
+        if (stop == 0.0f || (stop >= 1.0f && stop <= last_stop && stop == floorf(stop))) continue;
+        log_error("%s: not a consistent trazador part: pixel (%d, %d) stopped at chunk %g", path,
+                  m.x0 + (int)(i % (size_t)(m.x1 - m.x0)), m.y0 + (int)(i / (size_t)(m.x1 - m.x0)),
+                  (double)stop);
+        ok = false;
     }
     for (int k = AOV_COUNT - 1; ok && k >= 0; k--) {
         int w = aov_channels((aov_kind)k);

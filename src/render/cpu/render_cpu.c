@@ -33,6 +33,8 @@
 typedef struct cpu_job {
     const packed_scene *packed;
     packet_integrator packet; /* the fastest this processor runs */
+    /* The one-sample build of the mode: integrator_report_sample or integrator_path_sample. */
+    vec3 (*one)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
     part *part;
     int width, height; /* the region */
     /* The pass: chunks first_chunk to first_chunk + chunks - 1, chunk k placed at top[k] with
@@ -58,6 +60,10 @@ typedef struct cpu_job {
     atomic_ullong nonfinite;
     atomic_ullong rays;
 } cpu_job;
+
+/* A packet of a noise threshold's render draws its lanes one by one once at most one in this
+ * many is still sampled. */
+#define ALONE_SHARE 4u
 
 /* The most chunks a path build's run takes at once: the longer a run, the less of it goes by
  * with lanes idle at its end. */
@@ -106,8 +112,11 @@ static unsigned long long render_lanes(cpu_job *job, int i, int j, uint32_t lane
                 stopped[k] = chunk;
             sampled += !stopped[k];
         }
+        /* A noise threshold's few lanes left are drawn alone by the one-sample build (bit for bit
+         * the packet's): a packet would draw every lane. */
+        bool alone = sampled * ALONE_SHARE <= lanes;
         if (!pk->samples) run_first = first; /* one sample of all lanes at a time */
-        if (pk->samples && n % run_chunks == 0 && sampled) {
+        if (pk->samples && n % run_chunks == 0 && sampled && !alone) {
             uint32_t last = n + run_chunks < job->chunks ? n + run_chunks : job->chunks;
             uint32_t run_end = (job->first_chunk + last) * TZ_CHUNK_SAMPLES;
             run_end = run_end < p->meta.spp ? run_end : p->meta.spp;
@@ -115,8 +124,11 @@ static unsigned long long render_lanes(cpu_job *job, int i, int j, uint32_t lane
             pk->samples(job->packed, x, y, lanes, first, run_end - first, run);
         }
         for (uint32_t s = first; sampled && s < end; s++) {
-            vec3 *l = run + (size_t)(s - run_first) * lanes;
-            if (!pk->samples) pk->sample(job->packed, x, y, lanes, s, l);
+            vec3 lone[PACKET_LANES_MAX];
+            vec3 *l = alone ? lone : run + (size_t)(s - run_first) * lanes;
+            for (uint32_t k = 0; alone && k < lanes; k++)
+                if (!stopped[k]) l[k] = job->one(job->packed, x + k, y, s);
+            if (!pk->samples && !alone) pk->sample(job->packed, x, y, lanes, s, l);
             for (uint32_t k = 0; k < lanes; k++) {
                 if (stopped[k]) continue; /* its samples are not drawn: zero */
                 if (!sample_finite(l[k])) {
@@ -327,11 +339,13 @@ static bool render_cpu_part(const scene *s, const render_opts *opts, part *p, ui
     double start = clock_seconds();
     if (!scene_pack(s, opts, &packed)) return false;
     scene_pack_report(&packed, opts, start);
-    cpu_job job = {.packed = &packed,
-                   .part = p,
-                   .threshold = opts->noise_threshold,
-                   .width = p->meta.x1 - p->meta.x0,
-                   .height = p->meta.y1 - p->meta.y0};
+    cpu_job job = {
+        .packed = &packed,
+        .part = p,
+        .threshold = opts->noise_threshold,
+        .one = opts->mode == RENDER_MODE_PATH ? integrator_path_sample : integrator_report_sample,
+        .width = p->meta.x1 - p->meta.x0,
+        .height = p->meta.y1 - p->meta.y0};
     const char *build = opts->cpu_build;
     job.packet = opts->mode == RENDER_MODE_PATH
                      ? integrator_path_choose(build, integrator_packet_walks(&packed))
