@@ -98,6 +98,8 @@ typedef struct parser {
     int mode_given; /* the render's mode from the command line; -1: the scene's */
     /* A chunk parsed ahead: any directive but sphere, triangle and quad stops it. */
     bool primitives_only;
+    /* A model's own textures: one that cannot be read is a warning, its map dropped. */
+    bool textures_optional;
     struct mesh_cache *meshes; /* the models mesh lines loaded (mesh_cache.c), NULL before one */
     mesh_view *views; /* the mesh lines' boxes, in order (parser_note_mesh); freed by the parse */
     size_t view_count, view_capacity;

@@ -232,6 +232,10 @@ bool parser_keys_of(parser *p, const char *owner, const char *word, const key_sp
             char list[512] = "";
             for (int k = 0; k < key_count; k++) {
                 if (!(accepted & BIT(k))) continue;
+                if (!strcmp(keys[k].name, "color_map")) { /* the material's texture keys, last */
+                    strcat(list, " and the texture keys");
+                    break;
+                }
                 if (list[0]) strcat(list, " ");
                 strcat(list, keys[k].name);
             }

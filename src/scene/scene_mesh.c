@@ -148,10 +148,13 @@ static bool mapped_material(parser *p, const mesh *me, int index, const char *pa
         char *end;
         long n = map->path[0] == '*' ? strtol(map->path + 1, &end, 10) : -1;
         bool ok;
+        p->textures_optional = true;
         if (map->path[0] == '*') {
-            if (*end || n < 0 || n >= me->embedded_count)
+            if (*end || n < 0 || n >= me->embedded_count) {
+                p->textures_optional = false;
                 return parser_fail(p, col, "mesh '%s': texture '%s' is not in the file", path,
                                    map->path);
+            }
             snprintf(named, sizeof named, "%s#%ld", path, n);
             ok = texture_slot_of_bytes(p, col, named, me->embedded + me->embedded_at[n],
                                        me->embedded_at[n + 1] - me->embedded_at[n], map->flags,
@@ -163,6 +166,7 @@ static bool mapped_material(parser *p, const mesh *me, int index, const char *pa
             ok = texture_slot_of_file(p, col, named, map->flags, k == MAP_ALPHA ? 0.5f : 1.0f,
                                       identity_uv, &out->maps[k]);
         }
+        p->textures_optional = false;
         if (!ok) return false;
     }
     return true;

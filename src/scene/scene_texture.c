@@ -66,6 +66,15 @@ static bool slot_add(parser *p, int col, uint32_t image, uint32_t flags, float p
     return true;
 }
 
+/* An image that cannot be read: an error, or for a model's own textures (textures_optional) a
+ * warning naming it, its map dropped (*slot 0: the material renders without it). */
+static bool texture_refused(parser *p, int col, const char *name, const char *why, uint32_t *slot) {
+    if (!p->textures_optional) return parser_fail(p, col, "texture '%s': %s", name, why);
+    parser_warn(p, p->line, col, "texture '%s' not shown: %s", name, why);
+    *slot = 0;
+    return true;
+}
+
 /* What is left of the scene's texel budget. */
 static size_t budget_left(const parser *p) { return TEXTURE_MAX_SCENE_BYTES - p->s.texel_bytes; }
 
@@ -83,7 +92,7 @@ bool texture_slot_of_file(parser *p, int col, const char *path, uint32_t flags, 
         texture_image decoded;
         char why[320];
         if (!texture_load_file(path, budget_left(p), &decoded, why, sizeof why))
-            return parser_fail(p, col, "texture '%s': %s", path, why);
+            return texture_refused(p, col, path, why, slot);
         if (!image_add(p, col, &decoded, path, (uint64_t)st.st_dev, (uint64_t)st.st_ino, &image))
             return false;
     }
@@ -102,7 +111,7 @@ bool texture_slot_of_bytes(parser *p, int col, const char *name, const uint8_t *
         texture_image decoded;
         char why[320];
         if (!texture_decode(bytes, size, budget_left(p), &decoded, why, sizeof why))
-            return parser_fail(p, col, "texture '%s': %s", name, why);
+            return texture_refused(p, col, name, why, slot);
         if (!image_add(p, col, &decoded, name, 0, 0, &image)) return false;
     }
     return slot_add(p, col, image, flags, param, transform, slot);
