@@ -177,8 +177,9 @@ TZ_FN bsdf_material textured_material(TZ_SCENE_PARAM bsdf_material m, TZ_UVEC4 m
         texel c = texture_sample(TZ_SCENE_ARG maps.x - 1u, uv);
         vec3 unit = v3(TZ_MIN(TZ_MAX(c.rgb.x, 0.0f), 1.0f), TZ_MIN(TZ_MAX(c.rgb.y, 0.0f), 1.0f),
                        TZ_MIN(TZ_MAX(c.rgb.z, 0.0f), 1.0f));
-        vec3 color = v3_mul(m.color, unit); /* not precise: glslang spreads it through the lookup */
-        m.color = color;
+        /* Not precise, and straight into m: glslang's propagation of precise back through
+         * texture_sample's precise sums takes minutes and gigabytes, through a local too. */
+        m.color = v3_mul(m.color, unit);
     }
     return m;
 }
