@@ -89,12 +89,17 @@ bool directive_camera(parser *p);
 bool directive_plane(parser *p);
 bool directive_light(parser *p);
 bool directive_background(parser *p);
+bool directive_environment(parser *p);
 bool directive_render(parser *p);
 bool directive_sphere(parser *p);
 bool directive_triangle(parser *p);
 bool directive_quad(parser *p);
 bool directive_mesh(parser *p);
 
+/* The path token t names (bare or quoted: parser_path): absolute as given, else relative to the
+ * scene file's folder (the working folder for text that is not a file: standard input,
+ * strings); false (reported, `what` naming the directive) when it is empty or does not fit. */
+bool directive_file_path(parser *p, const token *t, const char *what, char *out, size_t size);
 /* Appends to a message, dropping what does not fit. */
 void directive_append(char *message, size_t size, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));

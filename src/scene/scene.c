@@ -12,6 +12,8 @@ void scene_free(scene *s) {
     free(s->normals);
     free(s->lights);
     free(s->inputs);
+    free(s->environment.rgb);
+    s->environment = (environment_map){0};
     s->spheres = NULL;
     s->triangles = NULL;
     s->materials = NULL;

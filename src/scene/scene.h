@@ -145,6 +145,15 @@ static inline bool scene_input_is(const scene_input *in, uint64_t device, uint64
     return in->device == device && in->inode == inode;
 }
 
+/* An environment map (`environment file`): the radiance of every direction as an equirectangular
+ * image, 2:1, rows top (+y) down, its centre column facing +z (scenes/README.md); rgb NULL
+ * without one (the background is seen). */
+typedef struct environment_map {
+    float *rgb; /* width * height * 3 floats, the intensity applied, finite and >= 0 */
+    int width, height;
+    float to_map[3][3]; /* rows: world directions to the map's (the inverse of its rotate) */
+} environment_map;
+
 typedef struct scene {
     vec3 camera_position, camera_direction, camera_up;
     float camera_fov;  /* horizontal field of view in degrees; 0: the plane sits 2 x width away */
@@ -152,6 +161,7 @@ typedef struct scene {
     float plane_width, plane_height, pixel_size;
     int width, height; /* pixels: plane size / pixel size */
     vec3 background;
+    environment_map environment;
     /* render settings; command-line flags override them */
     int spp; /* samples per pixel (`render samples`) */
     bool indirect;

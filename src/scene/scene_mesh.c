@@ -58,19 +58,6 @@ static bool looks_numeric(const token *t) {
     return (c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.';
 }
 
-/* The mesh file's path (bare or quoted: parser_path): absolute as given, else relative to the
- * scene file's folder (the working folder for text that is not a file: standard input, strings).
- * False (reported) when it is empty or does not fit. */
-static bool mesh_path(parser *p, const token *t, char *out, size_t size) {
-    char named[PATH_MAX];
-    if (!parser_path(p, t, named, sizeof named)) return false;
-    const char *slash = strrchr(p->filename, '/');
-    int dir =
-        named[0] == '/' || p->filename[0] == '<' || !slash ? 0 : (int)(slash - p->filename) + 1;
-    int n = snprintf(out, size, "%.*s%s", dir, p->filename, named);
-    return (n >= 0 && (size_t)n < size) || parser_fail(p, t->col, "mesh path is too long");
-}
-
 /* Reads a mesh line's keys after the optional material word (in any order; scale takes 1 or 3
  * numbers, rotate 4). False (reported) on a bad key or value. */
 static bool read_mesh_keys(parser *p, const material_spec *m, int next, key_values *kv,
@@ -419,7 +406,7 @@ bool directive_mesh(parser *p) {
     if (!read_mesh_keys(p, m, next, &kv, scale, rotate)) return false;
     const token *file = &p->tokens[kv.value_token[MESH_FILE][0]];
     char path[PATH_MAX];
-    if (!mesh_path(p, file, path, sizeof path)) return false;
+    if (!directive_file_path(p, file, "mesh", path, sizeof path)) return false;
     bool smooth = parser_value_or(&kv, MESH_SMOOTH, 0) != 0;
     mesh me;
     char error[512];
