@@ -43,7 +43,8 @@ static bool write_map(const char *path, int w, int h, texel_fn fill) {
 }
 
 /* A sky of the project's own making: a blue gradient from the horizon up, a grey ground and a
- * small sun (about 2 degrees, 20000 times the sky) above the horizon, to the right and ahead. */
+ * small sun (texels within 3 degrees, 2000 times the sky, ten times the sky's irradiance) above
+ * the horizon, to the right and ahead. */
 static void sky(int c, int r, int w, int h, float *rgb) {
     double theta = PI * (r + 0.5) / h, phi = 2 * PI * (c + 0.5) / w - PI;
     double d[3] = {sin(theta) * sin(phi), cos(theta), sin(theta) * cos(phi)};
@@ -52,7 +53,7 @@ static void sky(int c, int r, int w, int h, float *rgb) {
     double up = d[1] > 0 ? d[1] : 0;
     double base[3] = {0.9 - 0.6 * up, 1.0 - 0.4 * up, 1.2};
     for (int k = 0; k < 3; k++) rgb[k] = (float)(d[1] > 0 ? base[k] : 0.35);
-    if (cos_sun > cos(1.0 * PI / 180)) rgb[0] = 24000.0f, rgb[1] = 22000.0f, rgb[2] = 19000.0f;
+    if (cos_sun > cos(3.0 * PI / 180)) rgb[0] = 2400.0f, rgb[1] = 2200.0f, rgb[2] = 1900.0f;
 }
 
 static float constant_value = 0.5f;
@@ -239,6 +240,34 @@ static void test_cap(void) {
     film_free(&f);
 }
 
+/* The variance of one sample of a floor under the shipped sky (a sun of 2000 times the sky), by
+ * MIS with importance sampling against cosine-weighted BSDF sampling alone: the pixels of a
+ * small patch seen from above, one sample each, all estimate nearly the same radiance, so their
+ * spread is the estimator's. The ratio is how many more samples BSDF sampling needs. */
+static void test_noise_ratio(void) {
+    double variance[2];
+    path_strategy strategies[] = {PATH_MIS, PATH_BSDF_ONLY};
+    for (int k = 0; k < 2; k++) {
+        film f = {0};
+        CHECK(render_format(&f, strategies[k],
+                            "camera position 0 1 0 direction 0 -1 0 up 0 0 1\n"
+                            "plane width 0.5 height 0.5 pixel 0.0078125\n"
+                            "quad lambertian v0 -50 0 -50 v1 -50 0 50 v2 50 0 50 v3 50 0 -50 "
+                            "color 0.5 0.5 0.5\nenvironment file %s/scenes/maps/sky.exr\n"
+                            "render mode path bounces 1 samples 1 sampler random\n",
+                            TRAZADOR_SOURCE_DIR),
+              "noise render");
+        if (!f.accum) return;
+        estimate e = region(&f, 1, 0, f.width, 0, f.height);
+        variance[k] = e.se * e.se * f.width * f.height;
+        film_free(&f);
+    }
+    double ratio = variance[1] / variance[0];
+    printf("sky floor: one sample's variance %.4g by MIS, %.4g by BSDF sampling: %.1fx samples\n",
+           variance[0], variance[1], ratio);
+    CHECK(ratio >= 10.0, "importance sampling needs only %.1fx fewer samples", ratio);
+}
+
 /* Expects the scene text to fail at line:col with a message containing `part`. */
 static void expect_error(const char *text, int line, int col, const char *part) {
     scene s;
@@ -294,7 +323,7 @@ static void test_refusals(void) {
 /* The shipped sky (scenes/maps/sky.exr) is what sky() makes. */
 static void test_shipped_sky(void) {
     const char *made = tmp_path("sky.exr");
-    CHECK(write_map(made, 64, 32, sky), "writing %s", made);
+    CHECK(write_map(made, 128, 64, sky), "writing %s", made);
     size_t a = 0, b = 0;
     unsigned char *x = tmp_file_read(made, &a);
     unsigned char *y = tmp_file_read(TRAZADOR_SOURCE_DIR "/scenes/maps/sky.exr", &b);
@@ -305,7 +334,7 @@ static void test_shipped_sky(void) {
 
 int main(int argc, char **argv) {
     if (argc == 3 && !strcmp(argv[1], "--write-sky"))
-        return write_map(argv[2], 64, 32, sky) ? 0 : 1;
+        return write_map(argv[2], 128, 64, sky) ? 0 : 1;
     use_vulkan = argc > 1 && !strcmp(argv[1], "vulkan");
     if (use_vulkan && vk_context_device_count() == 0) {
         printf("test_environment: no Vulkan device, skipped\n");
@@ -316,6 +345,7 @@ int main(int argc, char **argv) {
         CHECK_CASE(test_sampling);
         CHECK_CASE(test_refusals);
         CHECK_CASE(test_shipped_sky);
+        CHECK_CASE(test_noise_ratio);
     }
     CHECK_CASE(test_furnace);
     CHECK_CASE(test_cap);

@@ -24,6 +24,12 @@
  * right, seen from inside; world directions turn into the map's by the frame's rows env_x,
  * env_y, env_z. */
 
+/* Constants as float literals: a C compiler folds 2.0f * TZ_PI * TZ_PI in float, glslang in
+ * double, and the two differed in the last bit. */
+#define TZ_TWO_PI_SQUARED 19.7392088f
+#define TZ_ONE_OVER_TWO_PI 0.159154943f
+#define TZ_ONE_OVER_PI 0.318309886f
+
 /* The direction of the map that world direction d meets. */
 TZ_LANE_FN vec3 environment_map_direction(TZ_SCENE_PARAM vec3 d) {
     vec3 m = v3(v3_dot(xyz(TZ_FRAME.env_x), d), v3_dot(xyz(TZ_FRAME.env_y), d),
@@ -41,9 +47,9 @@ TZ_LANE_FN int environment_texel_of(TZ_SCENE_PARAM vec3 m) {
     float z = rho > 0.0f ? m.z : 1.0f;
     float side = m.x < 0.0f ? -1.0f : 1.0f;
     float azimuth = angle_of(TZ_ABS(m.x), z);
-    TZ_PRECISE float u = 0.5f + side * (azimuth * (0.5f / TZ_PI));
+    TZ_PRECISE float u = 0.5f + side * (azimuth * TZ_ONE_OVER_TWO_PI);
     float x = u * TZ_FLOAT(TZ_FRAME.env_width);
-    float y = theta * (1.0f / TZ_PI) * TZ_FLOAT(TZ_FRAME.env_height);
+    float y = theta * TZ_ONE_OVER_PI * TZ_FLOAT(TZ_FRAME.env_height);
     int w = TZ_INT(TZ_FRAME.env_width), h = TZ_INT(TZ_FRAME.env_height);
     return TZ_MIN(TZ_INT(y), h - 1) * w + TZ_MIN(TZ_INT(x), w - 1);
 }
@@ -69,7 +75,7 @@ TZ_LANE_FN float environment_pdf(TZ_SCENE_PARAM vec3 d) {
         TZ_PRECISE float sin_theta = TZ_SQRT(m.x * m.x + m.z * m.z);
         float pick = emitter_emission_pick(TZ_SCENE_ARG TZ_INT(TZ_FRAME.env_slot) - 1).w;
         float texel = environment_texel(TZ_SCENE_ARG environment_texel_of(TZ_SCENE_ARG m)).w;
-        float p = pick * texel / (2.0f * TZ_PI * TZ_PI * sin_theta);
+        float p = pick * texel / (TZ_TWO_PI_SQUARED * sin_theta);
         pdf = sin_theta > 0.0f ? p : 0.0f;
     }
     return pdf;
@@ -139,7 +145,7 @@ TZ_FN environment_sample environment_sample_at(TZ_SCENE_PARAM float ua, float ub
     TZ_VEC4 texel = environment_texel(TZ_SCENE_ARG row.k * w + column.k);
     environment_sample s;
     s.wi = wi;
-    float pdf = texel.w / (2.0f * TZ_PI * TZ_PI * theta.s);
+    float pdf = texel.w / (TZ_TWO_PI_SQUARED * theta.s);
     s.pdf = theta.s > 0.0f ? pdf : 0.0f;
     s.radiance = xyz(texel);
     return s;

@@ -244,8 +244,9 @@ static inline bool triangle_emits(const scene *s, const triangle *t) {
 /* Whether some sphere or face emits light (path mode's emitters); never fails. */
 bool scene_emits(const scene *s);
 /* Whether anything can light the image: a point light of some power and colour (both modes), an
- * emitting sphere or face (path mode: report mode refuses emission) or a background that is not
- * black (seen by camera and mirror rays, and by report mode's indirect bounce); never fails. */
+ * emitting sphere or face (path mode: report mode refuses emission), an environment map or a
+ * background that is not black (seen by camera and mirror rays, and by report mode's indirect
+ * bounce); never fails. */
 bool scene_has_light(const scene *s);
 /* Releases the arrays of a parsed scene; safe on a zeroed scene. */
 void scene_free(scene *s);
