@@ -316,8 +316,8 @@ static void test_refusals(void) {
     expect_error("environment\n", 1, 1, "needs 'file PATH' or 'color R G B'");
     expect_error("environment color 1 1\n", 1, 22, "expected 3 numbers");
     expect_error("environment sky 1\n", 1, 13, "unknown key 'sky'");
-    expect_error("background 1 1 1\nenvironment color 1 1 1\n", 2, 1, "(line 1)");
-    expect_error("environment color 1 1 1\nbackground 1 1 1\n", 2, 1, "once");
+    expect_error("background 1 1 1\nenvironment color 1 1 1\n", 2, 1, "(first on line 1)");
+    expect_error("environment color 1 1 1\nbackground 1 1 1\n", 2, 1, "one directive");
 }
 
 /* The shipped sky (scenes/maps/sky.exr) is what sky() makes. */

@@ -27,8 +27,8 @@ static const key_spec background_spec = {"background", "r g b", VALUE_NUMBER, 0.
 static bool claim_environment(parser *p) {
     if (p->background_line) {
         return parser_fail(p, p->tokens[0].col,
-                           "'%s' given after the environment was set (line %d): one of "
-                           "background and environment, once",
+                           "'%s' given twice (first on line %d), background and environment being "
+                           "one directive",
                            parser_quote(p, &p->tokens[0]), p->background_line);
     }
     p->background_line = p->line;
