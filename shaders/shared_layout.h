@@ -47,6 +47,9 @@ typedef struct tz_uvec4 {
 /* The scene has triangles; without it their code is dead wherever the flags are a
  * specialization constant (trace.comp's FLAGS). */
 #define TZ_FLAG_TRIANGLES 128u
+/* The scene has an environment map: without it the map's code is dead as the triangles' is
+ * (lavapipe ran path mode 1.6x slower with it compiled in). */
+#define TZ_FLAG_ENVIRONMENT 256u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
  * pixels, whose rays stay coherent; 4 x 8 ran more instructions: docs/PERF.md), 32 lanes on real

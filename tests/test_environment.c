@@ -304,7 +304,7 @@ static void test_refusals(void) {
     snprintf(text, sizeof text, "\nenvironment file %s\n", square);
     expect_error(text, 2, 18, "8 x 8 pixels");
     snprintf(text, sizeof text, "environment file %s\n", text_file);
-    expect_error(text, 1, 18, "not an OpenEXR");
+    expect_error(text, 1, 18, "neither an OpenEXR nor a Radiance HDR");
     snprintf(text, sizeof text, "environment file %s\n", bad);
     expect_error(text, 1, 18, "not a readable OpenEXR");
     snprintf(text, sizeof text, "environment file %s\n", negative);
@@ -318,6 +318,45 @@ static void test_refusals(void) {
     expect_error("environment sky 1\n", 1, 13, "unknown key 'sky'");
     expect_error("background 1 1 1\nenvironment color 1 1 1\n", 2, 1, "(first on line 1)");
     expect_error("environment color 1 1 1\nbackground 1 1 1\n", 2, 1, "one directive");
+}
+
+/* A Radiance HDR map (flat RGBE scanlines, 8 x 4 texels of 1.0 but one of 2.5 at column 3 of
+ * row 1) reads as those values; one whose rows run up (+Y), which stb_image does not read, is
+ * refused. */
+static void test_radiance(void) {
+    const char *path = tmp_path("map.hdr"), *cut = tmp_path("cut.hdr");
+    FILE *fp = fopen(path, "wb"), *fq = fopen(cut, "wb");
+    if (!fp || !fq) {
+        CHECK(false, "writing %s", path);
+        return;
+    }
+    const char *header = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 8\n";
+    fputs(header, fp), fputs("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n+Y 4 +X 8\n", fq);
+    for (int k = 0; k < 32; k++) {
+        /* 1.0 is mantissa 128 at exponent 129; 2.5 is 160 at 130 */
+        unsigned char one[4] = {128, 128, 128, 129}, bright[4] = {160, 160, 160, 130};
+        fwrite(k == 11 ? bright : one, 1, 4, fp);
+        if (k < 5) fwrite(one, 1, 4, fq);
+    }
+    fclose(fp), fclose(fq);
+    scene s;
+    render_opts o;
+    if (parse_format(&s, &o,
+                     "camera position 0 0 0\nplane width 1 height 1 pixel 0.5\n"
+                     "environment file %s\n",
+                     path)) {
+        CHECK(s.environment.width == 8 && s.environment.height == 4, "radiance map size");
+        CHECK(s.environment.rgb[0] == 1.0f && s.environment.rgb[3 * 11 + 1] == 2.5f &&
+                  s.environment.rgb[3 * 31 + 2] == 1.0f,
+              "radiance map values %g %g", (double)s.environment.rgb[0],
+              (double)s.environment.rgb[3 * 11 + 1]);
+        scene_free(&s);
+    } else {
+        CHECK(false, "parsing a Radiance map");
+    }
+    char text[600];
+    snprintf(text, sizeof text, "environment file %s\n", cut);
+    expect_error(text, 1, 18, "not a readable Radiance HDR image");
 }
 
 /* The shipped sky (scenes/maps/sky.exr) is what sky() makes. */
@@ -345,6 +384,7 @@ int main(int argc, char **argv) {
         CHECK_CASE(test_sampling);
         CHECK_CASE(test_refusals);
         CHECK_CASE(test_shipped_sky);
+        CHECK_CASE(test_radiance);
         CHECK_CASE(test_noise_ratio);
     }
     CHECK_CASE(test_furnace);

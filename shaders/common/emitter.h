@@ -58,7 +58,7 @@ TZ_LANE_FN int environment_texel_of(TZ_SCENE_PARAM vec3 m) {
  * texel, or the constant background without a map. */
 TZ_LANE_FN vec3 environment_radiance(TZ_SCENE_PARAM vec3 d) {
     vec3 seen = xyz(TZ_FRAME.background);
-    if (TZ_FRAME.env_width > 0u) {
+    if ((TZ_FLAGS & TZ_FLAG_ENVIRONMENT) != 0u) {
         vec3 m = environment_map_direction(TZ_SCENE_ARG d);
         seen = xyz(environment_texel(TZ_SCENE_ARG environment_texel_of(TZ_SCENE_ARG m)));
     }
@@ -70,7 +70,7 @@ TZ_LANE_FN vec3 environment_radiance(TZ_SCENE_PARAM vec3 d) {
  * mode). */
 TZ_LANE_FN float environment_pdf(TZ_SCENE_PARAM vec3 d) {
     float pdf = 0.0f;
-    if (TZ_FRAME.env_slot > 0u) {
+    if (((TZ_FLAGS & TZ_FLAG_ENVIRONMENT) != 0u) TZ_AND (TZ_FRAME.env_slot > 0u)) {
         vec3 m = environment_map_direction(TZ_SCENE_ARG d);
         TZ_PRECISE float sin_theta = TZ_SQRT(m.x * m.x + m.z * m.z);
         float pick = emitter_emission_pick(TZ_SCENE_ARG TZ_INT(TZ_FRAME.env_slot) - 1).w;
@@ -338,7 +338,7 @@ TZ_FN emitter_sample emitter_sample_from(TZ_SCENE_PARAM int slot, int id, vec3 p
     s.wi = v3(0.0f, 0.0f, 0.0f);
     s.pdf = 0.0f;
     s.t_light = TZ_INFINITY;
-    if (uint_bits(primitive_cdf.x) == TZ_ENV_PRIMITIVE) {
+    if ((TZ_FLAGS & TZ_FLAG_ENVIRONMENT) != 0u && uint_bits(primitive_cdf.x) == TZ_ENV_PRIMITIVE) {
         environment_sample es = environment_sample_at(TZ_SCENE_ARG ua, ub);
         s.wi = es.wi;
         s.pdf = emission_pick.w * es.pdf;

@@ -1,8 +1,11 @@
 /* image_hdr.c: HDR images as linear RGB (image_hdr.h): the file's kind told by its first bytes,
- * OpenEXR read through exr.h with the reader's messages held for the caller. */
+ * OpenEXR read through exr.h with the reader's messages held for the caller, Radiance HDR (RGBE)
+ * through stb_image, as Debian's libstb builds it (no decoder of the project's own; stb is the
+ * small, kept HDR reader Debian has besides OpenImageIO). */
 #include "image/image_hdr.h"
 
 #include <errno.h>
+#include <stb_image.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -55,6 +58,26 @@ static bool load_exr(const char *path, image *out, char *why, size_t size) {
     return ok;
 }
 
+/* The Radiance HDR at path into out; false with the reason in why. */
+static bool load_radiance(const char *path, image *out, char *why, size_t size) {
+    int w = 0, h = 0, channels = 0;
+    float *rgb = stbi_loadf(path, &w, &h, &channels, 3);
+    if (!rgb) {
+        snprintf(why, size, "not a readable Radiance HDR image (%s)", stbi_failure_reason());
+        return false;
+    }
+    log_hold_errors();
+    bool ok = image_init(out, w, h);
+    log_release_errors();
+    if (ok)
+        memcpy(out->rgb, rgb, (size_t)w * (size_t)h * 3 * sizeof *rgb);
+    else
+        snprintf(why, size, "a Radiance HDR image of %d x %d pixels: more than %d a side or memory",
+                 w, h, IMAGE_MAX_DIM);
+    stbi_image_free(rgb);
+    return ok;
+}
+
 bool image_load_hdr(const char *path, image *out, char *why, size_t size) {
     *out = (image){0};
     FILE *fp = fopen(path, "rb");
@@ -68,6 +91,7 @@ bool image_load_hdr(const char *path, image *out, char *why, size_t size) {
     static const unsigned char exr_magic[4] = {0x76, 0x2f, 0x31, 0x01};
     if (got == sizeof magic && !memcmp(magic, exr_magic, sizeof magic))
         return load_exr(path, out, why, size);
-    snprintf(why, size, "not an OpenEXR image");
+    if (got >= 2 && magic[0] == '#' && magic[1] == '?') return load_radiance(path, out, why, size);
+    snprintf(why, size, "neither an OpenEXR nor a Radiance HDR image");
     return false;
 }

@@ -371,7 +371,8 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         (opts->strategy == PATH_LIGHTS_ONLY ? TZ_FLAG_LIGHTS_ONLY : 0u) |
         (opts->strategy == PATH_BSDF_ONLY ? TZ_FLAG_BSDF_ONLY : 0u) |
         (scene_sampler_of(opts->sampler, opts->mode) == RENDER_SAMPLER_SOBOL ? TZ_FLAG_SOBOL : 0u) |
-        (s->triangle_count > 0 ? TZ_FLAG_TRIANGLES : 0u);
+        (s->triangle_count > 0 ? TZ_FLAG_TRIANGLES : 0u) |
+        (s->environment.rgb ? TZ_FLAG_ENVIRONMENT : 0u);
     /* The plane's distance: 2 x width (the seed's), or what the field of view asks. */
     float distance = s->camera_fov > 0.0f
                          ? (float)(0.5 * s->plane_width /
