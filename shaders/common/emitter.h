@@ -70,7 +70,7 @@ TZ_LANE_FN vec3 environment_radiance(TZ_SCENE_PARAM vec3 d) {
  * mode). */
 TZ_LANE_FN float environment_pdf(TZ_SCENE_PARAM vec3 d) {
     float pdf = 0.0f;
-    if (((TZ_FLAGS & TZ_FLAG_ENVIRONMENT) != 0u) TZ_AND (TZ_FRAME.env_slot > 0u)) {
+    if (((TZ_FLAGS & TZ_FLAG_ENVIRONMENT) != 0u) TZ_AND(TZ_FRAME.env_slot > 0u)) {
         vec3 m = environment_map_direction(TZ_SCENE_ARG d);
         TZ_PRECISE float sin_theta = TZ_SQRT(m.x * m.x + m.z * m.z);
         float pick = emitter_emission_pick(TZ_SCENE_ARG TZ_INT(TZ_FRAME.env_slot) - 1).w;
