@@ -49,6 +49,9 @@ typedef struct tz_uvec4 {
 #define TZ_FLAG_TRIANGLES 128u
 /* Some material has a texture (TZ_BINDING_TEXTURES): without it the lookups are dead code. */
 #define TZ_FLAG_TEXTURES 256u
+/* The scene has an environment map: without it the map's code is dead as the triangles' is
+ * (lavapipe ran path mode 1.6x slower with it compiled in). */
+#define TZ_FLAG_ENVIRONMENT 512u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
  * pixels, whose rays stay coherent; 4 x 8 ran more instructions: docs/PERF.md), 32 lanes on real
@@ -98,10 +101,15 @@ typedef struct tz_uvec4 {
 /* Words (R32_UINT texels) of the texture table, TZ_TEXTURE_* below (one zeroed word without
  * textures). */
 #define TZ_BINDING_TEXTURES 13
-#define TZ_BINDING_COUNT 14
+/* The environment map (common/emitter.h): texels 0..w*h-1 the map, rows top down (rgb its
+ * radiance, w the pdf of its texel over the unit square of the map), then the sampling tables
+ * as floats, four a texel: the marginal cdf of the rows (h + 1), then each row's conditional cdf
+ * (w + 1 each). One zeroed texel without a map. */
+#define TZ_BINDING_ENVIRONMENT 14
+#define TZ_BINDING_COUNT 15
 /* The ray query module only: the top-level acceleration structure of the scene's primitives
  * (AABB primitive k is primitive id k), one binding past the others. */
-#define TZ_BINDING_ACCEL 14
+#define TZ_BINDING_ACCEL 15
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
  * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.sphere_count
@@ -212,7 +220,16 @@ struct gpu_frame {
     TZ_UINT emitter_count;  /* path mode's emissive spheres and triangles */
     TZ_UINT triangle_count; /* primitives sphere_count to sphere_count + triangle_count - 1 */
     TZ_UINT light_samples;  /* path mode: emitter samples a diffuse vertex, at least 1 */
+    /* The environment map's frame: the rows of the rotation from world to map directions (w
+     * unused, 0), then its size in texels (0 without a map: the background is seen) and its
+     * emitter slot + 1 in path mode (0: not sampled). */
+    TZ_VEC4 env_x, env_y, env_z;
+    TZ_UINT env_width, env_height, env_slot, env_pad;
 };
+/* The primitive id of the environment's gpu_emitter (uint bits): no sphere's or face's. */
+#define TZ_ENV_PRIMITIVE 0xfffffffeu
+/* Where an environment light sample's shadow ray ends: the largest float, past every hit. */
+#define TZ_ENV_DISTANCE TZ_FLOAT_CONST(3.40282347e38)
 
 /* One emissive sphere or triangle of path mode, 32 bytes: emitters are picked in proportion to
  * their power by the first cdf above a uniform number. */

@@ -47,6 +47,7 @@ layout(set = 0, binding = TZ_BINDING_MATERIALS) uniform samplerBuffer material_t
 layout(set = 0, binding = TZ_BINDING_NORMALS) uniform samplerBuffer normals_texels;
 layout(set = 0, binding = TZ_BINDING_WIDE_NODES) uniform usamplerBuffer wide_node_texels;
 layout(set = 0, binding = TZ_BINDING_TEXTURES) uniform usamplerBuffer texture_texels;
+layout(set = 0, binding = TZ_BINDING_ENVIRONMENT) uniform samplerBuffer environment_texels;
 #ifdef TZ_RAY_QUERY_WALK
 /* The scene's primitives as one AABB geometry of one instance (src/render/vk/vk_accel.c). */
 layout(set = 0, binding = TZ_BINDING_ACCEL) uniform accelerationStructureEXT scene_accel;
@@ -100,6 +101,12 @@ vec4 normals_n2(int n) { return texelFetch(normals_texels, 3 * n + 2); }
 /* The fields of struct gpu_emitter e (path mode). */
 vec4 emitter_emission_pick(int e) { return texelFetch(emitter_texels, 2 * e); }
 vec4 emitter_primitive_cdf(int e) { return texelFetch(emitter_texels, 2 * e + 1); }
+/* Texel k of the environment map and float k of its sampling tables, four a texel after it. */
+vec4 environment_texel(int k) { return texelFetch(environment_texels, k); }
+float environment_float(int k) {
+    int map = int(frame.env_width * frame.env_height);
+    return texelFetch(environment_texels, map + k / 4)[k & 3];
+}
 /* vec4 f of struct gpu_bvh_node k as uints (0 left_lo, 1 left_hi, 2 right_lo, 3 right_hi). */
 uvec4 node_field(uint k, uint f) { return texelFetch(node_texels, int(4u * k + f)); }
 /* vec4 f of struct gpu_wide_node k (0 origin_exponents, 1 refs, 2 lo, 3 hi). */

@@ -238,4 +238,17 @@ n=$(sed -n 's/.*every pixel got samples 0:\([0-9]*\) .*/\1/p' "$tmp/err")
 run "time limit samples" 0 $tz render $tl --samples "0:$n" -o tl_n.exr
 same "time limit as samples 0:$n" tl.exr tl_n.exr
 
+# An environment-lit scene (its map's importance tables, its slot in the emitter pick): regions
+# and sample ranges merge to the whole render on both back ends.
+sky="$(dirname "$0")/../scenes/sky.scene --width 32 --spp 32 --quiet"
+for backend in cpu vulkan; do
+    r="render $sky --backend $backend"
+    run "$backend sky whole" 0 $tz $r -o sky.pfm
+    run "$backend sky top" 0 $tz $r --region 0,32,0,9 -o sky_top.exr
+    run "$backend sky bottom 0:16" 0 $tz $r --region 0,32,9,24 --samples 0:16 -o sky_b0.exr
+    run "$backend sky bottom 16:32" 0 $tz $r --region 0,32,9,24 --samples 16:32 -o sky_b1.exr
+    run "$backend sky merge" 0 $tz merge sky_b1.exr sky_top.exr sky_b0.exr -o sky_merged.pfm
+    same "$backend sky split" sky_merged.pfm sky.pfm
+done
+
 check_summary split_test

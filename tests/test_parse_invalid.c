@@ -13,7 +13,7 @@ typedef struct invalid_case {
 static const invalid_case invalid_cases[] = {
     {"unknown directive", BYTES(BASE "spere lambertian"), 3, 1,
      "unknown directive 'spere' (expected one of: camera plane light sphere triangle quad "
-     "mesh background render)"},
+     "mesh environment background render)"},
     {"unknown key", BYTES(BASE "sphere lambertian center 0 0 0 radiu 1"), 3, 32,
      "unknown key 'radiu' for sphere lambertian (expected one of: center radius color emission and "
      "the texture keys)"},

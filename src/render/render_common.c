@@ -219,6 +219,17 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
         h = digest_int(h, s->triangle_count);
         h = digest_triangles(h, s);
     }
+    /* Only scenes with an environment map hash it (its texels, as its radiance), so that the
+     * others keep their digest. */
+    const environment_map *env = &s->environment;
+    if (env->rgb) {
+        h = digest_int(h, env->width);
+        h = digest_int(h, env->height);
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) h = digest_float(h, env->to_map[i][j]);
+        size_t n = (size_t)env->width * (size_t)env->height * 3;
+        for (size_t k = 0; k < n; k++) h = digest_float(h, env->rgb[k]);
+    }
     int64_t settings[] = {o->spp,      o->seed,      o->mode,     o->bounces,
                           o->indirect, o->no_jitter, o->roulette, o->strategy};
     for (size_t k = 0; k < sizeof settings / sizeof settings[0]; k++)

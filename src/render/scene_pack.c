@@ -36,7 +36,7 @@ _Static_assert(sizeof(struct gpu_normals) == 48, "gpu_normals is 48 bytes");
 _Static_assert(sizeof(struct gpu_light) == 32, "gpu_light is 32 bytes");
 _Static_assert(offsetof(struct gpu_light, position_power) == 0, "gpu_light layout");
 _Static_assert(offsetof(struct gpu_light, color) == 16, "gpu_light layout");
-_Static_assert(sizeof(struct gpu_frame) == 128, "gpu_frame is 128 bytes");
+_Static_assert(sizeof(struct gpu_frame) == 192, "gpu_frame is 192 bytes");
 _Static_assert(offsetof(struct gpu_frame, origin) == 0, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, right) == 16, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, up) == 32, "gpu_frame layout");
@@ -53,6 +53,10 @@ _Static_assert(offsetof(struct gpu_frame, node_count) == 108, "gpu_frame layout"
 _Static_assert(offsetof(struct gpu_frame, near_distance) == 112, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, emitter_count) == 116, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, triangle_count) == 120, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, env_x) == 128, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, env_z) == 160, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, env_width) == 176, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, env_slot) == 184, "gpu_frame layout");
 _Static_assert(sizeof(struct gpu_pass) == 64 + 4 * TZ_PASS_CHUNKS, "gpu_pass is 96 bytes");
 _Static_assert(sizeof(struct gpu_pass) <= 128, "gpu_pass fits the push constants of any device");
 _Static_assert(offsetof(struct gpu_pass, stack_slot) == 64, "gpu_pass layout");
@@ -165,16 +169,40 @@ static void put_emitter(packed_scene *out, uint32_t slot, uint32_t id, vec3 emis
     };
 }
 
+/* The radius of a sphere about the scene's box (1 for an empty scene), in double: the
+ * environment's power is that of the light it sends through the disc of that radius. */
+static double scene_radius(const scene *s) {
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int k = 0; k < s->sphere_count; k++) {
+        const sphere *sp = &s->spheres[k];
+        const float c[3] = {sp->center.x, sp->center.y, sp->center.z};
+        for (int a = 0; a < 3; a++)
+            lo[a] = fmin(lo[a], (double)c[a] - sp->radius),
+            hi[a] = fmax(hi[a], (double)c[a] + sp->radius);
+    }
+    for (int k = 0; k < s->triangle_count; k++)
+        for (int v = 0; v < 3; v++) {
+            const vec3 p = s->triangles[k].v[v];
+            const float c[3] = {p.x, p.y, p.z};
+            for (int a = 0; a < 3; a++) lo[a] = fmin(lo[a], c[a]), hi[a] = fmax(hi[a], c[a]);
+        }
+    double d2 = 0.0;
+    for (int a = 0; a < 3; a++) d2 += hi[a] > lo[a] ? (hi[a] - lo[a]) * (hi[a] - lo[a]) : 0.0;
+    return d2 > 0.0 ? 0.5 * sqrt(d2) : 1.0;
+}
+
 /* The emitters of path mode from the spheres, then the triangles, in their final (BVH) order
  * (a sphere's emitter holds its index in the scene until here, triangle_source[t] the scene
- * index of triangle t): each emitter is picked in proportion to its power (sphere_power,
- * triangle_power), the shares summed in double; a sphere's emitter becomes its emitter's
- * slot + 1 or 0, an emitting triangle's v2.w (0 from pack_triangles) its slot + 1. False (logged)
- * on out-of-memory. */
+ * index of triangle t), then the environment map (env_power: the scene's radius squared times
+ * its mean radiance, a sphere's unit, as pbrt-v4's infinite lights): each emitter is picked in
+ * proportion to its power (sphere_power, triangle_power), the shares summed in double; a sphere's
+ * emitter becomes its emitter's slot + 1 or 0, an emitting triangle's v2.w (0 from pack_triangles)
+ * its slot + 1. False (logged) on out-of-memory. */
 static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
-                          const uint32_t *triangle_source) {
+                          const uint32_t *triangle_source, double env_power) {
     uint32_t count = (uint32_t)sc->sphere_count, triangles = (uint32_t)sc->triangle_count, n = 0;
     double total = 0.0;
+    if (path_mode && env_power > 0.0) total += env_power, n++;
     for (uint32_t k = 0; path_mode && k < count; k++) {
         double power = sphere_power(sc, &sc->spheres[k]);
         if (power > 0.0) total += power, n++;
@@ -211,6 +239,11 @@ static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
         put_emitter(out, slot, count + k, triangle_material(sc, t)->emission, power, running, total,
                     n, (float)triangle_area(t));
         out->triangles[k].v2.w = (float)++slot;
+    }
+    if (path_mode && env_power > 0.0) {
+        running += env_power;
+        put_emitter(out, slot, TZ_ENV_PRIMITIVE, v3(0, 0, 0), env_power, running, total, n, 0.0f);
+        out->frame.env_slot = ++slot;
     }
     out->frame.emitter_count = n;
     return true;
@@ -343,7 +376,8 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         (opts->strategy == PATH_BSDF_ONLY ? TZ_FLAG_BSDF_ONLY : 0u) |
         (scene_sampler_of(opts->sampler, opts->mode) == RENDER_SAMPLER_SOBOL ? TZ_FLAG_SOBOL : 0u) |
         (s->triangle_count > 0 ? TZ_FLAG_TRIANGLES : 0u) |
-        (s->slot_count > 0 ? TZ_FLAG_TEXTURES : 0u);
+        (s->slot_count > 0 ? TZ_FLAG_TEXTURES : 0u) |
+        (s->environment.rgb ? TZ_FLAG_ENVIRONMENT : 0u);
     /* The plane's distance: 2 x width (the seed's), or what the field of view asks. */
     float distance = s->camera_fov > 0.0f
                          ? (float)(0.5 * s->plane_width /
@@ -366,10 +400,21 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         .near_distance = s->camera_near,
         .light_samples = (uint32_t)render_light_samples(opts),
     };
+    const environment_map *env = &s->environment;
+    if (env->rgb) {
+        out->frame.env_x = (tz_vec4){env->to_map[0][0], env->to_map[0][1], env->to_map[0][2], 0};
+        out->frame.env_y = (tz_vec4){env->to_map[1][0], env->to_map[1][1], env->to_map[1][2], 0};
+        out->frame.env_z = (tz_vec4){env->to_map[2][0], env->to_map[2][1], env->to_map[2][2], 0};
+        out->frame.env_width = (uint32_t)env->width;
+        out->frame.env_height = (uint32_t)env->height;
+    }
     uint32_t *triangle_source = NULL;
+    double env_mean = 0.0;
     bool sorted =
+        environment_pack(env, out, &env_mean) &&
         pack_bvh(out, count, (uint32_t)s->triangle_count, opts->no_bvh, &triangle_source) &&
-        pack_emitters(out, s, path, triangle_source); /* logged */
+        pack_emitters(out, s, path, triangle_source,
+                      env_mean > 0.0 ? env_mean * scene_radius(s) * scene_radius(s) : 0.0);
     free(triangle_source);
     if (sorted && (!pack_soa(out, count) || !pack_triangle_soa(out, out->frame.triangle_count)))
         log_error("out of memory packing %u spheres", count);
@@ -424,5 +469,6 @@ void scene_pack_free(packed_scene *p) {
     free(p->triangle_soa.v[0]);
     free(p->nodes);
     free(p->emitters);
+    free(p->environment);
     *p = (packed_scene){0};
 }

@@ -33,10 +33,16 @@ typedef struct packed_scene {
     triangle_soa triangle_soa;    /* and of triangles[]' corners */
     struct gpu_bvh_node *nodes;   /* frame.node_count of them; NULL (0) without a BVH */
     struct gpu_emitter *emitters; /* frame.emitter_count (path mode), one zeroed when none */
+    tz_vec4 *environment;         /* TZ_BINDING_ENVIRONMENT's texels, one zeroed without a map */
+    uint32_t environment_texels;
     uint32_t bvh_depth;
     double bvh_seconds; /* build time */
 } packed_scene;
 
+/* The environment map's texels and sampling tables (TZ_BINDING_ENVIRONMENT) into out and its
+ * mean radiance over the sphere of directions (the mean of its channels) into *mean; false
+ * (logged) on out-of-memory (environment_pack.c). */
+bool environment_pack(const environment_map *m, packed_scene *out, double *mean);
 /* Packs the scene with the options applied, spheres in BVH order unless opts->no_bvh;
  * false (logged) on out-of-memory. */
 bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out);

@@ -78,10 +78,6 @@ typedef struct material_spec {
     bool alias; /* one of the seed's Spanish names */
 } material_spec;
 
-/* The path a token names (bare or quoted: parser_path): absolute as given, else relative to the
- * scene file's folder (the working folder for text that is not a file); what names the file in
- * messages. False (reported) when it is empty or does not fit. */
-bool directive_path(parser *p, const token *t, const char *what, char *out, size_t size);
 /* Gives material m the texture maps of a shape's line (its keys from kv's key first on: the
  * MAT_* texture keys), each image loaded once a scene (scene_texture.c). False (reported) on an
  * image that cannot be read; false, silently, in a chunk parsed ahead (the line is then parsed in
@@ -132,12 +128,17 @@ bool directive_camera(parser *p);
 bool directive_plane(parser *p);
 bool directive_light(parser *p);
 bool directive_background(parser *p);
+bool directive_environment(parser *p);
 bool directive_render(parser *p);
 bool directive_sphere(parser *p);
 bool directive_triangle(parser *p);
 bool directive_quad(parser *p);
 bool directive_mesh(parser *p);
 
+/* The path token t names (bare or quoted: parser_path): absolute as given, else relative to the
+ * scene file's folder (the working folder for text that is not a file: standard input,
+ * strings); false (reported, `what` naming the directive) when it is empty or does not fit. */
+bool directive_file_path(parser *p, const token *t, const char *what, char *out, size_t size);
 /* Appends to a message, dropping what does not fit. */
 void directive_append(char *message, size_t size, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));

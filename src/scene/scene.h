@@ -187,6 +187,15 @@ static inline bool scene_input_is(const scene_input *in, uint64_t device, uint64
     return in->device == device && in->inode == inode;
 }
 
+/* An environment map (`environment file`): the radiance of every direction as an equirectangular
+ * image, 2:1, rows top (+y) down, its centre column facing +z (scenes/README.md); rgb NULL
+ * without one (the background is seen). */
+typedef struct environment_map {
+    float *rgb; /* width * height * 3 floats, the intensity applied, finite and >= 0 */
+    int width, height;
+    float to_map[3][3]; /* rows: world directions to the map's (the inverse of its rotate) */
+} environment_map;
+
 typedef struct scene {
     vec3 camera_position, camera_direction, camera_up;
     float camera_fov;  /* horizontal field of view in degrees; 0: the plane sits 2 x width away */
@@ -194,6 +203,7 @@ typedef struct scene {
     float plane_width, plane_height, pixel_size;
     int width, height; /* pixels: plane size / pixel size */
     vec3 background;
+    environment_map environment;
     /* render settings; command-line flags override them */
     int spp; /* samples per pixel (`render samples`) */
     bool indirect;
@@ -289,8 +299,9 @@ static inline bool triangle_emits(const scene *s, const triangle *t) {
 /* Whether some sphere or face emits light (path mode's emitters); never fails. */
 bool scene_emits(const scene *s);
 /* Whether anything can light the image: a point light of some power and colour (both modes), an
- * emitting sphere or face (path mode: report mode refuses emission) or a background that is not
- * black (seen by camera and mirror rays, and by report mode's indirect bounce); never fails. */
+ * emitting sphere or face (path mode: report mode refuses emission), an environment map or a
+ * background that is not black (seen by camera and mirror rays, and by report mode's indirect
+ * bounce); never fails. */
 bool scene_has_light(const scene *s);
 /* Releases the arrays of a parsed scene; safe on a zeroed scene. */
 void scene_free(scene *s);

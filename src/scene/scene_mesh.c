@@ -455,7 +455,7 @@ bool directive_mesh(parser *p) {
     if (!read_mesh_keys(p, m, next, &kv, scale, rotate)) return false;
     const token *file = &p->tokens[kv.value_token[MESH_FILE][0]];
     char path[PATH_MAX];
-    if (!directive_path(p, file, "mesh", path, sizeof path)) return false;
+    if (!directive_file_path(p, file, "mesh", path, sizeof path)) return false;
     bool smooth = parser_value_or(&kv, MESH_SMOOTH, 0) != 0;
     mesh me;
     char error[512];

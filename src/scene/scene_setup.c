@@ -83,9 +83,6 @@ static const key_spec render_keys[RENDER_KEY_COUNT] = {
     {"noise_threshold", NULL, VALUE_NUMBER, 0.0, 1e6, false},
 };
 
-/* background takes three numbers and no key; this spec names them in messages. */
-static const key_spec background_spec = {"background", "r g b", VALUE_NUMBER, 0.0, FLT_MAX, false};
-
 /* camera, plane, background and render describe the whole image: one of each at most. */
 static bool claim_once(parser *p, int *first_line) {
     if (*first_line) {
@@ -327,19 +324,6 @@ bool directive_light(parser *p) {
         .power = (float)parser_value_or(&kv, LIGHT_POWER, 0.0),
         .color = parser_vec3(&kv, LIGHT_COLOR, v3(1, 1, 1)),
     };
-    return true;
-}
-
-bool directive_background(parser *p) {
-    if (!claim_once(p, &p->background_line)) return false;
-    double value[3];
-    int value_token[3], next = 1;
-    if (!parser_values(p, &background_spec, &next, value, value_token)) return false;
-    if (next < p->token_count) {
-        return parser_fail(p, p->tokens[next].col, "unexpected '%s' after background's 3 numbers",
-                           parser_quote(p, &p->tokens[next]));
-    }
-    p->s.background = v3((float)value[0], (float)value[1], (float)value[2]);
     return true;
 }
 

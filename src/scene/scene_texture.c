@@ -14,16 +14,6 @@
 /* The identity transform of UVs. */
 static const float identity_uv[6] = {1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
 
-bool directive_path(parser *p, const token *t, const char *what, char *out, size_t size) {
-    char named[PATH_MAX];
-    if (!parser_path(p, t, named, sizeof named)) return false;
-    const char *slash = strrchr(p->filename, '/');
-    int dir =
-        named[0] == '/' || p->filename[0] == '<' || !slash ? 0 : (int)(slash - p->filename) + 1;
-    int n = snprintf(out, size, "%.*s%s", dir, p->filename, named);
-    return (n >= 0 && (size_t)n < size) || parser_fail(p, t->col, "%s path is too long", what);
-}
-
 /* Appends image (its texels taken) to the scene under name and identity; its index in *index.
  * False (reported at col) out of memory, the image freed. */
 static bool image_add(parser *p, int col, texture_image *image, const char *name, uint64_t device,
@@ -137,7 +127,7 @@ bool material_maps_read(parser *p, int first, const key_values *kv, material *m)
         if (!(kv->given & BIT(key))) continue;
         const token *t = &p->tokens[kv->value_token[key][0]];
         char path[PATH_MAX];
-        if (!directive_path(p, t, "texture", path, sizeof path)) return false;
+        if (!directive_file_path(p, t, "texture", path, sizeof path)) return false;
         float param =
             maps[k].map == MAP_NORMAL  ? (float)parser_value_or(kv, first + MAT_NORMAL_SCALE, 1.0)
             : maps[k].map == MAP_ALPHA ? (float)parser_value_or(kv, first + MAT_ALPHA_CUTOFF, 0.5)

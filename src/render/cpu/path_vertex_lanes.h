@@ -139,12 +139,13 @@ static __attribute__((noinline)) light_direction lanes_solid_angle(triangle_corn
 }
 
 /* emitter_light of path.h for the diffuse lanes (a sphere's strategies, sphere_cone_light and
- * sphere_area_light, both computed and one selected, a triangle's direction lane by lane), the
+ * sphere_area_light, both computed and one selected, a triangle's and the environment's
+ * direction lane by lane), the
  * shadow rays traced together (hint as packet_trace's), added to direct; ul, ua, ub the lanes'
  * numbers. */
 LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *v, const float *ul,
                                  const float *ua, const float *ub, uint32_t *hint, lanes3 *direct) {
-    int e[LANES], slot[LANES], triangle[LANES], strategy[LANES], blocked[LANES];
+    int e[LANES], slot[LANES], triangle[LANES], env[LANES], strategy[LANES], blocked[LANES];
     float r[LANES], pick[LANES], cos_phi[LANES], sin_phi[LANES]; /* arrays of cos_sin: scalar */
     float t[LANES], x[LANES], lobe[LANES];
     int folds[LANES];
@@ -157,15 +158,17 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         if (one_emitter && k > 0) break;
         tz_vec4 emission_pick = emitter_emission_pick(scene, slot[k]);
         e[k] = (int)uint_bits(emitter_primitive_cdf(scene, slot[k]).x);
-        triangle[k] = is_triangle(scene, e[k]);
-        tz_vec4 cr = sphere_center_radius(scene, triangle[k] ? 0 : e[k]);
+        env[k] = e[k] == (int)TZ_ENV_PRIMITIVE;
+        triangle[k] = (!env[k]) & is_triangle(scene, e[k]);
+        tz_vec4 cr = sphere_center_radius(scene, triangle[k] | env[k] ? 0 : e[k]);
         set3(&c, k, xyz(cr));
         r[k] = cr.w;
         set3(&emission, k, xyz(emission_pick));
         pick[k] = emission_pick.w;
     }
     for (int k = 1; one_emitter && k < LANES; k++) {
-        slot[k] = 0, e[k] = e[0], triangle[k] = triangle[0], r[k] = r[0], pick[k] = pick[0];
+        slot[k] = 0, e[k] = e[0], triangle[k] = triangle[0], env[k] = env[0], r[k] = r[0];
+        pick[k] = pick[0];
         set3(&c, k, get3(&c, 0));
         set3(&emission, k, get3(&emission, 0));
     }
@@ -210,6 +213,17 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         int ok = (e[k] != v->id[k]) & (folds[k] | (ci > 0.0f)) & (v3_dot(ng, w) > 0.0f) &
                  (p > 0.0f) & (p < INFINITY);
         shadow_lane_set(&s, k, o, w, p, ci, tl, ok);
+    }
+    for (int k = 0; any_lane(env) && k < LANES; k++) {
+        if (!(v->diffuse[k] & env[k])) continue;
+        vec3 n = get3(&v->n, k), ng = get3(&v->ng, k), o = offset_origin(get3(&v->pos, k), ng);
+        environment_sample es = environment_sample_at(scene, ua[k], ub[k]);
+        float p = pick[k] * es.pdf;
+        float ci = v3_dot(n, es.wi);
+        int ok =
+            (folds[k] | (ci > 0.0f)) & (v3_dot(ng, es.wi) > 0.0f) & (p > 0.0f) & (p < INFINITY);
+        set3(&emission, k, es.radiance);
+        shadow_lane_set(&s, k, o, es.wi, p, ci, TZ_ENV_DISTANCE, ok);
     }
     trace_lanes(scene, &s.origin, &s.dir, v->id, s.t_light, s.want, 1, hint, blocked, t);
     int any_fold = 0;

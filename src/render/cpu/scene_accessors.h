@@ -51,5 +51,11 @@ static inline tz_vec4 emitter_emission_pick(const packed_scene *p, int e) {
 static inline tz_vec4 emitter_primitive_cdf(const packed_scene *p, int e) {
     return p->emitters[e].primitive_cdf;
 }
+/* Texel k of the environment map and float k of its sampling tables (TZ_BINDING_ENVIRONMENT). */
+static inline tz_vec4 environment_texel(const packed_scene *p, int k) { return p->environment[k]; }
+static inline float environment_float(const packed_scene *p, int k) {
+    size_t map = (size_t)p->frame.env_width * p->frame.env_height;
+    return ((const float *)(p->environment + map))[k];
+}
 
 #endif

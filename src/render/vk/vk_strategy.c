@@ -186,13 +186,16 @@ bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts 
     /* A texel is one vec4 of the shared structs. */
     const uint64_t sphere_texels = sizeof(struct gpu_sphere) / 16u;
     const uint64_t material_texels = sizeof(struct gpu_material) / 16u;
-    uint64_t sizes[] = {(uint64_t)s->sphere_count * sphere_texels,
-                        (uint64_t)s->light_count * 2u,
+    uint64_t sizes[] = {(uint64_t)s->sphere_count * sphere_texels, (uint64_t)s->light_count * 2u,
                         (uint64_t)TZ_BAND_ROWS * row_bytes,
                         use_bvh ? primitives * 4u : 0u, /* < 1 node a primitive */
                         (uint64_t)s->triangle_count * 3u,
                         (uint64_t)s->material_count * material_texels,
-                        texture_words(s)};
+                        texture_words(s),
+
+                        /* the map's texels and its tables, four floats a texel (a bound) */
+                        (uint64_t)s->environment.width * (uint64_t)s->environment.height * 5u / 4u +
+                            (uint64_t)s->environment.height + 2u};
     uint64_t limit[] = {limits->maxTexelBufferElements, limits->maxTexelBufferElements,
                         limits->maxStorageBufferRange,  limits->maxTexelBufferElements,
                         limits->maxTexelBufferElements, limits->maxTexelBufferElements,
@@ -200,7 +203,8 @@ bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts 
     const char *what[] = {"texels of spheres",          "texels of lights",
                           "bytes of accumulation rows", "texels of BVH nodes",
                           "texels of triangles",        "texels of materials",
-                          "words of textures"};
+                          "words of textures",
+                          "texels of the environment map"};
     for (int k = 0; k < 7; k++) {
         if (sizes[k] > limit[k]) {
             snprintf(reason, RENDER_REASON_SIZE,
