@@ -12,7 +12,7 @@
 
 /* precise forbids glslang and the driver to fuse (a * b + c) or reorder: the C compiler does
  * neither (-ffp-contract=off), and without it lavapipe's images change. */
-#define TZ_PRECISE precise
+#define TZ_PRECISE /* every float operation is exact: tools/spirv_exact.c */
 #define TZ_FN
 #define TZ_LANE_FN
 #define TZ_BOOL bool

@@ -190,8 +190,7 @@ bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts 
                         (uint64_t)TZ_BAND_ROWS * row_bytes,
                         use_bvh ? primitives * 4u : 0u, /* < 1 node a primitive */
                         (uint64_t)s->triangle_count * 3u,
-                        (uint64_t)s->material_count * material_texels,
-                        texture_words(s),
+                        (uint64_t)s->material_count * material_texels, texture_words(s),
 
                         /* the map's texels and its tables, four floats a texel (a bound) */
                         (uint64_t)s->environment.width * (uint64_t)s->environment.height * 5u / 4u +
@@ -203,8 +202,7 @@ bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts 
     const char *what[] = {"texels of spheres",          "texels of lights",
                           "bytes of accumulation rows", "texels of BVH nodes",
                           "texels of triangles",        "texels of materials",
-                          "words of textures",
-                          "texels of the environment map"};
+                          "words of textures",          "texels of the environment map"};
     for (int k = 0; k < 7; k++) {
         if (sizes[k] > limit[k]) {
             snprintf(reason, RENDER_REASON_SIZE,
