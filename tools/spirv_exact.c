@@ -95,6 +95,8 @@ int main(int argc, char **argv) {
     memcpy(out + w, in + annotations_end, (count - annotations_end) * sizeof *out);
     w += count - annotations_end;
     FILE *f = fopen(argv[2], "wb");
-    if (!f || fwrite(out, 4, w, f) != w) return fail("cannot write", argv[2]), 1;
-    return fclose(f) == 0 ? 0 : (fail("cannot write", argv[2]), 1);
+    bool ok = f && fwrite(out, 4, w, f) == w;
+    ok = (f && fclose(f) == 0) && ok;
+    free(in), free(out), free(decorated), free(exact);
+    return ok ? 0 : (fail("cannot write", argv[2]), 1);
 }
