@@ -405,6 +405,22 @@ static void test_hostile(void) {
     CHECK(true, "hostile files survived");
 }
 
+/* A PLY that loops assimp 5.2.5 for ever ends at the child's limit of processor time with the
+ * limit's message (the fuzz corpus's input, less its format byte). */
+static void test_hang(void) {
+    size_t len;
+    unsigned char *data =
+        tmp_file_read(TRAZADOR_SOURCE_DIR "/tests/corpus_mesh/ply_assimp_hang", &len);
+    CHECK(data != NULL && len > 1, "read the hanging PLY");
+    if (!data || len < 2) return;
+    tmp_file_write(tmp_path("hang.ply"), data + 1, len - 1);
+    free(data);
+    setenv("TRAZADOR_MESH_SECONDS", "0.3", 1);
+    expect_error(HEADER "mesh lambertian file hang.ply\n", 6, 22,
+                 "did not finish within its time limit of 0.3 s of processor time");
+    unsetenv("TRAZADOR_MESH_SECONDS");
+}
+
 /* Mesh lines among enough spheres to be cut into chunks parse the same on 1 and 4 threads. */
 static void test_threads(void) {
     size_t size = 4 << 20, used = 0;
@@ -514,6 +530,7 @@ int main(void) {
     CHECK_CASE(test_unsupported);
     CHECK_CASE(test_digest);
     CHECK_CASE(test_hostile);
+    CHECK_CASE(test_hang);
     CHECK_CASE(test_threads);
     CHECK_CASE(test_repeated);
     return check_summary("test_mesh");
