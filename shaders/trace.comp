@@ -12,10 +12,12 @@
  * walks the device's acceleration structure (CMakeLists.txt builds all three; GL_EXT_ray_query
  * needs GLSL 4.60, which changes nothing else here). */
 #ifdef TZ_SUBGROUP_WALK
+#define TZ_NO_MICROFACET /* common/bsdf.h */
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #endif
 #ifdef TZ_RAY_QUERY_WALK
+#define TZ_NO_MICROFACET /* common/bsdf.h */
 #extension GL_EXT_ray_query : require
 #endif
 

@@ -21,14 +21,25 @@
 
 /* The keys of a surface's material, the same for every shape: each shape's key table holds its
  * own keys, then these, so that one material table and one reader serve spheres and faces. */
-enum { MAT_COLOR, MAT_KS, MAT_ALPHA, MAT_IOR, MAT_EMISSION, MAT_KEY_COUNT };
+enum {
+    MAT_COLOR,
+    MAT_KS,
+    MAT_ALPHA,
+    MAT_IOR,
+    MAT_EMISSION,
+    MAT_ROUGHNESS,
+    MAT_METALLIC,
+    MAT_KEY_COUNT
+};
 /* clang-format off */
 #define MATERIAL_KEY_SPECS                                          \
     {"color", "r g b", VALUE_NUMBER, UNIT_RANGE},                   \
     {"ks", NULL, VALUE_NUMBER, UNIT_RANGE},                         \
     {"alpha", NULL, VALUE_NUMBER, 0.0, FLT_MAX, false},             \
     {"ior", NULL, VALUE_NUMBER, 1.0, FLT_MAX, false},               \
-    {"emission", "r g b", VALUE_NUMBER, 0.0, FLT_MAX, false}
+    {"emission", "r g b", VALUE_NUMBER, 0.0, FLT_MAX, false},       \
+    {"roughness", NULL, VALUE_NUMBER, UNIT_RANGE},                  \
+    {"metallic", NULL, VALUE_NUMBER, UNIT_RANGE}
 /* clang-format on */
 
 /* A shape directive (sphere, triangle, quad, mesh) as the shared readers (shape_read,

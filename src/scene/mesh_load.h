@@ -16,6 +16,7 @@ typedef struct mesh_material {
     material_kind kind;
     vec3 color;
     float ks, alpha, ior;
+    float roughness, metallic; /* pbr's */
     vec3 emission;
     char name[64];
 } mesh_material;

@@ -18,7 +18,7 @@
 #define MAX_QUOTED_CHARS 60
 /* Keys per directive: the mesh has the most (file scale rotate translate smooth lights and the
  * five material keys: color ks alpha ior emission). */
-#define MAX_KEYS 12
+#define MAX_KEYS 14
 /* Spheres and triangles in all (a quad is two). A test build lowers it (test_parse_limit) to
  * reach the limit with a small text. */
 #ifndef PARSER_MAX_PRIMITIVES

@@ -148,6 +148,8 @@ static material mapped_material(const mesh *me, int index) {
                       .ks = mm->ks,
                       .alpha = mm->alpha,
                       .ior = mm->ior,
+                      .roughness = mm->roughness,
+                      .metallic = mm->metallic,
                       .emission = mm->emission};
 }
 

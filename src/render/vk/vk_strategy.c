@@ -238,7 +238,8 @@ vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const rend
     for (int k = 0; opts->mode == RENDER_MODE_PATH && k < s->triangle_count; k++)
         emitters += triangle_emits(s, &s->triangles[k]);
     /* Only spheres are unrolled (their data become specialization constants). */
-    if (walk == RENDER_WALK_RAY_QUERY) {
+    /* The cooperative and ray query modules have no microfacet lobes (shaders/common/bsdf.h). */
+    if (walk == RENDER_WALK_RAY_QUERY && !scene_has_microfacet(s)) {
         /* The device's walk: no loop of trazador's own to bound, a guessed 64 tests a ray. */
         vk_strategy rq = {.ray_query = true};
         rq.sample_iterations = sample_iterations(s, opts, emitters, 64u);
@@ -247,7 +248,7 @@ vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const rend
     bool unroll = spheres <= TZ_UNROLL_MAX_SPHERES && s->triangle_count == 0;
     vk_strategy st = {.unrolled_spheres = unroll ? spheres : 0u};
     st.use_bvh = !opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u;
-    st.cooperative = st.use_bvh && walk == RENDER_WALK_COOPERATIVE;
+    st.cooperative = st.use_bvh && walk == RENDER_WALK_COOPERATIVE && !scene_has_microfacet(s);
     uint32_t limit = ctx->loop_limit;
     bool cut = limit != 0u; /* the driver stops loops silently */
     st.walk = st.use_bvh && cut ? walk_budget(s, opts, emitters, limit) : 0u;
