@@ -13,7 +13,6 @@
 #define MIRROR_KS 0.95f
 static float clamp01(float x) { return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x; }
 
-
 /* A material's values as the mapping reads them; the first value it refuses (a colour that is
  * not finite or has a negative channel, a number that is not finite) named in `bad`. */
 typedef struct material_reader {
