@@ -68,7 +68,7 @@ static double chi_square_z(const lobe_case *c, uint32_t seed) {
         vec3 d = microfacet_direction(c->m, up, c->wo, us, u1, u2);
         double cs = v3_dot(d, c->w), phi = atan2(v3_dot(d, c->b), v3_dot(d, c->t));
         if (phi < 0) phi += 2 * PI;
-        if (cs < c->c_lo || !(d.z > 0.0f)) { /* below the surface: pdf 0 there, pooled */
+        if (!(cs >= c->c_lo) || !(d.z > 0.0f)) { /* below the surface: pdf 0 there, pooled */
             below += 1.0;
             continue;
         }
