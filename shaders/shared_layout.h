@@ -33,6 +33,14 @@ typedef struct tz_uvec4 {
 #define TZ_MATERIAL_PHONG 1
 #define TZ_MATERIAL_MIRROR 2
 #define TZ_MATERIAL_REFRACTIVE 3
+/* GGX microfacet kinds (shaders/common/microfacet.h): a rough mirror (`mirror roughness` above
+ * 0), and glTF 2.0's metallic-roughness model (`pbr`). */
+#define TZ_MATERIAL_CONDUCTOR 4
+#define TZ_MATERIAL_PBR 5
+/* The smallest GGX width (roughness^2) a material packs (scene_pack.c): below it D's peak,
+ * 1 / (pi alpha^2), outgrows float and what light sampling can find; a mirror's roughness 0 is
+ * the delta mirror itself. */
+#define TZ_GGX_MIN_ALPHA TZ_FLOAT_CONST(1e-3)
 
 #define TZ_FLAG_JITTER 1u
 #define TZ_FLAG_INDIRECT 2u
@@ -52,6 +60,9 @@ typedef struct tz_uvec4 {
 /* The scene has an environment map: without it the map's code is dead as the triangles' is
  * (lavapipe ran path mode 1.6x slower with it compiled in). */
 #define TZ_FLAG_ENVIRONMENT 512u
+/* The scene has a microfacet material (TZ_MATERIAL_CONDUCTOR, _PBR); without it their code is
+ * dead as the triangles'. */
+#define TZ_FLAG_MICROFACET 1024u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
  * pixels, whose rays stay coherent; 4 x 8 ran more instructions: docs/PERF.md), 32 lanes on real
@@ -158,8 +169,9 @@ struct gpu_triangle {
  * later materials add (roughness, metallic: the reserved floats). */
 struct gpu_material {
     TZ_VEC4 color_ks; /* rgb the colour (kd of lambertian and phong, the tint of mirror and
-                       * refractive), w the Phong specular weight ks (0: no lobe) */
-    float alpha;      /* the Phong exponent */
+                       * refractive, the base colour of pbr), w the Phong specular weight ks (0:
+                       * no lobe), pbr's metallic */
+    float alpha;      /* the Phong exponent, the GGX width (roughness^2) of microfacet kinds */
     float ior;        /* the refractive index (1 but for refractive) */
     float kind;       /* TZ_MATERIAL_* */
     float reserved0;  /* 0 */

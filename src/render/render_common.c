@@ -57,8 +57,18 @@ static uint64_t digest_word(uint64_t h, uint32_t w) { return (h ^ w) * 0x1000000
 /* The floats of material m that the digest holds, in its fixed order (its kind apart). */
 #define MATERIAL_FLOATS 9
 static void material_floats(const material *m, float out[MATERIAL_FLOATS]) {
-    float f[] = {m->color.x, m->color.y,    m->color.z,    m->ks,        m->alpha,
-                 m->ior,     m->emission.x, m->emission.y, m->emission.z};
+    /* A microfacet kind has no ks and alpha: its metallic and roughness take their words, so
+     * that the other kinds keep their digests. */
+    bool microfacet = material_is_microfacet(m);
+    float f[] = {m->color.x,
+                 m->color.y,
+                 m->color.z,
+                 microfacet ? m->metallic : m->ks,
+                 microfacet ? m->roughness : m->alpha,
+                 m->ior,
+                 m->emission.x,
+                 m->emission.y,
+                 m->emission.z};
     _Static_assert(sizeof f / sizeof f[0] == MATERIAL_FLOATS, "a material's floats");
     memcpy(out, f, sizeof f);
 }

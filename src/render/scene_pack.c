@@ -252,9 +252,12 @@ static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
 /* The material m as the shaders read it: the one packing of a material, a sphere's or a
  * face's. */
 static struct gpu_material gpu_material_of(const material *m) {
+    /* The microfacet kinds pack metallic as ks and the GGX width roughness^2 as alpha. */
+    bool microfacet = material_is_microfacet(m);
+    float width = m->roughness * m->roughness;
     return (struct gpu_material){
-        .color_ks = vec4_from(m->color, m->ks),
-        .alpha = m->alpha,
+        .color_ks = vec4_from(m->color, microfacet ? m->metallic : m->ks),
+        .alpha = microfacet ? (width > TZ_GGX_MIN_ALPHA ? width : TZ_GGX_MIN_ALPHA) : m->alpha,
         .ior = m->ior,
         .kind = (float)m->kind,
         .emission = vec4_from(m->emission, 0.0f),
@@ -377,7 +380,8 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         (scene_sampler_of(opts->sampler, opts->mode) == RENDER_SAMPLER_SOBOL ? TZ_FLAG_SOBOL : 0u) |
         (s->triangle_count > 0 ? TZ_FLAG_TRIANGLES : 0u) |
         (s->slot_count > 0 ? TZ_FLAG_TEXTURES : 0u) |
-        (s->environment.rgb ? TZ_FLAG_ENVIRONMENT : 0u);
+        (s->environment.rgb ? TZ_FLAG_ENVIRONMENT : 0u) |
+        (scene_has_microfacet(s) ? TZ_FLAG_MICROFACET : 0u);
     /* The plane's distance: 2 x width (the seed's), or what the field of view asks. */
     float distance = s->camera_fov > 0.0f
                          ? (float)(0.5 * s->plane_width /

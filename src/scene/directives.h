@@ -27,6 +27,8 @@ enum {
     MAT_ALPHA,
     MAT_IOR,
     MAT_EMISSION,
+    MAT_ROUGHNESS,
+    MAT_METALLIC,
     MAT_COLOR_MAP, /* the texture keys (scene_texture.c), MAT_COLOR_MAP to MAT_WRAP */
     MAT_EMISSION_MAP,
     MAT_NORMAL_MAP,
@@ -44,6 +46,8 @@ enum {
     {"alpha", NULL, VALUE_NUMBER, 0.0, FLT_MAX, false},             \
     {"ior", NULL, VALUE_NUMBER, 1.0, FLT_MAX, false},               \
     {"emission", "r g b", VALUE_NUMBER, 0.0, FLT_MAX, false},       \
+    {"roughness", NULL, VALUE_NUMBER, UNIT_RANGE},                  \
+    {"metallic", NULL, VALUE_NUMBER, UNIT_RANGE},                   \
     {"color_map", NULL, VALUE_PATH, NO_RANGE},                      \
     {"emission_map", NULL, VALUE_PATH, NO_RANGE},                   \
     {"normal_map", NULL, VALUE_PATH, NO_RANGE},                     \

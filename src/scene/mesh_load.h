@@ -26,6 +26,7 @@ typedef struct mesh_material {
     material_kind kind;
     vec3 color;
     float ks, alpha, ior;
+    float roughness, metallic; /* pbr's */
     vec3 emission;
     mesh_map maps[MATERIAL_MAP_COUNT];
     char name[64];

@@ -11,13 +11,6 @@
 
 /* A mean specular colour at least this, over a black diffuse colour, is a mirror. */
 #define MIRROR_KS 0.95f
-/* glTF: metallic 1 and roughness under this is a mirror. */
-#define MIRROR_ROUGHNESS 0.05f
-/* glTF: what a dielectric (metallic 0) reflects at normal incidence. */
-#define DIELECTRIC_KS 0.04f
-/* The largest Phong exponent a roughness maps to (roughness 0 would be infinite). */
-#define MAX_ALPHA 10000.0f
-
 static float clamp01(float x) { return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x; }
 
 /* A material's values as the mapping reads them; the first value it refuses (a colour that is
@@ -51,6 +44,12 @@ static float float_of(material_reader *r, const char *name, const char *key, uns
         snprintf(r->bad, sizeof r->bad, "its %s is not finite: %g", name, (double)value);
     *found = *found && isfinite(value);
     return *found ? (float)value : fallback;
+}
+
+/* A factor that must lie in [0, 1] (glTF's metallic and roughness), named in r->bad if not. */
+static void check_unit(material_reader *r, const char *name, float value, bool found) {
+    if (found && !(value >= 0.0f && value <= 1.0f) && !r->bad[0])
+        snprintf(r->bad, sizeof r->bad, "its %s is %g, outside [0, 1]", name, (double)value);
 }
 
 void mesh_note_unsupported(char *list, size_t size, const char *what) {
@@ -193,21 +192,13 @@ static mesh_material map_material(material_reader *r, const char *name, char *un
         return out;
     }
     if (has_metal || has_rough) {
-        /* glTF's metallic-roughness model. */
-        if (metallic >= 1.0f && roughness < MIRROR_ROUGHNESS) {
-            out.kind = TZ_MATERIAL_MIRROR;
-            return out;
-        }
-        /* Dielectrics reflect 4% at normal incidence and diffuse the rest, metals reflect their
-         * colour's mean and diffuse nothing, so max(color) + ks stays at most 1 (Phong's ks is
-         * grey: a metal's tint is lost); the Phong lobe of exponent 2 / r^4 - 2 is as wide as
-         * GGX's of alpha r^2. */
-        out.kind = TZ_MATERIAL_PHONG;
-        float r = fmaxf(clamp01(roughness), 1e-3f), metal = clamp01(metallic);
-        float diffuse = (1.0f - metal) * (1.0f - DIELECTRIC_KS);
-        out.color = v3(color.x * diffuse, color.y * diffuse, color.z * diffuse);
-        out.ks = DIELECTRIC_KS * (1.0f - metal) + metal * (color.x + color.y + color.z) / 3.0f;
-        out.alpha = fminf(2.0f / (r * r * r * r) - 2.0f, MAX_ALPHA);
+        /* glTF's metallic-roughness model (and MTL's Pm, Pr) is the pbr material, exactly. */
+        check_unit(r, "metallic factor", metallic, has_metal);
+        check_unit(r, "roughness factor", roughness, has_rough);
+        out.kind = TZ_MATERIAL_PBR;
+        out.metallic = clamp01(metallic);
+        out.roughness = clamp01(roughness);
+        out.ior = has_ni && ni >= 1.0f ? ni : 1.5f;
         return out;
     }
     bool black = kd.x <= 0.0f && kd.y <= 0.0f && kd.z <= 0.0f;

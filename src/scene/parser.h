@@ -17,8 +17,8 @@
 /* Characters of a bad token quoted back in an error message. */
 #define MAX_QUOTED_CHARS 60
 /* Keys per directive: the triangle has the most (v0 v1 v2 n0 n1 n2 uv0 uv1 uv2 and the
- * material keys). */
-#define MAX_KEYS 24
+ * material keys, the texture keys among them). */
+#define MAX_KEYS 26
 /* Spheres and triangles in all (a quad is two). A test build lowers it (test_parse_limit) to
  * reach the limit with a small text. */
 #ifndef PARSER_MAX_PRIMITIVES

@@ -52,7 +52,8 @@
  * precision, which overflows past about 1.8e19 (every pixel then the background). */
 #define SCENE_MAX_PLANE_DISTANCE 1e19
 
-/* A material: TZ_MATERIAL_LAMBERTIAN, _PHONG, _MIRROR or _REFRACTIVE (shared_layout.h), the
+/* A material: TZ_MATERIAL_LAMBERTIAN, _PHONG, _MIRROR, _REFRACTIVE, _CONDUCTOR or _PBR
+ * (shared_layout.h), the
  * numbers the shaders read. */
 typedef int material_kind;
 
@@ -124,11 +125,14 @@ typedef struct scene_image {
  * material mapped. Held once, in scene.materials; spheres and faces refer to theirs by index,
  * and consecutive shapes that give the same share one (a quad's halves, a mesh's faces). */
 typedef struct material {
-    material_kind kind; /* a face's: lambertian, phong or mirror (glass needs a closed mesh) */
+    material_kind kind; /* a face's: lambertian, phong, mirror, conductor or pbr (glass needs a
+                         * closed mesh); conductor is a mirror of roughness above 0 */
     vec3 color;         /* kd for lambertian/phong, tint for mirror/refractive */
     float ks;           /* phong specular weight, 0 for the others */
     float alpha;        /* phong exponent */
-    float ior;          /* refractive index, 1 for the others */
+    float ior;          /* refractive index, 1 for the others; pbr's dielectric index */
+    float roughness;    /* conductor and pbr: the GGX roughness (alpha = roughness^2), else 0 */
+    float metallic;     /* pbr: the metal's share (glTF metallicFactor), else 0 */
     vec3 emission;      /* radiance emitted (path mode; an error in report mode); a face's is
                          * emitted from both sides */
     uint32_t maps[MATERIAL_MAP_COUNT]; /* scene.slots index + 1 of each map, 0 for none */
@@ -275,6 +279,8 @@ static inline bool material_same(const material *a, const material *b) {
            !memcmp(&a->ks, &b->ks, sizeof a->ks) &&
            !memcmp(&a->alpha, &b->alpha, sizeof a->alpha) &&
            !memcmp(&a->ior, &b->ior, sizeof a->ior) &&
+           !memcmp(&a->roughness, &b->roughness, sizeof a->roughness) &&
+           !memcmp(&a->metallic, &b->metallic, sizeof a->metallic) &&
            !memcmp(&a->emission, &b->emission, sizeof a->emission) &&
            !memcmp(a->maps, b->maps, sizeof a->maps);
 }
@@ -283,6 +289,10 @@ static inline bool material_textured(const material *m) {
     for (int k = 0; k < MATERIAL_MAP_COUNT; k++)
         if (m->maps[k]) return true;
     return false;
+}
+/* Whether material m is of a GGX microfacet kind (conductor, pbr); never fails. */
+static inline bool material_is_microfacet(const material *m) {
+    return m->kind == TZ_MATERIAL_CONDUCTOR || m->kind == TZ_MATERIAL_PBR;
 }
 /* Whether shapes of material m emit light (path mode's emitters); never fails. */
 static inline bool material_emits(const material *m) {
@@ -295,6 +305,12 @@ static inline bool sphere_emits(const scene *s, const sphere *sp) {
 /* Whether triangle t of scene s emits light (path mode's emitters); never fails. */
 static inline bool triangle_emits(const scene *s, const triangle *t) {
     return material_emits(triangle_material(s, t));
+}
+/* Whether a material of scene s is of a microfacet kind (TZ_FLAG_MICROFACET); never fails. */
+static inline bool scene_has_microfacet(const scene *s) {
+    for (int k = 0; k < s->material_count; k++)
+        if (material_is_microfacet(&s->materials[k])) return true;
+    return false;
 }
 /* Whether some sphere or face emits light (path mode's emitters); never fails. */
 bool scene_emits(const scene *s);

@@ -139,6 +139,8 @@ static bool mapped_material(parser *p, const mesh *me, int index, const char *pa
                       .ks = mm->ks,
                       .alpha = mm->alpha,
                       .ior = mm->ior,
+                      .roughness = mm->roughness,
+                      .metallic = mm->metallic,
                       .emission = mm->emission};
     static const float identity_uv[6] = {1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
     for (int k = 0; k < MATERIAL_MAP_COUNT; k++) {

@@ -32,18 +32,18 @@
 /* The material of each lane's diffuse hit, gathered once for all the BRDF evaluations there. */
 typedef struct phong_lanes {
     lanes3 kd;
-    float ks[LANES], alpha[LANES];
+    float ks[LANES], alpha[LANES], ior[LANES];
     int material[LANES];
 } phong_lanes;
 
-/* Lane k's material of m (bsdf.h's; a lobe's, so no ior). */
+/* Lane k's material of m (bsdf.h's). */
 LANE_FN bsdf_material phong_lane(const phong_lanes *m, int k) {
     bsdf_material b;
     b.kind = m->material[k];
     b.color = get3(&m->kd, k);
     b.ks = m->ks[k];
     b.alpha = m->alpha[k];
-    b.ior = 1.0f;
+    b.ior = m->ior[k];
     return b;
 }
 
@@ -112,6 +112,7 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
         set3(ng, k, v3(0.0f, 0.0f, 0.0f));
         set3(&m->kd, k, v3(0.0f, 0.0f, 0.0f));
         m->ks[k] = m->alpha[k] = 0.0f;
+        m->ior[k] = 1.0f;
         m->material[k] = TZ_MATERIAL_LAMBERTIAN;
     }
     for (uint32_t chain = 0; any_lane(active); chain++) {
@@ -136,6 +137,7 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
             set3(&m->kd, k, select3(diffuse, get3(&h.kd, k), get3(&m->kd, k)));
             m->ks[k] = diffuse ? h.ks[k] : m->ks[k];
             m->alpha[k] = diffuse ? h.alpha[k] : m->alpha[k];
+            m->ior[k] = diffuse ? h.ior[k] : m->ior[k];
             m->material[k] = diffuse ? h.material[k] : m->material[k];
         }
         for (int k = 0; k < LANES; k++) { /* mirror and glass lanes go on */
@@ -153,14 +155,22 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
     }
 }
 
-/* The BRDF per lane (bsdf_f of bsdf.h, its pow lane by lane where ks > 0). */
+/* The BRDF per lane (bsdf_f of bsdf.h, its pow lane by lane where ks > 0; a microfacet lane's
+ * bsdf_f itself). */
 LANE_FN void packet_phong(const phong_lanes *m, const lanes3 *n, const lanes3 *wi, const lanes3 *wo,
                           const int *active, lanes3 *f) {
     float x[LANES], lobe[LANES];
+    int microfacet[LANES];
     for (int k = 0; k < LANES; k++) x[k] = phong_lobe_cos(get3(n, k), get3(wi, k), get3(wo, k));
-    for (int k = 0; k < LANES; k++)
-        lobe[k] = active[k] && m->ks[k] > 0.0f ? phong_lobe(x[k], m->alpha[k]) : 0.0f;
+    for (int k = 0; k < LANES; k++) {
+        microfacet[k] = active[k] & is_microfacet(m->material[k]);
+        lobe[k] =
+            active[k] && !microfacet[k] && m->ks[k] > 0.0f ? phong_lobe(x[k], m->alpha[k]) : 0.0f;
+    }
     for (int k = 0; k < LANES; k++) set3(f, k, bsdf_f_of_lobe(phong_lane(m, k), lobe[k]));
+    for (int k = 0; any_lane(microfacet) && k < LANES; k++)
+        if (microfacet[k])
+            set3(f, k, bsdf_f(phong_lane(m, k), get3(n, k), get3(wi, k), get3(wo, k)));
 }
 
 /* The lanes whose path reached a diffuse hit (id[k] >= 0), and wo, the way back along their last

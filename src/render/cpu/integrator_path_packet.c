@@ -39,6 +39,27 @@ typedef struct path_lanes {
     lanes3 o, d, beta, radiance, last_pos, last_n, last_origin;
 } path_lanes;
 
+/* bsdf_sample_lobe's direction and terms for the microfacet lanes in go (the Phong ones the other
+ * lanes computed): wi, cos_i, fv, f_scale and pdf as lanes_bsdf_bounce's; their lobes do not
+ * fold (folds cleared). */
+static __attribute__((noinline)) void lanes_microfacet_sample(
+    const vertex_lanes *v, const int *go, const float *us, const float *u1, const float *u2,
+    lanes3 *wi, float *cos_i, lanes3 *fv, float *f_scale, float *pdf, int *folds) {
+    for (int k = 0; k < LANES; k++) {
+        if (!(go[k] & v->microfacet[k])) continue;
+        bsdf_material m = vertex_material(v, k);
+        vec3 n = get3(&v->n, k), wo = get3(&v->wo, k);
+        vec3 w = microfacet_direction(m, n, wo, us[k], u1[k], u2[k]);
+        bsdf_value bv = microfacet_eval(m, n, w, wo);
+        set3(wi, k, w);
+        cos_i[k] = bv.cos_i;
+        set3(fv, k, bv.f);
+        f_scale[k] = bv.f_scale;
+        pdf[k] = bv.pdf;
+        folds[k] = 0;
+    }
+}
+
 /* The lanes' next rays at diffuse vertices: the BSDF's sample, beta and the last vertex updated;
  * lanes whose path ends here are made inactive. */
 LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float *us,
@@ -78,6 +99,8 @@ LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float
         f_scale[k] = cos_i[k];
     }
     if (any_fold) lanes_fold(v, folds, &wi, cos_i, &fv, f_scale, pdf);
+    if (v->any_microfacet)
+        lanes_microfacet_sample(v, go, us, u1, u2, &wi, cos_i, &fv, f_scale, pdf, folds);
     for (int k = 0; k < LANES; k++) {
         vec3 n = get3(&v->n, k), ng = get3(&v->ng, k), pos = get3(&v->pos, k);
         /* On a face that does not fold, a direction below it ends the path. */
@@ -281,8 +304,10 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         set3(&v.ng, k, facing_normal(nout, d));
         set3(&v.wo, k, v3_scale(d, -1.0f));
         v.share[k] = bsdf_share(vertex_material(&v, k));
+        v.microfacet[k] = diffuse & is_microfacet(v.material[k]);
         s->active[k] = go;
     }
+    v.any_microfacet = any_lane(v.microfacet);
     if (any_emit) lanes_emission(scene, &v, emit, s);
     if (any_lane(v.diffuse)) {
         lanes3 direct;

@@ -28,6 +28,7 @@ static __attribute__((noinline)) void trace_lanes(const packed_scene *p, const l
  * n and ng its shading and geometric normals facing the ray. */
 typedef struct vertex_lanes {
     int id[LANES], diffuse[LANES], specular[LANES], material[LANES], slot[LANES];
+    int microfacet[LANES], any_microfacet; /* diffuse lanes of a microfacet kind */
     float t[LANES], r[LANES], ks[LANES], alpha[LANES], ior[LANES], share[LANES];
     lanes3 pos, nout, shading, n, ng, wo, c, kd;
 } vertex_lanes;
@@ -108,6 +109,21 @@ static __attribute__((noinline)) void lanes_fold(const vertex_lanes *v, const in
         set3(fv, k, fb.f_cos);
         f_scale[k] = 1.0f;
         pdf[k] = fb.pdf;
+    }
+}
+
+/* bsdf_eval of the microfacet lanes in want at directions wi into fv, f_scale and pdf (the Phong
+ * terms the other lanes computed). Out of line: most scenes have no such lane. */
+static __attribute__((noinline)) void lanes_microfacet_eval(const vertex_lanes *v, const int *want,
+                                                            const lanes3 *wi, lanes3 *fv,
+                                                            float *f_scale, float *pdf) {
+    for (int k = 0; k < LANES; k++) {
+        if (!(want[k] & v->microfacet[k])) continue;
+        bsdf_value bv =
+            microfacet_eval(vertex_material(v, k), get3(&v->n, k), get3(wi, k), get3(&v->wo, k));
+        set3(fv, k, bv.f);
+        f_scale[k] = bv.f_scale;
+        pdf[k] = bv.pdf;
     }
 }
 
@@ -242,6 +258,7 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         f_scale[k] = s.cos_i[k];
     }
     if (any_fold) lanes_fold(v, folds, &s.dir, s.cos_i, &f, f_scale, b); /* emitter_light's */
+    if (v->any_microfacet) lanes_microfacet_eval(v, s.want, &s.dir, &f, f_scale, b);
     int lights_only = (scene->frame.flags & TZ_FLAG_LIGHTS_ONLY) != 0u;
     float n_light = (float)scene->frame.light_samples;
     for (int k = 0; k < LANES; k++) {
