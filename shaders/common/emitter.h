@@ -37,6 +37,15 @@ TZ_LANE_FN vec3 environment_map_direction(TZ_SCENE_PARAM vec3 d) {
     return m;
 }
 
+/* The column or row, in [0, size - 1], that coordinate c (texels from the map's edge) falls in;
+ * a NaN or an out-of-range c (the packet builds' idle lanes carry any direction) clamps, in
+ * float, as converting it to int would be undefined. */
+TZ_LANE_FN int environment_index_of(float c, int size) {
+    float last = TZ_FLOAT(size - 1);
+    float inside = c >= 0.0f ? c : 0.0f;
+    return TZ_INT(inside < last ? inside : last);
+}
+
 /* The index of the map's texel that map direction m falls in. Only sums of products are precise
  * (the rest cannot be contracted into fused operations): glslang's propagation of precise took
  * minutes and gigabytes over this file's precise values (a product alone needs none). */
@@ -51,7 +60,7 @@ TZ_LANE_FN int environment_texel_of(TZ_SCENE_PARAM vec3 m) {
     float x = u * TZ_FLOAT(TZ_FRAME.env_width);
     float y = theta * TZ_ONE_OVER_PI * TZ_FLOAT(TZ_FRAME.env_height);
     int w = TZ_INT(TZ_FRAME.env_width), h = TZ_INT(TZ_FRAME.env_height);
-    return TZ_MIN(TZ_INT(y), h - 1) * w + TZ_MIN(TZ_INT(x), w - 1);
+    return environment_index_of(y, h) * w + environment_index_of(x, w);
 }
 
 /* The radiance the environment sends along direction d to a ray that meets nothing: the map's
