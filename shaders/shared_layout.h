@@ -177,9 +177,18 @@ struct gpu_material {
     float reserved0;  /* 0 */
     TZ_VEC4 emission; /* rgb the radiance emitted (path mode reads it through gpu_emitter),
                        * w reserved (0) */
-    TZ_UVEC4 maps;    /* its textures, each a texture slot + 1 (0: none): x the colour map, y
-                       * the emission map, z the normal map, w the alpha map */
+    TZ_UVEC4 maps;    /* its textures, each a texture slot + 1 (0: none) in 16 bits, map
+                       * TZ_MAP_k in bits 16 (k & 1) of word k / 2 (texture.h's map_slot) */
 };
+/* The maps of a material (scene.h's MAP_*, in that order) and the most texture slots. */
+#define TZ_MAP_COLOR 0
+#define TZ_MAP_EMISSION 1
+#define TZ_MAP_NORMAL 2
+#define TZ_MAP_ALPHA 3
+#define TZ_MAP_METALLIC_ROUGHNESS 4 /* glTF's: blue metallic, green roughness */
+#define TZ_MAP_ROUGHNESS 5          /* MTL's map_Pr: red */
+#define TZ_MAP_METALLIC 6           /* MTL's map_Pm: red */
+#define TZ_MAX_SLOTS 65535u
 
 /* The unit shading normals at a smooth triangle's corners, 48 bytes. */
 struct gpu_normals {

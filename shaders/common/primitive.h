@@ -118,17 +118,32 @@ TZ_FN surface triangle_surface(TZ_SCENE_PARAM int id, vec3 pos, vec3 o, vec3 d) 
         s.shading = select3(usable, unit, s.nout);
         if (TZ_HAS_TEXTURES) uv = corner_uv(TZ_SCENE_ARG normals, b0, b1, b2);
     }
-    if (TZ_HAS_TEXTURES)
-        s.m = textured_material(TZ_SCENE_ARG s.m, material_maps(TZ_SCENE_ARG TZ_INT(material)), uv);
+    if (TZ_HAS_TEXTURES) {
+        TZ_UVEC4 maps = material_maps(TZ_SCENE_ARG TZ_INT(material));
+        s.m = textured_material(TZ_SCENE_ARG s.m, maps, uv);
+        TZ_UINT normal_map = map_slot(maps, TZ_MAP_NORMAL);
+        if ((normal_map != 0u) TZ_AND(normals != TZ_FLAT)) {
+            uv_frame f = face_uv_frame(TZ_SCENE_ARG normals, k.a, k.b, k.c);
+            s.shading = normal_mapped(TZ_SCENE_ARG normal_map, uv, f, s.shading, s.nout);
+        }
+    }
     return s;
 }
 
-/* Material m of sphere primitive id at the point of outward normal nout, its maps applied at
- * the point's sphere_uv (the packet builds call it on the spheres they gather themselves). */
-TZ_FN bsdf_material sphere_textured(TZ_SCENE_PARAM int id, bsdf_material m, vec3 nout) {
+/* Surface s of sphere primitive id (its point, outward normal and material filled in) with its
+ * material's maps applied at the point's sphere_uv (the packet builds call it on the spheres
+ * they gather themselves). */
+TZ_FN surface sphere_textured(TZ_SCENE_PARAM int id, surface s) {
     TZ_UVEC4 maps = material_maps(TZ_SCENE_ARG sphere_material_index(TZ_SCENE_ARG id));
-    if (maps.x == 0u) return m;
-    return textured_material(TZ_SCENE_ARG m, maps, sphere_uv(nout));
+    if (has_maps(maps)) {
+        tex_uv uv = sphere_uv(s.nout);
+        s.m = textured_material(TZ_SCENE_ARG s.m, maps, uv);
+        TZ_UINT normal_map = map_slot(maps, TZ_MAP_NORMAL);
+        if (normal_map != 0u)
+            s.shading = normal_mapped(TZ_SCENE_ARG normal_map, uv, sphere_uv_frame(s.nout),
+                                      s.shading, s.nout);
+    }
+    return s;
 }
 
 /* The point o + t d where a ray meets a primitive (a face's is then put on its plane). */
@@ -156,7 +171,7 @@ TZ_FN surface surface_at(TZ_SCENE_PARAM int id, vec3 o, vec3 d, float t) {
     TZ_VEC4 params = sphere_params(TZ_SCENE_ARG id);
     s.m = bsdf_material_of(sphere_color_ks(TZ_SCENE_ARG id), params);
     s.emitter = TZ_INT(params.w) - 1;
-    if (TZ_HAS_TEXTURES) s.m = sphere_textured(TZ_SCENE_ARG id, s.m, nout);
+    if (TZ_HAS_TEXTURES) s = sphere_textured(TZ_SCENE_ARG id, s);
     return s;
 }
 

@@ -170,18 +170,114 @@ TZ_FN tex_uv corner_uv(TZ_SCENE_PARAM TZ_UINT corners, float b0, float b1, float
     return tex_uv_of(u, v);
 }
 
+/* Slot + 1 of map `which` (TZ_MAP_*) among a material's maps (gpu_material.maps), 0 for none. */
+TZ_LANE_FN TZ_UINT map_slot(TZ_UVEC4 maps, int which) {
+    TZ_UINT word = which < 2 ? maps.x : (which < 4 ? maps.y : (which < 6 ? maps.z : maps.w));
+    return ((which & 1) != 0 ? word >> 16 : word) & 65535u;
+}
+
+/* Whether a material has any map. */
+TZ_LANE_FN TZ_BOOL has_maps(TZ_UVEC4 maps) { return (maps.x | maps.y | maps.z | maps.w) != 0u; }
+
+/* The factor map `which` (a grey or glTF metallic-roughness image) scales a value by: its texel
+ * at uv's channel `channel` (0 red, 1 green, 2 blue), clamped to [0, 1]; 1 without the map. */
+TZ_FN float map_factor(TZ_SCENE_PARAM TZ_UVEC4 maps, int which, int channel, tex_uv uv) {
+    TZ_UINT slot = map_slot(maps, which);
+    float f = 1.0f;
+    if (slot != 0u) {
+        vec3 c = texture_sample(TZ_SCENE_ARG slot - 1u, uv).rgb;
+        float picked = channel == 0 ? c.x : (channel == 1 ? c.y : c.z);
+        f = TZ_MIN(TZ_MAX(picked, 0.0f), 1.0f);
+    }
+    return f;
+}
+
 /* Material m of a hit at uv with its maps (gpu_material.maps) applied: the colour map's RGB,
- * clamped to [0, 1], times the colour. */
+ * clamped to [0, 1], times the colour; for the microfacet kinds the metallic and roughness maps
+ * times pbr's metallic and the roughness (glTF's rule), the width roughness^2 kept at least
+ * TZ_GGX_MIN_ALPHA (a factor below its square root then maps a little rougher than squared). */
 TZ_FN bsdf_material textured_material(TZ_SCENE_PARAM bsdf_material m, TZ_UVEC4 maps, tex_uv uv) {
-    if (maps.x != 0u) {
-        texel c = texture_sample(TZ_SCENE_ARG maps.x - 1u, uv);
+    TZ_UINT color = map_slot(maps, TZ_MAP_COLOR);
+    if (color != 0u) {
+        texel c = texture_sample(TZ_SCENE_ARG color - 1u, uv);
         vec3 unit = v3(TZ_MIN(TZ_MAX(c.rgb.x, 0.0f), 1.0f), TZ_MIN(TZ_MAX(c.rgb.y, 0.0f), 1.0f),
                        TZ_MIN(TZ_MAX(c.rgb.z, 0.0f), 1.0f));
-        /* Not precise, and straight into m: glslang's propagation of precise back through
-         * texture_sample's precise sums takes minutes and gigabytes, through a local too. */
         m.color = v3_mul(m.color, unit);
     }
+    if (is_microfacet(m.kind)) {
+        float metallic = map_factor(TZ_SCENE_ARG maps, TZ_MAP_METALLIC_ROUGHNESS, 2, uv) *
+                         map_factor(TZ_SCENE_ARG maps, TZ_MAP_METALLIC, 0, uv);
+        float rough = map_factor(TZ_SCENE_ARG maps, TZ_MAP_METALLIC_ROUGHNESS, 1, uv) *
+                      map_factor(TZ_SCENE_ARG maps, TZ_MAP_ROUGHNESS, 0, uv);
+        float width = m.alpha * (rough * rough);
+        m.ks = m.kind == TZ_MATERIAL_PBR ? m.ks * metallic : m.ks;
+        m.alpha = TZ_MAX(width, TZ_GGX_MIN_ALPHA);
+    }
     return m;
+}
+
+/* The surface's derivatives of position along u and along v, from which a normal map's tangent
+ * frame is made (zero where the UVs leave it undefined). */
+TZ_STRUCT(uv_frame) {
+    vec3 dpdu;
+    vec3 dpdv;
+}
+TZ_STRUCT_END(uv_frame)
+
+/* The UV frame of the face of corners a, b, c whose corner data are gpu_normals index
+ * `corners`: the edges solved against the UV differences, up to the sign of their determinant,
+ * which is all the frame needs. */
+TZ_FN uv_frame face_uv_frame(TZ_SCENE_PARAM TZ_UINT corners, vec3 a, vec3 b, vec3 c) {
+    TZ_UINT at = texture_word(TZ_SCENE_ARG TZ_TEXTURE_HEADER + 2u) + 6u * corners;
+    float u0 = texture_float(TZ_SCENE_ARG at), v0 = texture_float(TZ_SCENE_ARG at + 1u);
+    float du1 = texture_float(TZ_SCENE_ARG at + 2u) - u0;
+    float dv1 = texture_float(TZ_SCENE_ARG at + 3u) - v0;
+    float du2 = texture_float(TZ_SCENE_ARG at + 4u) - u0;
+    float dv2 = texture_float(TZ_SCENE_ARG at + 5u) - v0;
+    float det = du1 * dv2 - du2 * dv1;
+    float sign = det < 0.0f ? -1.0f : 1.0f;
+    vec3 e1 = v3_sub(b, a), e2 = v3_sub(c, a);
+    uv_frame f;
+    f.dpdu = v3_scale(v3_sub(v3_scale(e1, dv2), v3_scale(e2, dv1)), sign);
+    f.dpdv = v3_scale(v3_sub(v3_scale(e2, du1), v3_scale(e1, du2)), sign);
+    TZ_BOOL degenerate = det == 0.0f;
+    f.dpdu = select3(degenerate, v3(0.0f, 0.0f, 0.0f), f.dpdu);
+    f.dpdv = select3(degenerate, v3(0.0f, 0.0f, 0.0f), f.dpdv);
+    return f;
+}
+
+/* The UV frame of a sphere's point of outward unit normal n (sphere_uv's): u along the azimuth,
+ * v up toward +y; zero at the poles. */
+TZ_LANE_FN uv_frame sphere_uv_frame(vec3 n) {
+    uv_frame f;
+    f.dpdu = v3(-n.z, 0.0f, n.x);
+    f.dpdv = v3_cross(f.dpdu, n);
+    return f;
+}
+
+/* Shading normal `shading` (unit, on geometric normal nout's side) bent by the normal map of
+ * slot + 1 `slot` at uv in frame f: the map's tangent-space normal (2 rgb - 1, x and y times the
+ * slot's scale; OpenGL's convention, green along +v, as glTF's) in the frame of the tangent
+ * (dpdu made orthogonal to `shading`), the bitangent on dpdv's side and `shading`. Unbent where
+ * the frame is degenerate or the bent normal would leave nout's side. */
+TZ_FN vec3 normal_mapped(TZ_SCENE_PARAM TZ_UINT slot, tex_uv uv, uv_frame f, vec3 shading,
+                         vec3 nout) {
+    TZ_UINT s = TZ_TEXTURE_FIRST_SLOT + (slot - 1u) * TZ_SLOT_WORDS;
+    float scale = texture_float(TZ_SCENE_ARG s + 2u);
+    vec3 c = texture_sample(TZ_SCENE_ARG slot - 1u, uv).rgb;
+    float x = (2.0f * c.x - 1.0f) * scale, y = (2.0f * c.y - 1.0f) * scale;
+    float z = 2.0f * c.z - 1.0f;
+    vec3 along = v3_sub(f.dpdu, v3_scale(shading, v3_dot(shading, f.dpdu)));
+    float along_length = v3_length(along);
+    vec3 tangent = v3_scale(along, 1.0f / along_length);
+    vec3 bitangent = v3_cross(shading, tangent);
+    bitangent = v3_dot(bitangent, f.dpdv) < 0.0f ? v3_scale(bitangent, -1.0f) : bitangent;
+    vec3 bent = v3_add(v3_add(v3_scale(tangent, x), v3_scale(bitangent, y)), v3_scale(shading, z));
+    float bent_length = v3_length(bent);
+    vec3 unit = v3_scale(bent, 1.0f / bent_length);
+    TZ_BOOL usable =
+        (along_length > 0.0f) TZ_AND(bent_length > 0.0f) TZ_AND(v3_dot(unit, nout) > 0.0f);
+    return select3(usable, unit, shading);
 }
 
 #endif

@@ -32,6 +32,12 @@ _Static_assert(offsetof(struct gpu_material, kind) == 24, "gpu_material layout")
 _Static_assert(offsetof(struct gpu_material, reserved0) == 28, "gpu_material layout");
 _Static_assert(offsetof(struct gpu_material, emission) == 32, "gpu_material layout");
 _Static_assert(offsetof(struct gpu_material, maps) == 48, "gpu_material layout");
+_Static_assert(MAP_COLOR == TZ_MAP_COLOR && MAP_EMISSION == TZ_MAP_EMISSION &&
+                   MAP_NORMAL == TZ_MAP_NORMAL && MAP_ALPHA == TZ_MAP_ALPHA &&
+                   MAP_METALLIC_ROUGHNESS == TZ_MAP_METALLIC_ROUGHNESS &&
+                   MAP_ROUGHNESS == TZ_MAP_ROUGHNESS && MAP_METALLIC == TZ_MAP_METALLIC &&
+                   MATERIAL_MAP_COUNT <= 8,
+               "a material's maps, two to a word of gpu_material.maps");
 _Static_assert(sizeof(struct gpu_normals) == 48, "gpu_normals is 48 bytes");
 _Static_assert(sizeof(struct gpu_light) == 32, "gpu_light is 32 bytes");
 _Static_assert(offsetof(struct gpu_light, position_power) == 0, "gpu_light layout");
@@ -261,8 +267,10 @@ static struct gpu_material gpu_material_of(const material *m) {
         .ior = m->ior,
         .kind = (float)m->kind,
         .emission = vec4_from(m->emission, 0.0f),
-        .maps = {m->maps[MAP_COLOR], m->maps[MAP_EMISSION], m->maps[MAP_NORMAL],
-                 m->maps[MAP_ALPHA]},
+        .maps = {m->maps[MAP_COLOR] | m->maps[MAP_EMISSION] << 16,
+                 m->maps[MAP_NORMAL] | m->maps[MAP_ALPHA] << 16,
+                 m->maps[MAP_METALLIC_ROUGHNESS] | m->maps[MAP_ROUGHNESS] << 16,
+                 m->maps[MAP_METALLIC]},
     };
 }
 

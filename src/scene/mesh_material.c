@@ -85,23 +85,25 @@ static bool map_of(const assimp_lib *ai, const struct aiMaterial *m, enum aiText
 }
 
 /* The textures of material m trazador keeps (MAP_*): the colour (glTF's base colour, else the
- * diffuse map: MTL's map_Kd), emission (map_Ke), normal (glTF's normal texture, MTL's norm, or
- * map_Bump where no normal map is given), alpha (map_d), glTF's metallic-roughness and MTL's
+ * diffuse map: MTL's map_Kd), emission (map_Ke), normal (glTF's normal texture, MTL's norm;
+ * map_Bump is a height map, not one), alpha (map_d), glTF's metallic-roughness, else MTL's
  * map_Pr and map_Pm. */
 static void read_maps(const assimp_lib *ai, const struct aiMaterial *m, mesh_material *out) {
     if (!map_of(ai, m, aiTextureType_BASE_COLOR, true, &out->maps[MAP_COLOR]))
         map_of(ai, m, aiTextureType_DIFFUSE, true, &out->maps[MAP_COLOR]);
     map_of(ai, m, aiTextureType_EMISSIVE, true, &out->maps[MAP_EMISSION]);
-    if (!map_of(ai, m, aiTextureType_NORMALS, false, &out->maps[MAP_NORMAL]))
-        map_of(ai, m, aiTextureType_HEIGHT, false, &out->maps[MAP_NORMAL]);
+    map_of(ai, m, aiTextureType_NORMALS, false, &out->maps[MAP_NORMAL]);
     map_of(ai, m, aiTextureType_OPACITY, false, &out->maps[MAP_ALPHA]);
-    /* assimp 5.2's glTF importer gives the metallic-roughness texture as UNKNOWN's first. */
-    map_of(ai, m, aiTextureType_UNKNOWN, false, &out->maps[MAP_METALLIC_ROUGHNESS]);
-    map_of(ai, m, aiTextureType_DIFFUSE_ROUGHNESS, false, &out->maps[MAP_ROUGHNESS]);
-    map_of(ai, m, aiTextureType_METALNESS, false, &out->maps[MAP_METALLIC]);
+    /* assimp 5.2's glTF importer gives the metallic-roughness texture as UNKNOWN's first, and the
+     * same image as the metallic and roughness textures, whose red channel is not theirs. */
+    if (!map_of(ai, m, aiTextureType_UNKNOWN, false, &out->maps[MAP_METALLIC_ROUGHNESS])) {
+        map_of(ai, m, aiTextureType_DIFFUSE_ROUGHNESS, false, &out->maps[MAP_ROUGHNESS]);
+        map_of(ai, m, aiTextureType_METALNESS, false, &out->maps[MAP_METALLIC]);
+    }
 }
 
-/* The texture kinds a material uses, named into list (those the renderer shades left out). */
+/* The texture kinds a material uses, named into list (those the renderer shades left out; the
+ * metallic and roughness ones shade the microfacet kinds alone, as their factors do). */
 static void note_textures(const assimp_lib *ai, const struct aiMaterial *m, char *list,
                           size_t size) {
     static const struct {
@@ -125,8 +127,11 @@ static void note_textures(const assimp_lib *ai, const struct aiMaterial *m, char
         {aiTextureType_UNKNOWN, "other texture"},
     };
     for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
-        if (kinds[k].type == aiTextureType_DIFFUSE || kinds[k].type == aiTextureType_BASE_COLOR)
-            continue; /* the colour map, shaded */
+        enum aiTextureType type = kinds[k].type;
+        if (type == aiTextureType_DIFFUSE || type == aiTextureType_BASE_COLOR ||
+            type == aiTextureType_NORMALS || type == aiTextureType_UNKNOWN ||
+            type == aiTextureType_METALNESS || type == aiTextureType_DIFFUSE_ROUGHNESS)
+            continue; /* the maps shaded (read_maps') */
         if (ai->get_material_texture_count(m, kinds[k].type) > 0)
             mesh_note_unsupported(list, size, kinds[k].name);
     }

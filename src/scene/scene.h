@@ -87,9 +87,8 @@ static inline int scene_default_bounces(render_mode mode) {
 /* Bytes of an image's name kept for messages. */
 #define SCENE_IMAGE_NAME 256
 
-/* The texture maps a material may have (material.maps), each a slot of scene.slots. The colour,
- * emission, normal and alpha maps are gpu_material.maps x, y, z, w; the metallic-roughness map
- * (glTF's, MTL's map_Pr and map_Pm) is kept for the materials that will read it. */
+/* The texture maps a material may have (material.maps), each a slot of scene.slots; the order
+ * of shared_layout.h's TZ_MAP_* (gpu_material.maps). */
 enum {
     MAP_COLOR,
     MAP_EMISSION,

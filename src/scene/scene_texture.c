@@ -45,6 +45,9 @@ static bool slot_add(parser *p, int col, uint32_t image, uint32_t flags, float p
             return true;
         }
     }
+    if ((uint32_t)p->s.slot_count >= TZ_MAX_SLOTS)
+        return parser_fail(p, col, "more than %u texture slots (images with their wrap modes)",
+                           TZ_MAX_SLOTS);
     texture_slot *grown = realloc(p->s.slots, (size_t)(p->s.slot_count + 1) * sizeof *grown);
     if (!grown) {
         if (p->err) p->err->out_of_memory = true;

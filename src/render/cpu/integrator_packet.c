@@ -76,8 +76,19 @@ LANE_FN void packet_surfaces(const packed_scene *p, const lanes3 *o, const lanes
     }
     for (int k = 0; TZ_HAS_TEXTURES_OF(p) && k < LANES; k++) { /* textured spheres: surface_at's */
         if (id[k] < 0 || triangle[k]) continue;
-        bsdf_material m = {.kind = h->material[k], .color = get3(&h->kd, k)};
-        set3(&h->kd, k, sphere_textured(p, id[k], m, get3(&h->nout, k)).color);
+        surface sf = {.pos = get3(&h->pos, k),
+                      .nout = get3(&h->nout, k),
+                      .shading = get3(&h->shading, k),
+                      .m = {.kind = h->material[k],
+                            .color = get3(&h->kd, k),
+                            .ks = h->ks[k],
+                            .alpha = h->alpha[k],
+                            .ior = h->ior[k]}};
+        sf = sphere_textured(p, id[k], sf);
+        set3(&h->shading, k, sf.shading);
+        set3(&h->kd, k, sf.m.color);
+        h->ks[k] = sf.m.ks;
+        h->alpha[k] = sf.m.alpha;
     }
     for (int k = 0; any_lane(triangle) && k < LANES; k++) { /* triangles, lane by lane */
         if (!triangle[k]) continue;

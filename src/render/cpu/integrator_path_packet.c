@@ -269,8 +269,19 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
     }
     for (int k = 0; TZ_HAS_TEXTURES_OF(scene) && k < LANES; k++) { /* a textured sphere's */
         if (v.id[k] < 0 || triangle[k]) continue;
-        bsdf_material m = {.kind = v.material[k], .color = get3(&v.kd, k)};
-        set3(&v.kd, k, sphere_textured(scene, v.id[k], m, get3(&v.nout, k)).color);
+        surface sf = {.pos = get3(&v.pos, k),
+                      .nout = get3(&v.nout, k),
+                      .shading = get3(&v.shading, k),
+                      .m = {.kind = v.material[k],
+                            .color = get3(&v.kd, k),
+                            .ks = v.ks[k],
+                            .alpha = v.alpha[k],
+                            .ior = v.ior[k]}};
+        sf = sphere_textured(scene, v.id[k], sf);
+        set3(&v.shading, k, sf.shading);
+        set3(&v.kd, k, sf.m.color);
+        v.ks[k] = sf.m.ks;
+        v.alpha[k] = sf.m.alpha;
     }
     for (int k = 0; any_lane(triangle) && k < LANES; k++) { /* and of a triangle */
         if (!triangle[k]) continue;
