@@ -221,8 +221,7 @@ TZ_FN bsdf_sample bsdf_sample_lobe(bsdf_material m, float share, vec3 n, vec3 ng
     vec3 wi;
     if (TZ_MICROFACET_ON && is_microfacet(m.kind)) {
         wi = microfacet_direction(m, n, wo, us, u1, u2);
-    } else
-        if (us < share) {
+    } else if (us < share) {
         wi = cosine_direction(n, u1, u2);
     } else {
         wi = phong_lobe_direction(phong_lobe_axis(n, wo), m.alpha, u1, u2);
