@@ -3,10 +3,11 @@
  * multiple-scattering lobe (shaders/common/microfacet.h). E is the mean of G2 / G1 over the
  * visible normals, integrated by the midpoint rule over the unit square that the spherical-cap
  * sampling (Dupuy and Benyoub 2023) maps onto them: no random numbers, the same bits every run. */
+#include "render/ggx_albedo.h"
+
 #include <math.h>
 #include <pthread.h>
 
-#include "render/ggx_albedo.h"
 #include "shared_layout.h"
 
 /* Midpoints of the quadrature: cap heights, and azimuths over the half of the circle that
@@ -65,10 +66,10 @@ static double moment(double a, double b, double ea, double eb) {
     return 0.5 * (b - a) * sum;
 }
 
-/* Each row (a roughness k / (N - 1), the GGX width its square): E at the cosines mu = x^2 for x = k / (N - 1), dense at
- * grazing angles, where E dips and climbs back in a thin layer, clamped to [0, 1]; then E_avg =
- * 2 * integral of mu E(mu) over the E that the lookups interpolate, exactly, so that the
- * compensation lobe's albedo is 1 - E to the float. */
+/* Each row (a roughness k / (N - 1), the GGX width its square): E at the cosines mu = x^2 for x = k
+ * / (N - 1), dense at grazing angles, where E dips and climbs back in a thin layer, clamped to [0,
+ * 1]; then E_avg = 2 * integral of mu E(mu) over the E that the lookups interpolate, exactly, so
+ * that the compensation lobe's albedo is 1 - E to the float. */
 static void fill(void) {
     const int n = (int)TZ_GGX_TABLE_SIZE;
     for (int r = 0; r < n; r++) {
