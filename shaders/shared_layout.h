@@ -196,16 +196,26 @@ struct gpu_normals {
 };
 
 /* The texture table (TZ_BINDING_TEXTURES), 32-bit words: what decodes an 8-bit channel (word k
- * of TZ_TEXTURE_SRGB the float bits of sRGB value k decoded, of TZ_TEXTURE_LINEAR k / 255), a
- * header (TZ_TEXTURE_HEADER: the first word of the slots, of the images, of the faces' UVs),
- * the slots (TZ_SLOT_WORDS each: an image, how it is read, and a transform of the UVs), the
- * images (TZ_IMAGE_WORDS each: the first word of its texels, width, height, TZ_TEXEL_*), the
- * UVs of the faces that have them (six floats, u and v of corners 0, 1, 2, at the face's
- * gpu_normals index), then the texels, rows top first. */
+ * of TZ_TEXTURE_SRGB the float bits of sRGB value k decoded, of TZ_TEXTURE_LINEAR k / 255), the
+ * GGX tables (TZ_TEXTURE_GGX, zero in a scene without microfacet materials), a header
+ * (TZ_TEXTURE_HEADER: the first word of the slots, of the images, of the faces' UVs), the slots
+ * (TZ_SLOT_WORDS each: an image, how it is read, and a transform of the UVs), the images
+ * (TZ_IMAGE_WORDS each: the first word of its texels, width, height, TZ_TEXEL_*), the UVs of the
+ * faces that have them (six floats, u and v of corners 0, 1, 2, at the face's gpu_normals index),
+ * then the texels, rows top first. */
 #define TZ_TEXTURE_SRGB 0u
 #define TZ_TEXTURE_LINEAR 256u
-#define TZ_TEXTURE_HEADER 512u
-#define TZ_TEXTURE_FIRST_SLOT 516u
+/* The multiple-scattering tables of the GGX lobes (Kulla and Conty 2017; src/render/ggx_albedo.c
+ * computes them, shaders/common/microfacet.h reads them bilinearly): the directional albedo E of
+ * a white GGX conductor at TZ_GGX_TABLE_SIZE square roots of cosines 0..1 of the way back
+ * (fastest) by as many roughnesses 0..1 (square roots of the GGX width), then its
+ * cosine-weighted mean E_avg at each roughness, floats. The table exists where a scene has
+ * textures or a microfacet material; these words are zero without the latter. */
+#define TZ_TEXTURE_GGX 512u
+#define TZ_GGX_TABLE_SIZE 32u
+#define TZ_GGX_TABLE_WORDS 1056u /* TZ_GGX_TABLE_SIZE^2 + TZ_GGX_TABLE_SIZE */
+#define TZ_TEXTURE_HEADER 1568u  /* TZ_TEXTURE_GGX + TZ_GGX_TABLE_WORDS */
+#define TZ_TEXTURE_FIRST_SLOT 1572u
 /* A slot: image index, flags (wrap of u in bits 0-3, of v in 4-7, TZ_SLOT_SRGB), a parameter
  * (the alpha cutoff, the normal scale), the UV transform u' = m0 u + m1 v + m2, v' = m3 u + m4 v
  * + m5 in words 3-8 (float bits), words 9-11 zero. */

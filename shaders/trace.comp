@@ -67,6 +67,8 @@ vec4 material_params(int m) { return texelFetch(material_texels, 4 * m + 1); }
 uvec4 material_maps(int m) { return floatBitsToUint(texelFetch(material_texels, 4 * m + 3)); }
 /* Word i of the texture table (shared_layout.h, TZ_TEXTURE_*). */
 uint texture_word(uint i) { return texelFetch(texture_texels, int(i)).x; }
+/* Float i of the GGX tables (TZ_TEXTURE_GGX, common/microfacet.h). */
+float ggx_table(uint i) { return uintBitsToFloat(texture_word(TZ_TEXTURE_GGX + i)); }
 /* The fields of struct gpu_sphere k and its material (sphere_params: alpha, ior, kind and its
  * emitter + 1), and of gpu_light k: specialization constants when their loops are unrolled
  * (struct gpu_unrolled), else from the texel buffers (see TZ_BINDING_SPHERES). */

@@ -205,7 +205,8 @@ TZ_LANE_FN TZ_BOOL bsdf_goes_on(TZ_BOOL folds, float cos_i, vec3 ng, vec3 wi, fl
 TZ_FN vec3 microfacet_direction(bsdf_material m, vec3 n, vec3 wo, float us, float u1, float u2) {
     tangent_frame f = basis(n);
     vec3 lo = to_local(f, n, wo);
-    float ps = microfacet_spec_share(m.kind, m.color, m.ks, m.ior, lo.z);
+    float ps = microfacet_spec_share(m.kind, m.color, m.ks, m.ior, lo.z, ggx_albedo(lo.z, m.alpha),
+                                     ggx_albedo_avg(m.alpha));
     if (us < 1.0f - ps) return cosine_direction(n, u1, u2);
     vec3 h = from_local(f, n, ggx_sample_half(lo, m.alpha, u1, u2));
     TZ_PRECISE vec3 wi = v3_sub(v3_scale(h, 2.0f * v3_dot(wo, h)), wo);

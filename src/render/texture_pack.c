@@ -1,11 +1,18 @@
 /* texture_pack.c: the scene's images, slots and the faces' UVs as the texture table the shaders
- * read (shared_layout.h, TZ_TEXTURE_*; shaders/common/texture.h). */
+ * read (shared_layout.h, TZ_TEXTURE_*; shaders/common/texture.h), with the GGX tables where a
+ * material needs them (shaders/common/microfacet.h). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "render/ggx_albedo.h"
 #include "render/scene_pack.h"
 #include "util/log.h"
+
+_Static_assert(TZ_GGX_TABLE_WORDS == TZ_GGX_TABLE_SIZE * TZ_GGX_TABLE_SIZE + TZ_GGX_TABLE_SIZE,
+               "the GGX tables: E, then E_avg");
+_Static_assert(TZ_TEXTURE_HEADER == TZ_TEXTURE_GGX + TZ_GGX_TABLE_WORDS, "the header follows them");
+_Static_assert(TZ_TEXTURE_FIRST_SLOT == TZ_TEXTURE_HEADER + 4u, "the slots follow the header");
 
 /* The float bits of x. */
 static uint32_t bits_of(float x) {
@@ -21,7 +28,8 @@ static float srgb_decoded(int k) {
 }
 
 bool texture_pack(const scene *s, packed_scene *out) {
-    if (s->slot_count == 0) {
+    bool microfacet = scene_has_microfacet(s);
+    if (s->slot_count == 0 && !microfacet) {
         out->texture_words = calloc(1, sizeof *out->texture_words);
         out->texture_word_count = 0;
         return out->texture_words != NULL;
@@ -44,6 +52,10 @@ bool texture_pack(const scene *s, packed_scene *out) {
     for (int k = 0; k < 256; k++) {
         w[TZ_TEXTURE_SRGB + (uint32_t)k] = bits_of(srgb_decoded(k));
         w[TZ_TEXTURE_LINEAR + (uint32_t)k] = bits_of((float)(k / 255.0));
+    }
+    if (microfacet) {
+        ggx_albedo_prepare();
+        memcpy(w + TZ_TEXTURE_GGX, ggx_albedo_words, TZ_GGX_TABLE_WORDS * sizeof *w);
     }
     w[TZ_TEXTURE_HEADER] = (uint32_t)slots;
     w[TZ_TEXTURE_HEADER + 1] = (uint32_t)images;

@@ -129,10 +129,11 @@ uint32_t vk_strategy_walk_loop(const vk_strategy *st) {
     return st->walk > 1u ? (st->walk - 1u) / 2u : 1u;
 }
 
-/* The words of s's texture table (texture_pack.c): its header, slots, images, the UVs of every
- * face with corner data (a bound: the packer gives UVs to those alone) and the texels. */
+/* The words of s's texture table (texture_pack.c): its fixed tables and header, slots, images,
+ * the UVs of every face with corner data (a bound: the packer gives UVs to those alone) and the
+ * texels. */
 static uint64_t texture_words(const scene *s) {
-    if (s->slot_count == 0) return 0;
+    if (s->slot_count == 0 && !scene_has_microfacet(s)) return 0;
     return TZ_TEXTURE_FIRST_SLOT + (uint64_t)s->slot_count * TZ_SLOT_WORDS +
            (uint64_t)s->image_count * TZ_IMAGE_WORDS + 6u * (uint64_t)s->normals_count +
            s->texel_bytes / 4u;
