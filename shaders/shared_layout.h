@@ -63,6 +63,11 @@ typedef struct tz_uvec4 {
 /* The scene has a microfacet material (TZ_MATERIAL_CONDUCTOR, _PBR); without it their code is
  * dead as the triangles'. */
 #define TZ_FLAG_MICROFACET 1024u
+/* A thin lens camera (gpu_frame.lens): its numbers are drawn after the jitter's, only then, so
+ * that pinhole scenes keep their numbers (shaders/common/camera.h). */
+#define TZ_FLAG_LENS 2048u
+/* An orthographic camera: rays along F from the plane's points (camera.h). */
+#define TZ_FLAG_ORTHOGRAPHIC 4096u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
  * pixels, whose rays stay coherent; 4 x 8 ran more instructions: docs/PERF.md), 32 lanes on real
@@ -237,6 +242,7 @@ struct gpu_frame {
      * emitter slot + 1 in path mode (0: not sampled). */
     TZ_VEC4 env_x, env_y, env_z;
     TZ_UINT env_width, env_height, env_slot, env_pad;
+    TZ_VEC4 lens; /* x the lens radius, y the distance to the plane in focus (TZ_FLAG_LENS) */
 };
 /* The primitive id of the environment's gpu_emitter (uint bits): no sphere's or face's. */
 #define TZ_ENV_PRIMITIVE 0xfffffffeu

@@ -200,6 +200,12 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
     h = digest_vec3(h, s->camera_up);
     h = digest_float(h, s->camera_fov);
     h = digest_float(h, s->camera_near);
+    /* Only lens and orthographic cameras hash their fields: pinhole scenes keep their digest. */
+    if (s->camera_aperture > 0.0f || s->camera_orthographic) {
+        h = digest_float(h, s->camera_aperture);
+        h = digest_float(h, s->camera_focus);
+        h = digest_int(h, s->camera_orthographic);
+    }
     h = digest_float(h, s->plane_width);
     h = digest_float(h, s->plane_height);
     h = digest_float(h, s->pixel_size);

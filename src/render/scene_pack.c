@@ -36,7 +36,7 @@ _Static_assert(sizeof(struct gpu_normals) == 48, "gpu_normals is 48 bytes");
 _Static_assert(sizeof(struct gpu_light) == 32, "gpu_light is 32 bytes");
 _Static_assert(offsetof(struct gpu_light, position_power) == 0, "gpu_light layout");
 _Static_assert(offsetof(struct gpu_light, color) == 16, "gpu_light layout");
-_Static_assert(sizeof(struct gpu_frame) == 192, "gpu_frame is 192 bytes");
+_Static_assert(sizeof(struct gpu_frame) == 208, "gpu_frame is 208 bytes");
 _Static_assert(offsetof(struct gpu_frame, origin) == 0, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, right) == 16, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, up) == 32, "gpu_frame layout");
@@ -57,6 +57,7 @@ _Static_assert(offsetof(struct gpu_frame, env_x) == 128, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, env_z) == 160, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, env_width) == 176, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, env_slot) == 184, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, lens) == 192, "gpu_frame layout");
 _Static_assert(sizeof(struct gpu_pass) == 64 + 4 * TZ_PASS_CHUNKS, "gpu_pass is 96 bytes");
 _Static_assert(sizeof(struct gpu_pass) <= 128, "gpu_pass fits the push constants of any device");
 _Static_assert(offsetof(struct gpu_pass, stack_slot) == 64, "gpu_pass layout");
@@ -381,7 +382,9 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         (s->triangle_count > 0 ? TZ_FLAG_TRIANGLES : 0u) |
         (s->slot_count > 0 ? TZ_FLAG_TEXTURES : 0u) |
         (s->environment.rgb ? TZ_FLAG_ENVIRONMENT : 0u) |
-        (scene_has_microfacet(s) ? TZ_FLAG_MICROFACET : 0u);
+        (scene_has_microfacet(s) ? TZ_FLAG_MICROFACET : 0u) |
+        (s->camera_aperture > 0.0f ? TZ_FLAG_LENS : 0u) |
+        (s->camera_orthographic ? TZ_FLAG_ORTHOGRAPHIC : 0u);
     /* The plane's distance: 2 x width (the seed's), or what the field of view asks. */
     float distance = s->camera_fov > 0.0f
                          ? (float)(0.5 * s->plane_width /
@@ -403,6 +406,7 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         .flags = flags,
         .near_distance = s->camera_near,
         .light_samples = (uint32_t)render_light_samples(opts),
+        .lens = {s->camera_aperture, s->camera_focus, 0.0f, 0.0f},
     };
     const environment_map *env = &s->environment;
     if (env->rgb) {

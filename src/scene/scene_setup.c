@@ -30,6 +30,9 @@ enum {
     CAMERA_LOOK_AT,
     CAMERA_FOV,
     CAMERA_NEAR,
+    CAMERA_APERTURE,
+    CAMERA_FOCUS,
+    CAMERA_PROJECTION,
     CAMERA_KEY_COUNT
 };
 static const key_spec camera_keys[CAMERA_KEY_COUNT] = {
@@ -39,6 +42,9 @@ static const key_spec camera_keys[CAMERA_KEY_COUNT] = {
     {"look_at", "x y z", VALUE_NUMBER, COORD_RANGE},
     {"fov", NULL, VALUE_NUMBER, FOV_RANGE},
     {"near", NULL, VALUE_NUMBER, 0.0, 1e18, false},
+    {"aperture", NULL, VALUE_NUMBER, 0.0, 1e18, false},
+    {"focus", NULL, VALUE_NUMBER, 0.0, 1e18, true},
+    {"projection", "perspective orthographic", VALUE_WORD, 0.0, 1.0, false},
 };
 
 enum { PLANE_WIDTH, PLANE_HEIGHT, PLANE_PIXEL, PLANE_KEY_COUNT };
@@ -127,6 +133,32 @@ static bool check_camera_vector(parser *p, const key_values *kv, int key, vec3 *
     return check_camera_square(p, kv, key, *v);
 }
 
+/* The lens and the projection: an aperture above 0 needs a focus, a focus needs an aperture,
+ * and an orthographic camera has no field of view. */
+static bool camera_lens(parser *p, const key_values *kv) {
+    float aperture = (float)parser_value_or(kv, CAMERA_APERTURE, 0.0);
+    if (aperture > 0.0f && !(kv->given & BIT(CAMERA_FOCUS))) {
+        return parser_fail(p, p->tokens[kv->key_token[CAMERA_APERTURE]].col,
+                           "camera aperture above 0 needs focus (the distance to the plane in "
+                           "focus)");
+    }
+    if ((kv->given & BIT(CAMERA_FOCUS)) && !(aperture > 0.0f)) {
+        return parser_fail(p, p->tokens[kv->key_token[CAMERA_FOCUS]].col,
+                           "camera focus needs an aperture above 0 (a pinhole is sharp at every "
+                           "distance)");
+    }
+    bool orthographic = parser_value_or(kv, CAMERA_PROJECTION, 0.0) == 1.0;
+    if (orthographic && (kv->given & BIT(CAMERA_FOV))) {
+        return parser_fail(p, p->tokens[kv->key_token[CAMERA_FOV]].col,
+                           "an orthographic camera takes no fov: the plane's width and height "
+                           "are the view's size");
+    }
+    p->s.camera_aperture = aperture;
+    p->s.camera_focus = aperture > 0.0f ? (float)kv->value[CAMERA_FOCUS][0] : 0.0f;
+    p->s.camera_orthographic = orthographic;
+    return true;
+}
+
 bool directive_camera(parser *p) {
     key_values kv;
     if (!claim_once(p, &p->camera_line)) return false;
@@ -191,6 +223,7 @@ bool directive_camera(parser *p) {
         p->fov_col = p->tokens[kv.value_token[CAMERA_FOV][0]].col;
     }
     p->s.camera_near = (float)parser_value_or(&kv, CAMERA_NEAR, 0.0);
+    if (!camera_lens(p, &kv)) return false;
     p->camera_col = p->tokens[kv.value_token[CAMERA_POSITION][0]].col;
     p->s.camera_direction = direction;
     p->s.camera_up = up;

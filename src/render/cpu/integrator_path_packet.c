@@ -369,7 +369,6 @@ typedef struct start_batch {
 LANE_FN void start_batch_make(const packed_scene *p, start_batch *b, uint32_t first, uint32_t i,
                               uint32_t y, uint32_t lanes, uint32_t sample0) {
     const struct gpu_frame fr = p->frame; /* a copy: the loop below then compiles to SIMD */
-    int jitter = (fr.flags & TZ_FLAG_JITTER) != 0u;
     uint32_t x[LANES], sample[LANES];
     for (int k = 0; k < LANES; k++) {
         x[k] = i + (first + (uint32_t)k) % lanes;
@@ -377,14 +376,12 @@ LANE_FN void start_batch_make(const packed_scene *p, start_batch *b, uint32_t fi
     }
     for (int k = 0; k < LANES; k++) {
         sampler_state rng = sampler_start(fr.flags, fr.seed, y * fr.width + x[k], sample[k]);
-        float u, v;
-        sample_2d(fr.flags, &rng, &u, &v);
-        u = jitter ? u : 0.5f;
-        v = jitter ? v : 0.5f;
-        vec3 d = camera_direction(fr.right, fr.up, fr.forward, fr.origin.w, x[k], y, u, v);
+        camera_numbers c = camera_draw(fr.flags, &rng);
+        next_ray ray = camera_ray_through(fr.flags, fr.origin, fr.right, fr.up, fr.forward,
+                                          fr.near_distance, fr.lens, x[k], y, c);
         lane_sampler_set(&b->rng, k, 1, rng);
-        set3(&b->o, k, camera_origin(fr.origin, fr.near_distance, d));
-        set3(&b->d, k, d);
+        set3(&b->o, k, ray.o);
+        set3(&b->d, k, ray.d);
     }
 }
 
