@@ -42,8 +42,8 @@ TZ_FN next_ray camera_ray_through(TZ_UINT flags, TZ_VEC4 origin, TZ_VEC4 right, 
     if ((flags & TZ_FLAG_ORTHOGRAPHIC) != 0u) {
         TZ_PRECISE float x = right.w + (TZ_FLOAT(i) + c.u) * origin.w;
         TZ_PRECISE float y = up.w - (TZ_FLOAT(j) + c.v) * origin.w;
-        TZ_PRECISE vec3 o = v3_add(xyz(origin), v3_add(v3_scale(xyz(right), x),
-                                                      v3_scale(xyz(up), y)));
+        TZ_PRECISE vec3 o =
+            v3_add(xyz(origin), v3_add(v3_scale(xyz(right), x), v3_scale(xyz(up), y)));
         r.o = o;
         r.d = xyz(forward);
     } else {
@@ -55,8 +55,8 @@ TZ_FN next_ray camera_ray_through(TZ_UINT flags, TZ_VEC4 origin, TZ_VEC4 right, 
         /* from the lens point to the ray's point in focus: d t - offset, with no cancellation of
          * the camera's position */
         TZ_PRECISE float t = lens.y / v3_dot(r.d, xyz(forward));
-        TZ_PRECISE vec3 offset = v3_add(v3_scale(xyz(right), p.x * lens.x),
-                                        v3_scale(xyz(up), p.y * lens.x));
+        TZ_PRECISE vec3 offset =
+            v3_add(v3_scale(xyz(right), p.x * lens.x), v3_scale(xyz(up), p.y * lens.x));
         TZ_PRECISE vec3 o = v3_add(r.o, offset);
         r.d = v3_normalize(v3_sub(v3_scale(r.d, t), offset));
         r.o = o;

@@ -204,8 +204,8 @@ typedef struct scene {
     vec3 camera_position, camera_direction, camera_up;
     float camera_fov;  /* horizontal field of view in degrees; 0: the plane sits 2 x width away */
     float camera_near; /* camera rays start this far along their direction */
-    float camera_aperture; /* the thin lens's radius; 0: a pinhole */
-    float camera_focus;    /* the distance to the plane in focus (with an aperture) */
+    float camera_aperture;    /* the thin lens's radius; 0: a pinhole */
+    float camera_focus;       /* the distance to the plane in focus (with an aperture) */
     bool camera_orthographic; /* `projection orthographic`: parallel rays from the plane */
     float plane_width, plane_height, pixel_size;
     int width, height; /* pixels: plane size / pixel size */

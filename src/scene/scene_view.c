@@ -34,8 +34,8 @@ bool parser_note_mesh(parser *p, int col, size_t faces, vec3 lo, vec3 hi, const 
 typedef struct view {
     dvec3 origin, f, r, u;
     double half_width, half_height, distance, near_f; /* near_f: the least f part rays reach */
-    bool orthographic;        /* a box of the plane's size along f, not a pyramid */
-    double aperture, focus;   /* a thin lens widens the view by aperture |1 - f part / focus| */
+    bool orthographic;      /* a box of the plane's size along f, not a pyramid */
+    double aperture, focus; /* a thin lens widens the view by aperture |1 - f part / focus| */
 } view;
 
 static dvec3 unit(dvec3 v) {
