@@ -68,6 +68,9 @@ typedef struct tz_uvec4 {
 #define TZ_FLAG_LENS 2048u
 /* An orthographic camera: rays along F from the plane's points (camera.h). */
 #define TZ_FLAG_ORTHOGRAPHIC 4096u
+/* Some light is a spot or a sun (gpu_light.shape): without it shapes are not read, and the
+ * lights may be unrolled (their shapes are no specialization constants). */
+#define TZ_FLAG_SHAPED_LIGHTS 8192u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
  * pixels, whose rays stay coherent; 4 x 8 ran more instructions: docs/PERF.md), 32 lanes on real
@@ -80,7 +83,7 @@ typedef struct tz_uvec4 {
 
 /* Descriptor bindings of set 0. Spheres and lights are uniform texel buffers (RGBA32F) over the
  * very bytes of the gpu_sphere and gpu_light arrays: a sphere is texels 2k, 2k+1, a light texels
- * 2k, 2k+1. lavapipe gathers texels with a few vector loads where a storage buffer read at a
+ * 3k to 3k+2. lavapipe gathers texels with a few vector loads where a storage buffer read at a
  * per-lane index costs a scalar loop over the lanes; no size limit short of
  * maxTexelBufferElements. */
 #define TZ_BINDING_FRAME 0
@@ -216,9 +219,15 @@ struct gpu_normals {
 #define TZ_TEXEL_RGBA32F 1u
 
 /* One point light, 32 bytes. */
+/* A light, 48 bytes: a point light, a spot (shape.w > 0) or a sun (shape.w < 0). A spot's
+ * falloff is glTF KHR_lights_punctual's, clamp(cd scale + offset, 0, 1)^2 of the cosine cd
+ * between its axis and the way the light goes. */
 struct gpu_light {
-    TZ_VEC4 position_power; /* xyz position, w power */
-    TZ_VEC4 color;          /* rgb colour, w unused (0) */
+    TZ_VEC4 position_power; /* xyz position (a sun: the unit direction toward it), w power (a
+                             * sun: its irradiance) */
+    TZ_VEC4 color;          /* rgb colour, w: a spot's offset, 0 otherwise */
+    TZ_VEC4 shape;          /* a spot: xyz its unit axis, w its scale (> 0); a sun: w -1; a point
+                             * light: 0 (read only under TZ_FLAG_SHAPED_LIGHTS) */
 };
 
 /* Everything per render that is not per sphere or light: camera, plane, counts, settings. */
@@ -290,7 +299,8 @@ struct gpu_pass {
 /* The spheres and lights of an unrolled scene, zero past the scene's (scene_pack_unrolled):
  * sphere k is vec4s 3k..3k+2, its centre and radius, then its material's colour and ks, and
  * alpha, ior, kind and its emitter + 1 (the fields a hit reads, without a fetch of its
- * material); light k is vec4s 2k, 2k + 1, in the texel layout of TZ_BINDING_LIGHTS. */
+ * material); light k is vec4s 2k, 2k + 1, its position_power and color (lights of a scene
+ * without spots and suns only: their shapes are no constants). */
 struct gpu_unrolled {
     TZ_VEC4 spheres[3 * TZ_UNROLL_MAX_SPHERES];
     TZ_VEC4 lights[2 * TZ_UNROLL_MAX_LIGHTS];

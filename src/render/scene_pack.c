@@ -33,7 +33,8 @@ _Static_assert(offsetof(struct gpu_material, reserved0) == 28, "gpu_material lay
 _Static_assert(offsetof(struct gpu_material, emission) == 32, "gpu_material layout");
 _Static_assert(offsetof(struct gpu_material, maps) == 48, "gpu_material layout");
 _Static_assert(sizeof(struct gpu_normals) == 48, "gpu_normals is 48 bytes");
-_Static_assert(sizeof(struct gpu_light) == 32, "gpu_light is 32 bytes");
+_Static_assert(sizeof(struct gpu_light) == 48, "gpu_light is 48 bytes");
+_Static_assert(offsetof(struct gpu_light, shape) == 32, "gpu_light layout");
 _Static_assert(offsetof(struct gpu_light, position_power) == 0, "gpu_light layout");
 _Static_assert(offsetof(struct gpu_light, color) == 16, "gpu_light layout");
 _Static_assert(sizeof(struct gpu_frame) == 208, "gpu_frame is 208 bytes");
@@ -69,8 +70,8 @@ _Static_assert(offsetof(struct gpu_pass, group_stride) == 16, "gpu_pass layout")
 _Static_assert(offsetof(struct gpu_pass, stack_depth) == 44, "gpu_pass layout");
 
 _Static_assert(sizeof(struct gpu_unrolled) == TZ_UNROLL_MAX_SPHERES * 3 * sizeof(tz_vec4) +
-                                                  TZ_UNROLL_MAX_LIGHTS * sizeof(struct gpu_light),
-               "gpu_unrolled is its spheres and lights");
+                                                  TZ_UNROLL_MAX_LIGHTS * 2 * sizeof(tz_vec4),
+               "gpu_unrolled is its spheres and lights (position_power and color)");
 _Static_assert(offsetof(struct gpu_unrolled, lights) == TZ_UNROLL_MAX_SPHERES * 3 * sizeof(tz_vec4),
                "gpu_unrolled layout");
 _Static_assert(sizeof(struct gpu_emitter) == 32, "gpu_emitter is 32 bytes");
@@ -340,6 +341,26 @@ static bool pack_soa(packed_scene *out, uint32_t count) {
     return true;
 }
 
+/* A light as the shaders read it (gpu_light): a spot's falloff as glTF KHR_lights_punctual
+ * writes it, scale 1 / max(1e-3, cos_inner - cos_outer) and offset -cos_outer scale, in double;
+ * a sun's direction toward it. */
+static struct gpu_light gpu_light_of(const light *l) {
+    struct gpu_light g = {
+        .position_power = vec4_from(l->position, l->power),
+        .color = vec4_from(l->color, 0.0f),
+    };
+    vec3 d = l->direction;
+    if (l->kind == LIGHT_SPOT) {
+        double scale = 1.0 / fmax(1e-3, (double)l->cos_inner - l->cos_outer);
+        g.color.w = (float)(-(double)l->cos_outer * scale);
+        g.shape = vec4_from(d, (float)scale);
+    } else if (l->kind == LIGHT_SUN) {
+        g.position_power = (tz_vec4){-d.x, -d.y, -d.z, l->power};
+        g.shape = (tz_vec4){0.0f, 0.0f, 0.0f, -1.0f};
+    }
+    return g;
+}
+
 bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     *out = (packed_scene){0};
     uint32_t count = (uint32_t)s->sphere_count;
@@ -360,12 +381,10 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
             .emitter = (float)k, /* pack_emitters */
         };
     }
+    bool shaped = false;
     for (int k = 0; k < s->light_count; k++) {
-        const light *l = &s->lights[k];
-        out->lights[k] = (struct gpu_light){
-            .position_power = vec4_from(l->position, l->power),
-            .color = vec4_from(l->color, 0.0f),
-        };
+        out->lights[k] = gpu_light_of(&s->lights[k]);
+        shaped |= s->lights[k].kind != LIGHT_POINT;
     }
     /* Camera frame of DESIGN section 3: F forward, R = up x F to the right, U = F x R. */
     vec3 f = v3_normalize(s->camera_direction);
@@ -384,7 +403,8 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         (s->environment.rgb ? TZ_FLAG_ENVIRONMENT : 0u) |
         (scene_has_microfacet(s) ? TZ_FLAG_MICROFACET : 0u) |
         (s->camera_aperture > 0.0f ? TZ_FLAG_LENS : 0u) |
-        (s->camera_orthographic ? TZ_FLAG_ORTHOGRAPHIC : 0u);
+        (s->camera_orthographic ? TZ_FLAG_ORTHOGRAPHIC : 0u) |
+        (shaped ? TZ_FLAG_SHAPED_LIGHTS : 0u);
     /* The plane's distance: 2 x width (the seed's), or what the field of view asks. */
     float distance = s->camera_fov > 0.0f
                          ? (float)(0.5 * s->plane_width /

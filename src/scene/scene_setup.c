@@ -1,6 +1,6 @@
 /* scene_setup.c: the directives that set the scene up around its geometry (DESIGN section 2;
- * scenes/README.md): camera, plane, light, background and render, with the errors that need more
- * than one value (a camera frame, a plane's pixels). */
+ * scenes/README.md): camera, plane and render, with the errors that need more than one value (a
+ * camera frame, a plane's pixels); the lights are scene_lights.c's. */
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -52,13 +52,6 @@ static const key_spec plane_keys[PLANE_KEY_COUNT] = {
     {"width", NULL, VALUE_NUMBER, PLANE_RANGE},
     {"height", NULL, VALUE_NUMBER, PLANE_RANGE},
     {"pixel", NULL, VALUE_NUMBER, PLANE_RANGE},
-};
-
-enum { LIGHT_POSITION, LIGHT_POWER, LIGHT_COLOR, LIGHT_KEY_COUNT };
-static const key_spec light_keys[LIGHT_KEY_COUNT] = {
-    {"position", "x y z", VALUE_NUMBER, COORD_RANGE},
-    {"power", NULL, VALUE_NUMBER, 0.0, FLT_MAX, false},
-    {"color", "r g b", VALUE_NUMBER, UNIT_RANGE},
 };
 
 enum {
@@ -337,26 +330,6 @@ bool directive_plane(parser *p) {
     p->s.pixel_size = pixel;
     p->s.width = (int)pixels[PLANE_WIDTH];
     p->s.height = (int)pixels[PLANE_HEIGHT];
-    return true;
-}
-
-bool directive_light(parser *p) {
-    key_values kv;
-    if (!parser_keys(p, "light", light_keys, LIGHT_KEY_COUNT, ~0u, 1, &kv) ||
-        !parser_require_keys(p, "light", light_keys, LIGHT_KEY_COUNT,
-                             BIT(LIGHT_POSITION) | BIT(LIGHT_POWER), &kv)) {
-        return false;
-    }
-    void *array = p->s.lights;
-    bool ok = directive_grow(p, &array, &p->light_capacity, p->s.light_count, 1, SCENE_MAX_LIGHTS,
-                             sizeof(light), "lights");
-    p->s.lights = array;
-    if (!ok) return false;
-    p->s.lights[p->s.light_count++] = (light){
-        .position = parser_vec3(&kv, LIGHT_POSITION, v3(0, 0, 0)),
-        .power = (float)parser_value_or(&kv, LIGHT_POWER, 0.0),
-        .color = parser_vec3(&kv, LIGHT_COLOR, v3(1, 1, 1)),
-    };
     return true;
 }
 

@@ -209,8 +209,9 @@ LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lan
         int facing[LANES], blocker[LANES];
         float blocker_t[LANES];
         tz_vec4 position_power = p->lights[l].position_power, color = p->lights[l].color;
+        tz_vec4 shape = p->lights[l].shape;
         for (int k = 0; k < LANES; k++) {
-            light_sample ls = point_light(position_power, color, get3(pos, k), get3(n, k));
+            light_sample ls = point_light(position_power, color, shape, get3(pos, k), get3(n, k));
             set3(&light, k, ls.radiance);
             set3(&wi, k, ls.wi);
             dist[k] = ls.dist;

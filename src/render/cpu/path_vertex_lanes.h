@@ -72,7 +72,7 @@ LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v
         for (int k = 0; k < LANES; k++) {
             light_sample s =
                 point_light(light_position_power(scene, (int)l), light_color(scene, (int)l),
-                            get3(&v->pos, k), get3(&v->n, k));
+                            light_shape(scene, (int)l), get3(&v->pos, k), get3(&v->n, k));
             set3(&wi, k, s.wi);
             set3(&rad, k, s.radiance);
             dist[k] = s.dist;
