@@ -9,14 +9,7 @@
 
 #define DEGREES (3.14159265358979323846 / 180.0)
 
-enum {
-    LIGHT_POSITION,
-    LIGHT_POWER,
-    LIGHT_COLOR,
-    LIGHT_DIRECTION,
-    LIGHT_CONE,
-    LIGHT_KEY_COUNT
-};
+enum { LIGHT_POSITION, LIGHT_POWER, LIGHT_COLOR, LIGHT_DIRECTION, LIGHT_CONE, LIGHT_KEY_COUNT };
 static const key_spec light_keys[LIGHT_KEY_COUNT] = {
     {"position", "x y z", VALUE_NUMBER, COORD_RANGE},
     {"power", NULL, VALUE_NUMBER, 0.0, FLT_MAX, false},
