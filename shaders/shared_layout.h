@@ -71,6 +71,9 @@ typedef struct tz_uvec4 {
 /* Some light is a spot or a sun (gpu_light.shape): without it shapes are not read, and the
  * lights may be unrolled (their shapes are no specialization constants). */
 #define TZ_FLAG_SHAPED_LIGHTS 8192u
+/* Path mode: the sun has a disc (angle > 0), an emitter of the emitter table (TZ_SUN_PRIMITIVE)
+ * sampled in its cone and found by rays that leave the scene (common/emitter.h). */
+#define TZ_FLAG_SUN_DISC 16384u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
  * pixels, whose rays stay coherent; 4 x 8 ran more instructions: docs/PERF.md), 32 lanes on real
@@ -250,11 +253,15 @@ struct gpu_frame {
      * unused, 0), then its size in texels (0 without a map: the background is seen) and its
      * emitter slot + 1 in path mode (0: not sampled). */
     TZ_VEC4 env_x, env_y, env_z;
-    TZ_UINT env_width, env_height, env_slot, env_pad;
+    TZ_UINT env_width, env_height, env_slot;
+    TZ_UINT sun_slot; /* path mode: the sun disc's emitter slot + 1 (TZ_FLAG_SUN_DISC) */
     TZ_VEC4 lens; /* x the lens radius, y the distance to the plane in focus (TZ_FLAG_LENS) */
+    TZ_VEC4 sun;  /* the sun disc: xyz the unit direction toward it, w 1 - cos(half its angle) */
 };
 /* The primitive id of the environment's gpu_emitter (uint bits): no sphere's or face's. */
 #define TZ_ENV_PRIMITIVE 0xfffffffeu
+/* The primitive id of the sun disc's gpu_emitter (uint bits). */
+#define TZ_SUN_PRIMITIVE 0xfffffffdu
 /* Where an environment light sample's shadow ray ends: the largest float, past every hit. */
 #define TZ_ENV_DISTANCE TZ_FLOAT_CONST(3.40282347e38)
 

@@ -31,17 +31,24 @@ static bool use_vulkan;
 static const char *modes[2] = {"render indirect off samples 1",
                                "render mode path bounces 1 samples 1"};
 
-/* Renders the floor under the lights of `lights` in mode m (pixel centres) into f. */
-static bool render_floor(film *f, const char *lights, int m) {
+/* Renders the floor under the lights of `lights` in the mode and settings `render` (pixel
+ * centres) with the strategy into f. */
+static bool render_floor_by(film *f, const char *lights, const char *render,
+                            path_strategy strategy) {
     char text[2048];
-    snprintf(text, sizeof text, FLOOR_SCENE "%s\n", lights, modes[m]);
+    snprintf(text, sizeof text, FLOOR_SCENE "%s\n", lights, render);
     scene s;
     render_opts o;
     if (!parse_scene_text(text, &s, &o)) return false;
     o.no_jitter = true;
+    o.strategy = strategy;
     bool ok = render_on(use_vulkan, &s, &o, f);
     scene_free(&s);
     return ok;
+}
+
+static bool render_floor(film *f, const char *lights, int m) {
+    return render_floor_by(f, lights, modes[m], PATH_MIS);
 }
 
 /* Pixel (i, j)'s red channel and the floor point its centre sees (x, z). */
@@ -77,6 +84,71 @@ static void test_sun_irradiance(void) {
                   modes[m], t * 30.0, worst, want);
             film_free(&f);
         }
+}
+
+/* A sun with a disc (20 degrees across, 30 from the floor's normal) lights the floor with the
+ * same a E cos(theta) / pi in path mode, the whole cap above the horizon: by light sampling of
+ * its cone alone, by BSDF rays that find it alone, and by both weighed by MIS; the mean of every
+ * pixel within 4.5 standard errors. Report mode takes the disc's centre: exactly that. */
+static void test_sun_disc(void) {
+    const double e = 3.0, a = 0.5, theta = 30.0 * DEGREES, want = a * e * cos(theta) / PI;
+    char lights[256];
+    snprintf(lights, sizeof lights, "sun direction %.17g %.17g 0 irradiance %g angle 20",
+             sin(theta), -cos(theta), e);
+    const path_strategy strategies[3] = {PATH_MIS, PATH_LIGHTS_ONLY, PATH_BSDF_ONLY};
+    const char *names[3] = {"MIS", "light sampling", "BSDF sampling"};
+    for (int k = 0; k < 3; k++) {
+        film f = {0};
+        bool ok =
+            render_floor_by(&f, lights, "render mode path bounces 1 samples 64", strategies[k]);
+        CHECK(ok, "rendering the sun disc");
+        if (!ok) continue;
+        double sum = 0, sum2 = 0;
+        int n = f.width * f.height;
+        for (int j = 0; j < f.height; j++)
+            for (int i = 0; i < f.width; i++) {
+                double v = pixel_red(&f, i, j);
+                sum += v, sum2 += v * v;
+            }
+        double mean = sum / n, se = sqrt(fmax(sum2 / n - mean * mean, 0.0) / (n - 1));
+        printf("sun disc by %s: %.6f +- %.6f, a E cos / pi = %.6f\n", names[k], mean, se, want);
+        CHECK(fabs(mean - want) <= 4.5 * se + 1e-5 * want,
+              "sun disc by %s: %.6f +- %.6f, want %.6f", names[k], mean, se, want);
+        film_free(&f);
+    }
+    film f = {0};
+    if (render_floor(&f, lights, 0)) {
+        CHECK(fabs(pixel_red(&f, 5, 7) - want) < 1e-5 * want, "report mode: the disc's centre");
+        film_free(&f);
+    }
+}
+
+/* A camera that looks at the sun sees its disc of radiance E / (pi sin^2(angle / 2)) and the
+ * background around it. */
+static void test_sun_seen(void) {
+    film f = {0};
+    scene s;
+    render_opts o;
+    const char *text =
+        "camera position 0 0 0 direction 0 1 0 up 0 0 1 fov 40\n"
+        "plane width 1 height 1 pixel 0.0625\nsun direction 0 -1 0 irradiance 2 angle 10\n"
+        "background 0.25 0.25 0.25\nrender mode path samples 4\n";
+    if (!parse_scene_text(text, &s, &o)) {
+        CHECK(false, "parsing the sky");
+        return;
+    }
+    o.no_jitter = true;
+    bool ok = render_on(use_vulkan, &s, &o, &f);
+    CHECK(ok, "rendering the sky");
+    if (ok) {
+        double half = 5.0 * DEGREES, want = 2.0 / (PI * sin(half) * sin(half));
+        double centre = pixel_red(&f, 8, 8), corner = pixel_red(&f, 0, 0);
+        CHECK(fabs(centre - 0.25 - want) < 1e-5 * want, "the sun's disc: %.4f, want %.4f",
+              centre - 0.25, want);
+        CHECK(corner == 0.25, "the sky beside it: %.6f", corner);
+    }
+    film_free(&f);
+    scene_free(&s);
 }
 
 /* glTF KHR_lights_punctual's falloff of a spot of half-angles inner and outer (degrees) at the
@@ -166,6 +238,8 @@ static void test_refusals(void) {
     expect_error("sun direction 0 -1 0 irradiance -2\n", 1, 33, "irradiance must be >= 0");
     expect_error("sun direction 0 -1 0 irradiance 2 angle -1\n", 1, 41, "angle must be in");
     expect_error("sun direction 0 -1 0 irradiance 2 position 0 0 0\n", 1, 35, "unknown key");
+    expect_error("sun direction 0 -1 0 irradiance 2\nsun direction 0 -1 1 irradiance 2\n", 2, 1,
+                 "one sun at most");
 }
 
 int main(int argc, char **argv) {
@@ -177,5 +251,7 @@ int main(int argc, char **argv) {
     if (!use_vulkan) CHECK_CASE(test_refusals);
     CHECK_CASE(test_sun_irradiance);
     CHECK_CASE(test_spot_falloff);
+    CHECK_CASE(test_sun_disc);
+    CHECK_CASE(test_sun_seen);
     return check_summary(use_vulkan ? "test_lights vulkan" : "test_lights");
 }

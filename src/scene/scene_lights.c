@@ -100,6 +100,9 @@ bool directive_sun(parser *p) {
         .kind = LIGHT_SUN,
         .angle = (float)parser_value_or(&kv, SUN_ANGLE, SUN_DEFAULT_ANGLE),
     };
+    for (int k = 0; k < p->s.light_count; k++)
+        if (p->s.lights[k].kind == LIGHT_SUN)
+            return parser_fail(p, p->tokens[0].col, "a scene has one sun at most");
     if (!unit_direction(p, &kv, SUN_DIRECTION, "sun", &l.direction)) return false;
     return add_light(p, l);
 }

@@ -292,7 +292,11 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         vec3 d = get3(&s->d, k), nout = get3(&v.nout, k), shading = get3(&v.shading, k);
         float w = environment_mis_weight(scene, s->specular[k], s->last_pdf[k], d);
         vec3 seen = v3_scale(v3_mul(get3(&s->beta, k), environment_radiance(scene, d)), w);
-        set3(&s->radiance, k, select3(miss, v3_add(radiance, seen), radiance));
+        vec3 with_sun = v3_add(radiance, seen);
+        if (fr->flags & TZ_FLAG_SUN_DISC)
+            with_sun = v3_add(with_sun, v3_mul(get3(&s->beta, k),
+                                               sun_seen(scene, s->specular[k], s->last_pdf[k], d)));
+        set3(&s->radiance, k, select3(miss, with_sun, radiance));
         emit[k] = hit & (v.slot[k] >= 0);
         any_emit |= emit[k];
         int go = hit & !(s->vertex[k] > fr->bounces); /* else the path ends at this hit */
