@@ -255,8 +255,8 @@ struct gpu_frame {
     TZ_VEC4 env_x, env_y, env_z;
     TZ_UINT env_width, env_height, env_slot;
     TZ_UINT sun_slot; /* path mode: the sun disc's emitter slot + 1 (TZ_FLAG_SUN_DISC) */
-    TZ_VEC4 lens; /* x the lens radius, y the distance to the plane in focus (TZ_FLAG_LENS) */
-    TZ_VEC4 sun;  /* the sun disc: xyz the unit direction toward it, w 1 - cos(half its angle) */
+    TZ_VEC4 lens;     /* x the lens radius, y the distance to the plane in focus (TZ_FLAG_LENS) */
+    TZ_VEC4 sun; /* the sun disc: xyz the unit direction toward it, w 1 - cos(half its angle) */
 };
 /* The primitive id of the environment's gpu_emitter (uint bits): no sphere's or face's. */
 #define TZ_ENV_PRIMITIVE 0xfffffffeu
