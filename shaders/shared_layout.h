@@ -63,6 +63,17 @@ typedef struct tz_uvec4 {
 /* The scene has a microfacet material (TZ_MATERIAL_CONDUCTOR, _PBR); without it their code is
  * dead as the triangles'. */
 #define TZ_FLAG_MICROFACET 1024u
+/* A thin lens camera (gpu_frame.lens): its numbers are drawn after the jitter's, only then, so
+ * that pinhole scenes keep their numbers (shaders/common/camera.h). */
+#define TZ_FLAG_LENS 2048u
+/* An orthographic camera: rays along F from the plane's points (camera.h). */
+#define TZ_FLAG_ORTHOGRAPHIC 4096u
+/* Some light is a spot or a sun (gpu_light.shape): without it shapes are not read, and the
+ * lights may be unrolled (their shapes are no specialization constants). */
+#define TZ_FLAG_SHAPED_LIGHTS 8192u
+/* Path mode: the sun has a disc (angle > 0), an emitter of the emitter table (TZ_SUN_PRIMITIVE)
+ * sampled in its cone and found by rays that leave the scene (common/emitter.h). */
+#define TZ_FLAG_SUN_DISC 16384u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
  * pixels, whose rays stay coherent; 4 x 8 ran more instructions: docs/PERF.md), 32 lanes on real
@@ -75,7 +86,7 @@ typedef struct tz_uvec4 {
 
 /* Descriptor bindings of set 0. Spheres and lights are uniform texel buffers (RGBA32F) over the
  * very bytes of the gpu_sphere and gpu_light arrays: a sphere is texels 2k, 2k+1, a light texels
- * 2k, 2k+1. lavapipe gathers texels with a few vector loads where a storage buffer read at a
+ * 3k to 3k+2. lavapipe gathers texels with a few vector loads where a storage buffer read at a
  * per-lane index costs a scalar loop over the lanes; no size limit short of
  * maxTexelBufferElements. */
 #define TZ_BINDING_FRAME 0
@@ -230,9 +241,15 @@ struct gpu_normals {
 #define TZ_TEXEL_RGBA32F 1u
 
 /* One point light, 32 bytes. */
+/* A light, 48 bytes: a point light, a spot (shape.w > 0) or a sun (shape.w < 0). A spot's
+ * falloff is glTF KHR_lights_punctual's, clamp(cd scale + offset, 0, 1)^2 of the cosine cd
+ * between its axis and the way the light goes. */
 struct gpu_light {
-    TZ_VEC4 position_power; /* xyz position, w power */
-    TZ_VEC4 color;          /* rgb colour, w unused (0) */
+    TZ_VEC4 position_power; /* xyz position (a sun: the unit direction toward it), w power (a
+                             * sun: its irradiance) */
+    TZ_VEC4 color;          /* rgb colour, w: a spot's offset, 0 otherwise */
+    TZ_VEC4 shape;          /* a spot: xyz its unit axis, w its scale (> 0); a sun: w -1; a point
+                             * light: 0 (read only under TZ_FLAG_SHAPED_LIGHTS) */
 };
 
 /* Everything per render that is not per sphere or light: camera, plane, counts, settings. */
@@ -255,10 +272,15 @@ struct gpu_frame {
      * unused, 0), then its size in texels (0 without a map: the background is seen) and its
      * emitter slot + 1 in path mode (0: not sampled). */
     TZ_VEC4 env_x, env_y, env_z;
-    TZ_UINT env_width, env_height, env_slot, env_pad;
+    TZ_UINT env_width, env_height, env_slot;
+    TZ_UINT sun_slot; /* path mode: the sun disc's emitter slot + 1 (TZ_FLAG_SUN_DISC) */
+    TZ_VEC4 lens;     /* x the lens radius, y the distance to the plane in focus (TZ_FLAG_LENS) */
+    TZ_VEC4 sun; /* the sun disc: xyz the unit direction toward it, w 1 - cos(half its angle) */
 };
 /* The primitive id of the environment's gpu_emitter (uint bits): no sphere's or face's. */
 #define TZ_ENV_PRIMITIVE 0xfffffffeu
+/* The primitive id of the sun disc's gpu_emitter (uint bits). */
+#define TZ_SUN_PRIMITIVE 0xfffffffdu
 /* Where an environment light sample's shadow ray ends: the largest float, past every hit. */
 #define TZ_ENV_DISTANCE TZ_FLOAT_CONST(3.40282347e38)
 
@@ -303,7 +325,8 @@ struct gpu_pass {
 /* The spheres and lights of an unrolled scene, zero past the scene's (scene_pack_unrolled):
  * sphere k is vec4s 3k..3k+2, its centre and radius, then its material's colour and ks, and
  * alpha, ior, kind and its emitter + 1 (the fields a hit reads, without a fetch of its
- * material); light k is vec4s 2k, 2k + 1, in the texel layout of TZ_BINDING_LIGHTS. */
+ * material); light k is vec4s 2k, 2k + 1, its position_power and color (lights of a scene
+ * without spots and suns only: their shapes are no constants). */
 struct gpu_unrolled {
     TZ_VEC4 spheres[3 * TZ_UNROLL_MAX_SPHERES];
     TZ_VEC4 lights[2 * TZ_UNROLL_MAX_LIGHTS];

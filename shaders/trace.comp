@@ -88,10 +88,14 @@ vec4 sphere_params(int k) {
     return vec4(material_params(int(links.x)).xyz, links.y);
 }
 vec4 light_position_power(int k) {
-    return UNROLLED_LIGHTS > 0u ? spec_light_position_power(k) : texelFetch(light_texels, 2 * k);
+    return UNROLLED_LIGHTS > 0u ? spec_light_position_power(k) : texelFetch(light_texels, 3 * k);
 }
 vec4 light_color(int k) {
-    return UNROLLED_LIGHTS > 0u ? spec_light_color(k) : texelFetch(light_texels, 2 * k + 1);
+    return UNROLLED_LIGHTS > 0u ? spec_light_color(k) : texelFetch(light_texels, 3 * k + 1);
+}
+/* A spot's or a sun's shape; a point light's (and every light without shaped ones): zero. */
+vec4 light_shape(int k) {
+    return (FLAGS & TZ_FLAG_SHAPED_LIGHTS) != 0u ? texelFetch(light_texels, 3 * k + 2) : vec4(0.0);
 }
 /* The fields of struct gpu_triangle t and gpu_normals n. */
 vec4 triangle_v0(int t) { return texelFetch(triangle_texels, 3 * t); }

@@ -61,6 +61,18 @@ for backend in cpu vulkan; do
     run "$backend deep merge" 0 $tz merge deep_2.exr deep_0.exr deep_1.exr -o deep.pfm
     same "$backend deep samples" deep.pfm deep_whole.pfm
 done
+# Depth of field: the lens's numbers come from each sample's own sampler dimensions, so a thin
+# lens render (scenes/lens.scene, path mode, Sobol) split by regions and samples merges exactly.
+lens_scene="$(dirname "$0")/../scenes/lens.scene"
+for backend in cpu vulkan; do
+    lens="render $lens_scene --width 40 --spp 40 --quiet --backend $backend"
+    $tz $lens -o lens_whole.pfm 2>/dev/null
+    $tz $lens --region 0,40,0,9 -o lens_top.exr 2>/dev/null
+    $tz $lens --region 0,40,9,25 --samples 0:16 -o lens_low0.exr 2>/dev/null
+    $tz $lens --region 0,40,9,25 --samples 16:40 -o lens_low1.exr 2>/dev/null
+    run "$backend lens merge" 0 $tz merge lens_low1.exr lens_top.exr lens_low0.exr -o lens.pfm
+    same "$backend lens split" lens.pfm lens_whole.pfm
+done
 # The Vulkan back end renders only the region's tiles and the range's samples: its parts merge
 # to its own single render (checked above); the two back ends agree to rounding only.
 

@@ -105,6 +105,25 @@ TZ_LANE_FN float environment_mis_weight(TZ_SCENE_PARAM TZ_BOOL specular, float b
     return full ? 1.0f : mis;
 }
 
+/* The sun disc's radiance along d weighed by MIS, for a ray the BSDF drew with pdf bsdf_pdf that
+ * met nothing (TZ_FLAG_SUN_DISC): 0 outside its cone; inside, the power heuristic against its
+ * light pdf, pick / (2 pi (1 - cos)), 1 after a specular event or with BSDF sampling alone, 0
+ * with light sampling alone. */
+TZ_LANE_FN vec3 sun_seen(TZ_SCENE_PARAM TZ_BOOL specular, float bsdf_pdf, vec3 d) {
+    TZ_VEC4 sun = TZ_FRAME.sun;
+    TZ_VEC4 emission_pick = emitter_emission_pick(TZ_SCENE_ARG TZ_INT(TZ_FRAME.sun_slot) - 1);
+    TZ_PRECISE float outside = 1.0f - v3_dot(d, xyz(sun));
+    TZ_PRECISE float light_pdf = emission_pick.w / (2.0f * TZ_PI * sun.w);
+    float n_light = TZ_FLOAT(TZ_FRAME.light_samples);
+    TZ_BOOL bsdf_only = (TZ_FRAME.flags & TZ_FLAG_BSDF_ONLY) != 0u;
+    TZ_BOOL full = specular TZ_OR bsdf_only;
+    float mis = (TZ_FRAME.flags & TZ_FLAG_LIGHTS_ONLY) != 0u
+                    ? 0.0f
+                    : power_heuristic(bsdf_pdf, n_light * light_pdf);
+    float w = outside <= sun.w ? (full ? 1.0f : mis) : 0.0f;
+    return v3_scale(xyz(emission_pick), w);
+}
+
 /* The first index k of `count` whose next entry of the table at `first` exceeds u (the cdf
  * table's entries first..first + count, from 0 to 1), and u's place between the two in [0, 1). */
 TZ_STRUCT(table_pick) {
@@ -352,6 +371,13 @@ TZ_FN emitter_sample emitter_sample_from(TZ_SCENE_PARAM int slot, int id, vec3 p
         s.wi = es.wi;
         s.pdf = emission_pick.w * es.pdf;
         s.radiance = es.radiance;
+        s.t_light = TZ_ENV_DISTANCE;
+    } else if ((TZ_FLAGS & TZ_FLAG_SUN_DISC) != 0u &&
+               uint_bits(primitive_cdf.x) == TZ_SUN_PRIMITIVE) {
+        direction_sample ds = cone_direction(xyz(TZ_FRAME.sun), TZ_FRAME.sun.w, ua, ub);
+        TZ_PRECISE float pdf = emission_pick.w * ds.pdf;
+        s.wi = ds.wi;
+        s.pdf = pdf;
         s.t_light = TZ_ENV_DISTANCE;
     } else if (is_triangle(TZ_SCENE_ARG e)) {
         if (e == id) return s;

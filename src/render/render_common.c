@@ -200,6 +200,12 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
     h = digest_vec3(h, s->camera_up);
     h = digest_float(h, s->camera_fov);
     h = digest_float(h, s->camera_near);
+    /* Only lens and orthographic cameras hash their fields: pinhole scenes keep their digest. */
+    if (s->camera_aperture > 0.0f || s->camera_orthographic) {
+        h = digest_float(h, s->camera_aperture);
+        h = digest_float(h, s->camera_focus);
+        h = digest_int(h, s->camera_orthographic);
+    }
     h = digest_float(h, s->plane_width);
     h = digest_float(h, s->plane_height);
     h = digest_float(h, s->pixel_size);
@@ -222,6 +228,14 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
         h = digest_vec3(h, s->lights[k].position);
         h = digest_float(h, s->lights[k].power);
         h = digest_vec3(h, s->lights[k].color);
+        /* only spots and suns hash their shape: scenes of point lights keep their digest */
+        if (s->lights[k].kind != LIGHT_POINT) {
+            h = digest_int(h, s->lights[k].kind);
+            h = digest_vec3(h, s->lights[k].direction);
+            h = digest_float(h, s->lights[k].cos_inner);
+            h = digest_float(h, s->lights[k].cos_outer);
+            h = digest_float(h, s->lights[k].angle);
+        }
     }
     /* Only scenes with triangles hash them, so that sphere-only scenes keep their digest (and
      * their part files stay mergeable with ones rendered before triangles existed). */

@@ -39,10 +39,11 @@ _Static_assert(MAP_COLOR == TZ_MAP_COLOR && MAP_EMISSION == TZ_MAP_EMISSION &&
                    MATERIAL_MAP_COUNT <= 8,
                "a material's maps, two to a word of gpu_material.maps");
 _Static_assert(sizeof(struct gpu_normals) == 48, "gpu_normals is 48 bytes");
-_Static_assert(sizeof(struct gpu_light) == 32, "gpu_light is 32 bytes");
+_Static_assert(sizeof(struct gpu_light) == 48, "gpu_light is 48 bytes");
+_Static_assert(offsetof(struct gpu_light, shape) == 32, "gpu_light layout");
 _Static_assert(offsetof(struct gpu_light, position_power) == 0, "gpu_light layout");
 _Static_assert(offsetof(struct gpu_light, color) == 16, "gpu_light layout");
-_Static_assert(sizeof(struct gpu_frame) == 192, "gpu_frame is 192 bytes");
+_Static_assert(sizeof(struct gpu_frame) == 224, "gpu_frame is 224 bytes");
 _Static_assert(offsetof(struct gpu_frame, origin) == 0, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, right) == 16, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, up) == 32, "gpu_frame layout");
@@ -63,6 +64,8 @@ _Static_assert(offsetof(struct gpu_frame, env_x) == 128, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, env_z) == 160, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, env_width) == 176, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, env_slot) == 184, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, lens) == 192, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, sun) == 208, "gpu_frame layout");
 _Static_assert(sizeof(struct gpu_pass) == 64 + 4 * TZ_PASS_CHUNKS, "gpu_pass is 96 bytes");
 _Static_assert(sizeof(struct gpu_pass) <= 128, "gpu_pass fits the push constants of any device");
 _Static_assert(offsetof(struct gpu_pass, stack_slot) == 64, "gpu_pass layout");
@@ -74,8 +77,8 @@ _Static_assert(offsetof(struct gpu_pass, group_stride) == 16, "gpu_pass layout")
 _Static_assert(offsetof(struct gpu_pass, stack_depth) == 44, "gpu_pass layout");
 
 _Static_assert(sizeof(struct gpu_unrolled) == TZ_UNROLL_MAX_SPHERES * 3 * sizeof(tz_vec4) +
-                                                  TZ_UNROLL_MAX_LIGHTS * sizeof(struct gpu_light),
-               "gpu_unrolled is its spheres and lights");
+                                                  TZ_UNROLL_MAX_LIGHTS * 2 * sizeof(tz_vec4),
+               "gpu_unrolled is its spheres and lights (position_power and color)");
 _Static_assert(offsetof(struct gpu_unrolled, lights) == TZ_UNROLL_MAX_SPHERES * 3 * sizeof(tz_vec4),
                "gpu_unrolled layout");
 _Static_assert(sizeof(struct gpu_emitter) == 32, "gpu_emitter is 32 bytes");
@@ -200,15 +203,17 @@ static double scene_radius(const scene *s) {
 /* The emitters of path mode from the spheres, then the triangles, in their final (BVH) order
  * (a sphere's emitter holds its index in the scene until here, triangle_source[t] the scene
  * index of triangle t), then the environment map (env_power: the scene's radius squared times
- * its mean radiance, a sphere's unit, as pbrt-v4's infinite lights): each emitter is picked in
+ * its mean radiance, a sphere's unit, as pbrt-v4's infinite lights), then the sun's disc
+ * (light_pack.c): each emitter is picked in
  * proportion to its power (sphere_power, triangle_power), the shares summed in double; a sphere's
  * emitter becomes its emitter's slot + 1 or 0, an emitting triangle's v2.w (0 from pack_triangles)
  * its slot + 1. False (logged) on out-of-memory. */
 static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
-                          const uint32_t *triangle_source, double env_power) {
+                          const uint32_t *triangle_source, double env_power, const sun_disc *sun) {
     uint32_t count = (uint32_t)sc->sphere_count, triangles = (uint32_t)sc->triangle_count, n = 0;
     double total = 0.0;
     if (path_mode && env_power > 0.0) total += env_power, n++;
+    if (sun->power > 0.0) total += sun->power, n++;
     for (uint32_t k = 0; path_mode && k < count; k++) {
         double power = sphere_power(sc, &sc->spheres[k]);
         if (power > 0.0) total += power, n++;
@@ -250,6 +255,12 @@ static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
         running += env_power;
         put_emitter(out, slot, TZ_ENV_PRIMITIVE, v3(0, 0, 0), env_power, running, total, n, 0.0f);
         out->frame.env_slot = ++slot;
+    }
+    if (sun->power > 0.0) {
+        running += sun->power;
+        put_emitter(out, slot, TZ_SUN_PRIMITIVE, sun->radiance, sun->power, running, total, n,
+                    0.0f);
+        out->frame.sun_slot = ++slot;
     }
     out->frame.emitter_count = n;
     return true;
@@ -367,13 +378,6 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
             .emitter = (float)k, /* pack_emitters */
         };
     }
-    for (int k = 0; k < s->light_count; k++) {
-        const light *l = &s->lights[k];
-        out->lights[k] = (struct gpu_light){
-            .position_power = vec4_from(l->position, l->power),
-            .color = vec4_from(l->color, 0.0f),
-        };
-    }
     /* Camera frame of DESIGN section 3: F forward, R = up x F to the right, U = F x R. */
     vec3 f = v3_normalize(s->camera_direction);
     vec3 r = v3_normalize(v3_cross(s->camera_up, f));
@@ -389,7 +393,9 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         (s->triangle_count > 0 ? TZ_FLAG_TRIANGLES : 0u) |
         (s->slot_count > 0 ? TZ_FLAG_TEXTURES : 0u) |
         (s->environment.rgb ? TZ_FLAG_ENVIRONMENT : 0u) |
-        (scene_has_microfacet(s) ? TZ_FLAG_MICROFACET : 0u);
+        (scene_has_microfacet(s) ? TZ_FLAG_MICROFACET : 0u) |
+        (s->camera_aperture > 0.0f ? TZ_FLAG_LENS : 0u) |
+        (s->camera_orthographic ? TZ_FLAG_ORTHOGRAPHIC : 0u);
     /* The plane's distance: 2 x width (the seed's), or what the field of view asks. */
     float distance = s->camera_fov > 0.0f
                          ? (float)(0.5 * s->plane_width /
@@ -411,6 +417,7 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         .flags = flags,
         .near_distance = s->camera_near,
         .light_samples = (uint32_t)render_light_samples(opts),
+        .lens = {s->camera_aperture, s->camera_focus, 0.0f, 0.0f},
     };
     const environment_map *env = &s->environment;
     if (env->rgb) {
@@ -421,12 +428,13 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         out->frame.env_height = (uint32_t)env->height;
     }
     uint32_t *triangle_source = NULL;
-    double env_mean = 0.0;
+    double env_mean = 0.0, radius = scene_radius(s);
+    sun_disc sun = lights_pack(s, path, radius, out);
     bool sorted =
         environment_pack(env, out, &env_mean) &&
         pack_bvh(out, count, (uint32_t)s->triangle_count, opts->no_bvh, &triangle_source) &&
         pack_emitters(out, s, path, triangle_source,
-                      env_mean > 0.0 ? env_mean * scene_radius(s) * scene_radius(s) : 0.0);
+                      env_mean > 0.0 ? env_mean * radius * radius : 0.0, &sun);
     free(triangle_source);
     if (sorted && (!pack_soa(out, count) || !pack_triangle_soa(out, out->frame.triangle_count)))
         log_error("out of memory packing %u spheres", count);

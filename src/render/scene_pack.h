@@ -43,6 +43,18 @@ typedef struct packed_scene {
  * mean radiance over the sphere of directions (the mean of its channels) into *mean; false
  * (logged) on out-of-memory (environment_pack.c). */
 bool environment_pack(const environment_map *m, packed_scene *out, double *mean);
+
+/* A sun with a disc in path mode: an emitter of this radiance and power (0: none). */
+typedef struct sun_disc {
+    vec3 radiance;
+    double power;
+} sun_disc;
+/* Packs the scene's lights into out->lights (allocated by scene_pack) and frame.light_count,
+ * TZ_FLAG_SHAPED_LIGHTS when a spot or a sun is among them; in path mode a sun with a disc is
+ * left out for an emitter: frame.sun and TZ_FLAG_SUN_DISC set, and its radiance and power
+ * (its flux through the disc of the scene's radius, in the environment's unit) returned
+ * (light_pack.c). */
+sun_disc lights_pack(const scene *s, bool path_mode, double scene_radius, packed_scene *out);
 /* Packs the scene with the options applied, spheres in BVH order unless opts->no_bvh;
  * false (logged) on out-of-memory. */
 bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out);

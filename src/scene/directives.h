@@ -126,11 +126,12 @@ bool mesh_transform_normal(const mesh_transform *m, vec3 n, vec3 *out);
 /* A `camera file PATH` line (scene_camera_file.c), the camera directive's word checked. */
 bool directive_camera_file(parser *p);
 
-/* The directives' parsers (scene_setup.c, scene_primitives.c, scene_mesh.c): each parses the
- * tokenized line p->tokens into p->s; false (reported) on any error. */
+/* The directives' parsers (scene_setup.c, scene_lights.c, scene_primitives.c, scene_mesh.c): each
+ * parses the tokenized line p->tokens into p->s; false (reported) on any error. */
 bool directive_camera(parser *p);
 bool directive_plane(parser *p);
 bool directive_light(parser *p);
+bool directive_sun(parser *p);
 bool directive_background(parser *p);
 bool directive_environment(parser *p);
 bool directive_render(parser *p);

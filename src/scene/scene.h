@@ -163,10 +163,18 @@ typedef struct triangle {
     uint32_t normals;  /* scene.normals[normals], or TRIANGLE_FLAT */
 } triangle;
 
+/* What a light is: a point light, a spot (a point light within a cone) or a sun (a distant
+ * light, a disc in the sky). */
+typedef enum light_type { LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN } light_type;
+
 typedef struct light {
-    vec3 position;
-    float power;
+    vec3 position; /* point lights and spots */
+    float power;   /* point lights and spots: the intensity (`power`); a sun: its irradiance */
     vec3 color;
+    light_type kind;
+    vec3 direction;             /* spots and suns: the unit direction the light travels along */
+    float cos_inner, cos_outer; /* spots: the cosines of the cone's half-angles */
+    float angle;                /* suns: the disc's angular diameter in degrees (0: a delta) */
 } light;
 
 /* Where and why parsing failed: "file:line:col: message". */
@@ -203,6 +211,9 @@ typedef struct scene {
     vec3 camera_position, camera_direction, camera_up;
     float camera_fov;  /* horizontal field of view in degrees; 0: the plane sits 2 x width away */
     float camera_near; /* camera rays start this far along their direction */
+    float camera_aperture;    /* the thin lens's radius; 0: a pinhole */
+    float camera_focus;       /* the distance to the plane in focus (with an aperture) */
+    bool camera_orthographic; /* `projection orthographic`: parallel rays from the plane */
     float plane_width, plane_height, pixel_size;
     int width, height; /* pixels: plane size / pixel size */
     vec3 background;

@@ -60,6 +60,7 @@ static const directive_spec directives[] = {
     {"camera", directive_camera, false},
     {"plane", directive_plane, false},
     {"light", directive_light, false},
+    {"sun", directive_sun, false},
     {"sphere", directive_sphere, true},
     {"triangle", directive_triangle, true},
     {"quad", directive_quad, true},

@@ -9,6 +9,7 @@
 
 /* The shared text calls the accessors above. */
 #include "common/bsdf.h"
+#include "common/camera.h"
 #include "common/emitter.h"
 #include "common/primitive.h"
 #include "common/ray.h"
@@ -219,8 +220,9 @@ LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lan
         int facing[LANES], blocker[LANES];
         float blocker_t[LANES];
         tz_vec4 position_power = p->lights[l].position_power, color = p->lights[l].color;
+        tz_vec4 shape = p->lights[l].shape;
         for (int k = 0; k < LANES; k++) {
-            light_sample ls = point_light(position_power, color, get3(pos, k), get3(n, k));
+            light_sample ls = point_light(position_power, color, shape, get3(pos, k), get3(n, k));
             set3(&light, k, ls.radiance);
             set3(&wi, k, ls.wi);
             dist[k] = ls.dist;
@@ -298,21 +300,18 @@ void PACKET_ENTRY(PACKET_BUILD)(const packed_scene *p, uint32_t i, uint32_t j, u
     /* Copied once, here: read through fr in the loop, gcc copied them for every lane
      * (docs/PERF.md). */
     tz_vec4 right = fr->right, up = fr->up, forward = fr->forward;
-    tz_vec4 origin = fr->origin;
-    float pixel = fr->origin.w, near_distance = fr->near_distance;
+    tz_vec4 origin = fr->origin, lens = fr->lens;
+    float near_distance = fr->near_distance;
     for (int k = 0; k < LANES; k++) {
         active[k] = (uint32_t)k < lanes;
         sampler_state one =
             sampler_start(fr->flags, fr->seed, j * fr->width + i + (uint32_t)k, sample_index);
-        /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag.
-         */
-        float u, v;
-        sample_2d(fr->flags, &one, &u, &v);
+        camera_numbers c = camera_draw(fr->flags, &one);
         lane_sampler_set(&rng, k, 1, one);
-        if (!(fr->flags & TZ_FLAG_JITTER)) u = v = 0.5f;
-        vec3 dk = camera_direction(right, up, forward, pixel, i + (uint32_t)k, j, u, v);
-        set3(&d, k, dk);
-        set3(&o, k, camera_origin(origin, near_distance, dk));
+        next_ray ray = camera_ray_through(fr->flags, origin, right, up, forward, near_distance,
+                                          lens, i + (uint32_t)k, j, c);
+        set3(&d, k, ray.d);
+        set3(&o, k, ray.o);
         set3(&weight, k, v3(1.0f, 1.0f, 1.0f));
         self[k] = -1;
     }

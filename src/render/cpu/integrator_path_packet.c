@@ -303,7 +303,11 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         vec3 d = get3(&s->d, k), nout = get3(&v.nout, k), shading = get3(&v.shading, k);
         float w = environment_mis_weight(scene, s->specular[k], s->last_pdf[k], d);
         vec3 seen = v3_scale(v3_mul(get3(&s->beta, k), environment_radiance(scene, d)), w);
-        set3(&s->radiance, k, select3(miss, v3_add(radiance, seen), radiance));
+        vec3 with_sun = v3_add(radiance, seen);
+        if (fr->flags & TZ_FLAG_SUN_DISC)
+            with_sun = v3_add(with_sun, v3_mul(get3(&s->beta, k),
+                                               sun_seen(scene, s->specular[k], s->last_pdf[k], d)));
+        set3(&s->radiance, k, select3(miss, with_sun, radiance));
         emit[k] = hit & (v.slot[k] >= 0);
         any_emit |= emit[k];
         int go = hit & !(s->vertex[k] > fr->bounces); /* else the path ends at this hit */
@@ -380,7 +384,6 @@ typedef struct start_batch {
 LANE_FN void start_batch_make(const packed_scene *p, start_batch *b, uint32_t first, uint32_t i,
                               uint32_t y, uint32_t lanes, uint32_t sample0) {
     const struct gpu_frame fr = p->frame; /* a copy: the loop below then compiles to SIMD */
-    int jitter = (fr.flags & TZ_FLAG_JITTER) != 0u;
     uint32_t x[LANES], sample[LANES];
     for (int k = 0; k < LANES; k++) {
         x[k] = i + (first + (uint32_t)k) % lanes;
@@ -388,14 +391,12 @@ LANE_FN void start_batch_make(const packed_scene *p, start_batch *b, uint32_t fi
     }
     for (int k = 0; k < LANES; k++) {
         sampler_state rng = sampler_start(fr.flags, fr.seed, y * fr.width + x[k], sample[k]);
-        float u, v;
-        sample_2d(fr.flags, &rng, &u, &v);
-        u = jitter ? u : 0.5f;
-        v = jitter ? v : 0.5f;
-        vec3 d = camera_direction(fr.right, fr.up, fr.forward, fr.origin.w, x[k], y, u, v);
+        camera_numbers c = camera_draw(fr.flags, &rng);
+        next_ray ray = camera_ray_through(fr.flags, fr.origin, fr.right, fr.up, fr.forward,
+                                          fr.near_distance, fr.lens, x[k], y, c);
         lane_sampler_set(&b->rng, k, 1, rng);
-        set3(&b->o, k, camera_origin(fr.origin, fr.near_distance, d));
-        set3(&b->d, k, d);
+        set3(&b->o, k, ray.o);
+        set3(&b->d, k, ray.d);
     }
 }
 

@@ -72,7 +72,7 @@ LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v
         for (int k = 0; k < LANES; k++) {
             light_sample s =
                 point_light(light_position_power(scene, (int)l), light_color(scene, (int)l),
-                            get3(&v->pos, k), get3(&v->n, k));
+                            light_shape(scene, (int)l), get3(&v->pos, k), get3(&v->n, k));
             set3(&wi, k, s.wi);
             set3(&rad, k, s.radiance);
             dist[k] = s.dist;
@@ -161,7 +161,8 @@ static __attribute__((noinline)) light_direction lanes_solid_angle(triangle_corn
  * numbers. */
 LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *v, const float *ul,
                                  const float *ua, const float *ub, uint32_t *hint, lanes3 *direct) {
-    int e[LANES], slot[LANES], triangle[LANES], env[LANES], strategy[LANES], blocked[LANES];
+    int e[LANES], slot[LANES], triangle[LANES], env[LANES], sun[LANES], strategy[LANES];
+    int blocked[LANES];
     float r[LANES], pick[LANES], cos_phi[LANES], sin_phi[LANES]; /* arrays of cos_sin: scalar */
     float t[LANES], x[LANES], lobe[LANES];
     int folds[LANES];
@@ -175,8 +176,9 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         tz_vec4 emission_pick = emitter_emission_pick(scene, slot[k]);
         e[k] = (int)uint_bits(emitter_primitive_cdf(scene, slot[k]).x);
         env[k] = e[k] == (int)TZ_ENV_PRIMITIVE;
-        triangle[k] = (!env[k]) & is_triangle(scene, e[k]);
-        tz_vec4 cr = sphere_center_radius(scene, triangle[k] | env[k] ? 0 : e[k]);
+        sun[k] = e[k] == (int)TZ_SUN_PRIMITIVE;
+        triangle[k] = (!env[k]) & (!sun[k]) & is_triangle(scene, e[k]);
+        tz_vec4 cr = sphere_center_radius(scene, triangle[k] | env[k] | sun[k] ? 0 : e[k]);
         set3(&c, k, xyz(cr));
         r[k] = cr.w;
         set3(&emission, k, xyz(emission_pick));
@@ -184,6 +186,7 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
     }
     for (int k = 1; one_emitter && k < LANES; k++) {
         slot[k] = 0, e[k] = e[0], triangle[k] = triangle[0], env[k] = env[0], r[k] = r[0];
+        sun[k] = sun[0];
         pick[k] = pick[0];
         set3(&c, k, get3(&c, 0));
         set3(&emission, k, get3(&emission, 0));
@@ -240,6 +243,17 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
             (folds[k] | (ci > 0.0f)) & (v3_dot(ng, es.wi) > 0.0f) & (p > 0.0f) & (p < INFINITY);
         set3(&emission, k, es.radiance);
         shadow_lane_set(&s, k, o, es.wi, p, ci, TZ_ENV_DISTANCE, ok);
+    }
+    for (int k = 0; any_lane(sun) && k < LANES; k++) {
+        if (!(v->diffuse[k] & sun[k])) continue;
+        vec3 n = get3(&v->n, k), ng = get3(&v->ng, k), o = offset_origin(get3(&v->pos, k), ng);
+        direction_sample ds =
+            cone_direction(xyz(scene->frame.sun), scene->frame.sun.w, ua[k], ub[k]);
+        float p = pick[k] * ds.pdf;
+        float ci = v3_dot(n, ds.wi);
+        int ok =
+            (folds[k] | (ci > 0.0f)) & (v3_dot(ng, ds.wi) > 0.0f) & (p > 0.0f) & (p < INFINITY);
+        shadow_lane_set(&s, k, o, ds.wi, p, ci, TZ_ENV_DISTANCE, ok);
     }
     trace_lanes(scene, &s.origin, &s.dir, v->id, s.t_light, s.want, 1, hint, blocked, t);
     int any_fold = 0;

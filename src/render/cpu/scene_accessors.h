@@ -44,6 +44,7 @@ static inline tz_vec4 light_position_power(const packed_scene *p, int k) {
     return p->lights[k].position_power;
 }
 static inline tz_vec4 light_color(const packed_scene *p, int k) { return p->lights[k].color; }
+static inline tz_vec4 light_shape(const packed_scene *p, int k) { return p->lights[k].shape; }
 static inline uint32_t light_count(const packed_scene *p) { return p->frame.light_count; }
 static inline tz_vec4 emitter_emission_pick(const packed_scene *p, int e) {
     return p->emitters[e].emission_pick;

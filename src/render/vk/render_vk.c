@@ -206,7 +206,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
      * cache keeps). The flags compile out the indirect bounce when it is off. */
     uint32_t lights = packed->frame.light_count;
     bool unroll_lights =
-        lights <= TZ_UNROLL_MAX_LIGHTS &&
+        lights <= TZ_UNROLL_MAX_LIGHTS && !(packed->frame.flags & TZ_FLAG_SHAPED_LIGHTS) &&
         (st->unrolled_spheres == 0u || st->unrolled_spheres * lights <= UNROLL_MAX_SHADOW_TESTS);
     spec_data constants = {.words = {
                                [TZ_SPEC_UNROLLED_SPHERES] = st->unrolled_spheres,
@@ -217,8 +217,10 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
                            }};
     /* The unrolled spheres and lights, zero past the scene's (the shader reads none of those). */
     scene_pack_unrolled(packed, st->unrolled_spheres, &constants.scene);
-    if (unroll_lights)
-        memcpy(constants.scene.lights, packed->lights, lights * sizeof *packed->lights);
+    for (uint32_t k = 0; unroll_lights && k < lights; k++) {
+        constants.scene.lights[2 * k] = packed->lights[k].position_power;
+        constants.scene.lights[2 * k + 1] = packed->lights[k].color;
+    }
     VkSpecializationMapEntry entries[SPEC_COUNT];
     for (uint32_t k = 0; k < SPEC_COUNT; k++)
         entries[k] =
