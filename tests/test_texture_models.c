@@ -3,8 +3,9 @@
  * URI render the same film, and it and the glTF with an external PNG (whose sampler mirrors u
  * and clamps v where the others repeat) hold the Cesium logo's green and blue where the
  * untextured box is grey; spider.obj's JPEG maps (map_Kd) give its film many more
- * distinct chromaticities than its five materials' flat colours could. Exits 77 without the
- * models. */
+ * distinct chromaticities than its five materials' flat colours could; TextureTransformTest's
+ * KHR_texture_transform offsets, rotation and scale reach the slots as glTF's formula says.
+ * Exits 77 without the models. */
 #include <math.h>
 #include <string.h>
 #include <unistd.h>
@@ -84,6 +85,45 @@ static void test_spider(void) {
     film_free(&f);
 }
 
+/* glTF's KHR_texture_transform of offset (ox, oy), rotation r and scale (sx, sy), uv' = o + R S
+ * uv in glTF's UVs (v down) with R = (cos r, sin r; -sin r, cos r) by rows, the rotation with
+ * which TextureTransformTest's arrows point at its "correct" marks, as rows in trazador's UVs
+ * (v up): v = 1 - v_glTF on both sides. */
+static void gltf_rows(double ox, double oy, double r, double sx, double sy, double rows[6]) {
+    double c = cos(r), s = sin(r);
+    double out[6] = {c * sx, -s * sy, ox + s * sy, s * sx, c * sy, 1 - c * sy - oy};
+    memcpy(rows, out, sizeof out);
+}
+
+/* TextureTransformTest.gltf's six transforms (offsets, a rotation, a scale and all three) are
+ * each some slot's UV transform, within float rounding. */
+static void test_texture_transform(void) {
+    const char *path = MODELS "glTF2/textureTransform/TextureTransformTest.gltf";
+    scene s;
+    scene_error err;
+    model_scene_opts mo = {.camera = NULL, .width = 64, .mode = -1};
+    CHECK(model_scene_parse(path, &mo, &s, &err), "%s: %s", path, err.message);
+    if (!s.slots) return;
+    double want[6][6];
+    gltf_rows(0.5, 0, 0, 1, 1, want[0]);
+    gltf_rows(0, 0.5, 0, 1, 1, want[1]);
+    gltf_rows(0.5, 0.5, 0, 1, 1, want[2]);
+    gltf_rows(0, 0, 0.39269908169872414, 1, 1, want[3]);
+    gltf_rows(0, 0, 0, 1.5, 1.5, want[4]);
+    gltf_rows(-0.2, -0.1, 0.3, 1.5, 1.5, want[5]);
+    for (int w = 0; w < 6; w++) {
+        bool found = false;
+        for (int k = 0; k < s.slot_count && !found; k++) {
+            bool near = true;
+            for (int r = 0; r < 6; r++) near &= fabs(s.slots[k].transform[r] - want[w][r]) < 1e-5;
+            found = near;
+        }
+        CHECK(found, "transform %d (%g %g %g, %g %g %g) is no slot's", w, want[w][0], want[w][1],
+              want[w][2], want[w][3], want[w][4], want[w][5]);
+    }
+    scene_free(&s);
+}
+
 int main(void) {
     if (access(MODELS "OBJ/spider.obj", R_OK) != 0 ||
         access(MODELS "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb", R_OK) != 0) {
@@ -92,5 +132,6 @@ int main(void) {
     }
     CHECK_CASE(test_box_textured);
     CHECK_CASE(test_spider);
+    CHECK_CASE(test_texture_transform);
     return check_summary("test_texture_models");
 }

@@ -18,6 +18,8 @@
 typedef struct mesh_map {
     char path[MESH_MAP_PATH];
     uint32_t flags;
+    float transform[6]; /* the UVs' affine map, texture_slot.transform's rows (glTF's
+                         * KHR_texture_transform), the identity when the file gives none */
 } mesh_map;
 
 /* A material of the file as trazador renders it, its textures (MAP_*), and its name in the file

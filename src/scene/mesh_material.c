@@ -3,6 +3,7 @@
  * mirror and glass, the values it refuses said, what it cannot show named. */
 #include "scene/mesh_material.h"
 
+#include <assimp/GltfMaterial.h>
 #include <assimp/ObjMaterial.h>
 #include <assimp/material.h>
 #include <math.h>
@@ -58,6 +59,41 @@ void mesh_note_unsupported(char *list, size_t size, const char *what) {
     snprintf(list + used, size - used, "%s%s", used ? ", " : "", what);
 }
 
+/* Whether material m comes from glTF's importer (which sets glTF's alpha mode on every one). */
+static bool from_gltf(const assimp_lib *ai, const struct aiMaterial *m) {
+    struct aiString mode = {0};
+    return ai->get_material_string(m, AI_MATKEY_GLTF_ALPHAMODE, &mode) == aiReturn_SUCCESS;
+}
+
+/* The affine map of UVs into rows (u' = r0 u + r1 v + r2, v' = r3 u + r4 v + r5) of the first
+ * texture of `type` of glTF material m: KHR_texture_transform (offset o, rotation r, scale S:
+ * uv' = o + R S uv in glTF's UVs, v down, R = (cos r, sin r; -sin r, cos r) by rows, with which
+ * the extension's TextureTransformTest model renders right), recovered from the aiUVTransform
+ * assimp 5.2's glTF
+ * importer makes of it by inverting its formulas, and written for trazador's UVs (v = 1 - v_glTF,
+ * as assimp flips them). The identity without one, for other formats (whose aiUVTransform
+ * follows assimp's own rule) or with a non-finite value. */
+static void uv_transform_of(const assimp_lib *ai, const struct aiMaterial *m,
+                            enum aiTextureType type, float rows[6]) {
+    static const float identity[6] = {1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
+    memcpy(rows, identity, sizeof identity);
+    float t[5]; /* aiUVTransform: translation x y, scaling x y, rotation r */
+    unsigned int count = 5;
+    if (!from_gltf(ai, m) ||
+        ai->get_material_float_array(m, _AI_MATKEY_UVTRANSFORM_BASE, type, 0, t, &count) !=
+            aiReturn_SUCCESS ||
+        count != 5)
+        return;
+    double sx = t[2], sy = t[3], c = cos(-(double)t[4]), s = sin(-(double)t[4]);
+    double ox = t[0] - 0.5 * sx * (1.0 - c + s);
+    double oy = -(double)t[1] + 0.5 * sy * (s + c - 1.0) + 1.0 - sy;
+    double g = -s; /* sin r: the importer keeps r, and builds the translation from -r */
+    double out[6] = {c * sx, g * sy, ox - g * sy, -g * sx, c * sy, 1.0 - c * sy - oy};
+    for (int k = 0; k < 6; k++)
+        if (!isfinite((float)out[k])) return;
+    for (int k = 0; k < 6; k++) rows[k] = (float)out[k];
+}
+
 /* The texture of `type` (its first) of material m into map, its wrap modes and srgb in flags;
  * false (map empty) when it has none. */
 static bool map_of(const assimp_lib *ai, const struct aiMaterial *m, enum aiTextureType type,
@@ -81,6 +117,7 @@ static bool map_of(const assimp_lib *ai, const struct aiMaterial *m, enum aiText
                       ? TZ_WRAP_CLAMP
                       : TZ_WRAP_REPEAT;
     map->flags = wrap[0] | wrap[1] << 4 | (srgb ? TZ_SLOT_SRGB : 0u);
+    uv_transform_of(ai, m, type, map->transform);
     return true;
 }
 
