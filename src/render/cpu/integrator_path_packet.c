@@ -230,6 +230,23 @@ LANE_FN void lanes_pick_spheres(const small_spheres *t, const int *index, vertex
     }
 }
 
+/* What the lanes in miss, whose rays left the scene, see there: the environment (with its MIS
+ * weight) and the sun's disc, times beta, added to their radiance. Apart from the vertex's loop,
+ * which most packets run with no lane missing. */
+static __attribute__((noinline)) void lanes_environment(const packed_scene *scene, const int *miss,
+                                                        path_lanes *s) {
+    for (int k = 0; k < LANES; k++) {
+        vec3 radiance = get3(&s->radiance, k), d = get3(&s->d, k);
+        float w = environment_mis_weight(scene, s->specular[k], s->last_pdf[k], d);
+        vec3 seen = v3_scale(v3_mul(get3(&s->beta, k), environment_radiance(scene, d)), w);
+        vec3 with_sun = v3_add(radiance, seen);
+        if (scene->frame.flags & TZ_FLAG_SUN_DISC)
+            with_sun = v3_add(with_sun, v3_mul(get3(&s->beta, k),
+                                               sun_seen(scene, s->specular[k], s->last_pdf[k], d)));
+        set3(&s->radiance, k, select3(miss[k], with_sun, radiance));
+    }
+}
+
 /* One vertex of every active lane's path (an iteration of path_sample's loop); small the
  * scene's small_spheres table, or NULL. */
 LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small, path_lanes *s) {
@@ -297,17 +314,15 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         v.material[k] = sf.m.kind;
         v.slot[k] = sf.emitter;
     }
+    int miss[LANES], any_miss = 0;
     for (int k = 0; k < LANES; k++) {
-        int hit = s->active[k] & (v.id[k] >= 0), miss = s->active[k] & (v.id[k] < 0);
-        vec3 radiance = get3(&s->radiance, k);
+        miss[k] = s->active[k] & (v.id[k] < 0);
+        any_miss |= miss[k];
+    }
+    if (any_miss) lanes_environment(scene, miss, s);
+    for (int k = 0; k < LANES; k++) {
+        int hit = s->active[k] & (v.id[k] >= 0);
         vec3 d = get3(&s->d, k), nout = get3(&v.nout, k), shading = get3(&v.shading, k);
-        float w = environment_mis_weight(scene, s->specular[k], s->last_pdf[k], d);
-        vec3 seen = v3_scale(v3_mul(get3(&s->beta, k), environment_radiance(scene, d)), w);
-        vec3 with_sun = v3_add(radiance, seen);
-        if (fr->flags & TZ_FLAG_SUN_DISC)
-            with_sun = v3_add(with_sun, v3_mul(get3(&s->beta, k),
-                                               sun_seen(scene, s->specular[k], s->last_pdf[k], d)));
-        set3(&s->radiance, k, select3(miss, with_sun, radiance));
         emit[k] = hit & (v.slot[k] >= 0);
         any_emit |= emit[k];
         int go = hit & !(s->vertex[k] > fr->bounces); /* else the path ends at this hit */
