@@ -148,29 +148,15 @@ static void test_orthographic(void) {
     }
 }
 
-/* Expects the scene text to fail at line:col with a message containing `part`. */
-static void expect_error(const char *text, int line, int col, const char *part) {
-    scene s;
-    scene_error err;
-    bool ok = scene_parse_string(text, strlen(text), "t.scene", &s, &err);
-    CHECK(!ok, "parsed: %s", text);
-    if (ok) {
-        scene_free(&s);
-        return;
-    }
-    CHECK(err.line == line && err.col == col && strstr(err.message, part),
-          "%s: got %d:%d: %s, want %d:%d ... %s", text, err.line, err.col, err.message, line, col,
-          part);
-}
-
 static void test_refusals(void) {
-    expect_error("camera position 0 0 0 aperture -1 focus 2\n", 1, 32, "aperture must be in");
-    expect_error("camera position 0 0 0 aperture 0.1 focus 0\n", 1, 42, "focus must be in");
-    expect_error("camera position 0 0 0 aperture 0.1\n", 1, 23, "needs focus");
-    expect_error("camera position 0 0 0 focus 3\n", 1, 23, "needs an aperture above 0");
-    expect_error("camera position 0 0 0 aperture 0 focus 3\n", 1, 34, "needs an aperture");
-    expect_error("camera position 0 0 0 projection fisheye\n", 1, 34, "projection");
-    expect_error("camera position 0 0 0 projection orthographic fov 40\n", 1, 47, "takes no fov");
+    expect_parse_error("camera position 0 0 0 aperture -1 focus 2\n", 1, 32, "aperture must be in");
+    expect_parse_error("camera position 0 0 0 aperture 0.1 focus 0\n", 1, 42, "focus must be in");
+    expect_parse_error("camera position 0 0 0 aperture 0.1\n", 1, 23, "needs focus");
+    expect_parse_error("camera position 0 0 0 focus 3\n", 1, 23, "needs an aperture above 0");
+    expect_parse_error("camera position 0 0 0 aperture 0 focus 3\n", 1, 34, "needs an aperture");
+    expect_parse_error("camera position 0 0 0 projection fisheye\n", 1, 34, "projection");
+    expect_parse_error("camera position 0 0 0 projection orthographic fov 40\n", 1, 47,
+                       "takes no fov");
     /* aperture 0 is the pinhole, the same scene as without it */
     scene a, b;
     render_opts oa, ob;

@@ -268,21 +268,6 @@ static void test_noise_ratio(void) {
     CHECK(ratio >= 10.0, "importance sampling needs only %.1fx fewer samples", ratio);
 }
 
-/* Expects the scene text to fail at line:col with a message containing `part`. */
-static void expect_error(const char *text, int line, int col, const char *part) {
-    scene s;
-    scene_error err;
-    bool ok = scene_parse_string(text, strlen(text), "t.scene", &s, &err);
-    CHECK(!ok, "parsed: %s", text);
-    if (ok) {
-        scene_free(&s);
-        return;
-    }
-    CHECK(err.line == line && err.col == col && strstr(err.message, part),
-          "%s: got %d:%d: %s, want %d:%d ... %s", text, err.line, err.col, err.message, line, col,
-          part);
-}
-
 static void test_refusals(void) {
     char text[1024];
     const char *square = tmp_path("square.exr"), *bad = tmp_path("bad.exr");
@@ -300,24 +285,24 @@ static void test_refusals(void) {
     if (fp) fclose(fp);
     free(bytes);
     snprintf(text, sizeof text, "environment file %s/missing.exr\n", tmpdir);
-    expect_error(text, 1, 18, "No such file");
+    expect_parse_error(text, 1, 18, "No such file");
     snprintf(text, sizeof text, "\nenvironment file %s\n", square);
-    expect_error(text, 2, 18, "8 x 8 pixels");
+    expect_parse_error(text, 2, 18, "8 x 8 pixels");
     snprintf(text, sizeof text, "environment file %s\n", text_file);
-    expect_error(text, 1, 18, "neither an OpenEXR nor a Radiance HDR");
+    expect_parse_error(text, 1, 18, "neither an OpenEXR nor a Radiance HDR");
     snprintf(text, sizeof text, "environment file %s\n", bad);
-    expect_error(text, 1, 18, "not a readable OpenEXR");
+    expect_parse_error(text, 1, 18, "not a readable OpenEXR");
     snprintf(text, sizeof text, "environment file %s\n", negative);
-    expect_error(text, 1, 18, "must be finite and >= 0");
+    expect_parse_error(text, 1, 18, "must be finite and >= 0");
     snprintf(text, sizeof text, "environment file %s rotate 0 0 0 30\n", square);
-    expect_error(text, 1, 18 + (int)strlen(square) + 1, "axis must not be zero");
+    expect_parse_error(text, 1, 18 + (int)strlen(square) + 1, "axis must not be zero");
     snprintf(text, sizeof text, "environment file %s intensity 0\n", square);
-    expect_error(text, 1, 18 + (int)strlen(square) + 11, "intensity");
-    expect_error("environment\n", 1, 1, "needs 'file PATH' or 'color R G B'");
-    expect_error("environment color 1 1\n", 1, 22, "expected 3 numbers");
-    expect_error("environment sky 1\n", 1, 13, "unknown key 'sky'");
-    expect_error("background 1 1 1\nenvironment color 1 1 1\n", 2, 1, "(first on line 1)");
-    expect_error("environment color 1 1 1\nbackground 1 1 1\n", 2, 1, "one directive");
+    expect_parse_error(text, 1, 18 + (int)strlen(square) + 11, "intensity");
+    expect_parse_error("environment\n", 1, 1, "needs 'file PATH' or 'color R G B'");
+    expect_parse_error("environment color 1 1\n", 1, 22, "expected 3 numbers");
+    expect_parse_error("environment sky 1\n", 1, 13, "unknown key 'sky'");
+    expect_parse_error("background 1 1 1\nenvironment color 1 1 1\n", 2, 1, "(first on line 1)");
+    expect_parse_error("environment color 1 1 1\nbackground 1 1 1\n", 2, 1, "one directive");
 }
 
 /* A Radiance HDR map (flat RGBE scanlines, 8 x 4 texels of 1.0 but one of 2.5 at column 3 of
@@ -356,7 +341,7 @@ static void test_radiance(void) {
     }
     char text[600];
     snprintf(text, sizeof text, "environment file %s\n", cut);
-    expect_error(text, 1, 18, "not a readable Radiance HDR image");
+    expect_parse_error(text, 1, 18, "not a readable Radiance HDR image");
 }
 
 /* The shipped sky (scenes/maps/sky.exr) is what sky() makes. */

@@ -197,21 +197,6 @@ static void test_spot_falloff(void) {
     }
 }
 
-/* Expects the scene text to fail at line:col with a message containing `part`. */
-static void expect_error(const char *text, int line, int col, const char *part) {
-    scene s;
-    scene_error err;
-    bool ok = scene_parse_string(text, strlen(text), "t.scene", &s, &err);
-    CHECK(!ok, "parsed: %s", text);
-    if (ok) {
-        scene_free(&s);
-        return;
-    }
-    CHECK(err.line == line && err.col == col && strstr(err.message, part),
-          "%s: got %d:%d: %s, want %d:%d ... %s", text, err.line, err.col, err.message, line, col,
-          part);
-}
-
 static void test_refusals(void) {
     const char *spot = "light position 0 0 0 power 1 ";
     char text[256];
@@ -230,16 +215,17 @@ static void test_refusals(void) {
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         snprintf(text, sizeof text, "%s%s\n", spot, bad[k].keys);
-        expect_error(text, 1, bad[k].col, bad[k].part);
+        expect_parse_error(text, 1, bad[k].col, bad[k].part);
     }
-    expect_error("sun direction 0 -1 0\n", 1, 1, "irradiance");
-    expect_error("sun irradiance 2\n", 1, 1, "direction");
-    expect_error("sun direction 0 0 0 irradiance 2\n", 1, 5, "sun direction must not be zero");
-    expect_error("sun direction 0 -1 0 irradiance -2\n", 1, 33, "irradiance must be >= 0");
-    expect_error("sun direction 0 -1 0 irradiance 2 angle -1\n", 1, 41, "angle must be in");
-    expect_error("sun direction 0 -1 0 irradiance 2 position 0 0 0\n", 1, 35, "unknown key");
-    expect_error("sun direction 0 -1 0 irradiance 2\nsun direction 0 -1 1 irradiance 2\n", 2, 1,
-                 "one sun at most");
+    expect_parse_error("sun direction 0 -1 0\n", 1, 1, "irradiance");
+    expect_parse_error("sun irradiance 2\n", 1, 1, "direction");
+    expect_parse_error("sun direction 0 0 0 irradiance 2\n", 1, 5,
+                       "sun direction must not be zero");
+    expect_parse_error("sun direction 0 -1 0 irradiance -2\n", 1, 33, "irradiance must be >= 0");
+    expect_parse_error("sun direction 0 -1 0 irradiance 2 angle -1\n", 1, 41, "angle must be in");
+    expect_parse_error("sun direction 0 -1 0 irradiance 2 position 0 0 0\n", 1, 35, "unknown key");
+    expect_parse_error("sun direction 0 -1 0 irradiance 2\nsun direction 0 -1 1 irradiance 2\n", 2,
+                       1, "one sun at most");
 }
 
 int main(int argc, char **argv) {

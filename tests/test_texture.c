@@ -205,21 +205,7 @@ static void test_back_ends_agree(void) {
              "triangle lambertian v0 -1 -1 -0.5 v1 -0.2 -1 -0.5 v2 -1 -0.2 -0.5 uv0 0 0 uv1 2 0 "
              "uv2 0 2 color_map %s wrap clamp\n",
              tmp_path("checker.png"), tmp_path("checker.png"), tmp_path("checker.png"));
-    for (int mode = 0; mode < 2; mode++) {
-        scene s;
-        render_opts o;
-        film a = {0}, b = {0};
-        if (!parse_scene_text(text, &s, &o)) continue;
-        o.mode = mode ? RENDER_MODE_PATH : RENDER_MODE_REPORT;
-        if (mode) o.bounces = 4;
-        CHECK(render_on(false, &s, &o, &a) && render_on(true, &s, &o, &b), "mode %d", mode);
-        CHECK(a.accum && b.accum &&
-                  !memcmp(a.accum, b.accum, (size_t)a.width * a.height * 4 * sizeof(float)),
-              "mode %d: the CPU and Vulkan films differ", mode);
-        film_free(&a);
-        film_free(&b);
-        scene_free(&s);
-    }
+    expect_back_ends_agree(text);
 }
 
 int main(int argc, char **argv) {

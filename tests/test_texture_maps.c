@@ -192,21 +192,7 @@ static void test_back_ends_agree(void) {
              "uv2 0 2 metallic_roughness_map %s normal_map %s\n",
              tmp_path("tilt.png"), tmp_path("mr.png"), tmp_path("tilt.png"), tmp_path("mr.png"),
              tmp_path("normal.png"));
-    for (int mode = 0; mode < 2; mode++) {
-        scene s;
-        render_opts o;
-        film a = {0}, b = {0};
-        if (!parse_scene_text(text, &s, &o)) continue;
-        o.mode = mode ? RENDER_MODE_PATH : RENDER_MODE_REPORT;
-        if (mode) o.bounces = 4;
-        CHECK(render_on(false, &s, &o, &a) && render_on(true, &s, &o, &b), "mode %d", mode);
-        CHECK(a.accum && b.accum &&
-                  !memcmp(a.accum, b.accum, (size_t)a.width * a.height * 4 * sizeof(float)),
-              "mode %d: the CPU and Vulkan films differ", mode);
-        film_free(&a);
-        film_free(&b);
-        scene_free(&s);
-    }
+    expect_back_ends_agree(text);
 }
 
 int main(int argc, char **argv) {
