@@ -179,15 +179,16 @@ TZ_LANE_FN TZ_UINT map_slot(TZ_UVEC4 maps, int which) {
 /* Whether a material has any map. */
 TZ_LANE_FN TZ_BOOL has_maps(TZ_UVEC4 maps) { return (maps.x | maps.y | maps.z | maps.w) != 0u; }
 
-/* The factor map `which` (a grey or glTF metallic-roughness image) scales a value by: its texel
- * at uv's channel `channel` (0 red, 1 green, 2 blue), clamped to [0, 1]; 1 without the map. */
-TZ_FN float map_factor(TZ_SCENE_PARAM TZ_UVEC4 maps, int which, int channel, tex_uv uv) {
+/* The factors map `which` (a grey or glTF metallic-roughness image) scales values by: its
+ * texel at uv, each channel clamped to [0, 1]; 1 in each without the map. One lookup serves
+ * every channel a map holds (glTF's metallic in blue, roughness in green). */
+TZ_FN vec3 map_factors(TZ_SCENE_PARAM TZ_UVEC4 maps, int which, tex_uv uv) {
     TZ_UINT slot = map_slot(maps, which);
-    float f = 1.0f;
+    vec3 f = v3(1.0f, 1.0f, 1.0f);
     if (slot != 0u) {
         vec3 c = texture_sample(TZ_SCENE_ARG slot - 1u, uv).rgb;
-        float picked = channel == 0 ? c.x : (channel == 1 ? c.y : c.z);
-        f = TZ_MIN(TZ_MAX(picked, 0.0f), 1.0f);
+        f = v3(TZ_MIN(TZ_MAX(c.x, 0.0f), 1.0f), TZ_MIN(TZ_MAX(c.y, 0.0f), 1.0f),
+               TZ_MIN(TZ_MAX(c.z, 0.0f), 1.0f));
     }
     return f;
 }
@@ -205,10 +206,9 @@ TZ_FN bsdf_material textured_material(TZ_SCENE_PARAM bsdf_material m, TZ_UVEC4 m
         m.color = v3_mul(m.color, unit);
     }
     if (is_microfacet(m.kind)) {
-        float metallic = map_factor(TZ_SCENE_ARG maps, TZ_MAP_METALLIC_ROUGHNESS, 2, uv) *
-                         map_factor(TZ_SCENE_ARG maps, TZ_MAP_METALLIC, 0, uv);
-        float rough = map_factor(TZ_SCENE_ARG maps, TZ_MAP_METALLIC_ROUGHNESS, 1, uv) *
-                      map_factor(TZ_SCENE_ARG maps, TZ_MAP_ROUGHNESS, 0, uv);
+        vec3 gltf = map_factors(TZ_SCENE_ARG maps, TZ_MAP_METALLIC_ROUGHNESS, uv);
+        float metallic = gltf.z * map_factors(TZ_SCENE_ARG maps, TZ_MAP_METALLIC, uv).x;
+        float rough = gltf.y * map_factors(TZ_SCENE_ARG maps, TZ_MAP_ROUGHNESS, uv).x;
         float width = m.alpha * (rough * rough);
         m.ks = m.kind == TZ_MATERIAL_PBR ? m.ks * metallic : m.ks;
         m.alpha = TZ_MAX(width, TZ_GGX_MIN_ALPHA);
