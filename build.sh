@@ -32,7 +32,7 @@ esac
 sudo=""
 [ "$(id -u)" = 0 ] || sudo=sudo
 packages="build-essential cmake pkg-config libvulkan-dev mesa-vulkan-drivers glslang-tools
-vulkan-validationlayers libpng-dev libopenexr-dev libassimp-dev libsdl2-dev"
+vulkan-validationlayers libpng-dev libjpeg62-turbo-dev libopenexr-dev libassimp-dev libsdl2-dev libstb-dev spirv-tools"
 $tests && packages="$packages slurmctld slurmd slurm-client munge parallel assimp-testmodels
 xvfb xdotool imagemagick"
 missing=""

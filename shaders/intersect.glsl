@@ -68,6 +68,67 @@ float wide_child_entry(uvec4 frame_bits, uvec4 lo, uvec4 hi, uint ref, uint c, v
     return ref == 0u ? TZ_INFINITY : t;
 }
 
+/* A walk's second level (DESIGN section 3.4): the instance whose model it walks, with the ray
+ * moved into the model's space (never by an identity, as the C walks), its faces numbered by
+ * their keys (a face's key is its primitive id + offset), and what it returns to: the stack's
+ * height on entry, the rest of the top-level leaf and the ray in world space. */
+struct instance_walk {
+    bool inside;
+    int top;
+    int offset;
+    uint next, end;
+    vec3 o, d, inv;
+    ray_shear sh;
+};
+
+/* A walk at the top level of the ray o + t d (inv and sh its inverse_direction and shear_of). */
+instance_walk instance_walk_start(vec3 o, vec3 d, vec3 inv, ray_shear sh) {
+    instance_walk iw;
+    iw.inside = false;
+    iw.top = 0;
+    iw.offset = 0;
+    iw.next = iw.end = 0u;
+    iw.o = o, iw.d = d, iw.inv = inv, iw.sh = sh;
+    return iw;
+}
+
+/* Whether leaf primitive k of the walk is an instance (the top level's leaves after the faces). */
+bool is_instance_leaf(instance_walk iw, uint k) {
+    return !iw.inside && k >= frame.instance_leaf;
+}
+
+/* Enters the instance of leaf primitive k (the walk's `sphere`, end its leaf's end): the ray
+ * moved into its model's space, the walk on at the model's root. */
+void instance_enter(inout instance_walk iw, int top, inout vec3 o, inout vec3 d, inout vec3 inv,
+                    inout ray_shear sh, inout uint k, inout uint end, out uint node) {
+    int i = int(k - frame.instance_leaf);
+    uvec4 model = instance_model(i);
+    iw.inside = true;
+    iw.top = top;
+    iw.next = k + 1u, iw.end = end;
+    iw.offset = TZ_INSTANCE_KEY + (i << frame.instance_shift) - int(model.y) -
+                int(frame.sphere_count);
+    if (model.z == 0u) {
+        o = affine_point(instance_to_object(i, 0), instance_to_object(i, 1),
+                         instance_to_object(i, 2), iw.o);
+        d = affine_direction(instance_to_object(i, 0), instance_to_object(i, 1),
+                             instance_to_object(i, 2), iw.d);
+        inv = inverse_direction(d);
+        sh = shear_of(d);
+    }
+    k = end = 0u;
+    node = model.x;
+}
+
+/* Leaves the instance: the ray back in world space, the walk on at the rest of its leaf. */
+void instance_leave(inout instance_walk iw, out vec3 o, out vec3 d, out vec3 inv,
+                    out ray_shear sh, out uint k, out uint end) {
+    o = iw.o, d = iw.d, inv = iw.inv, sh = iw.sh;
+    k = iw.next, end = iw.end;
+    iw.inside = false;
+    iw.offset = 0;
+}
+
 /* Nearest sphere hit below tmax through the BVH (t_out its distance), or with any_hit the first
  * one found; -1 when none. Nearer child first, the others on a stack of child references. The
  * nodes are the binary ones (each level pushes at most one, TZ_BVH_MAX_DEPTH in all) or with
@@ -88,15 +149,20 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
     int top = 0;
     uint node = 0u;                  /* the root */
     uint sphere = 0u, leaf_end = 0u; /* the leaf's spheres still to test */
+    instance_walk iw = instance_walk_start(o, d, inv, sh);
     for (uint pass = 0u;; pass++) {
         if (WALK_BUDGET > 0u && pass == WALK_BUDGET) {
             loop_overflow = true;
             break;
         }
         if (sphere >= leaf_end && node == WALK_NONE) {
-            if (top == 0) break;
-            top--;
-            enter_child(stack[top], stack_t[top] < best, node, sphere, leaf_end);
+            if (TZ_HAS_INSTANCES && iw.inside && top == iw.top) {
+                instance_leave(iw, o, d, inv, sh, sphere, leaf_end);
+            } else {
+                if (top == 0) break;
+                top--;
+                enter_child(stack[top], stack_t[top] < best, node, sphere, leaf_end);
+            }
         }
         if (sphere >= leaf_end && node != WALK_NONE && WIDE_BVH != 0u) {
             uvec4 frame_bits = wide_node_field(node, 0u), refs = wide_node_field(node, 1u);
@@ -129,8 +195,11 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
                 top++;
             }
         }
-        if (sphere < leaf_end) {
-            keep_nearer(int(sphere), primitive_distance(int(sphere), o, d, sh, tmin, self), best,
+        if (TZ_HAS_INSTANCES && sphere < leaf_end && is_instance_leaf(iw, sphere)) {
+            instance_enter(iw, top, o, d, inv, sh, sphere, leaf_end, node);
+        } else if (sphere < leaf_end) {
+            keep_nearer(int(sphere) + iw.offset,
+                        primitive_distance(int(sphere), o, d, sh, tmin, self - iw.offset), best,
                         id);
             sphere++;
             if (any_hit && id >= 0) break;
@@ -172,6 +241,7 @@ int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, ou
     uint lanes = subgroupAdd(1u);
     uint node = 0u;                  /* the root */
     uint sphere = 0u, leaf_end = 0u; /* the leaf's spheres still to test */
+    instance_walk iw = instance_walk_start(o, d, inv, sh);
     for (uint pass = 0u;; pass++) {
         if (WALK_BUDGET > 0u && pass == WALK_BUDGET) {
             loop_overflow = true;
@@ -186,9 +256,14 @@ int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, ou
         float reach = any_hit && id >= 0 ? -TZ_INFINITY : best;
         float tl = box_entry(uintBitsToFloat(left_lo), uintBitsToFloat(left_hi), o, inv, reach);
         float tr = box_entry(uintBitsToFloat(right_lo), uintBitsToFloat(right_hi), o, inv, reach);
-        if (test) {
-            float t = primitive_distance(int(sphere), o, d, sh, tmin, self);
-            keep_nearer(int(sphere), t, best, id);
+        /* Every lane enters an instance together: its index is the subgroup's. */
+        bool enter = TZ_HAS_INSTANCES && test && is_instance_leaf(iw, sphere);
+        uint entered_node = WALK_NONE;
+        if (enter) {
+            instance_enter(iw, top, o, d, inv, sh, sphere, leaf_end, entered_node);
+        } else if (test) {
+            float t = primitive_distance(int(sphere), o, d, sh, tmin, self - iw.offset);
+            keep_nearer(int(sphere) + iw.offset, t, best, id);
             sphere++;
         }
         reach = any_hit && id >= 0 ? -TZ_INFINITY : best;
@@ -200,7 +275,8 @@ int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, ou
         vote |= (id >= 0 ? 1u : 0u) << (COOP_BITS * COOP_HIT);
         uint votes = subgroupAdd(vote);
         if (any_hit && coop_field(votes, COOP_HIT) == lanes) break;
-        node = WALK_NONE;
+        node = entered_node;
+        if (enter) continue;
         if (visit) {
             uint enter_l = coop_field(votes, COOP_ENTER_LEFT);
             uint enter_r = coop_field(votes, COOP_ENTER_RIGHT);
@@ -218,7 +294,12 @@ int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, ou
         } else if (sphere < leaf_end) {
             continue;
         }
-        /* Nothing left to visit: pop the child on top, entered when a lane voted for it. */
+        /* Nothing left to visit: back to the top level at the end of an instance, or pop the
+         * child on top, entered when a lane voted for it. */
+        if (TZ_HAS_INSTANCES && iw.inside && top == iw.top) {
+            instance_leave(iw, o, d, inv, sh, sphere, leaf_end);
+            continue;
+        }
         if (top == 0) break;
         top--;
         enter_child(stack[top], coop_field(votes, COOP_PENDING) > 0u, node, sphere, leaf_end);

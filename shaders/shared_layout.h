@@ -33,6 +33,14 @@ typedef struct tz_uvec4 {
 #define TZ_MATERIAL_PHONG 1
 #define TZ_MATERIAL_MIRROR 2
 #define TZ_MATERIAL_REFRACTIVE 3
+/* GGX microfacet kinds (shaders/common/microfacet.h): a rough mirror (`mirror roughness` above
+ * 0), and glTF 2.0's metallic-roughness model (`pbr`). */
+#define TZ_MATERIAL_CONDUCTOR 4
+#define TZ_MATERIAL_PBR 5
+/* The smallest GGX width (roughness^2) a material packs (scene_pack.c): below it D's peak,
+ * 1 / (pi alpha^2), outgrows float and what light sampling can find; a mirror's roughness 0 is
+ * the delta mirror itself. */
+#define TZ_GGX_MIN_ALPHA TZ_FLOAT_CONST(1e-3)
 
 #define TZ_FLAG_JITTER 1u
 #define TZ_FLAG_INDIRECT 2u
@@ -47,8 +55,27 @@ typedef struct tz_uvec4 {
 /* The scene has triangles; without it their code is dead wherever the flags are a
  * specialization constant (trace.comp's FLAGS). */
 #define TZ_FLAG_TRIANGLES 128u
+/* Some material has a texture (TZ_BINDING_TEXTURES): without it the lookups are dead code. */
+#define TZ_FLAG_TEXTURES 256u
+/* The scene has an environment map: without it the map's code is dead as the triangles' is
+ * (lavapipe ran path mode 1.6x slower with it compiled in). */
+#define TZ_FLAG_ENVIRONMENT 512u
+/* The scene has a microfacet material (TZ_MATERIAL_CONDUCTOR, _PBR); without it their code is
+ * dead as the triangles'. */
+#define TZ_FLAG_MICROFACET 1024u
+/* A thin lens camera (gpu_frame.lens): its numbers are drawn after the jitter's, only then, so
+ * that pinhole scenes keep their numbers (shaders/common/camera.h). */
+#define TZ_FLAG_LENS 2048u
+/* An orthographic camera: rays along F from the plane's points (camera.h). */
+#define TZ_FLAG_ORTHOGRAPHIC 4096u
+/* Some light is a spot or a sun (gpu_light.shape): without it shapes are not read, and the
+ * lights may be unrolled (their shapes are no specialization constants). */
+#define TZ_FLAG_SHAPED_LIGHTS 8192u
+/* Path mode: the sun has a disc (angle > 0), an emitter of the emitter table (TZ_SUN_PRIMITIVE)
+ * sampled in its cone and found by rays that leave the scene (common/emitter.h). */
+#define TZ_FLAG_SUN_DISC 16384u
 /* The scene places models as instances (struct gpu_instance): its walks take the two levels. */
-#define TZ_FLAG_INSTANCES 256u
+#define TZ_FLAG_INSTANCES 131072u
 
 /* Compute workgroup: 8 x 4 invocations, four lavapipe subgroups of 8 (each a row of 8 neighbouring
  * pixels, whose rays stay coherent; 4 x 8 ran more instructions: docs/PERF.md), 32 lanes on real
@@ -61,7 +88,7 @@ typedef struct tz_uvec4 {
 
 /* Descriptor bindings of set 0. Spheres and lights are uniform texel buffers (RGBA32F) over the
  * very bytes of the gpu_sphere and gpu_light arrays: a sphere is texels 2k, 2k+1, a light texels
- * 2k, 2k+1. lavapipe gathers texels with a few vector loads where a storage buffer read at a
+ * 3k to 3k+2. lavapipe gathers texels with a few vector loads where a storage buffer read at a
  * per-lane index costs a scalar loop over the lanes; no size limit short of
  * maxTexelBufferElements. */
 #define TZ_BINDING_FRAME 0
@@ -95,10 +122,21 @@ typedef struct tz_uvec4 {
 #define TZ_BINDING_NORMALS 11
 /* Texels 4k..4k+3: gpu_wide_node k, read as uints (one zeroed node without a BVH). */
 #define TZ_BINDING_WIDE_NODES 12
-#define TZ_BINDING_COUNT 13
+/* Words (R32_UINT texels) of the texture table, TZ_TEXTURE_* below (one zeroed word without
+ * textures). */
+#define TZ_BINDING_TEXTURES 13
+/* The environment map (common/emitter.h): texels 0..w*h-1 the map, rows top down (rgb its
+ * radiance, w the pdf of its texel over the unit square of the map), then the sampling tables
+ * as floats, four a texel: the marginal cdf of the rows (h + 1), then each row's conditional cdf
+ * (w + 1 each). One zeroed texel without a map. */
+#define TZ_BINDING_ENVIRONMENT 14
+/* Texels 7i..7i+6: gpu_instance i, read as uints (its model's node and face indices are no
+ * floats), one zeroed instance without any. */
+#define TZ_BINDING_INSTANCES 15
+#define TZ_BINDING_COUNT 16
 /* The ray query module only: the top-level acceleration structure of the scene's primitives
  * (AABB primitive k is primitive id k), one binding past the others. */
-#define TZ_BINDING_ACCEL 13
+#define TZ_BINDING_ACCEL 16
 
 /* Specialization constants of trace.comp: the sphere and light counts when their loops are
  * unrolled (constant indices, no loop bookkeeping), 0 for a plain loop over frame.sphere_count
@@ -142,30 +180,81 @@ struct gpu_triangle {
 };
 #define TZ_FLAT 0xffffffffu
 
-/* A material of spheres and triangles (struct material of the scene, packed once), 48 bytes.
+/* A material of spheres and triangles (struct material of the scene, packed once), 64 bytes.
  * The kind is an exactly representable float, as gpu_sphere's indices. Room is left for what
- * later materials add (roughness, metallic: the reserved floats; texture indices: a fourth
- * group of four). */
+ * later materials add (roughness, metallic: the reserved floats). */
 struct gpu_material {
     TZ_VEC4 color_ks; /* rgb the colour (kd of lambertian and phong, the tint of mirror and
-                       * refractive), w the Phong specular weight ks (0: no lobe) */
-    float alpha;      /* the Phong exponent */
+                       * refractive, the base colour of pbr), w the Phong specular weight ks (0:
+                       * no lobe), pbr's metallic */
+    float alpha;      /* the Phong exponent, the GGX width (roughness^2) of microfacet kinds */
     float ior;        /* the refractive index (1 but for refractive) */
     float kind;       /* TZ_MATERIAL_* */
     float reserved0;  /* 0 */
     TZ_VEC4 emission; /* rgb the radiance emitted (path mode reads it through gpu_emitter),
                        * w reserved (0) */
+    TZ_UVEC4 maps;    /* its textures, each a texture slot + 1 (0: none) in 16 bits, map
+                       * TZ_MAP_k in bits 16 (k & 1) of word k / 2 (texture.h's map_slot) */
 };
+/* The maps of a material (scene.h's MAP_*, in that order) and the most texture slots. */
+#define TZ_MAP_COLOR 0
+#define TZ_MAP_EMISSION 1
+#define TZ_MAP_NORMAL 2
+#define TZ_MAP_ALPHA 3
+#define TZ_MAP_METALLIC_ROUGHNESS 4 /* glTF's: blue metallic, green roughness */
+#define TZ_MAP_ROUGHNESS 5          /* MTL's map_Pr: red */
+#define TZ_MAP_METALLIC 6           /* MTL's map_Pm: red */
+#define TZ_MAX_SLOTS 65535u
 
 /* The unit shading normals at a smooth triangle's corners, 48 bytes. */
 struct gpu_normals {
     TZ_VEC4 n0, n1, n2; /* w unused (0) */
 };
 
+/* The texture table (TZ_BINDING_TEXTURES), 32-bit words: what decodes an 8-bit channel (word k
+ * of TZ_TEXTURE_SRGB the float bits of sRGB value k decoded, of TZ_TEXTURE_LINEAR k / 255), the
+ * GGX tables (TZ_TEXTURE_GGX, zero in a scene without microfacet materials), a header
+ * (TZ_TEXTURE_HEADER: the first word of the slots, of the images, of the faces' UVs), the slots
+ * (TZ_SLOT_WORDS each: an image, how it is read, and a transform of the UVs), the images
+ * (TZ_IMAGE_WORDS each: the first word of its texels, width, height, TZ_TEXEL_*), the UVs of the
+ * faces that have them (six floats, u and v of corners 0, 1, 2, at the face's gpu_normals index),
+ * then the texels, rows top first. */
+#define TZ_TEXTURE_SRGB 0u
+#define TZ_TEXTURE_LINEAR 256u
+/* The multiple-scattering tables of the GGX lobes (Kulla and Conty 2017; src/render/ggx_albedo.c
+ * computes them, shaders/common/microfacet.h reads them bilinearly): the directional albedo E of
+ * a white GGX conductor at TZ_GGX_TABLE_SIZE square roots of cosines 0..1 of the way back
+ * (fastest) by as many roughnesses 0..1 (square roots of the GGX width), then its
+ * cosine-weighted mean E_avg at each roughness, floats. The table exists where a scene has
+ * textures or a microfacet material; these words are zero without the latter. */
+#define TZ_TEXTURE_GGX 512u
+#define TZ_GGX_TABLE_SIZE 32u
+#define TZ_GGX_TABLE_WORDS 1056u /* TZ_GGX_TABLE_SIZE^2 + TZ_GGX_TABLE_SIZE */
+#define TZ_TEXTURE_HEADER 1568u  /* TZ_TEXTURE_GGX + TZ_GGX_TABLE_WORDS */
+#define TZ_TEXTURE_FIRST_SLOT 1572u
+/* A slot: image index, flags (wrap of u in bits 0-3, of v in 4-7, TZ_SLOT_SRGB), a parameter
+ * (the alpha cutoff, the normal scale), the UV transform u' = m0 u + m1 v + m2, v' = m3 u + m4 v
+ * + m5 in words 3-8 (float bits), words 9-11 zero. */
+#define TZ_SLOT_WORDS 12u
+#define TZ_IMAGE_WORDS 4u
+#define TZ_WRAP_REPEAT 0u
+#define TZ_WRAP_CLAMP 1u
+#define TZ_WRAP_MIRROR 2u
+#define TZ_SLOT_SRGB 256u /* an 8-bit image's RGB is sRGB (colour and emission maps) */
+/* Texel formats: a word a texel (R in bits 0-7, G, B, A), or four floats a texel. */
+#define TZ_TEXEL_RGBA8 0u
+#define TZ_TEXEL_RGBA32F 1u
+
 /* One point light, 32 bytes. */
+/* A light, 48 bytes: a point light, a spot (shape.w > 0) or a sun (shape.w < 0). A spot's
+ * falloff is glTF KHR_lights_punctual's, clamp(cd scale + offset, 0, 1)^2 of the cosine cd
+ * between its axis and the way the light goes. */
 struct gpu_light {
-    TZ_VEC4 position_power; /* xyz position, w power */
-    TZ_VEC4 color;          /* rgb colour, w unused (0) */
+    TZ_VEC4 position_power; /* xyz position (a sun: the unit direction toward it), w power (a
+                             * sun: its irradiance) */
+    TZ_VEC4 color;          /* rgb colour, w: a spot's offset, 0 otherwise */
+    TZ_VEC4 shape;          /* a spot: xyz its unit axis, w its scale (> 0); a sun: w -1; a point
+                             * light: 0 (read only under TZ_FLAG_SHAPED_LIGHTS) */
 };
 
 /* Everything per render that is not per sphere or light: camera, plane, counts, settings. */
@@ -184,6 +273,14 @@ struct gpu_frame {
     TZ_UINT emitter_count;  /* path mode's emissive spheres and triangles */
     TZ_UINT triangle_count; /* primitives sphere_count to sphere_count + triangle_count - 1 */
     TZ_UINT light_samples;  /* path mode: emitter samples a diffuse vertex, at least 1 */
+    /* The environment map's frame: the rows of the rotation from world to map directions (w
+     * unused, 0), then its size in texels (0 without a map: the background is seen) and its
+     * emitter slot + 1 in path mode (0: not sampled). */
+    TZ_VEC4 env_x, env_y, env_z;
+    TZ_UINT env_width, env_height, env_slot;
+    TZ_UINT sun_slot; /* path mode: the sun disc's emitter slot + 1 (TZ_FLAG_SUN_DISC) */
+    TZ_VEC4 lens;     /* x the lens radius, y the distance to the plane in focus (TZ_FLAG_LENS) */
+    TZ_VEC4 sun; /* the sun disc: xyz the unit direction toward it, w 1 - cos(half its angle) */
     TZ_UINT instance_count; /* struct gpu_instance, 0 without instances */
     TZ_UINT instance_leaf;  /* the id of instance 0 in the BVH's leaves (instances follow the
                              * triangles, the models' included) */
@@ -203,6 +300,13 @@ struct gpu_instance {
     TZ_UVEC4 model;       /* x its model's root node, y its first triangle, z 1 when its
                            * transform is the identity (then never applied: exact bits), w 0 */
 };
+
+/* The primitive id of the environment's gpu_emitter (uint bits): no sphere's or face's. */
+#define TZ_ENV_PRIMITIVE 0xfffffffeu
+/* The primitive id of the sun disc's gpu_emitter (uint bits). */
+#define TZ_SUN_PRIMITIVE 0xfffffffdu
+/* Where an environment light sample's shadow ray ends: the largest float, past every hit. */
+#define TZ_ENV_DISTANCE TZ_FLOAT_CONST(3.40282347e38)
 
 /* One emissive sphere or triangle of path mode, 32 bytes: emitters are picked in proportion to
  * their power by the first cdf above a uniform number. */
@@ -231,7 +335,11 @@ struct gpu_pass {
     TZ_UINT chunk_count; /* chunks the samples span, 1 to TZ_PASS_CHUNKS: the first and the last
                           * as the flags say, the others whole */
     TZ_UINT stack_depth; /* blocks a pixel has room for in TZ_BINDING_STACK */
-    TZ_UINT pad0, pad1, pad2, pad3; /* 0 */
+    /* The noise threshold's bits (a float; 0: off). When on, a pixel's last two blocks of
+     * TZ_BINDING_STACK hold its state (common/adaptive.h): the odd chunks' sum, then the chunk
+     * it stopped at (0 while sampled) and two zeros. */
+    TZ_UINT noise_threshold;
+    TZ_UINT pad1, pad2, pad3; /* 0 */
     /* chunk_stack_push for chunk c: where its value goes (low 16 bits), merges after (high) */
     TZ_UINT stack_slot[TZ_PASS_CHUNKS];
 };
@@ -241,7 +349,8 @@ struct gpu_pass {
 /* The spheres and lights of an unrolled scene, zero past the scene's (scene_pack_unrolled):
  * sphere k is vec4s 3k..3k+2, its centre and radius, then its material's colour and ks, and
  * alpha, ior, kind and its emitter + 1 (the fields a hit reads, without a fetch of its
- * material); light k is vec4s 2k, 2k + 1, in the texel layout of TZ_BINDING_LIGHTS. */
+ * material); light k is vec4s 2k, 2k + 1, its position_power and color (lights of a scene
+ * without spots and suns only: their shapes are no constants). */
 struct gpu_unrolled {
     TZ_VEC4 spheres[3 * TZ_UNROLL_MAX_SPHERES];
     TZ_VEC4 lights[2 * TZ_UNROLL_MAX_LIGHTS];

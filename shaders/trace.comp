@@ -46,6 +46,9 @@ layout(set = 0, binding = TZ_BINDING_TRIANGLES) uniform samplerBuffer triangle_t
 layout(set = 0, binding = TZ_BINDING_MATERIALS) uniform samplerBuffer material_texels;
 layout(set = 0, binding = TZ_BINDING_NORMALS) uniform samplerBuffer normals_texels;
 layout(set = 0, binding = TZ_BINDING_WIDE_NODES) uniform usamplerBuffer wide_node_texels;
+layout(set = 0, binding = TZ_BINDING_TEXTURES) uniform usamplerBuffer texture_texels;
+layout(set = 0, binding = TZ_BINDING_ENVIRONMENT) uniform samplerBuffer environment_texels;
+layout(set = 0, binding = TZ_BINDING_INSTANCES) uniform usamplerBuffer instance_texels;
 #ifdef TZ_RAY_QUERY_WALK
 /* The scene's primitives as one AABB geometry of one instance (src/render/vk/vk_accel.c). */
 layout(set = 0, binding = TZ_BINDING_ACCEL) uniform accelerationStructureEXT scene_accel;
@@ -60,8 +63,13 @@ layout(constant_id = TZ_SPEC_WIDE_BVH) const uint WIDE_BVH = 0u;
 #include "spec_scene.glsl"
 
 /* The fields of struct gpu_material m (params: alpha, ior, kind, reserved0). */
-vec4 material_color_ks(int m) { return texelFetch(material_texels, 3 * m); }
-vec4 material_params(int m) { return texelFetch(material_texels, 3 * m + 1); }
+vec4 material_color_ks(int m) { return texelFetch(material_texels, 4 * m); }
+vec4 material_params(int m) { return texelFetch(material_texels, 4 * m + 1); }
+uvec4 material_maps(int m) { return floatBitsToUint(texelFetch(material_texels, 4 * m + 3)); }
+/* Word i of the texture table (shared_layout.h, TZ_TEXTURE_*). */
+uint texture_word(uint i) { return texelFetch(texture_texels, int(i)).x; }
+/* Float i of the GGX tables (TZ_TEXTURE_GGX, common/microfacet.h). */
+float ggx_table(uint i) { return uintBitsToFloat(texture_word(TZ_TEXTURE_GGX + i)); }
 /* The fields of struct gpu_sphere k and its material (sphere_params: alpha, ior, kind and its
  * emitter + 1), and of gpu_light k: specialization constants when their loops are unrolled
  * (struct gpu_unrolled), else from the texel buffers (see TZ_BINDING_SPHERES). */
@@ -73,16 +81,22 @@ vec4 sphere_color_ks(int k) {
                ? spec_sphere_color_ks(k)
                : material_color_ks(int(texelFetch(sphere_texels, 2 * k + 1).x));
 }
+/* The material of sphere k (scenes with textures are never unrolled: render_vk.c). */
+int sphere_material_index(int k) { return int(texelFetch(sphere_texels, 2 * k + 1).x); }
 vec4 sphere_params(int k) {
     if (UNROLLED_SPHERES > 0u) return spec_sphere_params(k);
     vec4 links = texelFetch(sphere_texels, 2 * k + 1); /* material, emitter */
     return vec4(material_params(int(links.x)).xyz, links.y);
 }
 vec4 light_position_power(int k) {
-    return UNROLLED_LIGHTS > 0u ? spec_light_position_power(k) : texelFetch(light_texels, 2 * k);
+    return UNROLLED_LIGHTS > 0u ? spec_light_position_power(k) : texelFetch(light_texels, 3 * k);
 }
 vec4 light_color(int k) {
-    return UNROLLED_LIGHTS > 0u ? spec_light_color(k) : texelFetch(light_texels, 2 * k + 1);
+    return UNROLLED_LIGHTS > 0u ? spec_light_color(k) : texelFetch(light_texels, 3 * k + 1);
+}
+/* A spot's or a sun's shape; a point light's (and every light without shaped ones): zero. */
+vec4 light_shape(int k) {
+    return (FLAGS & TZ_FLAG_SHAPED_LIGHTS) != 0u ? texelFetch(light_texels, 3 * k + 2) : vec4(0.0);
 }
 /* The fields of struct gpu_triangle t and gpu_normals n. */
 vec4 triangle_v0(int t) { return texelFetch(triangle_texels, 3 * t); }
@@ -94,10 +108,23 @@ vec4 normals_n2(int n) { return texelFetch(normals_texels, 3 * n + 2); }
 /* The fields of struct gpu_emitter e (path mode). */
 vec4 emitter_emission_pick(int e) { return texelFetch(emitter_texels, 2 * e); }
 vec4 emitter_primitive_cdf(int e) { return texelFetch(emitter_texels, 2 * e + 1); }
+/* Texel k of the environment map and float k of its sampling tables, four a texel after it. */
+vec4 environment_texel(int k) { return texelFetch(environment_texels, k); }
+float environment_float(int k) {
+    int map = int(frame.env_width * frame.env_height);
+    return texelFetch(environment_texels, map + k / 4)[k & 3];
+}
 /* vec4 f of struct gpu_bvh_node k as uints (0 left_lo, 1 left_hi, 2 right_lo, 3 right_hi). */
 uvec4 node_field(uint k, uint f) { return texelFetch(node_texels, int(4u * k + f)); }
 /* vec4 f of struct gpu_wide_node k (0 origin_exponents, 1 refs, 2 lo, 3 hi). */
 uvec4 wide_node_field(uint k, uint f) { return texelFetch(wide_node_texels, int(4u * k + f)); }
+
+/* Row r of struct gpu_instance i's to_object and to_world, and its model (common/instance.h). */
+vec4 instance_to_object(int i, int r) { return uintBitsToFloat(texelFetch(instance_texels, 7 * i + r)); }
+vec4 instance_to_world(int i, int r) {
+    return uintBitsToFloat(texelFetch(instance_texels, 7 * i + 3 + r));
+}
+uvec4 instance_model(int i) { return texelFetch(instance_texels, 7 * i + 6); }
 
 /* Loop counts: a specialization constant when small enough to unroll, else the frame's. */
 uint sphere_count() { return UNROLLED_SPHERES > 0u ? UNROLLED_SPHERES : frame.sphere_count; }
@@ -114,6 +141,7 @@ bool use_bvh() { return UNROLLED_SPHERES == 0u && frame.node_count > 0u; }
 #include "common/path.h"
 #include "common/report.h"
 #include "common/film_sum.h"
+#include "common/adaptive.h"
 
 /* The pixel of this invocation within the tile. Workgroup n of the dispatch takes block
  * (n * pass.group_stride) mod (the dispatch's workgroups), a stride coprime with that count:
@@ -165,6 +193,13 @@ void main() {
     loop_overflow = false;
     rays_traced = 0u;
     uint s = pass.first_sample, left = pass.sample_count;
+    /* The noise threshold's state (common/adaptive.h) in the pixel's last two blocks: the odd
+     * chunks' sum, the chunk it stopped at (0 while sampled). */
+    bool adaptive = pass.noise_threshold != 0u;
+    float threshold = uintBitsToFloat(pass.noise_threshold);
+    uint state = pass.stack_depth - 2u;
+    vec3 odd = adaptive ? chunk_stack_load(slot, state) : vec3(0.0);
+    uint stopped = adaptive ? uint(CHUNK_STACK_FLOAT(state + 1u, 0u)) : 0u;
     for (uint c = 0u; c < pass.chunk_count; c++) {
         if (c > 0u || (pass.chunk_flags & TZ_CHUNK_OPEN) != 0u) {
             sum = vec4(0.0, 0.0, 0.0, sum.w);
@@ -172,6 +207,19 @@ void main() {
         }
         bool last = c + 1u == pass.chunk_count;
         uint n = last ? left : TZ_CHUNK_SAMPLES - s % TZ_CHUNK_SAMPLES;
+        uint chunk = s / TZ_CHUNK_SAMPLES;
+        if (adaptive && stopped == 0u && s % TZ_CHUNK_SAMPLES == 0u &&
+            !adaptive_goes_on(chunk_stack_total(slot, pass.stack_slot[c] & 0xffffu), odd, chunk,
+                              threshold))
+            stopped = chunk;
+        if (stopped != 0u) { /* its samples are not drawn: the chunk is zero */
+            s += n;
+            left -= n;
+            if (!last || (pass.chunk_flags & TZ_CHUNK_CLOSE) != 0u)
+                chunk_push(slot, pass.stack_slot[c] & 0xffffu, pass.stack_slot[c] >> 16u,
+                           film_sum_value(sum.xyz, comp));
+            continue;
+        }
 #if defined(TZ_PATH_REGENERATE_MODULE)
         /* A pass a vertex, a lane whose path ended starting its pixel's next sample at once: the
          * batch's loop runs its longest lane's vertices, not each sample's longest path. For the
@@ -199,9 +247,14 @@ void main() {
         s += n;
         left -= n;
         if (!last || (pass.chunk_flags & TZ_CHUNK_CLOSE) != 0u) {
-            chunk_push(slot, pass.stack_slot[c] & 0xffffu, pass.stack_slot[c] >> 16u,
-                       film_sum_value(sum.xyz, comp));
+            vec3 v = film_sum_value(sum.xyz, comp);
+            chunk_push(slot, pass.stack_slot[c] & 0xffffu, pass.stack_slot[c] >> 16u, v);
+            if (adaptive && chunk % 2u == 1u) odd = odd + v;
         }
+    }
+    if (adaptive) {
+        chunk_stack_store(slot, state, odd);
+        chunk_stack_store(slot, state + 1u, vec3(float(stopped), 0.0, 0.0));
     }
     accum[slot] = sum;
     if ((pass.chunk_flags & TZ_CHUNK_CLOSE) == 0u) accum_comp[slot] = vec4(comp, 0.0);

@@ -459,4 +459,30 @@ camera_scene "0 0 1" "0 -1 0" >flipped-camera.scene
 "$tz" render flipped-camera.scene --backend cpu -o flipped-camera.pfm --quiet
 if cmp -s flipped-camera.pfm odd-camera.pfm; then ok; else bad "odd-camera: differs from unit vectors"; fi
 
+# Feature images and the noise threshold from the command line (test_aov.c and test_adaptive.c
+# check what they compute): their refusals; the files --aov-files writes; a merge of a region
+# split writes the whole render's feature images; a threshold no pixel passes changes nothing,
+# and one every pixel passes at the first decision is the render of its 64 samples.
+run aov-unknown 2 "$tz" render --backend cpu --aov albedo,shine -o aov.exr
+run aov-png 2 "$tz" render --backend cpu --aov albedo -o aov.png
+run aov-files-alone 2 "$tz" render --backend cpu --aov-files -o aov.exr
+run aov-files-part 2 "$tz" render --backend cpu --aov depth --aov-files --samples 0:16 -o aov.exr
+run aov-files 0 "$tz" render --backend cpu --width 16 --spp 4 -q --aov albedo,depth --aov-files -o aov.pfm
+if [ -s aov.albedo.pfm ] && [ -s aov.depth.pfm ] && [ ! -e aov.normal.pfm ]; then ok; else bad "aov-files: not the files asked for"; fi
+run aov-part-top 0 "$tz" render --backend cpu --width 16 --spp 4 -q --aov albedo,depth --region 0,16,0,8 -o aov-top.exr
+run aov-part-bottom 0 "$tz" render --backend cpu --width 16 --spp 4 -q --aov albedo,depth --region 0,16,8,16 -o aov-bottom.exr
+run aov-merge 0 "$tz" merge aov-top.exr aov-bottom.exr -q --aov-files -o aov-merged.pfm
+for k in albedo depth; do
+    cmp -s "aov.$k.pfm" "aov-merged.$k.pfm" && ok || bad "aov-merge: $k differs from the whole render's"
+done
+run threshold-samples 2 "$tz" render --backend cpu --noise-threshold 0.1 --samples 16:32 -o t.exr
+run threshold-none 0 "$tz" render --backend cpu --width 16 --spp 96 -q --noise-threshold 1e-30 -o t-none.pfm
+run threshold-off 0 "$tz" render --backend cpu --width 16 --spp 96 -q -o t-off.pfm
+cmp -s t-none.pfm t-off.pfm && ok || bad "threshold-none: differs from the render without one"
+run threshold-all 0 "$tz" render --backend cpu --width 16 --spp 96 -q --noise-threshold 1e6 -o t-all.pfm
+run threshold-64 0 "$tz" render --backend cpu --width 16 --spp 64 -q -o t-64.pfm
+cmp -s t-all.pfm t-64.pfm && ok || bad "threshold-all: differs from the render of 64 samples"
+printf 'camera position 0 0 -5\nplane width 1 height 1 pixel 0.25\nlight position 0 5 -5 power 10\nrender noise_threshold -1\n' >t-bad.scene
+run threshold-scene-bad 2 "$tz" render --backend cpu t-bad.scene -o t.png
+
 check_summary cli_test

@@ -61,6 +61,18 @@ for backend in cpu vulkan; do
     run "$backend deep merge" 0 $tz merge deep_2.exr deep_0.exr deep_1.exr -o deep.pfm
     same "$backend deep samples" deep.pfm deep_whole.pfm
 done
+# Depth of field: the lens's numbers come from each sample's own sampler dimensions, so a thin
+# lens render (scenes/lens.scene, path mode, Sobol) split by regions and samples merges exactly.
+lens_scene="$(dirname "$0")/../scenes/lens.scene"
+for backend in cpu vulkan; do
+    lens="render $lens_scene --width 40 --spp 40 --quiet --backend $backend"
+    $tz $lens -o lens_whole.pfm 2>/dev/null
+    $tz $lens --region 0,40,0,9 -o lens_top.exr 2>/dev/null
+    $tz $lens --region 0,40,9,25 --samples 0:16 -o lens_low0.exr 2>/dev/null
+    $tz $lens --region 0,40,9,25 --samples 16:40 -o lens_low1.exr 2>/dev/null
+    run "$backend lens merge" 0 $tz merge lens_low1.exr lens_top.exr lens_low0.exr -o lens.pfm
+    same "$backend lens split" lens.pfm lens_whole.pfm
+done
 # The Vulkan back end renders only the region's tiles and the range's samples: its parts merge
 # to its own single render (checked above); the two back ends agree to rounding only.
 
@@ -237,5 +249,18 @@ n=$(sed -n 's/.*every pixel got samples 0:\([0-9]*\) .*/\1/p' "$tmp/err")
 [ -n "$n" ] && [ $((n % 16)) = 0 ] && [ "$n" -gt 0 ] && ok || bad "time limit: '$n' samples, not whole chunks"
 run "time limit samples" 0 $tz render $tl --samples "0:$n" -o tl_n.exr
 same "time limit as samples 0:$n" tl.exr tl_n.exr
+
+# An environment-lit scene (its map's importance tables, its slot in the emitter pick): regions
+# and sample ranges merge to the whole render on both back ends.
+sky="$(dirname "$0")/../scenes/sky.scene --width 32 --spp 32 --quiet"
+for backend in cpu vulkan; do
+    r="render $sky --backend $backend"
+    run "$backend sky whole" 0 $tz $r -o sky.pfm
+    run "$backend sky top" 0 $tz $r --region 0,32,0,9 -o sky_top.exr
+    run "$backend sky bottom 0:16" 0 $tz $r --region 0,32,9,24 --samples 0:16 -o sky_b0.exr
+    run "$backend sky bottom 16:32" 0 $tz $r --region 0,32,9,24 --samples 16:32 -o sky_b1.exr
+    run "$backend sky merge" 0 $tz merge sky_b1.exr sky_top.exr sky_b0.exr -o sky_merged.pfm
+    same "$backend sky split" sky_merged.pfm sky.pfm
+done
 
 check_summary split_test

@@ -38,7 +38,7 @@ static void test_digest(void) {
     material *parsed = s.materials, both[2] = {s.materials[0], {0}};
     material *m = &both[1];
     *m = (material){.kind = TZ_MATERIAL_LAMBERTIAN, .color = {0.8f, 0.8f, 0.8f}, .ior = 1.0f};
-    face_normals n = {{{0, 0, 1}, {0, 0, 1}, {0, 0, 1}}};
+    face_normals n = {.n = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}}};
     triangle t = {.v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, .material = 1, .normals = TRIANGLE_FLAT};
     s.triangles = &t;
     s.triangle_count = 1;

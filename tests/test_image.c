@@ -66,7 +66,7 @@ static void test_film_average(void) {
     /* 3x2: plain sample, four samples, no samples, one channel at zero, and so on */
     float accum[] = {0.5f, 1.0f, 1.5f, 1.0f, 4.0f, 2.0f, 1.0f, 4.0f, 9.0f, 9.0f, 9.0f, 0.0f,
                      0.0f, 3.0f, 0.0f, 3.0f, 0.0f, 0.0f, 0.0f, 0.0f, -1.f, 2.0f, 8.0f, 2.0f};
-    film f = {3, 2, accum, 0};
+    film f = {.width = 3, .height = 2, .accum = accum};
     image img;
     EXPECT(image_from_film(&f, &img));
     float want[] = {0.5f, 1.0f, 1.5f, 1.0f, 0.5f, 0.25f, 0.0f,  0.0f, 0.0f,

@@ -3,7 +3,9 @@
  * another file name, which loads as faces); 1,000 instances of a 100,000-face model hold about
  * one model's memory; 1,000 moved, turned and scaled instances render the image of their copies
  * flattened in double within the bound of rays moved into each instance's space; the reference
- * and packet builds agree bit for bit; a singular transform is an error at its line. */
+ * and packet builds agree bit for bit; a singular transform is an error at its line. With the
+ * argument `vulkan`: every Vulkan walk the device has renders the CPU back end's bits (exit 77
+ * only without a Vulkan device). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,6 +14,7 @@
 #include "check.h"
 #include "mesh_test.h"
 #include "render/scene_pack.h"
+#include "render/vk/vk_context.h"
 #include "tmp_dir.h"
 
 /* A bumpy UV sphere of 2 segments (rings - 1) faces as the OBJ tmpdir/name. */
@@ -268,11 +271,83 @@ static void test_singular(void) {
     if (ok) scene_free(&s);
 }
 
-int main(void) {
-    tmp_dir_make("test_instances");
+/* The walks of the Vulkan back end, and their names. */
+static const render_walk walks[] = {RENDER_WALK_COMPUTE, RENDER_WALK_COOPERATIVE,
+                                    RENDER_WALK_RAY_QUERY};
+static const char *const walk_names[] = {"compute", "cooperative", "rayquery"};
+
+/* Scene text on the CPU back end and on every Vulkan walk the device has, in report mode (with
+ * the indirect bounce) and path mode: the same film bit for bit. */
+static void expect_walks_agree(const char *what, const char *text) {
+    scene s;
+    scene_error err;
+    bool ok = parse(text, 1, &s, &err);
+    CHECK(ok, "%s: %s", what, err.message);
+    if (!ok) return;
+    CHECK(s.instance_count > 0, "%s: no instances", what);
+    for (int path = 0; path < 2; path++) {
+        render_opts o;
+        render_opts_from_scene(&s, &o);
+        o.mode = path ? RENDER_MODE_PATH : RENDER_MODE_REPORT;
+        o.indirect = !path;
+        o.bounces = 4;
+        o.validate = true;
+        film cpu = {0};
+        CHECK(render_film(&render_backend_cpu, &s, &o, &cpu), "%s: the CPU render failed", what);
+        for (size_t w = 0; w < sizeof walks / sizeof walks[0]; w++) {
+            o.walk = walks[w];
+            film gpu = {0};
+            bool rendered = render_film(&render_backend_vulkan, &s, &o, &gpu);
+            /* a device without ray queries refuses that walk (test_vk_rayquery checks it) */
+            if (!rendered && walks[w] == RENDER_WALK_RAY_QUERY) continue;
+            CHECK(rendered, "%s: the %s walk failed", what, walk_names[w]);
+            CHECK(rendered && cpu.accum && same_film(&cpu, &gpu) && cpu.nonfinite == gpu.nonfinite,
+                  "%s, %s mode: the %s walk differs from the CPU back end", what,
+                  path ? "path" : "report", walk_names[w]);
+            printf("%s, %s mode, %s walk: %s\n", what, path ? "path" : "report", walk_names[w],
+                   rendered ? "the CPU's bits" : "failed");
+            film_free(&gpu);
+        }
+        film_free(&cpu);
+    }
+    scene_free(&s);
+}
+
+/* Identity instances of a 100,000-face model, and 300 moved, turned and scaled instances of a
+ * 200-face one among a plain mesh line's faces and spheres, on every Vulkan walk. */
+static void test_vulkan(void) {
+    char text[2048];
+    snprintf(text, sizeof text,
+             "%smesh lambertian file big.obj color 0.8 0.3 0.2 smooth on\nmesh lambertian "
+             "file big.obj color 0.8 0.3 0.2 smooth on\n",
+             header);
+    expect_walks_agree("identity", text);
+    char *grid = grid_text("small.obj", 300);
+    size_t len = strlen(grid);
+    char *mixed = malloc(len + 512);
+    snprintf(mixed, len + 512,
+             "%smesh mirror file big_copy.obj scale 0.5 translate 0 1 4\n"
+             "sphere refractive center 2 1 -2 radius 0.8\n",
+             grid);
+    free(grid);
+    expect_walks_agree("moved", mixed);
+    free(mixed);
+}
+
+int main(int argc, char **argv) {
+    bool vulkan = argc > 1 && !strcmp(argv[1], "vulkan");
+    if (vulkan && vk_context_device_count() == 0) {
+        printf("test_instances: no Vulkan device, skipped\n");
+        return 77;
+    }
+    tmp_dir_make(vulkan ? "test_instances_vulkan" : "test_instances");
     write_model("big.obj", 201, 250); /* 2 x 250 x 200 = 100,000 faces */
     write_model("big_copy.obj", 201, 250);
     write_model("small.obj", 11, 10); /* 200 faces */
+    if (vulkan) {
+        test_vulkan();
+        return check_summary("test_instances vulkan");
+    }
     test_identity();
     test_moved();
     test_thousand();

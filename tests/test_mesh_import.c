@@ -212,10 +212,23 @@ static bool parse_path_mode(const char *name, scene *s) {
     return ok;
 }
 
-/* glTF's metallic-roughness factors map to Phong with max(color) + ks at most 1: a metal
- * reflects its base colour's mean and diffuses nothing (it kept its base colour as diffuse and
- * added ks 1), a dielectric reflects 0.04 and diffuses 0.96 of its base colour; none warns. A
- * file's Phong material above 1 (MTL Kd 0.8, Ks 0.5) warns in path mode, naming it. */
+/* The L's quads written in the scene's space with the material words and keys given. */
+static void l_quads_text(char *out, size_t size, const char *material) {
+    snprintf(out, size, L_HEADER);
+    for (int q = 0; q < L_QUADS; q++) {
+        size_t n = strlen(out);
+        n += (size_t)snprintf(out + n, size - n, "quad %s", material);
+        for (int k = 0; k < 4; k++)
+            n += (size_t)snprintf(out + n, size - n, " v%d %g %g %g", k, l_quads[q][k][0],
+                                  l_quads[q][k][1], l_quads[q][k][2]);
+        snprintf(out + n, size - n, "\n");
+    }
+}
+
+/* glTF's metallic-roughness factors map to pbr exactly (base colour, metallic, roughness; none
+ * warns), and the L of such a file renders bit for bit as its quads written with pbr keys; a
+ * factor outside [0, 1] is an error naming the material. A file's Phong material above 1 (MTL
+ * Kd 0.8, Ks 0.5) warns in path mode, naming it. */
 static void test_bright_materials(void) {
     write_l_files();
     const float bases[2][3] = {{1, 1, 1}, {0.9f, 0.6f, 0.2f}}, metals[3] = {0, 0.5f, 1};
@@ -224,7 +237,7 @@ static void test_bright_materials(void) {
             char materials[256], gltf[2048];
             snprintf(materials, sizeof materials,
                      "[{\"name\":\"m\",\"pbrMetallicRoughness\":{\"baseColorFactor\":"
-                     "[%g,%g,%g,1],\"metallicFactor\":%g,\"roughnessFactor\":0.5}}]",
+                     "[%g,%g,%g,1],\"metallicFactor\":%g,\"roughnessFactor\":0.3}}]",
                      (double)bases[b][0], (double)bases[b][1], (double)bases[b][2],
                      (double)metals[k]);
             gltf_text(gltf, sizeof gltf, materials);
@@ -232,24 +245,47 @@ static void test_bright_materials(void) {
             scene s;
             if (!parse_path_mode("metal.gltf", &s)) continue;
             const material *m = triangle_material(&s, &s.triangles[0]);
-            float most = fmaxf(m->color.x, fmaxf(m->color.y, m->color.z)),
-                  mean = (bases[b][0] + bases[b][1] + bases[b][2]) / 3.0f;
-            CHECK(m->kind == TZ_MATERIAL_PHONG && most + m->ks <= 1.0f + 1e-6f,
-                  "base %g metallic %g: max(color) %g + ks %g above 1", (double)bases[b][1],
-                  (double)metals[k], (double)most, (double)m->ks);
-            if (metals[k] == 1.0f)
-                CHECK(most == 0.0f && fabsf(m->ks - mean) < 1e-6f,
-                      "metal of base mean %g: color %g, ks %g", (double)mean, (double)most,
-                      (double)m->ks);
+            CHECK(m->kind == TZ_MATERIAL_PBR && m->color.x == bases[b][0] &&
+                      m->color.y == bases[b][1] && m->color.z == bases[b][2] &&
+                      m->metallic == metals[k] && m->roughness == 0.3f && m->ior == 1.5f,
+                  "base %g metallic %g: kind %d color %g metallic %g roughness %g",
+                  (double)bases[b][1], (double)metals[k], m->kind, (double)m->color.y,
+                  (double)m->metallic, (double)m->roughness);
             CHECK(s.warning_count == 0, "base %g metallic %g: warned %s", (double)bases[b][1],
                   (double)metals[k], s.warning_count ? s.warnings[0].message : "");
             scene_free(&s);
+            char keys[128], quads[8192], text[512];
+            snprintf(keys, sizeof keys, "pbr color %g %g %g metallic %g roughness 0.3",
+                     (double)bases[b][0], (double)bases[b][1], (double)bases[b][2],
+                     (double)metals[k]);
+            l_quads_text(quads, sizeof quads, keys);
+            snprintf(text, sizeof text, L_HEADER "mesh file metal.gltf\n");
+            film want = {0}, got = {0};
+            if (render_text("pbr quads", quads, &want) && render_text("metal.gltf", text, &got)) {
+                size_t bytes = (size_t)want.width * want.height * 4 * sizeof *want.accum;
+                CHECK(got.width == want.width && got.height == want.height &&
+                          !memcmp(got.accum, want.accum, bytes),
+                      "base %g metallic %g: the glTF's image is not its faces' with pbr keys",
+                      (double)bases[b][1], (double)metals[k]);
+            }
+            film_free(&want);
+            film_free(&got);
         }
+    char gltf[2048];
+    gltf_text(gltf, sizeof gltf,
+              "[{\"name\":\"bent\",\"pbrMetallicRoughness\":{\"roughnessFactor\":1.5}}]");
+    write_text("bent.gltf", gltf);
+    scene s;
+    scene_error err;
+    bool parsed = parse(L_HEADER "mesh file bent.gltf\n", 1, &s, &err);
+    CHECK(!parsed && strstr(err.message, "bent.gltf") && strstr(err.message, "'bent'") &&
+              strstr(err.message, "roughness factor is 1.5, outside [0, 1]"),
+          "a roughness factor of 1.5: %s", parsed ? "parsed" : err.message);
+    if (parsed) scene_free(&s);
     write_text("shiny.mtl", "newmtl shiny\nKd 0.8 0.8 0.8\nKs 0.5 0.5 0.5\nNs 20\n");
     write_text("shiny.obj",
                "mtllib shiny.mtl\nv 0 0 1\nv 1 0 1\nv 0 1 1\nusemtl shiny\n"
                "f 1 2 3\n");
-    scene s;
     if (parse_path_mode("shiny.obj", &s)) {
         CHECK(s.warning_count == 1 && s.warnings[0].line == 4 && s.warnings[0].col == 11 &&
                   strstr(s.warnings[0].message,

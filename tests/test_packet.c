@@ -50,6 +50,25 @@ static const char facets[] =
     "background 0.1 0.1 0.2\n"
     "render mode path\n";
 
+/* The microfacet kinds: rough mirrors and pbr spheres and faces (one smooth, so that its lobes
+ * fold), under a point light and emitters, beside a Phong sphere; path mode (seed mode's test
+ * drops the emission). */
+static const char rough[] =
+    "camera position 0 1 -5 direction 0 -0.15 1 up 0 1 0\n"
+    "plane width 4 height 4 pixel 0.1\n"
+    "light position 2 3 -2 power 20\n"
+    "quad pbr v0 -3 -1 -3 v1 -3 -1 3 v2 3 -1 3 v3 3 -1 -3 color 0.7 0.6 0.5 roughness 0.6\n"
+    "triangle pbr v0 -2 -1 2 v1 -1 1.5 2.5 v2 0.5 -1 2 metallic 1 roughness 0.2 "
+    "color 0.9 0.7 0.3 n0 0 0.3 -1 n1 0.4 0 -1 n2 -0.3 0.2 -1\n"
+    "sphere mirror center -1.2 -0.4 0.5 radius 0.6 roughness 0.3 color 0.9 0.9 0.9\n"
+    "sphere mirror center 1.2 -0.4 0.5 radius 0.6 roughness 0.05\n"
+    "sphere pbr center 0 -0.5 -0.5 radius 0.5 color 0.8 0.1 0.1 roughness 0.4 metallic 0.3\n"
+    "sphere pbr center 0.3 0.6 1 radius 0.4 color 0.2 0.8 0.2 roughness 1\n"
+    "sphere phong center -0.4 0.5 -1 radius 0.3 ks 0.4 alpha 20\n"
+    "sphere lambertian center 0 3 0 radius 0.5 color 0 0 0 emission 6 6 5\n"
+    "background 0.1 0.1 0.2\n"
+    "render mode path\n";
+
 static int bits_equal(vec3 a, vec3 b) { return memcmp(&a, &b, sizeof a) == 0; }
 
 /* The builds under test (seed or path mode) and the one-sample reference they must match. */
@@ -382,6 +401,7 @@ static void compare_path_builds(void) {
     compare_text("facets", facets, sizeof facets - 1);
     compare_text("lit", lit, sizeof lit - 1);
     compare_text("tangle", tangle, sizeof tangle - 1);
+    compare_text("rough", rough, sizeof rough - 1);
     const gen_desc random200 = {.kind = GEN_RANDOM, .count = 200, .seed = 3};
     compare_written("random 200 with an emitter", write_generated_lit, &random200);
     compare_written("cloud", write_cloud, NULL);
@@ -408,6 +428,7 @@ int main(void) {
                            "mirror.scene",  "refraction.scene", "all.scene"};
     for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) compare_file(files[k]);
     compare_written("facets", write_seed_mode, facets);
+    compare_written("rough", write_seed_mode, rough);
     /* Triangle scenes through the BVH, lit by a point light (the name keeps the models' folder) */
     char box[4096], mesh[4096];
     if (read_scene("cornell_box.scene", box, sizeof box, "light position -278 500 279 power 4e5"))

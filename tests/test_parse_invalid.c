@@ -13,15 +13,31 @@ typedef struct invalid_case {
 static const invalid_case invalid_cases[] = {
     {"unknown directive", BYTES(BASE "spere lambertian"), 3, 1,
      "unknown directive 'spere' (expected one of: camera plane light sphere triangle quad "
-     "mesh background render)"},
+     "mesh environment background render)"},
     {"unknown key", BYTES(BASE "sphere lambertian center 0 0 0 radiu 1"), 3, 32,
-     "unknown key 'radiu' for sphere lambertian (expected one of: center radius color emission)"},
+     "unknown key 'radiu' for sphere lambertian (expected one of: center radius color emission and "
+     "the texture keys)"},
     {"ior on lambertian", BYTES(BASE "sphere lambertian center 0 0 0 radius 1 ior 1.5"), 3, 41,
-     "unknown key 'ior' for sphere lambertian (expected one of: center radius color emission)"},
+     "unknown key 'ior' for sphere lambertian (expected one of: center radius color emission and "
+     "the texture keys)"},
     {"ks on mirror", BYTES(BASE "sphere mirror center 0 0 0 radius 1 ks 0.5"), 3, 37,
-     "unknown key 'ks' for sphere mirror (expected one of: center radius color emission)"},
+     "unknown key 'ks' for sphere mirror (expected one of: center radius color emission "
+     "roughness and the texture keys)"},
+    {"ks on pbr", BYTES(BASE "sphere pbr center 0 0 0 radius 1 ks 0.5"), 3, 34,
+     "unknown key 'ks' for sphere pbr (expected one of: center radius color ior emission "
+     "roughness metallic and the texture keys)"},
+    {"roughness on lambertian", BYTES(BASE "sphere lambertian center 0 0 0 radius 1 roughness 1"),
+     3, 41, "unknown key 'roughness' for sphere lambertian"},
+    {"roughness above 1", BYTES(BASE "sphere mirror center 0 0 0 radius 1 roughness 1.5"), 3, 47,
+     "roughness must be in [0, 1], got 1.5"},
+    {"roughness below 0", BYTES(BASE "sphere pbr center 0 0 0 radius 1 roughness -0.1"), 3, 44,
+     "roughness must be in [0, 1], got -0.1"},
+    {"metallic above 1", BYTES(BASE "sphere pbr center 0 0 0 radius 1 metallic 2"), 3, 43,
+     "metallic must be in [0, 1], got 2"},
+    {"pbr ior below 1", BYTES(BASE "triangle pbr v0 0 0 0 v1 1 0 0 v2 0 1 0 ior 0.5"), 3, 45,
+     "ior must be >= 1, got 0.5"},
     {"unknown key lists phong keys", BYTES(BASE "sphere phong center 0 0 0 radius 1 ior 2"), 3, 36,
-     "(expected one of: center radius color ks alpha emission)"},
+     "(expected one of: center radius color ks alpha emission and the texture keys)"},
     {"emission in report mode",
      BYTES(BASE "sphere lambertian center 0 0 0 radius 1 emission 1 1 1"), 3, 41,
      "emission needs path mode: add 'render mode path'"},
@@ -302,11 +318,11 @@ static const invalid_case invalid_cases[] = {
      7, 35, "radius must be in (0, 1e+18], got -2"},
     /* triangle and quad */
     {"triangle without material", BYTES(BASE "triangle"), 3, 9,
-     "expected a material after 'triangle' (lambertian, phong, mirror), got end of line"},
+     "expected a material after 'triangle' (lambertian, phong, mirror, pbr), got end of line"},
     {"quad without material", BYTES(BASE "quad "), 3, 5,
-     "expected a material after 'quad' (lambertian, phong, mirror), got end of line"},
+     "expected a material after 'quad' (lambertian, phong, mirror, pbr), got end of line"},
     {"unknown triangle material", BYTES(BASE "triangle glass v0 0 0 0 v1 1 0 0 v2 0 1 0"), 3, 10,
-     "unknown material 'glass' for triangle (expected one of: lambertian phong mirror, or "
+     "unknown material 'glass' for triangle (expected one of: lambertian phong mirror pbr, or "
      "lambertiana espejo)"},
     {"refractive triangle", BYTES(BASE "triangle refractive v0 0 0 0 v1 1 0 0 v2 0 1 0 ior 1.5"), 3,
      10,
@@ -315,13 +331,18 @@ static const invalid_case invalid_cases[] = {
     {"refractada quad", BYTES(BASE "quad refractada v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 0"), 3, 6,
      "a quad cannot be 'refractada': glass needs a closed mesh"},
     {"n0 on a quad", BYTES(BASE "quad lambertian v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 0 n0 0 0 1"), 3,
-     53, "unknown key 'n0' for quad lambertian (expected one of: v0 v1 v2 v3 color emission)"},
+     53,
+     "unknown key 'n0' for quad lambertian (expected one of: v0 v1 v2 v3 uv0 uv1 uv2 uv3 color "
+     "emission and the texture keys)"},
     {"ior on a phong triangle", BYTES(BASE "triangle phong v0 0 0 0 v1 1 0 0 v2 0 1 0 ior 2"), 3,
      43,
-     "unknown key 'ior' for triangle phong (expected one of: v0 v1 v2 n0 n1 n2 color ks alpha "
-     "emission)"},
+     "unknown key 'ior' for triangle phong (expected one of: v0 v1 v2 n0 n1 n2 uv0 uv1 uv2 color "
+     "ks alpha "
+     "emission and the texture keys)"},
     {"ks on a mirror quad", BYTES(BASE "quad espejo v0 0 0 0 v1 1 0 0 v2 1 1 0 v3 0 1 0 ks 1"), 3,
-     49, "unknown key 'ks' for quad espejo (expected one of: v0 v1 v2 v3 color emission)"},
+     49,
+     "unknown key 'ks' for quad espejo (expected one of: v0 v1 v2 v3 uv0 uv1 uv2 uv3 color "
+     "emission roughness and the texture keys)"},
     {"triangle v1 twice", BYTES(BASE "triangle mirror v0 0 0 0 v1 1 0 0 v2 0 1 0 v1 1 1 1"), 3, 44,
      "'v1' given twice"},
     {"triangle missing v2", BYTES(BASE "triangle mirror v0 0 0 0 v1 1 0 0"), 3, 1,

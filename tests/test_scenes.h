@@ -25,10 +25,45 @@ static inline bool parse_scene_text(const char *text, scene *s, render_opts *opt
     return true;
 }
 
+/* Expects the scene text to fail at line:col with a message containing `part`. */
+static inline void expect_parse_error(const char *text, int line, int col, const char *part) {
+    scene s;
+    scene_error err;
+    bool ok = scene_parse_string(text, strlen(text), "t.scene", &s, &err);
+    CHECK(!ok, "parsed: %s", text);
+    if (ok) {
+        scene_free(&s);
+        return;
+    }
+    CHECK(err.line == line && err.col == col && strstr(err.message, part),
+          "%s: got %d:%d: %s, want %d:%d ... %s", text, err.line, err.col, err.message, line, col,
+          part);
+}
+
 /* Renders on the Vulkan or the CPU back end into f; false on failure. */
 static inline bool render_on(bool vulkan, const scene *s, const render_opts *opts, film *f) {
     return vulkan ? render_film(&render_backend_vulkan, s, opts, f)
                   : render_film(&render_backend_cpu, s, opts, f);
+}
+
+/* Renders scene text on the CPU and the Vulkan back ends in report mode and in path mode (4
+ * bounces), expecting the same film bit for bit in each. */
+static inline void expect_back_ends_agree(const char *text) {
+    for (int mode = 0; mode < 2; mode++) {
+        scene s;
+        render_opts o;
+        film a = {0}, b = {0};
+        if (!parse_scene_text(text, &s, &o)) continue;
+        o.mode = mode ? RENDER_MODE_PATH : RENDER_MODE_REPORT;
+        if (mode) o.bounces = 4;
+        CHECK(render_on(false, &s, &o, &a) && render_on(true, &s, &o, &b), "mode %d", mode);
+        CHECK(a.accum && b.accum &&
+                  !memcmp(a.accum, b.accum, (size_t)a.width * a.height * 4 * sizeof(float)),
+              "mode %d: the CPU and Vulkan films differ", mode);
+        film_free(&a);
+        film_free(&b);
+        scene_free(&s);
+    }
 }
 
 /* The materials of the spheres ball() makes, one each, for every scene view() makes (they hold

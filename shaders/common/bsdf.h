@@ -8,12 +8,22 @@
 #define TRAZADOR_COMMON_BSDF_H
 
 #include "dialect.h"
+#include "microfacet.h"
 #include "sampling.h"
 #include "shade.h"
 
-/* A material as a hit reads it (struct gpu_material): kind TZ_MATERIAL_*, color the kd of a lobe
- * or the tint of a delta, the Phong weight ks (0: Lambertian) and exponent alpha, the refractive
- * index ior. */
+/* Whether the microfacet kinds' code is live: where the flags are a specialization constant
+ * (trace.comp) a scene without them compiles it out, as primitive.h does the triangles'. */
+#ifdef GL_core_profile
+#define TZ_MICROFACET_ON ((FLAGS & TZ_FLAG_MICROFACET) != 0u)
+#else
+#define TZ_MICROFACET_ON 1
+#endif
+
+/* A material as a hit reads it (struct gpu_material): kind TZ_MATERIAL_*, color the kd of a lobe,
+ * the tint of a delta or a conductor, pbr's base colour, the Phong weight ks (0: Lambertian) or
+ * pbr's metallic, alpha the Phong exponent or the GGX width (roughness^2) of the microfacet kinds,
+ * the refractive index ior. A texture overrides these fields at the hit. */
 TZ_STRUCT(bsdf_material) {
     int kind;
     vec3 color;
@@ -36,8 +46,8 @@ TZ_LANE_FN bsdf_material bsdf_material_of(TZ_VEC4 color_ks, TZ_VEC4 params) {
 }
 
 /* The switch of material kinds. A delta (mirror, glass) scatters into one direction, which light
- * sampling cannot reach and report mode follows; every other kind (lambertian, phong) scatters by
- * the Phong lobe below (Lambertian is its ks 0). */
+ * sampling cannot reach and report mode follows; lambertian and phong scatter by the Phong lobe
+ * below (Lambertian is its ks 0), the microfacet kinds by microfacet.h's lobes. */
 TZ_LANE_FN TZ_BOOL bsdf_is_delta(int kind) {
     return (kind == TZ_MATERIAL_MIRROR) TZ_OR(kind == TZ_MATERIAL_REFRACTIVE);
 }
@@ -59,12 +69,27 @@ TZ_FN vec3 bsdf_f_at(bsdf_material m, float x) {
 /* The BRDF of lobe material m for light from wi seen from wo at shading normal n, unfolded (report
  * mode, point lights). */
 TZ_FN vec3 bsdf_f(bsdf_material m, vec3 n, vec3 wi, vec3 wo) {
+    if (TZ_MICROFACET_ON && is_microfacet(m.kind)) {
+        tangent_frame f = basis(n);
+        return microfacet_at(m.kind, m.color, m.ks, m.ior, m.alpha, to_local(f, n, wo),
+                             to_local(f, n, wi))
+            .f;
+    }
     return bsdf_f_at(m, phong_lobe_cos(n, wi, wo));
 }
 
+/* The colour a denoiser takes as material m's albedo (the AOV of shaders/common/aov.h): a lobe's
+ * head-on reflectance kd + ks, a delta's tint. The one place a new kind says its albedo. */
+TZ_LANE_FN vec3 bsdf_albedo(bsdf_material m) {
+    return bsdf_is_delta(m.kind) ? m.color : v3_add(m.color, v3(m.ks, m.ks, m.ks));
+}
+
 /* The share of the cosine lobe in lobe material m's sampling (diffuse_share; -1: it reflects
- * nothing). */
-TZ_LANE_FN float bsdf_share(bsdf_material m) { return diffuse_share(m.color, m.ks); }
+ * nothing); 0 for the microfacet kinds, whose share depends on the way back
+ * (microfacet_spec_share). */
+TZ_LANE_FN float bsdf_share(bsdf_material m) {
+    return is_microfacet(m.kind) ? 0.0f : diffuse_share(m.color, m.ks);
+}
 
 /* The axis of the Phong lobe at shading normal n seen from wo: wo mirrored about n. */
 TZ_LANE_FN vec3 phong_lobe_axis(vec3 n, vec3 wo) {
@@ -116,7 +141,24 @@ TZ_STRUCT(bsdf_value) {
 }
 TZ_STRUCT_END(bsdf_value)
 
+/* bsdf_eval of a microfacet material: its lobes at wi. They do not fold on smooth faces (a
+ * direction below the shading or the geometric hemisphere gives nothing and ends a path): the
+ * fold's second evaluation, summed under precise, sent glslang's propagation of precise past
+ * 16 GB on the module of both modes. */
+TZ_FN bsdf_value microfacet_eval(bsdf_material m, vec3 n, vec3 wi, vec3 wo) {
+    tangent_frame f = basis(n);
+    vec3 lo = to_local(f, n, wo), li = to_local(f, n, wi);
+    microfacet_value a = microfacet_at(m.kind, m.color, m.ks, m.ior, m.alpha, lo, li);
+    bsdf_value v;
+    v.f = a.f;
+    v.f_scale = li.z;
+    v.pdf = a.pdf;
+    v.cos_i = li.z;
+    return v;
+}
+
 TZ_FN bsdf_value bsdf_eval(bsdf_material m, float share, vec3 n, vec3 ng, vec3 wi, vec3 wo) {
+    if (TZ_MICROFACET_ON && is_microfacet(m.kind)) return microfacet_eval(m, n, wi, wo);
     float cos_i = v3_dot(n, wi), x = phong_lobe_cos(n, wi, wo);
     float pdf = bsdf_pdf(share, m.alpha, cos_i, x);
     vec3 f = bsdf_f_at(m, x);
@@ -157,6 +199,20 @@ TZ_LANE_FN TZ_BOOL bsdf_goes_on(TZ_BOOL folds, float cos_i, vec3 ng, vec3 wi, fl
     return (folds TZ_OR(cos_i > 0.0f)) TZ_AND(v3_dot(ng, wi) > 0.0f) TZ_AND(pdf > 0.0f);
 }
 
+/* The direction a microfacet material m draws at shading normal n seen from wo for uniform us,
+ * u1, u2: us under the cosine lobe's share (1 - microfacet_spec_share) the cosine direction of
+ * (u1, u2), else wo reflected about a visible normal (ggx_sample_half). */
+TZ_FN vec3 microfacet_direction(bsdf_material m, vec3 n, vec3 wo, float us, float u1, float u2) {
+    tangent_frame f = basis(n);
+    vec3 lo = to_local(f, n, wo);
+    float ps = microfacet_spec_share(m.kind, m.color, m.ks, m.ior, lo.z, ggx_albedo(lo.z, m.alpha),
+                                     ggx_albedo_avg(m.alpha));
+    if (us < 1.0f - ps) return cosine_direction(n, u1, u2);
+    vec3 h = from_local(f, n, ggx_sample_half(lo, m.alpha, u1, u2));
+    TZ_PRECISE vec3 wi = v3_sub(v3_scale(h, 2.0f * v3_dot(wo, h)), wo);
+    return wi;
+}
+
 /* Draws wi for lobe material m (share its bsdf_share, at least 0) from uniform us, u1, u2 at a
  * vertex of facing normals n and ng, wo the way back: us < share the cosine direction of (u1,
  * u2), else the Phong lobe about n's mirror of wo; a smooth face folds a direction below it above
@@ -164,12 +220,14 @@ TZ_LANE_FN TZ_BOOL bsdf_goes_on(TZ_BOOL folds, float cos_i, vec3 ng, vec3 wi, fl
 TZ_FN bsdf_sample bsdf_sample_lobe(bsdf_material m, float share, vec3 n, vec3 ng, vec3 wo, float us,
                                    float u1, float u2) {
     vec3 wi;
-    if (us < share) {
+    if (TZ_MICROFACET_ON && is_microfacet(m.kind)) {
+        wi = microfacet_direction(m, n, wo, us, u1, u2);
+    } else if (us < share) {
         wi = cosine_direction(n, u1, u2);
     } else {
         wi = phong_lobe_direction(phong_lobe_axis(n, wo), m.alpha, u1, u2);
     }
-    TZ_BOOL folds = folds_at(n, ng);
+    TZ_BOOL folds = folds_at(n, ng) TZ_AND !is_microfacet(m.kind); /* microfacet_eval's */
     if (folds && !(v3_dot(ng, wi) > 0.0f)) wi = mirror_in_plane(wi, ng);
     bsdf_value v = bsdf_eval(m, share, n, ng, wi, wo);
     bsdf_sample s;

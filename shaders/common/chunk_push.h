@@ -31,4 +31,16 @@ TZ_FN void chunk_push(CHUNK_STACK_PARAM TZ_UINT top, TZ_UINT merges, vec3 chunk_
     chunk_stack_store(CHUNK_STACK_ARG top, sum);
 }
 
+/* The total of the stack's first n blocks, folded as chunk_sum_fold does: the top, then each
+ * block below added on its left; zero for n = 0. */
+TZ_FN vec3 chunk_stack_total(CHUNK_STACK_PARAM TZ_UINT n) {
+    /* Not precise: sums alone have nothing to contract, and glslang's propagation of precise
+     * through this loop into main multiplied its compile time by twelve. */
+    vec3 total = v3(0.0f, 0.0f, 0.0f);
+    if (n > 0u) total = chunk_stack_load(CHUNK_STACK_ARG n - 1u);
+    for (TZ_UINT k = n - 1u; n > 0u && k > 0u; k--)
+        total = v3_add(chunk_stack_load(CHUNK_STACK_ARG k - 1u), total);
+    return total;
+}
+
 #endif

@@ -12,7 +12,7 @@
 
 /* precise forbids glslang and the driver to fuse (a * b + c) or reorder: the C compiler does
  * neither (-ffp-contract=off), and without it lavapipe's images change. */
-#define TZ_PRECISE precise
+#define TZ_PRECISE /* every float operation is exact: tools/spirv_exact.c */
 #define TZ_FN
 #define TZ_LANE_FN
 #define TZ_BOOL bool
@@ -28,6 +28,7 @@
 #define TZ_INFINITY uintBitsToFloat(0x7f800000u)
 #define TZ_FLOAT(x) float(x)
 #define TZ_SQRT(x) sqrt(x)
+#define TZ_FLOOR(x) floor(x)
 #define TZ_ABS(x) abs(x)
 #define TZ_MAX(a, b) max(a, b)
 #define TZ_MIN(a, b) min(a, b)
@@ -110,6 +111,7 @@ float v3_max_abs(vec3 a) { return max(abs(a.x), max(abs(a.y), abs(a.z))); }
 #define TZ_INFINITY INFINITY
 #define TZ_FLOAT(x) ((float)(x))
 #define TZ_SQRT(x) sqrtf(x)
+#define TZ_FLOOR(x) floorf(x)
 /* Selects rather than fabsf and fmaxf: the code the C integrator was measured with. */
 #define TZ_ABS(x) ((x) < 0.0f ? -(x) : (x))
 #define TZ_MAX(a, b) ((a) > (b) ? (a) : (b))

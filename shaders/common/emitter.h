@@ -16,30 +16,167 @@
 #include "sampling.h"
 #include "shade.h"
 #include "spherical_triangle.h"
+#include "transcendental.h"
 
-/* The radiance the environment sends along direction d to a ray that meets nothing: the scene's
- * background, the same in every direction. */
-TZ_LANE_FN vec3 environment_radiance(TZ_SCENE_PARAM vec3 d) {
-    TZ_UNUSED(d);
-    return xyz(TZ_FRAME.background);
+/* The environment map (TZ_BINDING_ENVIRONMENT; DESIGN section 3.7): equirectangular, rows from
+ * +y (v = 0) down to -y, the map's direction m at u = 1/2 + atan2(m.x, m.z) / (2 pi), v =
+ * theta / pi, theta its angle from +y, so that its centre column faces +z and +x lies to its
+ * right, seen from inside; world directions turn into the map's by the frame's rows env_x,
+ * env_y, env_z. */
+
+/* Constants as float literals: a C compiler folds 2.0f * TZ_PI * TZ_PI in float, glslang in
+ * double, and the two differed in the last bit. */
+#define TZ_TWO_PI_SQUARED 19.7392088f
+#define TZ_ONE_OVER_TWO_PI 0.159154943f
+#define TZ_ONE_OVER_PI 0.318309886f
+
+/* The direction of the map that world direction d meets. */
+TZ_LANE_FN vec3 environment_map_direction(TZ_SCENE_PARAM vec3 d) {
+    vec3 m = v3(v3_dot(xyz(TZ_FRAME.env_x), d), v3_dot(xyz(TZ_FRAME.env_y), d),
+                v3_dot(xyz(TZ_FRAME.env_z), d));
+    return m;
 }
 
-/* The solid-angle pdf with which light sampling draws direction d toward the environment: 0,
- * the constant background is not sampled as a light. */
+/* The column or row, in [0, size - 1], that coordinate c (texels from the map's edge) falls in;
+ * a NaN or an out-of-range c (the packet builds' idle lanes carry any direction) clamps, in
+ * float, as converting it to int would be undefined. */
+TZ_LANE_FN int environment_index_of(float c, int size) {
+    float last = TZ_FLOAT(size - 1);
+    float inside = c >= 0.0f ? c : 0.0f;
+    return TZ_INT(inside < last ? inside : last);
+}
+
+/* The index of the map's texel that map direction m falls in. Only sums of products are precise
+ * (the rest cannot be contracted into fused operations): glslang's propagation of precise took
+ * minutes and gigabytes over this file's precise values (a product alone needs none). */
+TZ_LANE_FN int environment_texel_of(TZ_SCENE_PARAM vec3 m) {
+    TZ_PRECISE float rho = TZ_SQRT(m.x * m.x + m.z * m.z);
+    float theta = angle_of(rho, m.y);
+    /* along the axis (rho 0) there is no azimuth: the centre column's, not angle_of's NaN */
+    float z = rho > 0.0f ? m.z : 1.0f;
+    float side = m.x < 0.0f ? -1.0f : 1.0f;
+    float azimuth = angle_of(TZ_ABS(m.x), z);
+    TZ_PRECISE float u = 0.5f + side * (azimuth * TZ_ONE_OVER_TWO_PI);
+    float x = u * TZ_FLOAT(TZ_FRAME.env_width);
+    float y = theta * TZ_ONE_OVER_PI * TZ_FLOAT(TZ_FRAME.env_height);
+    int w = TZ_INT(TZ_FRAME.env_width), h = TZ_INT(TZ_FRAME.env_height);
+    return environment_index_of(y, h) * w + environment_index_of(x, w);
+}
+
+/* The radiance the environment sends along direction d to a ray that meets nothing: the map's
+ * texel, or the constant background without a map. */
+TZ_LANE_FN vec3 environment_radiance(TZ_SCENE_PARAM vec3 d) {
+    vec3 seen = xyz(TZ_FRAME.background);
+    if ((TZ_FLAGS & TZ_FLAG_ENVIRONMENT) != 0u) {
+        vec3 m = environment_map_direction(TZ_SCENE_ARG d);
+        seen = xyz(environment_texel(TZ_SCENE_ARG environment_texel_of(TZ_SCENE_ARG m)));
+    }
+    return seen;
+}
+
+/* The solid-angle pdf (the pick included) with which light sampling draws direction d toward
+ * the environment: 0 where the environment is not sampled (the constant background, report
+ * mode). */
 TZ_LANE_FN float environment_pdf(TZ_SCENE_PARAM vec3 d) {
-    TZ_UNUSED(TZ_SCENE_ONLY);
-    TZ_UNUSED(d);
-    return 0.0f;
+    float pdf = 0.0f;
+    if (((TZ_FLAGS & TZ_FLAG_ENVIRONMENT) != 0u) TZ_AND(TZ_FRAME.env_slot > 0u)) {
+        vec3 m = environment_map_direction(TZ_SCENE_ARG d);
+        TZ_PRECISE float sin_theta = TZ_SQRT(m.x * m.x + m.z * m.z);
+        float pick = emitter_emission_pick(TZ_SCENE_ARG TZ_INT(TZ_FRAME.env_slot) - 1).w;
+        float texel = environment_texel(TZ_SCENE_ARG environment_texel_of(TZ_SCENE_ARG m)).w;
+        float p = pick * texel / (TZ_TWO_PI_SQUARED * sin_theta);
+        pdf = sin_theta > 0.0f ? p : 0.0f;
+    }
+    return pdf;
 }
 
 /* The MIS weight of the environment's radiance found along d by a ray the BSDF drew with pdf
  * bsdf_pdf (specular: a camera ray or a mirror's or glass's, which light sampling cannot draw):
- * the power heuristic against environment_pdf, 1 where light sampling never draws d. */
+ * the power heuristic against environment_pdf, 1 where light sampling never draws d or BSDF
+ * sampling is alone, 0 where light sampling is. */
 TZ_LANE_FN float environment_mis_weight(TZ_SCENE_PARAM TZ_BOOL specular, float bsdf_pdf, vec3 d) {
     float light_pdf = environment_pdf(TZ_SCENE_ARG d);
     float n_light = TZ_FLOAT(TZ_FRAME.light_samples);
-    return (specular TZ_OR !(light_pdf > 0.0f)) ? 1.0f
-                                                : power_heuristic(bsdf_pdf, n_light * light_pdf);
+    TZ_BOOL bsdf_only = (TZ_FRAME.flags & TZ_FLAG_BSDF_ONLY) != 0u;
+    TZ_BOOL full = specular TZ_OR !(light_pdf > 0.0f) TZ_OR bsdf_only;
+    float mis = (TZ_FRAME.flags & TZ_FLAG_LIGHTS_ONLY) != 0u
+                    ? 0.0f
+                    : power_heuristic(bsdf_pdf, n_light * light_pdf);
+    return full ? 1.0f : mis;
+}
+
+/* The sun disc's radiance along d weighed by MIS, for a ray the BSDF drew with pdf bsdf_pdf that
+ * met nothing (TZ_FLAG_SUN_DISC): 0 outside its cone; inside, the power heuristic against its
+ * light pdf, pick / (2 pi (1 - cos)), 1 after a specular event or with BSDF sampling alone, 0
+ * with light sampling alone. */
+TZ_LANE_FN vec3 sun_seen(TZ_SCENE_PARAM TZ_BOOL specular, float bsdf_pdf, vec3 d) {
+    TZ_VEC4 sun = TZ_FRAME.sun;
+    TZ_VEC4 emission_pick = emitter_emission_pick(TZ_SCENE_ARG TZ_INT(TZ_FRAME.sun_slot) - 1);
+    TZ_PRECISE float outside = 1.0f - v3_dot(d, xyz(sun));
+    TZ_PRECISE float light_pdf = emission_pick.w / (2.0f * TZ_PI * sun.w);
+    float n_light = TZ_FLOAT(TZ_FRAME.light_samples);
+    TZ_BOOL bsdf_only = (TZ_FRAME.flags & TZ_FLAG_BSDF_ONLY) != 0u;
+    TZ_BOOL full = specular TZ_OR bsdf_only;
+    float mis = (TZ_FRAME.flags & TZ_FLAG_LIGHTS_ONLY) != 0u
+                    ? 0.0f
+                    : power_heuristic(bsdf_pdf, n_light * light_pdf);
+    float w = outside <= sun.w ? (full ? 1.0f : mis) : 0.0f;
+    return v3_scale(xyz(emission_pick), w);
+}
+
+/* The first index k of `count` whose next entry of the table at `first` exceeds u (the cdf
+ * table's entries first..first + count, from 0 to 1), and u's place between the two in [0, 1). */
+TZ_STRUCT(table_pick) {
+    int k;
+    float within;
+}
+TZ_STRUCT_END(table_pick)
+TZ_FN table_pick environment_table_pick(TZ_SCENE_PARAM int first, int count, float u) {
+    int lo = 0, hi = count - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (u < environment_float(TZ_SCENE_ARG first + mid + 1))
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    float below = environment_float(TZ_SCENE_ARG first + lo);
+    float above = environment_float(TZ_SCENE_ARG first + lo + 1);
+    float within = (u - below) / (above - below);
+    table_pick t;
+    t.k = lo;
+    t.within = TZ_MIN(TZ_MAX(within, 0.0f), 0.99999994f);
+    return t;
+}
+
+/* A direction toward the environment drawn by importance for uniform ua, ub: a row of the map
+ * by the marginal table, a texel of it by its conditional one, a point uniform in the texel;
+ * its solid-angle pdf (the pick aside) and the texel's radiance. */
+TZ_STRUCT(environment_sample) {
+    vec3 wi;
+    float pdf;
+    vec3 radiance;
+}
+TZ_STRUCT_END(environment_sample)
+TZ_FN environment_sample environment_sample_at(TZ_SCENE_PARAM float ua, float ub) {
+    int w = TZ_INT(TZ_FRAME.env_width), h = TZ_INT(TZ_FRAME.env_height);
+    table_pick row = environment_table_pick(TZ_SCENE_ARG 0, h, ua);
+    table_pick column = environment_table_pick(TZ_SCENE_ARG h + 1 + row.k * (w + 1), w, ub);
+    float u = (TZ_FLOAT(column.k) + column.within) / TZ_FLOAT(w);
+    float v = (TZ_FLOAT(row.k) + row.within) / TZ_FLOAT(h);
+    cos_sin theta = cos_sin_turn(v * 0.5f);
+    cos_sin phi = cos_sin_turn(u); /* the map's azimuth is 2 pi u - pi: both signs turn */
+    vec3 m = v3(-theta.s * phi.s, theta.c, -theta.s * phi.c);
+    TZ_PRECISE vec3 wi =
+        v3_add(v3_add(v3_scale(xyz(TZ_FRAME.env_x), m.x), v3_scale(xyz(TZ_FRAME.env_y), m.y)),
+               v3_scale(xyz(TZ_FRAME.env_z), m.z));
+    TZ_VEC4 texel = environment_texel(TZ_SCENE_ARG row.k * w + column.k);
+    environment_sample s;
+    s.wi = wi;
+    float pdf = texel.w / (TZ_TWO_PI_SQUARED * theta.s);
+    s.pdf = theta.s > 0.0f ? pdf : 0.0f;
+    s.radiance = xyz(texel);
+    return s;
 }
 
 /* The radiance emitter slot sends along any ray that meets it (both sides of a face, a
@@ -229,7 +366,20 @@ TZ_FN emitter_sample emitter_sample_from(TZ_SCENE_PARAM int slot, int id, vec3 p
     s.wi = v3(0.0f, 0.0f, 0.0f);
     s.pdf = 0.0f;
     s.t_light = TZ_INFINITY;
-    if (is_triangle(TZ_SCENE_ARG e)) {
+    if ((TZ_FLAGS & TZ_FLAG_ENVIRONMENT) != 0u && uint_bits(primitive_cdf.x) == TZ_ENV_PRIMITIVE) {
+        environment_sample es = environment_sample_at(TZ_SCENE_ARG ua, ub);
+        s.wi = es.wi;
+        s.pdf = emission_pick.w * es.pdf;
+        s.radiance = es.radiance;
+        s.t_light = TZ_ENV_DISTANCE;
+    } else if ((TZ_FLAGS & TZ_FLAG_SUN_DISC) != 0u &&
+               uint_bits(primitive_cdf.x) == TZ_SUN_PRIMITIVE) {
+        direction_sample ds = cone_direction(xyz(TZ_FRAME.sun), TZ_FRAME.sun.w, ua, ub);
+        TZ_PRECISE float pdf = emission_pick.w * ds.pdf;
+        s.wi = ds.wi;
+        s.pdf = pdf;
+        s.t_light = TZ_ENV_DISTANCE;
+    } else if (is_triangle(TZ_SCENE_ARG e)) {
         if (e == id) return s;
         triangle_corners k = corners_of(TZ_SCENE_ARG e);
         light_direction l = triangle_light_direction(k, primitive_cdf.z, o, ua, ub);

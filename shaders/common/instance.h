@@ -8,14 +8,8 @@
 #include "affine.h"
 #include "dialect.h"
 
-/* Whether the scene has instances, from the flags. The shaders' walks take none yet (the Vulkan
- * back end refuses such scenes): there the code is compiled out, which also spares glslang's
- * optimizer (inlined into the cooperative walk it took minutes and gigabytes). */
-#ifdef GL_core_profile
-#define TZ_HAS_INSTANCES false
-#else
+/* Whether the scene has instances, from the flags. */
 #define TZ_HAS_INSTANCES ((TZ_FLAGS & TZ_FLAG_INSTANCES) != 0u)
-#endif
 
 /* Whether primitive id is a face of an instance (a key, TZ_INSTANCE_KEY on). */
 TZ_FN TZ_BOOL is_instance_key(TZ_SCENE_PARAM int id) {

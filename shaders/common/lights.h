@@ -18,7 +18,8 @@ TZ_FN vec3 point_lights(TZ_SCENE_PARAM surface s, int id, vec3 n, vec3 ng, vec3 
     TZ_PRECISE vec3 sum = v3(0.0f, 0.0f, 0.0f);
     TZ_UNROLL for (TZ_UINT k = 0u; k < light_count(TZ_SCENE_ONLY); k++) {
         light_sample l = point_light(light_position_power(TZ_SCENE_ARG TZ_INT(k)),
-                                     light_color(TZ_SCENE_ARG TZ_INT(k)), s.pos, n);
+                                     light_color(TZ_SCENE_ARG TZ_INT(k)),
+                                     light_shape(TZ_SCENE_ARG TZ_INT(k)), s.pos, n);
         if (l.cos_i <= 0.0f || v3_dot(ng, l.wi) <= 0.0f ||
             integrator_occluded(TZ_SCENE_ARG o, l.wi, l.dist, id))
             continue;

@@ -96,6 +96,10 @@ TZ_FN path_state path_step(TZ_SCENE_PARAM path_state p) {
         float w = environment_mis_weight(TZ_SCENE_ARG p.specular, p.last.bsdf_pdf, p.d);
         TZ_PRECISE vec3 seen = v3_scale(v3_mul(p.beta, environment_radiance(TZ_SCENE_ARG p.d)), w);
         p.radiance = v3_add(p.radiance, seen);
+        if ((flags & TZ_FLAG_SUN_DISC) != 0u) {
+            vec3 sun = sun_seen(TZ_SCENE_ARG p.specular, p.last.bsdf_pdf, p.d);
+            p.radiance = v3_add(p.radiance, v3_mul(p.beta, sun));
+        }
         p.k = 0u;
         return p;
     }

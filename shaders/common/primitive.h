@@ -7,10 +7,9 @@
 
 #include "bsdf.h"
 #include "dialect.h"
-#ifndef GL_core_profile
 #include "instance.h"
-#endif
 #include "ray.h"
+#include "texture.h"
 
 /* Whether the scene has triangles, from the flags: where they are a specialization constant
  * (trace.comp), lavapipe drops the triangle code of sphere scenes (docs/PERF.md, "Triangles'
@@ -30,14 +29,6 @@ TZ_STRUCT(triangle_corners) {
 }
 TZ_STRUCT_END(triangle_corners)
 
-#ifdef GL_core_profile
-/* The shaders' walks take no instances yet (the Vulkan back end refuses scenes that have them):
- * their text stays as it was, which glslang's optimizer compiles in seconds (the instances'
- * branches inlined into the cooperative walk took it minutes and gigabytes). */
-#define triangle_of(id) ((id)-TZ_INT(TZ_FRAME.sphere_count))
-#define corners_in_world(id, k) (k)
-#define normal_in_world(id, n) (n)
-#else
 /* The triangle index of triangle primitive id (an instance's face's too). */
 TZ_FN int triangle_of(TZ_SCENE_PARAM int id) {
     if (is_instance_key(TZ_SCENE_ARG id)) return triangle_of_key(TZ_SCENE_ARG id);
@@ -66,7 +57,6 @@ TZ_FN vec3 normal_in_world(TZ_SCENE_PARAM int id, vec3 n) {
     }
     return n;
 }
-#endif
 
 TZ_FN triangle_corners corners_of(TZ_SCENE_PARAM int id) {
     int t = triangle_of(TZ_SCENE_ARG id);
@@ -142,20 +132,48 @@ TZ_FN surface triangle_surface(TZ_SCENE_PARAM int id, vec3 pos, vec3 o, vec3 d) 
     s.m = bsdf_material_of(material_color_ks(TZ_SCENE_ARG TZ_INT(material)),
                            material_params(TZ_SCENE_ARG TZ_INT(material)));
     s.emitter = TZ_INT(v2.w) - 1;
+    tex_uv uv = tex_uv_of(0.0f, 0.0f); /* a face without UVs reads its textures there */
     if (normals != TZ_FLAT) {
         /* Barycentric weights of the hit from the very edge functions the walk tested. */
         triangle_edges e = triangle_edge_functions(k.a, k.b, k.c, o, shear_of(d));
         TZ_PRECISE float inv = 1.0f / e.det;
+        TZ_PRECISE float b0 = e.u * inv, b1 = e.v * inv, b2 = e.w * inv;
         vec3 n0 = normal_in_world(TZ_SCENE_ARG id, xyz(normals_n0(TZ_SCENE_ARG TZ_INT(normals))));
         vec3 n1 = normal_in_world(TZ_SCENE_ARG id, xyz(normals_n1(TZ_SCENE_ARG TZ_INT(normals))));
         vec3 n2 = normal_in_world(TZ_SCENE_ARG id, xyz(normals_n2(TZ_SCENE_ARG TZ_INT(normals))));
-        TZ_PRECISE vec3 n = v3_add(v3_add(v3_scale(n0, e.u * inv), v3_scale(n1, e.v * inv)),
-                                   v3_scale(n2, e.w * inv));
+        TZ_PRECISE vec3 n = v3_add(v3_add(v3_scale(n0, b0), v3_scale(n1, b1)), v3_scale(n2, b2));
         TZ_PRECISE float len = v3_length(n);
         vec3 unit = v3_scale(n, 1.0f / len);
-        /* A normal that interpolates to nothing or faces away from the face: the face's own. */
+        /* A normal that interpolates to nothing (a flat face that has corner data for its UVs
+         * alone: zero normals) or faces away from the face: the face's own. */
         TZ_BOOL usable = (len > 0.0f) TZ_AND(v3_dot(unit, s.nout) > 0.0f);
         s.shading = select3(usable, unit, s.nout);
+        if (TZ_HAS_TEXTURES) uv = corner_uv(TZ_SCENE_ARG normals, b0, b1, b2);
+    }
+    if (TZ_HAS_TEXTURES) {
+        TZ_UVEC4 maps = material_maps(TZ_SCENE_ARG TZ_INT(material));
+        s.m = textured_material(TZ_SCENE_ARG s.m, maps, uv);
+        TZ_UINT normal_map = map_slot(maps, TZ_MAP_NORMAL);
+        if ((normal_map != 0u) TZ_AND(normals != TZ_FLAT)) {
+            uv_frame f = face_uv_frame(TZ_SCENE_ARG normals, k.a, k.b, k.c);
+            s.shading = normal_mapped(TZ_SCENE_ARG normal_map, uv, f, s.shading, s.nout);
+        }
+    }
+    return s;
+}
+
+/* Surface s of sphere primitive id (its point, outward normal and material filled in) with its
+ * material's maps applied at the point's sphere_uv (the packet builds call it on the spheres
+ * they gather themselves). */
+TZ_FN surface sphere_textured(TZ_SCENE_PARAM int id, surface s) {
+    TZ_UVEC4 maps = material_maps(TZ_SCENE_ARG sphere_material_index(TZ_SCENE_ARG id));
+    if (has_maps(maps)) {
+        tex_uv uv = sphere_uv(s.nout);
+        s.m = textured_material(TZ_SCENE_ARG s.m, maps, uv);
+        TZ_UINT normal_map = map_slot(maps, TZ_MAP_NORMAL);
+        if (normal_map != 0u)
+            s.shading = normal_mapped(TZ_SCENE_ARG normal_map, uv, sphere_uv_frame(s.nout),
+                                      s.shading, s.nout);
     }
     return s;
 }
@@ -185,6 +203,7 @@ TZ_FN surface surface_at(TZ_SCENE_PARAM int id, vec3 o, vec3 d, float t) {
     TZ_VEC4 params = sphere_params(TZ_SCENE_ARG id);
     s.m = bsdf_material_of(sphere_color_ks(TZ_SCENE_ARG id), params);
     s.emitter = TZ_INT(params.w) - 1;
+    if (TZ_HAS_TEXTURES) s = sphere_textured(TZ_SCENE_ARG id, s);
     return s;
 }
 

@@ -17,13 +17,6 @@ TZ_FN vec3 camera_direction(TZ_VEC4 right, TZ_VEC4 up, TZ_VEC4 forward, float pi
     return v3_normalize(d);
 }
 
-/* Where camera rays start: `near` along their direction d from the camera (exactly the camera
- * position when near is 0). */
-TZ_FN vec3 camera_origin(TZ_VEC4 origin, float near_distance, vec3 d) {
-    TZ_PRECISE vec3 o = v3_add(xyz(origin), v3_scale(d, near_distance));
-    return near_distance > 0.0f ? o : xyz(origin);
-}
-
 /* Ray offset distance at a point: TZ_EPS scaled with the point's magnitude, so that it grows
  * with the float spacing away from the origin. */
 TZ_FN float ray_eps(vec3 p) {

@@ -105,6 +105,30 @@ TZ_FN direction_sample cone_direction(vec3 w, float omc, float u1, float u2) {
     return cone_direction_at(w, omc, u1, cos_sin_turn(u2));
 }
 
+/* A point of the unit disc. */
+TZ_STRUCT(disc_point) {
+    float x;
+    float y;
+}
+TZ_STRUCT_END(disc_point)
+
+/* A point uniform on the unit disc from uniform u1, u2 by Shirley and Chiu's concentric map: it
+ * keeps a pair's strata compact on the disc (the thin lens's samples). */
+TZ_FN disc_point concentric_disc(float u1, float u2) {
+    TZ_PRECISE float a = 2.0f * u1 - 1.0f;
+    TZ_PRECISE float b = 2.0f * u2 - 1.0f;
+    TZ_BOOL wide = TZ_ABS(a) > TZ_ABS(b);
+    float r = wide ? a : b, other = wide ? b : a;
+    TZ_PRECISE float ratio = other / (r != 0.0f ? r : 1.0f);
+    /* the angle in turns: (b / a) / 8 in [-1/8, 1/8], else 1/4 - (a / b) / 8 in [1/8, 3/8] */
+    TZ_PRECISE float t = wide ? ratio * 0.125f : 0.25f - ratio * 0.125f;
+    cos_sin phi = cos_sin_turn(TZ_ABS(t));
+    disc_point p;
+    p.x = r * phi.c;
+    p.y = t < 0.0f ? -(r * phi.s) : r * phi.s;
+    return p;
+}
+
 /* The unit vector uniform on the sphere for uniform u1 and azimuth phi: z = 1 - 2 u1. */
 TZ_LANE_FN vec3 sphere_area_direction_at(float u1, cos_sin phi) {
     TZ_PRECISE float z = 1.0f - 2.0f * u1;

@@ -103,19 +103,28 @@ TZ_STRUCT(light_sample) {
 }
 TZ_STRUCT_END(light_sample)
 
-/* The light of gpu_light (position_power, color) arriving at pos with shading normal n, from the
- * true hit point (only the shadow ray starts off the surface). */
-TZ_FN light_sample point_light(TZ_VEC4 position_power, TZ_VEC4 color, vec3 pos, vec3 n) {
+/* The light of gpu_light (position_power, color, shape) arriving at pos with shading normal n,
+ * from the true hit point (only the shadow ray starts off the surface): a point light's
+ * intensity over dist^2; a spot's times glTF's falloff; a sun's irradiance from its direction,
+ * its shadow ray running to TZ_ENV_DISTANCE. */
+TZ_FN light_sample point_light(TZ_VEC4 position_power, TZ_VEC4 color, TZ_VEC4 shape, vec3 pos,
+                               vec3 n) {
     TZ_PRECISE vec3 to_light = v3_sub(xyz(position_power), pos);
     TZ_PRECISE float dist2 = v3_dot(to_light, to_light);
     TZ_PRECISE float dist = TZ_SQRT(dist2);
     TZ_PRECISE vec3 wi = v3_scale(to_light, 1.0f / dist);
+    TZ_BOOL sun = shape.w < 0.0f;
+    wi = sun ? xyz(position_power) : wi;
     float cos_i = v3_dot(n, wi);
-    TZ_PRECISE float scale = cos_i * position_power.w / dist2;
-    TZ_PRECISE vec3 radiance = v3_scale(xyz(color), scale);
+    TZ_PRECISE float scale = sun ? cos_i * position_power.w : cos_i * position_power.w / dist2;
+    /* the spot's falloff (1 exactly inside the inner cone) */
+    TZ_PRECISE float cd = -v3_dot(xyz(shape), wi);
+    TZ_PRECISE float fall = TZ_MIN(TZ_MAX(cd * shape.w + color.w, 0.0f), 1.0f);
+    TZ_PRECISE float spot = scale * (fall * fall);
+    TZ_PRECISE vec3 radiance = v3_scale(xyz(color), shape.w > 0.0f ? spot : scale);
     light_sample s;
     s.wi = wi;
-    s.dist = dist;
+    s.dist = sun ? TZ_ENV_DISTANCE : dist;
     s.cos_i = cos_i;
     s.radiance = radiance;
     return s;

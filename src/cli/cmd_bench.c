@@ -20,13 +20,20 @@ typedef struct workload {
     int samples;
     bool indirect;
     bool path; /* path mode on scenes/cornell_path.scene, else report mode on the default scene */
+    bool lens; /* a thin lens (LENS_APERTURE, focused LENS_FOCUS away) instead of the pinhole */
 } workload;
 
 static const workload workloads[] = {
-    {"cornell 512x512 indirect", 512, 16, true, false},
-    {"cornell 512x512 direct", 512, 16, false, false},
-    {"cornell_path 256x256 path", 256, 16, false, true},
+    {"cornell 512x512 indirect", 512, 16, true, false, false},
+    {"cornell 512x512 direct", 512, 16, false, false, false},
+    {"cornell 512x512 direct lens", 512, 16, false, false, true},
+    {"cornell_path 256x256 path", 256, 16, false, true, false},
+    {"cornell_path 256x256 path lens", 256, 16, false, true, true},
 };
+/* The lens workloads' camera: focused on the box's spheres, 10.5 away, a depth of field that
+ * blurs the back wall. */
+#define LENS_APERTURE 0.2f
+#define LENS_FOCUS 10.5f
 
 /* Scene sizes of the scaling table: the same camera and image, more and more spheres. */
 static const long scaling_counts[] = {10, 1000, 100000, 1000000};
@@ -61,6 +68,7 @@ static double run_workload(const scene *seed_scene, const scene *path_scene, con
     s.plane_height = s.plane_width;
     s.pixel_size = s.plane_width / (float)w->size;
     s.width = s.height = w->size;
+    if (w->lens) s.camera_aperture = LENS_APERTURE, s.camera_focus = LENS_FOCUS;
     render_opts opts;
     render_opts_from_scene(&s, &opts);
     opts.spp = spp > 0 ? spp : w->samples;

@@ -20,6 +20,7 @@ typedef struct merge_args {
     int tm;       /* tonemap */
     int exr_type; /* 0 half, 1 float */
     int part, force, quiet, verbose;
+    int aov_files; /* the parts' feature images as files of their own */
 } merge_args;
 
 static const char *const format_names[] = {"png", "ppm", "pfm", "exr"};
@@ -39,6 +40,10 @@ static const opt_spec merge_specs[] = {
             "(default: the whole render's image)"),
     OPT_ONE_OF("--tonemap", ARG(tm), "srgb|linear",
                "8-bit encoding: sRGB or a plain clamp (default srgb; .pfm and .exr are linear)"),
+    OPT_SET("--aov-files", NULL, ARG(aov_files), 1,
+            "write the parts' feature images (render --aov) as files beside the image, "
+            "NAME.albedo.pfm (.exr for an EXR output) and so on (default: layers of an EXR "
+            "output only)"),
     OPT_SET("--force", NULL, ARG(force), 1,
             "replace a write-protected output (default: refuse it, as the shell's > does)"),
     OPT_SET("--quiet", "-q", ARG(quiet), 1, "warnings and errors only (default: a summary line)"),
@@ -107,6 +112,10 @@ int cmd_merge(int argc, char **argv) {
                                      a.output);
         else if (a.part && strcmp(format, "exr"))
             status = opt_usage_error(&merge_command, "--part writes an EXR: give -o NAME.exr");
+        else if (a.part && a.aov_files)
+            status = opt_usage_error(&merge_command,
+                                     "--aov-files writes beside an image: a part keeps its "
+                                     "feature images as layers");
         if (a.verbose) log_set_level(LOG_DEBUG);
         if (a.quiet) log_set_level(LOG_WARN);
         if (status == 0) cli_warn_unused(format, a.part, &a.tm, &a.exr_type);
@@ -121,7 +130,9 @@ int cmd_merge(int argc, char **argv) {
             bool ok = merged_ok &&
                       (a.part ? part_write(a.output, &merged)
                               : part_film(&merged, &f) &&
-                                    image_write_film(a.output, format, &f, a.tm, a.exr_type == 0));
+                                    image_write_film(a.output, format, &f, a.tm, a.exr_type == 0) &&
+                                    (!a.aov_files ||
+                                     image_write_aov_files(a.output, format, &f, a.exr_type == 0)));
             if (ok && !a.quiet)
                 log_info("%s: %d part%s of %dx%d, %u spp merged in %.3f s, written in %.3f s",
                          a.output, n, n == 1 ? "" : "s", merged.meta.width, merged.meta.height,

@@ -45,6 +45,10 @@ typedef struct render_args {
     int exr_type;                    /* 0 half, 1 float */
     int part;                        /* an EXR output is a part file */
     int keep_checkpoint;             /* keep the checkpoint of a finished render */
+    double noise_threshold;          /* -1: not given */
+    const char *aov;                 /* --aov's list; NULL: none */
+    uint32_t aov_mask;               /* its kinds (image/aov.h) */
+    int aov_files;                   /* the feature images as files of their own */
 } render_args;
 
 #define FORMATS "png|ppm|pfm|exr"
@@ -137,6 +141,17 @@ static const opt_spec render_specs[] = {
     OPT_DECIMAL("--time-limit", ARG(time_limit), 0.001, 1e9, "SECONDS",
                 "render whole chunks of 16 samples until SECONDS have passed, then write the "
                 "image of the samples so far (default: no limit)"),
+    OPT_DECIMAL("--noise-threshold", ARG(noise_threshold), 0.0, 1e6, "T",
+                "adaptive sampling: from sample 64 on, a pixel whose estimated error (its mean "
+                "against the mean of its odd chunks of 16 samples) is at most T takes no further "
+                "sample; --spp is the cap; 0 is off (default: the scene's, else off)"),
+    OPT_TEXT("--aov", NULL, ARG(aov), "LIST", "feature images, comma-separated",
+             "feature images for a denoiser, any of albedo,normal,depth,position,emission: of "
+             "each pixel's first 4 samples' first hit, albedo and normal through mirrors and "
+             "glass; layers of an EXR output or part (default: none)"),
+    OPT_SET("--aov-files", NULL, ARG(aov_files), 1,
+            "write the --aov images as files beside the image too, NAME.albedo.pfm (.exr for an "
+            "EXR output) and so on (default: layers only)"),
     OPT_ONE_OF("--exr-type", ARG(exr_type), "half|float",
                "an EXR image's channels (default half; parts are always float)"),
     OPT_SET("--part", NULL, ARG(part), 1,
@@ -182,6 +197,7 @@ static opt_result parse_render_args(int argc, char **argv, render_args *a,
                        .indirect = -1,
                        .mode = -1,
                        .checkpoint_every = -1.0,
+                       .noise_threshold = -1.0,
                        .time_limit = -1.0};
     int count;
     *scene_path = NULL;
@@ -210,6 +226,22 @@ static opt_result parse_render_args(int argc, char **argv, render_args *a,
         return opt_usage_error(&render_command,
                                "--region, --samples and --part write an EXR part: give -o "
                                "NAME.exr (and `trazador merge` the parts)");
+    size_t bad = 0;
+    if (a->aov && !aov_parse_list(a->aov, &a->aov_mask, &bad))
+        return opt_usage_error(&render_command,
+                               "--aov takes a list of albedo, normal, depth, position, emission, "
+                               "got '%s' (at character %zu)",
+                               a->aov, bad + 1);
+    if (a->aov_files && !a->aov)
+        return opt_usage_error(&render_command, "--aov-files writes the --aov images: give --aov");
+    if (a->aov && !exr && !a->aov_files)
+        return opt_usage_error(&render_command,
+                               "--aov writes layers of an EXR output: give -o NAME.exr, or "
+                               "--aov-files for files of their own");
+    if (a->aov_files && (a->region || a->samples || a->part))
+        return opt_usage_error(&render_command,
+                               "--aov-files writes beside an image: a part keeps its feature "
+                               "images as layers, which `trazador merge --aov-files` writes");
     /* A checkpoint is an EXR part whatever its name says: a name of another format would hide
      * it (and a later render could read it as that format). */
     const char *ck_format = a->checkpoint ? image_path_format(a->checkpoint) : NULL;
@@ -320,6 +352,8 @@ static void apply_overrides(const render_args *a, const scene *s, render_opts *o
     o->walk = (render_walk)a->walk;
     o->no_bvh = a->no_bvh;
     o->progress = !a->quiet && isatty(STDERR_FILENO);
+    o->aov = a->aov_mask;
+    if (a->noise_threshold >= 0.0) o->noise_threshold = (float)a->noise_threshold;
 }
 
 /* Naming a device asks for Vulkan: none at all is the usual runtime failure (1), a number past
@@ -342,7 +376,21 @@ static int check_device(long long device) {
 /* Writes a whole-image film as the output image; false (logged) on failure. */
 static bool write_image(const render_args *a, const film *f) {
     const char *format = a->format >= 0 ? format_names[a->format] : NULL;
-    return image_write_film(a->output, format, f, a->tm, a->exr_type == 0);
+    return image_write_film(a->output, format, f, a->tm, a->exr_type == 0) &&
+           (!a->aov_files || image_write_aov_files(a->output, format, f, a->exr_type == 0));
+}
+
+/* Says what a noise threshold saved: the samples drawn and the pixels that stopped early. */
+static void report_adaptive(const part *p, float threshold) {
+    size_t n = (size_t)(p->meta.x1 - p->meta.x0) * (size_t)(p->meta.y1 - p->meta.y0), early = 0;
+    double drawn = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        drawn += p->count[i];
+        early += p->adaptive[4 * i + 3] > 0.0f;
+    }
+    double cap = (double)n * (p->meta.sample_end - p->meta.sample_begin);
+    log_info("noise threshold %g: %.1f%% of the samples drawn, %zu of %zu pixels stopped early",
+             threshold, cap > 0.0 ? 100.0 * drawn / cap : 0.0, early, n);
 }
 
 /* Renders and writes the image or the part; the exit code. started: when the command began, so
@@ -378,6 +426,14 @@ static int render_and_write(const render_args *a, const scene *s, double started
     uint32_t end;
     if (!render_parse_region(a->region, &meta) || !render_parse_samples(a->samples, &meta, &end))
         return 2;
+    if (meta.adaptive && meta.sample_begin > 0) {
+        fprintf(stderr,
+                "trazador: render: --samples %s with a noise threshold: whether a pixel takes a "
+                "chunk depends on its samples before, so a part must begin at sample 0 (split "
+                "by --region, or render 0:B and go on with --resume)\n",
+                a->samples);
+        return 2;
+    }
     part p = {0};
     /* --device, --validate and --walk ask for Vulkan as --backend vulkan does. */
     int backend = a->backend == BACKEND_AUTO && (a->device >= 0 || a->validate || a->walk)
@@ -439,6 +495,7 @@ static int render_and_write(const render_args *a, const scene *s, double started
     if (ok) log_debug("output: written in %.1f ms", (clock_seconds() - write_start) * 1e3);
     if (ok && a->checkpoint && p.meta.sample_end == end)
         ok = render_finish_checkpoint(a->checkpoint, a->keep_checkpoint, &p);
+    if (ok && meta.adaptive) report_adaptive(&p, opts.noise_threshold);
     if (ok && pacer.time_up)
         log_info("time limit: every pixel got samples %u:%u (%u of %u)", p.meta.sample_begin,
                  p.meta.sample_end, p.meta.sample_end - p.meta.sample_begin, end);

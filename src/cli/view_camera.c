@@ -160,5 +160,12 @@ int view_camera_line(const scene *s, view_camera c, char *out, size_t size) {
     used = n > 0 && (size_t)n < size ? (size_t)n : size;
     if (s->camera_near > 0.0f && used < size)
         n += snprintf(out + used, size - used, " near %.9g", s->camera_near);
+    used = n > 0 && (size_t)n < size ? (size_t)n : size;
+    if (s->camera_aperture > 0.0f && used < size)
+        n += snprintf(out + used, size - used, " aperture %.9g focus %.9g", s->camera_aperture,
+                      s->camera_focus);
+    used = n > 0 && (size_t)n < size ? (size_t)n : size;
+    if (s->camera_orthographic && used < size)
+        n += snprintf(out + used, size - used, " projection orthographic");
     return n;
 }

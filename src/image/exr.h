@@ -9,6 +9,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "image/aov.h"
 #include "image/image.h"
 
 typedef enum exr_sample_type { EXR_SAMPLE_UINT, EXR_SAMPLE_HALF, EXR_SAMPLE_FLOAT } exr_sample_type;
@@ -64,6 +65,9 @@ float exr_half_to_float(uint16_t h);
 
 /* Writes img as linear RGB (half or float channels R, G, B); false (logged) on failure. */
 bool exr_write_image(const char *path, const image *img, bool half);
+/* exr_write_image with the feature images of aov (NULL: none; each pixel of img's size) as
+ * layers ("albedo.R", "normal.X", "depth.Z", ...); false (logged) on failure. */
+bool exr_write_image_aov(const char *path, const image *img, bool half, const aov_set *aov);
 /* Reads the R, G, B channels of an EXR (half, float or uint) as a linear image of its data
  * window; false (logged) on failure or when a channel is missing. */
 bool exr_read_image(const char *path, image *out);

@@ -19,6 +19,7 @@ bool film_init(film *f, int width, int height) {
 
 void film_free(film *f) {
     free(f->accum);
+    aov_free(&f->aov);
     *f = (film){0};
 }
 

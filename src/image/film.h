@@ -5,11 +5,14 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "image/aov.h"
+
 /* Per-pixel accumulation: 4 floats a pixel, RGB sums and the count of finite samples. */
 typedef struct film {
     int width, height;
     float *accum;
     uint64_t nonfinite; /* samples dropped because their radiance was NaN or infinite */
+    aov_set aov;        /* the feature images asked for (--aov), each pixel's */
 } film;
 
 /* Allocates a zeroed film; false on out-of-memory. */

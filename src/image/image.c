@@ -200,9 +200,9 @@ bool image_write_film(const char *path, const char *format, const film *f, tonem
                       bool exr_half) {
     image img = {0};
     image_format fmt = format ? format_named(format) : format_of(path);
-    bool ok =
-        image_from_film(f, &img) && (fmt == FORMAT_EXR ? exr_write_image(path, &img, exr_half)
-                                                       : image_write_as(path, format, &img, tm));
+    bool ok = image_from_film(f, &img) &&
+              (fmt == FORMAT_EXR ? exr_write_image_aov(path, &img, exr_half, &f->aov)
+                                 : image_write_as(path, format, &img, tm));
     image_free(&img);
     return ok;
 }

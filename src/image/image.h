@@ -62,10 +62,14 @@ const char *image_path_format(const char *path);
  * name, for outputs such as /dev/stdout; false on error. */
 bool image_write_as(const char *path, const char *format, const image *img, tonemap tm);
 /* The film's mean as an image written by image_write_as, an EXR one with half or float channels
- * (exr_half); false (logged) on error. */
+ * (exr_half) and the film's feature images as layers; false (logged) on error. */
 bool image_write_film(const char *path, const char *format, const film *f, tonemap tm,
                       bool exr_half);
 /* Reads .ppm, .png, .pfm or .exr (8-bit formats decoded with tm back to linear); false on error. */
 bool image_read(const char *path, image *out, tonemap tm);
+/* Writes each feature image of f (f->aov) as a file of its own beside path: NAME.albedo.exr and
+ * so on for an EXR output (half or float), NAME.albedo.pfm for any other (depth in all three
+ * channels); false (logged) on failure. */
+bool image_write_aov_files(const char *path, const char *format, const film *f, bool exr_half);
 
 #endif

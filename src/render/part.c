@@ -29,6 +29,10 @@ bool part_meta_valid(const part_meta *m, const char *where) {
         why = "chunk size is not this trazador's 16 samples";
     else if (!m->digest[0] || !m->mode[0] || !m->version[0])
         why = "scene digest, mode or version missing";
+    else if (m->adaptive && m->sample_begin != 0)
+        why =
+            "a noise threshold's part begins past sample 0 (its decisions need the samples "
+            "before)";
     if (why)
         log_error("%s: %s (region %d,%d,%d,%d of %dx%d, samples %" PRIu32 ":%" PRIu32 " of %" PRIu32
                   ", chunk %" PRIu32 ")",
@@ -53,6 +57,11 @@ bool part_init(part *p, const part_meta *meta) {
     if (!part_meta_valid(&p->meta, "part")) return false;
     p->stack = chunk_stack_at(chunk_at(&p->meta, p->meta.sample_begin));
     p->count = big_calloc(region_pixels(&p->meta), sizeof *p->count);
+    if (p->count && p->meta.adaptive &&
+        !(p->adaptive = big_calloc(region_pixels(&p->meta) * 4, sizeof(float)))) {
+        free(p->count);
+        p->count = NULL;
+    }
     if (!p->count) {
         log_error("out of memory for a part of %zu pixels", region_pixels(&p->meta));
         return false;
@@ -70,6 +79,13 @@ bool part_copy(const part *src, part *dst) {
             memcpy(dst->block[k], src->block[k], n * 3 * sizeof(float));
     if (ok && src->open && (ok = (dst->open = big_malloc(n * 6 * sizeof(float))) != NULL))
         memcpy(dst->open, src->open, n * 6 * sizeof(float));
+    if (ok && src->adaptive && (ok = (dst->adaptive = big_malloc(n * 4 * sizeof(float))) != NULL))
+        memcpy(dst->adaptive, src->adaptive, n * 4 * sizeof(float));
+    if (ok && src->aov.mask && (ok = aov_alloc(&dst->aov, src->aov.mask, n)))
+        for (int k = 0; k < AOV_COUNT; k++)
+            if (src->aov.plane[k])
+                memcpy(dst->aov.plane[k], src->aov.plane[k],
+                       n * (size_t)aov_channels((aov_kind)k) * sizeof(float));
     if (!ok) {
         log_error("out of memory for a copy of a part of %zu pixels", n);
         part_free(dst);
@@ -81,6 +97,8 @@ void part_free(part *p) {
     for (int k = 0; k < CHUNK_STACK_MAX; k++) free(p->block[k]);
     free(p->count);
     free(p->open);
+    free(p->adaptive);
+    aov_free(&p->aov);
     *p = (part){0};
 }
 
@@ -149,6 +167,14 @@ static bool film_of(const part *p, film *out, bool whole) {
         out->accum[4 * i + 3] = (float)p->count[i];
     }
     out->nonfinite = p->meta.nonfinite;
+    if (p->aov.mask && !aov_alloc(&out->aov, p->aov.mask, n)) {
+        film_free(out);
+        return false;
+    }
+    for (int k = 0; k < AOV_COUNT; k++)
+        if (p->aov.plane[k])
+            memcpy(out->aov.plane[k], p->aov.plane[k],
+                   n * (size_t)aov_channels((aov_kind)k) * sizeof(float));
     return true;
 }
 

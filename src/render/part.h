@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "image/aov.h"
 #include "render/chunk_tree.h"
 #include "render/render.h"
 
@@ -30,6 +31,9 @@ typedef struct part_meta {
     int width, height;                 /* the whole image */
     int x0, x1, y0, y1;                /* the region: x0 <= x < x1, y0 <= y < y1 */
     uint64_t nonfinite;                /* samples dropped as NaN or infinite */
+    /* Rendered with a noise threshold (the digest has its value): each pixel keeps its adaptive
+     * state, and the part begins at sample 0. */
+    bool adaptive;
 } part_meta;
 
 /* A part's sums. Block k of the stack has 3 floats (RGB) a region pixel, rows top to bottom, in
@@ -42,6 +46,12 @@ typedef struct part {
     float *block[CHUNK_STACK_MAX];
     uint32_t *count;
     float *open;
+    /* The feature images (image/aov.h) of the region, of samples 0 to min(RENDER_AOV_SAMPLES,
+     * spp) - 1 (in chunk 0): only a part that begins at sample 0 has them. */
+    aov_set aov;
+    /* With meta.adaptive, each pixel's state (common/adaptive.h): its odd chunks' RGB sum and the
+     * chunk it stopped at (0 while sampled), 4 floats; otherwise NULL. */
+    float *adaptive;
 } part;
 
 /* The first sample of chunk k of part p, or its spp past the last chunk. */

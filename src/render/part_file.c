@@ -1,6 +1,7 @@
 /* part_file.c: a render part as an EXR file (image/exr.h): the mean, the count and the stack's
  * blocks as channels, the render's description and a checksum as attributes. */
 #include <inttypes.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,11 +11,26 @@
 #include "util/big_memory.h"
 #include "util/log.h"
 
-/* The file's channels: R G B mean, count, each block's RGB, the open chunk's sums. */
+/* The file's channels: R G B mean, count, each block's RGB, the open chunk's sums, the feature
+ * images. */
 typedef struct part_channels {
     int count;
-    exr_channel ch[4 + 3 * CHUNK_STACK_MAX + 6];
+    exr_channel ch[4 + 3 * CHUNK_STACK_MAX + 6 + 3 * AOV_COUNT + 4];
 } part_channels;
+
+/* The channels of a noise threshold's state (part.adaptive), in its order. */
+static const char *const adaptive_names[4] = {"adaptive.R", "adaptive.G", "adaptive.B",
+                                              "adaptive.stop"};
+
+/* Adds the channels of the feature images of mask. */
+static void name_aov_channels(uint32_t mask, part_channels *pc) {
+    for (int k = 0; k < AOV_COUNT; k++)
+        for (int c = 0; (mask & 1u << k) && c < aov_channels((aov_kind)k); c++) {
+            exr_channel *ch = &pc->ch[pc->count++];
+            *ch = (exr_channel){.type = EXR_SAMPLE_FLOAT};
+            aov_channel_name((aov_kind)k, c, ch->name, sizeof ch->name);
+        }
+}
 
 static void add_channel(part_channels *pc, exr_sample_type type, const char *prefix, char rgb) {
     exr_channel *ch = &pc->ch[pc->count++];
@@ -39,9 +55,24 @@ static void name_channels(const part *p, part_channels *pc) {
                  chunk_block_first(p->stack.block[k]), chunk_block_end(p->stack.block[k]));
         for (int c = 0; c < 3; c++) add_channel(pc, EXR_SAMPLE_FLOAT, prefix, rgb[c]);
     }
-    if (chunk_aligned(&p->meta, p->meta.sample_end)) return;
-    for (int c = 0; c < 3; c++) add_channel(pc, EXR_SAMPLE_FLOAT, "open.sum", rgb[c]);
-    for (int c = 0; c < 3; c++) add_channel(pc, EXR_SAMPLE_FLOAT, "open.comp", rgb[c]);
+    if (!chunk_aligned(&p->meta, p->meta.sample_end)) {
+        for (int c = 0; c < 3; c++) add_channel(pc, EXR_SAMPLE_FLOAT, "open.sum", rgb[c]);
+        for (int c = 0; c < 3; c++) add_channel(pc, EXR_SAMPLE_FLOAT, "open.comp", rgb[c]);
+    }
+    name_aov_channels(p->aov.mask, pc);
+    for (int c = 0; p->meta.adaptive && c < 4; c++)
+        add_channel(pc, EXR_SAMPLE_FLOAT, adaptive_names[c], 0);
+}
+
+/* The feature images a part file has: those of which it has a first channel. */
+static uint32_t aov_mask_of(const exr_file *f) {
+    uint32_t mask = 0;
+    for (int k = 0; k < AOV_COUNT; k++) {
+        char name[EXR_NAME_MAX + 1];
+        aov_channel_name((aov_kind)k, 0, name, sizeof name);
+        if (exr_file_channel(f, name)) mask |= 1u << k;
+    }
+    return mask;
 }
 
 /* The file's string attributes, the checksum last. */
@@ -138,11 +169,31 @@ bool part_write(const char *path, const part *p) {
         for (size_t i = 0; i < n; i++)
             for (int c = 0; c < 3; c++)
                 planes[(size_t)(3 * k + c) * n + i] = p->block[k][3 * i + c];
+    float *aov_planes = NULL; /* the feature images' channels, planar */
+    int aov_count =
+        pc.count - (4 + 3 * p->stack.count + (has_open ? 6 : 0) + (m->adaptive ? 4 : 0));
+    if (ok && aov_count + 4 > 0 &&
+        !(aov_planes = big_malloc((size_t)(aov_count + 4) * n * sizeof(float)))) {
+        log_error("%s: out of memory for a part of %zu pixels", path, n);
+        ok = false;
+    }
+    for (int k = 0, a = 0; ok && k < AOV_COUNT; k++) {
+        int w = aov_channels((aov_kind)k);
+        for (int c = 0; p->aov.plane[k] && c < w; c++, a++)
+            for (size_t i = 0; i < n; i++)
+                aov_planes[(size_t)a * n + i] = p->aov.plane[k][(size_t)w * i + (size_t)c];
+    }
     int ch = 0;
     for (int c = 0; c < 3; c++) pc.ch[ch++].data = mean + (size_t)c * n;
     pc.ch[ch++].data = p->count;
     for (int k = 0; k < 3 * p->stack.count; k++) pc.ch[ch++].data = planes + (size_t)k * n;
     for (int c = 0; has_open && c < 6; c++) pc.ch[ch++].data = open[c];
+    for (int a = 0; a < aov_count; a++) pc.ch[ch++].data = aov_planes + (size_t)a * n;
+    for (int c = 0; ok && m->adaptive && c < 4; c++) {
+        float *plane = aov_planes + (size_t)(aov_count + c) * n;
+        for (size_t i = 0; i < n; i++) plane[i] = p->adaptive[4 * i + (size_t)c];
+        pc.ch[ch++].data = plane;
+    }
     part_attrs pa;
     fill_attrs(m, &pa);
     exr_file f = {.display_width = m->width,
@@ -164,6 +215,7 @@ bool part_write(const char *path, const part *p) {
     ok = ok && exr_file_write(path, &f);
     free(mean);
     free(planes);
+    free(aov_planes);
     for (int c = 0; c < 6; c++) free(open[c]);
     return ok;
 }
@@ -250,6 +302,7 @@ bool part_read(const char *path, part *out) {
     bool ok = read_meta(path, &f, &m);
     uint32_t samples = ok ? m.sample_end - m.sample_begin : 0;
     bool open = ok && !chunk_aligned(&m, m.sample_end);
+    m.adaptive = exr_file_channel(&f, adaptive_names[3]) != NULL;
     ok = ok && part_init(out, &m);
     if (ok) {
         out->meta = m;
@@ -257,9 +310,17 @@ bool part_read(const char *path, part *out) {
                             open ? m.sample_end / TZ_CHUNK_SAMPLES : chunk_at(&m, m.sample_end),
                             &out->stack);
     }
+    size_t n = region_pixels(&m);
+    uint32_t aov_mask = ok ? aov_mask_of(&f) : 0;
+    if (aov_mask && m.sample_begin != 0) {
+        log_error(
+            "%s: not a consistent trazador part: feature images in a part of samples from %" PRIu32,
+            path, m.sample_begin);
+        ok = false;
+    }
+    ok = ok && (!aov_mask || aov_alloc(&out->aov, aov_mask, n));
     part_channels pc;
     if (ok) name_channels(out, &pc);
-    size_t n = region_pixels(&m);
     const exr_channel *count = ok ? need_channel(path, &f, "count", EXR_SAMPLE_UINT) : NULL;
     ok = ok && count;
     if (ok) memcpy(out->count, count->data, n * sizeof *out->count);
@@ -294,6 +355,32 @@ bool part_read(const char *path, part *out) {
     }
     for (int c = 0; ok && c < 3; c++)
         ok = need_channel(path, &f, pc.ch[c].name, EXR_SAMPLE_FLOAT) != NULL;
+    int a = pc.count;
+    for (int c = 3; ok && m.adaptive && c >= 0; c--) {
+        const exr_channel *ch = need_channel(path, &f, pc.ch[--a].name, EXR_SAMPLE_FLOAT);
+        ok = ch != NULL;
+        for (size_t i = 0; ok && i < n; i++)
+            out->adaptive[4 * i + (size_t)c] = ((const float *)ch->data)[i];
+    }
+    /* a stop is a chunk the part has passed, so that the renderer may take it as a whole number */
+    float last_stop = (float)out->stack.end;
+    for (size_t i = 0; ok && m.adaptive && i < n; i++) {
+        float stop = out->adaptive[4 * i + 3];
+        if (stop == 0.0f || (stop >= 1.0f && stop <= last_stop && stop == floorf(stop))) continue;
+        log_error("%s: not a consistent trazador part: pixel (%d, %d) stopped at chunk %g", path,
+                  m.x0 + (int)(i % (size_t)(m.x1 - m.x0)), m.y0 + (int)(i / (size_t)(m.x1 - m.x0)),
+                  (double)stop);
+        ok = false;
+    }
+    for (int k = AOV_COUNT - 1; ok && k >= 0; k--) {
+        int w = aov_channels((aov_kind)k);
+        for (int c = w - 1; out->aov.plane[k] && ok && c >= 0; c--) {
+            const exr_channel *ch = need_channel(path, &f, pc.ch[--a].name, EXR_SAMPLE_FLOAT);
+            ok = ch != NULL;
+            for (size_t i = 0; ok && i < n; i++)
+                out->aov.plane[k][(size_t)w * i + (size_t)c] = ((const float *)ch->data)[i];
+        }
+    }
     if (ok) {
         const char *values[CHECKSUM];
         char sum[17];

@@ -186,6 +186,15 @@ static bool merge_check(const part *parts, const char *const *names, int n) {
             return false;
         }
     }
+    int first = -1; /* the first part of chunk 0: they all hold the same feature images */
+    for (int i = 0; i < n; i++) {
+        if (parts[i].meta.sample_begin != 0) continue;
+        if (first < 0) first = i;
+        if (parts[i].aov.mask == parts[first].aov.mask) continue;
+        log_error("merge: %s and %s hold other feature images (--aov): render them alike",
+                  names[first], names[i]);
+        return false;
+    }
     for (int i = 0; i < n; i++)
         if (!chunk_aligned(&parts[i].meta, parts[i].meta.sample_end)) {
             log_error("merge: %s ends inside a chunk, at sample %" PRIu32
@@ -231,6 +240,23 @@ static bool merge_pixel(const part *parts, const int *order, int held, int x, in
     if (s.count != out->stack.count) return false;
     const part_meta *m = &out->meta;
     size_t o = (size_t)(y - m->y0) * (size_t)(m->x1 - m->x0) + (size_t)(x - m->x0);
+    for (int h = 0; h < held && out->adaptive; h++) { /* the noise threshold's state */
+        const part *q = &parts[order[h]];
+        size_t i =
+            (size_t)(y - q->meta.y0) * (size_t)(q->meta.x1 - q->meta.x0) + (size_t)(x - q->meta.x0);
+        if (q->adaptive) memcpy(&out->adaptive[4 * o], &q->adaptive[4 * i], 4 * sizeof(float));
+    }
+    for (int h = 0; h < held && out->aov.mask; h++) { /* the part of chunk 0 has them */
+        const part *q = &parts[order[h]];
+        if (q->meta.sample_begin != 0) continue;
+        size_t i =
+            (size_t)(y - q->meta.y0) * (size_t)(q->meta.x1 - q->meta.x0) + (size_t)(x - q->meta.x0);
+        for (int k = 0; k < AOV_COUNT; k++) {
+            size_t w = (size_t)aov_channels((aov_kind)k);
+            if (out->aov.plane[k])
+                memcpy(&out->aov.plane[k][w * o], &q->aov.plane[k][w * i], w * sizeof(float));
+        }
+    }
     for (int k = 0; k < s.count; k++) memcpy(&out->block[k][3 * o], value[k], sizeof value[k]);
     out->count[o] = count;
     return true;
@@ -309,6 +335,10 @@ static bool merge_parts(const part *parts, const char *const *names, int n, bool
         for (int k = 0; ok && k < out->stack.count; k++)
             ok = (out->block[k] = big_malloc(pixels * 3 * sizeof(float))) != NULL;
         if (!ok) log_error("merge: out of memory for a %dx%d image", m.x1 - m.x0, m.y1 - m.y0);
+        uint32_t aov = 0; /* the feature images of the parts of chunk 0 (merge_check: alike) */
+        for (int i = 0; i < n; i++)
+            if (parts[i].meta.sample_begin == 0) aov = parts[i].aov.mask;
+        if (ok && m.sample_begin == 0 && aov) ok = aov_alloc(&out->aov, aov, pixels);
     }
     ok = ok && merge_sums(parts, n, &g, out);
     grid_free(&g);

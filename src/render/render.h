@@ -78,6 +78,10 @@ typedef struct render_opts {
     render_stats *stats;    /* filled by the back end when not NULL */
     const render_control *control; /* NULL: every pass at once */
     double deadline; /* clock_seconds() when a time limit ends, for the progress line; 0: none */
+    uint32_t aov;    /* the feature images (image/aov.h) a part of chunk 0 gets, a bit a kind */
+    /* Adaptive sampling (common/adaptive.h): a pixel whose estimated error is at most this
+     * renders no further chunk; 0: off, every pixel renders spp samples. */
+    float noise_threshold;
 } render_opts;
 
 /* Fills opts from the scene's `render` settings (flags override afterwards); never fails. */
@@ -151,7 +155,16 @@ typedef enum backend_choice { BACKEND_AUTO = 0, BACKEND_VULKAN, BACKEND_CPU } ba
  * on failure (logged). */
 bool render_choose(const scene *s, const render_opts *opts, backend_choice backend, film *f,
                    const char **used);
-/* render_choose for a part (render_backend.render_part); false on failure (logged). */
+/* The samples of a pixel whose first hits make its feature images: enough to smooth edges, few
+ * enough to cost a few percent of a render (docs/PERF.md, "Feature images"). */
+#define RENDER_AOV_SAMPLES 4
+/* Fills part p's feature images of opts->aov (p->aov, zeroed before): the mean over samples 0 to
+ * min(RENDER_AOV_SAMPLES, spp) - 1 of each pixel of its region of the first hit's features
+ * (shaders/common/aov.h), computed by the C text for either back end (render/cpu/render_aov.c);
+ * false (logged) on failure. */
+bool render_aov(const scene *s, const render_opts *opts, struct part *p);
+/* render_choose for a part (render_backend.render_part), with the feature images opts->aov asks
+ * for when the part begins at sample 0; false on failure (logged). */
 bool render_choose_part(const scene *s, const render_opts *opts, backend_choice backend,
                         struct part *p, uint32_t sample_end, const char **used);
 

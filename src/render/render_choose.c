@@ -102,7 +102,8 @@ static bool cpu_render_part(const scene *s, const render_opts *opts, part *p, ui
     return render_backend_cpu.render_part(s, opts, p, end, reason) == RENDER_DONE;
 }
 
-bool render_choose_part(const scene *s, const render_opts *opts, backend_choice backend, part *p,
+/* render_choose_part without the feature images. */
+static bool choose_part(const scene *s, const render_opts *opts, backend_choice backend, part *p,
                         uint32_t sample_end, const char **used) {
     const render_backend *vk = &render_backend_vulkan, *cpu = &render_backend_cpu;
     /* auto goes on from a part on the back end that began it: the two do not mix. */
@@ -139,4 +140,13 @@ bool render_choose_part(const scene *s, const render_opts *opts, backend_choice 
             "the Vulkan back end failed (said above); rendering with the CPU back end instead");
     *used = cpu->name;
     return restart_part(p, begin) && cpu_render_part(s, opts, p, sample_end);
+}
+
+bool render_choose_part(const scene *s, const render_opts *opts, backend_choice backend, part *p,
+                        uint32_t sample_end, const char **used) {
+    if (!choose_part(s, opts, backend, p, sample_end, used)) return false;
+    /* A part of chunk 0 has the feature images asked for, whichever back end rendered it. */
+    if (p->aov.mask == opts->aov && (opts->aov == 0 || p->meta.sample_begin != 0)) return true;
+    aov_free(&p->aov);
+    return !opts->aov || p->meta.sample_begin != 0 || render_aov(s, opts, p);
 }

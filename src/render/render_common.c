@@ -19,6 +19,7 @@ void render_opts_from_scene(const scene *s, render_opts *opts) {
     opts->mode = s->mode;
     opts->roulette = s->roulette;
     opts->light_samples = s->light_samples;
+    opts->noise_threshold = s->noise_threshold;
     opts->sampler = s->sampler;
 }
 
@@ -56,8 +57,18 @@ static uint64_t digest_word(uint64_t h, uint32_t w) { return (h ^ w) * 0x1000000
 /* The floats of material m that the digest holds, in its fixed order (its kind apart). */
 #define MATERIAL_FLOATS 9
 static void material_floats(const material *m, float out[MATERIAL_FLOATS]) {
-    float f[] = {m->color.x, m->color.y,    m->color.z,    m->ks,        m->alpha,
-                 m->ior,     m->emission.x, m->emission.y, m->emission.z};
+    /* A microfacet kind has no ks and alpha: its metallic and roughness take their words, so
+     * that the other kinds keep their digests. */
+    bool microfacet = material_is_microfacet(m);
+    float f[] = {m->color.x,
+                 m->color.y,
+                 m->color.z,
+                 microfacet ? m->metallic : m->ks,
+                 microfacet ? m->roughness : m->alpha,
+                 m->ior,
+                 m->emission.x,
+                 m->emission.y,
+                 m->emission.z};
     _Static_assert(sizeof f / sizeof f[0] == MATERIAL_FLOATS, "a material's floats");
     memcpy(out, f, sizeof f);
 }
@@ -69,7 +80,7 @@ static void material_floats(const material *m, float out[MATERIAL_FLOATS]) {
 
 /* The words of triangle t of s, in a fixed order (a flat face's normals zero). */
 static void triangle_words(const scene *s, const triangle *t, uint32_t out[TRIANGLE_WORDS]) {
-    static const face_normals flat = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    static const face_normals flat = {0};
     const face_normals *nf = t->normals != TRIANGLE_FLAT ? &s->normals[t->normals] : &flat;
     const material *m = triangle_material(s, t);
     const vec3 *n = nf->n;
@@ -148,6 +159,38 @@ static bool has_smooth_specular_faces(const scene *s) {
     return false;
 }
 
+/* h continued by what textures change: each material's maps, which material each sphere and
+ * face takes, the faces' UVs, the slots and the images' texels. */
+static uint64_t digest_textures(uint64_t h, const scene *s) {
+    for (int k = 0; k < s->material_count; k++)
+        for (int c = 0; c < MATERIAL_MAP_COUNT; c++) h = digest_int(h, s->materials[k].maps[c]);
+    for (int k = 0; k < s->sphere_count; k++) h = digest_int(h, s->spheres[k].material);
+    for (int k = 0; k < s->triangle_count; k++) {
+        const triangle *t = &s->triangles[k];
+        h = digest_int(h, t->material);
+        if (t->normals == TRIANGLE_FLAT) continue;
+        for (int c = 0; c < 3; c++) {
+            h = digest_float(h, s->normals[t->normals].uv[c][0]);
+            h = digest_float(h, s->normals[t->normals].uv[c][1]);
+        }
+    }
+    for (int k = 0; k < s->slot_count; k++) {
+        const texture_slot *sl = &s->slots[k];
+        h = digest_int(h, sl->image);
+        h = digest_int(h, sl->flags);
+        h = digest_float(h, sl->param);
+        for (int c = 0; c < 6; c++) h = digest_float(h, sl->transform[c]);
+    }
+    for (int k = 0; k < s->image_count; k++) {
+        const texture_image *t = &s->images[k].texels;
+        h = digest_int(h, t->width);
+        h = digest_int(h, t->height);
+        h = digest_int(h, t->format);
+        for (size_t w = 0; w < t->word_count; w++) h = digest_word(h, t->words[w]);
+    }
+    return h;
+}
+
 /* The scene's digest: every field of the scene and every setting that changes a sample, in a
  * fixed order, field by field (no padding bytes). */
 static uint64_t render_digest(const scene *s, const render_opts *o) {
@@ -157,6 +200,12 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
     h = digest_vec3(h, s->camera_up);
     h = digest_float(h, s->camera_fov);
     h = digest_float(h, s->camera_near);
+    /* Only lens and orthographic cameras hash their fields: pinhole scenes keep their digest. */
+    if (s->camera_aperture > 0.0f || s->camera_orthographic) {
+        h = digest_float(h, s->camera_aperture);
+        h = digest_float(h, s->camera_focus);
+        h = digest_int(h, s->camera_orthographic);
+    }
     h = digest_float(h, s->plane_width);
     h = digest_float(h, s->plane_height);
     h = digest_float(h, s->pixel_size);
@@ -179,12 +228,31 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
         h = digest_vec3(h, s->lights[k].position);
         h = digest_float(h, s->lights[k].power);
         h = digest_vec3(h, s->lights[k].color);
+        /* only spots and suns hash their shape: scenes of point lights keep their digest */
+        if (s->lights[k].kind != LIGHT_POINT) {
+            h = digest_int(h, s->lights[k].kind);
+            h = digest_vec3(h, s->lights[k].direction);
+            h = digest_float(h, s->lights[k].cos_inner);
+            h = digest_float(h, s->lights[k].cos_outer);
+            h = digest_float(h, s->lights[k].angle);
+        }
     }
     /* Only scenes with triangles hash them, so that sphere-only scenes keep their digest (and
      * their part files stay mergeable with ones rendered before triangles existed). */
     if (s->triangle_count > 0) {
         h = digest_int(h, s->triangle_count);
         h = digest_triangles(h, s);
+    }
+    /* Only scenes with an environment map hash it (its texels, as its radiance), so that the
+     * others keep their digest. */
+    const environment_map *env = &s->environment;
+    if (env->rgb) {
+        h = digest_int(h, env->width);
+        h = digest_int(h, env->height);
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) h = digest_float(h, env->to_map[i][j]);
+        size_t n = (size_t)env->width * (size_t)env->height * 3;
+        for (size_t k = 0; k < n; k++) h = digest_float(h, env->rgb[k]);
     }
     int64_t settings[] = {o->spp,      o->seed,      o->mode,     o->bounces,
                           o->indirect, o->no_jitter, o->roulette, o->strategy};
@@ -194,6 +262,8 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
     if (scene_sampler_of(o->sampler, o->mode) == RENDER_SAMPLER_SOBOL) h = digest_int(h, 1);
     /* one light sample keeps the digests of before light_samples existed */
     if (render_light_samples(o) > 1) h = digest_int(h, render_light_samples(o));
+    /* the noise threshold decides which samples are drawn; off keeps the digests of before */
+    if (o->noise_threshold > 0.0f) h = digest_float(digest_int(h, 4), o->noise_threshold);
     /* Smooth mirror and glass faces once turned rays about their geometric normal: parts rendered
      * then estimate another image, so such scenes hash one more word and those parts do not
      * merge with newer ones; every other scene keeps its digest. */
@@ -202,6 +272,8 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
      * (plane_hit): parts rendered then differ in the last bits, so scenes with faces hash one more
      * word; scenes of spheres alone keep their digest. */
     if (s->triangle_count > 0) h = digest_int(h, 3);
+    /* Only textured scenes hash their textures: the others keep their digest. */
+    if (s->slot_count > 0) h = digest_textures(h, s);
     return h;
 }
 
@@ -212,7 +284,8 @@ void render_part_meta(const scene *s, const render_opts *opts, part_meta *m) {
                      .width = s->width,
                      .height = s->height,
                      .x1 = s->width,
-                     .y1 = s->height};
+                     .y1 = s->height,
+                     .adaptive = opts->noise_threshold > 0.0f};
     snprintf(m->digest, sizeof m->digest, "%016" PRIx64, render_digest(s, opts));
     snprintf(m->mode, sizeof m->mode, "%s", opts->mode == RENDER_MODE_PATH ? "path" : "report");
     snprintf(m->version, sizeof m->version, "%s", TRAZADOR_VERSION);

@@ -25,19 +25,27 @@ _Static_assert(offsetof(struct gpu_sphere, pad1) == 28, "gpu_sphere layout");
 _Static_assert(sizeof(struct gpu_triangle) == 48, "gpu_triangle is 48 bytes");
 _Static_assert(offsetof(struct gpu_triangle, v1) == 16, "gpu_triangle layout");
 _Static_assert(offsetof(struct gpu_triangle, v2) == 32, "gpu_triangle layout");
-_Static_assert(sizeof(struct gpu_material) == 48, "gpu_material is 48 bytes");
+_Static_assert(sizeof(struct gpu_material) == 64, "gpu_material is 64 bytes");
 _Static_assert(offsetof(struct gpu_material, color_ks) == 0, "gpu_material layout");
 _Static_assert(offsetof(struct gpu_material, alpha) == 16, "gpu_material layout");
 _Static_assert(offsetof(struct gpu_material, ior) == 20, "gpu_material layout");
 _Static_assert(offsetof(struct gpu_material, kind) == 24, "gpu_material layout");
 _Static_assert(offsetof(struct gpu_material, reserved0) == 28, "gpu_material layout");
 _Static_assert(offsetof(struct gpu_material, emission) == 32, "gpu_material layout");
+_Static_assert(offsetof(struct gpu_material, maps) == 48, "gpu_material layout");
+_Static_assert(MAP_COLOR == TZ_MAP_COLOR && MAP_EMISSION == TZ_MAP_EMISSION &&
+                   MAP_NORMAL == TZ_MAP_NORMAL && MAP_ALPHA == TZ_MAP_ALPHA &&
+                   MAP_METALLIC_ROUGHNESS == TZ_MAP_METALLIC_ROUGHNESS &&
+                   MAP_ROUGHNESS == TZ_MAP_ROUGHNESS && MAP_METALLIC == TZ_MAP_METALLIC &&
+                   MATERIAL_MAP_COUNT <= 8,
+               "a material's maps, two to a word of gpu_material.maps");
 _Static_assert(sizeof(struct gpu_normals) == 48, "gpu_normals is 48 bytes");
-_Static_assert(sizeof(struct gpu_light) == 32, "gpu_light is 32 bytes");
+_Static_assert(sizeof(struct gpu_light) == 48, "gpu_light is 48 bytes");
+_Static_assert(offsetof(struct gpu_light, shape) == 32, "gpu_light layout");
 _Static_assert(offsetof(struct gpu_light, position_power) == 0, "gpu_light layout");
 _Static_assert(offsetof(struct gpu_light, color) == 16, "gpu_light layout");
-_Static_assert(sizeof(struct gpu_frame) == 144, "gpu_frame is 144 bytes");
-_Static_assert(offsetof(struct gpu_frame, instance_count) == 128, "gpu_frame layout");
+_Static_assert(sizeof(struct gpu_frame) == 240, "gpu_frame is 240 bytes");
+_Static_assert(offsetof(struct gpu_frame, instance_count) == 224, "gpu_frame layout");
 _Static_assert(sizeof(struct gpu_instance) == 112, "gpu_instance is 112 bytes");
 _Static_assert(offsetof(struct gpu_instance, to_world) == 48, "gpu_instance layout");
 _Static_assert(offsetof(struct gpu_instance, model) == 96, "gpu_instance layout");
@@ -57,6 +65,12 @@ _Static_assert(offsetof(struct gpu_frame, node_count) == 108, "gpu_frame layout"
 _Static_assert(offsetof(struct gpu_frame, near_distance) == 112, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, emitter_count) == 116, "gpu_frame layout");
 _Static_assert(offsetof(struct gpu_frame, triangle_count) == 120, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, env_x) == 128, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, env_z) == 160, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, env_width) == 176, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, env_slot) == 184, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, lens) == 192, "gpu_frame layout");
+_Static_assert(offsetof(struct gpu_frame, sun) == 208, "gpu_frame layout");
 _Static_assert(sizeof(struct gpu_pass) == 64 + 4 * TZ_PASS_CHUNKS, "gpu_pass is 96 bytes");
 _Static_assert(sizeof(struct gpu_pass) <= 128, "gpu_pass fits the push constants of any device");
 _Static_assert(offsetof(struct gpu_pass, stack_slot) == 64, "gpu_pass layout");
@@ -68,8 +82,8 @@ _Static_assert(offsetof(struct gpu_pass, group_stride) == 16, "gpu_pass layout")
 _Static_assert(offsetof(struct gpu_pass, stack_depth) == 44, "gpu_pass layout");
 
 _Static_assert(sizeof(struct gpu_unrolled) == TZ_UNROLL_MAX_SPHERES * 3 * sizeof(tz_vec4) +
-                                                  TZ_UNROLL_MAX_LIGHTS * sizeof(struct gpu_light),
-               "gpu_unrolled is its spheres and lights");
+                                                  TZ_UNROLL_MAX_LIGHTS * 2 * sizeof(tz_vec4),
+               "gpu_unrolled is its spheres and lights (position_power and color)");
 _Static_assert(offsetof(struct gpu_unrolled, lights) == TZ_UNROLL_MAX_SPHERES * 3 * sizeof(tz_vec4),
                "gpu_unrolled layout");
 _Static_assert(sizeof(struct gpu_emitter) == 32, "gpu_emitter is 32 bytes");
@@ -186,16 +200,42 @@ static void put_emitter(packed_scene *out, uint32_t slot, uint32_t id, vec3 emis
     };
 }
 
+/* The radius of a sphere about the scene's box (1 for an empty scene), in double: the
+ * environment's power is that of the light it sends through the disc of that radius. */
+static double scene_radius(const scene *s) {
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int k = 0; k < s->sphere_count; k++) {
+        const sphere *sp = &s->spheres[k];
+        const float c[3] = {sp->center.x, sp->center.y, sp->center.z};
+        for (int a = 0; a < 3; a++)
+            lo[a] = fmin(lo[a], (double)c[a] - sp->radius),
+            hi[a] = fmax(hi[a], (double)c[a] + sp->radius);
+    }
+    for (int k = 0; k < s->triangle_count; k++)
+        for (int v = 0; v < 3; v++) {
+            const vec3 p = s->triangles[k].v[v];
+            const float c[3] = {p.x, p.y, p.z};
+            for (int a = 0; a < 3; a++) lo[a] = fmin(lo[a], c[a]), hi[a] = fmax(hi[a], c[a]);
+        }
+    double d2 = 0.0;
+    for (int a = 0; a < 3; a++) d2 += hi[a] > lo[a] ? (hi[a] - lo[a]) * (hi[a] - lo[a]) : 0.0;
+    return d2 > 0.0 ? 0.5 * sqrt(d2) : 1.0;
+}
+
 /* The emitters of path mode from the spheres, then the triangles, in their final (BVH) order
  * (a sphere's emitter holds its index in the scene until here, triangle_source[t] the scene
- * index of triangle t): each emitter is picked in proportion to its power (sphere_power,
- * triangle_power), the shares summed in double; a sphere's emitter becomes its emitter's
- * slot + 1 or 0, an emitting triangle's v2.w (0 from pack_triangles) its slot + 1. False (logged)
- * on out-of-memory. */
+ * index of triangle t), then the environment map (env_power: the scene's radius squared times
+ * its mean radiance, a sphere's unit, as pbrt-v4's infinite lights), then the sun's disc
+ * (light_pack.c): each emitter is picked in
+ * proportion to its power (sphere_power, triangle_power), the shares summed in double; a sphere's
+ * emitter becomes its emitter's slot + 1 or 0, an emitting triangle's v2.w (0 from pack_triangles)
+ * its slot + 1. False (logged) on out-of-memory. */
 static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
-                          const uint32_t *triangle_source) {
+                          const uint32_t *triangle_source, double env_power, const sun_disc *sun) {
     uint32_t count = (uint32_t)sc->sphere_count, triangles = (uint32_t)sc->triangle_count, n = 0;
     double total = 0.0;
+    if (path_mode && env_power > 0.0) total += env_power, n++;
+    if (sun->power > 0.0) total += sun->power, n++;
     for (uint32_t k = 0; path_mode && k < count; k++) {
         double power = sphere_power(sc, &sc->spheres[k]);
         if (power > 0.0) total += power, n++;
@@ -233,6 +273,17 @@ static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
                     n, (float)triangle_area(t));
         out->triangles[k].v2.w = (float)++slot;
     }
+    if (path_mode && env_power > 0.0) {
+        running += env_power;
+        put_emitter(out, slot, TZ_ENV_PRIMITIVE, v3(0, 0, 0), env_power, running, total, n, 0.0f);
+        out->frame.env_slot = ++slot;
+    }
+    if (sun->power > 0.0) {
+        running += sun->power;
+        put_emitter(out, slot, TZ_SUN_PRIMITIVE, sun->radiance, sun->power, running, total, n,
+                    0.0f);
+        out->frame.sun_slot = ++slot;
+    }
     out->frame.emitter_count = n;
     return true;
 }
@@ -240,12 +291,19 @@ static bool pack_emitters(packed_scene *out, const scene *sc, bool path_mode,
 /* The material m as the shaders read it: the one packing of a material, a sphere's or a
  * face's. */
 static struct gpu_material gpu_material_of(const material *m) {
+    /* The microfacet kinds pack metallic as ks and the GGX width roughness^2 as alpha. */
+    bool microfacet = material_is_microfacet(m);
+    float width = m->roughness * m->roughness;
     return (struct gpu_material){
-        .color_ks = vec4_from(m->color, m->ks),
-        .alpha = m->alpha,
+        .color_ks = vec4_from(m->color, microfacet ? m->metallic : m->ks),
+        .alpha = microfacet ? (width > TZ_GGX_MIN_ALPHA ? width : TZ_GGX_MIN_ALPHA) : m->alpha,
         .ior = m->ior,
         .kind = (float)m->kind,
         .emission = vec4_from(m->emission, 0.0f),
+        .maps = {m->maps[MAP_COLOR] | m->maps[MAP_EMISSION] << 16,
+                 m->maps[MAP_NORMAL] | m->maps[MAP_ALPHA] << 16,
+                 m->maps[MAP_METALLIC_ROUGHNESS] | m->maps[MAP_ROUGHNESS] << 16,
+                 m->maps[MAP_METALLIC]},
     };
 }
 
@@ -330,7 +388,8 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     /* One zero element when empty keeps every buffer non-empty for Vulkan. */
     out->spheres = big_calloc(count ? count : 1, sizeof *out->spheres);
     out->lights = calloc(s->light_count ? (size_t)s->light_count : 1, sizeof *out->lights);
-    if (!out->spheres || !out->lights || !pack_materials(out, s) || !pack_triangles(out, s)) {
+    if (!out->spheres || !out->lights || !pack_materials(out, s) || !pack_triangles(out, s) ||
+        !texture_pack(s, out)) {
         log_error("out of memory packing %u spheres and %d triangles", count, s->triangle_count);
         scene_pack_free(out);
         return false;
@@ -341,13 +400,6 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
             .center_radius = vec4_from(sp->center, sp->radius),
             .material = (float)sp->material,
             .emitter = (float)k, /* pack_emitters */
-        };
-    }
-    for (int k = 0; k < s->light_count; k++) {
-        const light *l = &s->lights[k];
-        out->lights[k] = (struct gpu_light){
-            .position_power = vec4_from(l->position, l->power),
-            .color = vec4_from(l->color, 0.0f),
         };
     }
     /* Camera frame of DESIGN section 3: F forward, R = up x F to the right, U = F x R. */
@@ -362,7 +414,12 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         (opts->strategy == PATH_LIGHTS_ONLY ? TZ_FLAG_LIGHTS_ONLY : 0u) |
         (opts->strategy == PATH_BSDF_ONLY ? TZ_FLAG_BSDF_ONLY : 0u) |
         (scene_sampler_of(opts->sampler, opts->mode) == RENDER_SAMPLER_SOBOL ? TZ_FLAG_SOBOL : 0u) |
-        (s->triangle_count + s->model_face_count > 0 ? TZ_FLAG_TRIANGLES : 0u);
+        (s->triangle_count + s->model_face_count > 0 ? TZ_FLAG_TRIANGLES : 0u) |
+        (s->slot_count > 0 ? TZ_FLAG_TEXTURES : 0u) |
+        (s->environment.rgb ? TZ_FLAG_ENVIRONMENT : 0u) |
+        (scene_has_microfacet(s) ? TZ_FLAG_MICROFACET : 0u) |
+        (s->camera_aperture > 0.0f ? TZ_FLAG_LENS : 0u) |
+        (s->camera_orthographic ? TZ_FLAG_ORTHOGRAPHIC : 0u);
     /* The plane's distance: 2 x width (the seed's), or what the field of view asks. */
     float distance = s->camera_fov > 0.0f
                          ? (float)(0.5 * s->plane_width /
@@ -384,10 +441,24 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         .flags = flags,
         .near_distance = s->camera_near,
         .light_samples = (uint32_t)render_light_samples(opts),
+        .lens = {s->camera_aperture, s->camera_focus, 0.0f, 0.0f},
     };
+    const environment_map *env = &s->environment;
+    if (env->rgb) {
+        out->frame.env_x = (tz_vec4){env->to_map[0][0], env->to_map[0][1], env->to_map[0][2], 0};
+        out->frame.env_y = (tz_vec4){env->to_map[1][0], env->to_map[1][1], env->to_map[1][2], 0};
+        out->frame.env_z = (tz_vec4){env->to_map[2][0], env->to_map[2][1], env->to_map[2][2], 0};
+        out->frame.env_width = (uint32_t)env->width;
+        out->frame.env_height = (uint32_t)env->height;
+    }
     uint32_t *triangle_source = NULL;
-    bool sorted = pack_bvh(out, s, (uint32_t)s->triangle_count, opts->no_bvh, &triangle_source) &&
-                  pack_emitters(out, s, path, triangle_source); /* logged */
+    double env_mean = 0.0, radius = scene_radius(s);
+    sun_disc sun = lights_pack(s, path, radius, out);
+    bool sorted =
+        environment_pack(env, out, &env_mean) &&
+        pack_bvh(out, s, (uint32_t)s->triangle_count, opts->no_bvh, &triangle_source) &&
+        pack_emitters(out, s, path, triangle_source,
+                      env_mean > 0.0 ? env_mean * radius * radius : 0.0, &sun);
     free(triangle_source);
     if (sorted && (!pack_soa(out, count) || !pack_triangle_soa(out, out->frame.triangle_count)))
         log_error("out of memory packing %u spheres", count);
@@ -419,6 +490,7 @@ void scene_pack_report(const packed_scene *p, const render_opts *opts, double pa
                       (uint64_t)p->frame.triangle_count * sizeof *p->triangles +
                       (uint64_t)p->material_count * sizeof *p->materials +
                       (uint64_t)p->normals_count * sizeof *p->normals +
+                      (uint64_t)p->texture_word_count * sizeof *p->texture_words +
                       (uint64_t)p->frame.light_count * sizeof *p->lights +
                       (uint64_t)p->frame.node_count * sizeof *p->nodes +
                       (uint64_t)p->frame.instance_count * sizeof(struct gpu_instance);
@@ -438,9 +510,11 @@ void scene_pack_free(packed_scene *p) {
     free(p->triangles);
     free(p->materials);
     free(p->normals);
+    free(p->texture_words);
     free(p->triangle_soa.v[0]);
     free(p->nodes);
     free(p->emitters);
     free(p->instances);
+    free(p->environment);
     *p = (packed_scene){0};
 }

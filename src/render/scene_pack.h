@@ -26,19 +26,43 @@ typedef struct packed_scene {
     struct gpu_material *materials; /* the scene's materials, one zeroed when none */
     struct gpu_normals *normals;    /* the smooth triangles' normals, one zeroed when none */
     uint32_t material_count, normals_count;
+    uint32_t *texture_words; /* the texture table (TZ_TEXTURE_*), one zeroed word without any */
+    size_t texture_word_count;
     struct gpu_light *lights;
-    sphere_soa sphere_soa;          /* the C back end's copy of spheres[].center_radius */
-    triangle_soa triangle_soa;      /* and of triangles[]' corners */
-    struct gpu_bvh_node *nodes;     /* frame.node_count of them; NULL (0) without a BVH */
-    struct gpu_emitter *emitters;   /* frame.emitter_count (path mode), one zeroed when none */
+    sphere_soa sphere_soa;        /* the C back end's copy of spheres[].center_radius */
+    triangle_soa triangle_soa;    /* and of triangles[]' corners */
+    struct gpu_bvh_node *nodes;   /* frame.node_count of them; NULL (0) without a BVH */
+    struct gpu_emitter *emitters; /* frame.emitter_count (path mode), one zeroed when none */
     struct gpu_instance *instances; /* frame.instance_count, NULL when none */
+    tz_vec4 *environment;         /* TZ_BINDING_ENVIRONMENT's texels, one zeroed without a map */
+    uint32_t environment_texels;
     uint32_t bvh_depth;
     double bvh_seconds; /* build time */
 } packed_scene;
 
+/* The environment map's texels and sampling tables (TZ_BINDING_ENVIRONMENT) into out and its
+ * mean radiance over the sphere of directions (the mean of its channels) into *mean; false
+ * (logged) on out-of-memory (environment_pack.c). */
+bool environment_pack(const environment_map *m, packed_scene *out, double *mean);
+
+/* A sun with a disc in path mode: an emitter of this radiance and power (0: none). */
+typedef struct sun_disc {
+    vec3 radiance;
+    double power;
+} sun_disc;
+/* Packs the scene's lights into out->lights (allocated by scene_pack) and frame.light_count,
+ * TZ_FLAG_SHAPED_LIGHTS when a spot or a sun is among them; in path mode a sun with a disc is
+ * left out for an emitter: frame.sun and TZ_FLAG_SUN_DISC set, and its radiance and power
+ * (its flux through the disc of the scene's radius, in the environment's unit) returned
+ * (light_pack.c). */
+sun_disc lights_pack(const scene *s, bool path_mode, double scene_radius, packed_scene *out);
 /* Packs the scene with the options applied, spheres in BVH order unless opts->no_bvh;
  * false (logged) on out-of-memory. */
 bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out);
+/* The texture table of s (texture_pack.c) into out->texture_words, after the triangles are
+ * packed (their UVs follow the gpu_normals indices); false (logged) out of memory or past the
+ * 2^32 words the shaders address. */
+bool texture_pack(const scene *s, packed_scene *out);
 /* Fills the first `spheres` spheres of out (gpu_unrolled's layout) from p; never fails. */
 void scene_pack_unrolled(const packed_scene *p, uint32_t spheres, struct gpu_unrolled *out);
 /* Records the packing's figures (time since pack_start, BVH, sizes) into opts->stats if any;

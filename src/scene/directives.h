@@ -21,15 +21,44 @@
 
 /* The keys of a surface's material, the same for every shape: each shape's key table holds its
  * own keys, then these, so that one material table and one reader serve spheres and faces. */
-enum { MAT_COLOR, MAT_KS, MAT_ALPHA, MAT_IOR, MAT_EMISSION, MAT_KEY_COUNT };
+enum {
+    MAT_COLOR,
+    MAT_KS,
+    MAT_ALPHA,
+    MAT_IOR,
+    MAT_EMISSION,
+    MAT_ROUGHNESS,
+    MAT_METALLIC,
+    MAT_COLOR_MAP, /* the texture keys (scene_texture.c), MAT_COLOR_MAP to MAT_WRAP */
+    MAT_EMISSION_MAP,
+    MAT_NORMAL_MAP,
+    MAT_NORMAL_SCALE,
+    MAT_ALPHA_MAP,
+    MAT_ALPHA_CUTOFF,
+    MAT_METALLIC_ROUGHNESS_MAP,
+    MAT_WRAP,
+    MAT_KEY_COUNT
+};
 /* clang-format off */
 #define MATERIAL_KEY_SPECS                                          \
     {"color", "r g b", VALUE_NUMBER, UNIT_RANGE},                   \
     {"ks", NULL, VALUE_NUMBER, UNIT_RANGE},                         \
     {"alpha", NULL, VALUE_NUMBER, 0.0, FLT_MAX, false},             \
     {"ior", NULL, VALUE_NUMBER, 1.0, FLT_MAX, false},               \
-    {"emission", "r g b", VALUE_NUMBER, 0.0, FLT_MAX, false}
+    {"emission", "r g b", VALUE_NUMBER, 0.0, FLT_MAX, false},       \
+    {"roughness", NULL, VALUE_NUMBER, UNIT_RANGE},                  \
+    {"metallic", NULL, VALUE_NUMBER, UNIT_RANGE},                   \
+    {"color_map", NULL, VALUE_PATH, NO_RANGE},                      \
+    {"emission_map", NULL, VALUE_PATH, NO_RANGE},                   \
+    {"normal_map", NULL, VALUE_PATH, NO_RANGE},                     \
+    {"normal_scale", NULL, VALUE_NUMBER, 0.0, 1e6, false},          \
+    {"alpha_map", NULL, VALUE_PATH, NO_RANGE},                      \
+    {"alpha_cutoff", NULL, VALUE_NUMBER, UNIT_RANGE},               \
+    {"metallic_roughness_map", NULL, VALUE_PATH, NO_RANGE},         \
+    {"wrap", "repeat clamp mirror", VALUE_WORD, NO_RANGE}
 /* clang-format on */
+/* The texture keys, which every material takes. */
+#define MATERIAL_TEXTURE_KEYS (LOW_BITS(MAT_KEY_COUNT) & ~LOW_BITS(MAT_COLOR_MAP))
 
 /* A shape directive (sphere, triangle, quad, mesh) as the shared readers (shape_read,
  * shape_material_of) see it. */
@@ -52,6 +81,20 @@ typedef struct material_spec {
     float default_color;
     bool alias; /* one of the seed's Spanish names */
 } material_spec;
+
+/* Gives material m the texture maps of a shape's line (its keys from kv's key first on: the
+ * MAT_* texture keys), each image loaded once a scene (scene_texture.c). False (reported) on an
+ * image that cannot be read; false, silently, in a chunk parsed ahead (the line is then parsed in
+ * order, where files may be read). */
+bool material_maps_read(parser *p, int first, const key_values *kv, material *m);
+/* The slot of image file path (loaded once a scene) read with flags and param and transform;
+ * *slot its index + 1. False (reported at col) when the image cannot be read. */
+bool texture_slot_of_file(parser *p, int col, const char *path, uint32_t flags, float param,
+                          const float transform[6], uint32_t *slot);
+/* The slot of an image decoded from bytes in memory (a model's embedded one), named name for
+ * messages and keyed by it; as texture_slot_of_file. */
+bool texture_slot_of_bytes(parser *p, int col, const char *name, const uint8_t *bytes, size_t size,
+                           uint32_t flags, float param, const float transform[6], uint32_t *slot);
 
 /* Double-precision vectors: the face checks must not overflow or cancel where float would. */
 typedef struct dvec3 {
@@ -109,18 +152,24 @@ void mesh_placed_free(parser *p);
 /* A `camera file PATH` line (scene_camera_file.c), the camera directive's word checked. */
 bool directive_camera_file(parser *p);
 
-/* The directives' parsers (scene_setup.c, scene_primitives.c, scene_mesh.c): each parses the
- * tokenized line p->tokens into p->s; false (reported) on any error. */
+/* The directives' parsers (scene_setup.c, scene_lights.c, scene_primitives.c, scene_mesh.c): each
+ * parses the tokenized line p->tokens into p->s; false (reported) on any error. */
 bool directive_camera(parser *p);
 bool directive_plane(parser *p);
 bool directive_light(parser *p);
+bool directive_sun(parser *p);
 bool directive_background(parser *p);
+bool directive_environment(parser *p);
 bool directive_render(parser *p);
 bool directive_sphere(parser *p);
 bool directive_triangle(parser *p);
 bool directive_quad(parser *p);
 bool directive_mesh(parser *p);
 
+/* The path token t names (bare or quoted: parser_path): absolute as given, else relative to the
+ * scene file's folder (the working folder for text that is not a file: standard input,
+ * strings); false (reported, `what` naming the directive) when it is empty or does not fit. */
+bool directive_file_path(parser *p, const token *t, const char *what, char *out, size_t size);
 /* Appends to a message, dropping what does not fit. */
 void directive_append(char *message, size_t size, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));

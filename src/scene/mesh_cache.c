@@ -38,7 +38,9 @@ static bool mesh_copy(const mesh *from, mesh *to) {
     to->materials = malloc(((size_t)from->material_count + 1) * sizeof *from->materials);
     to->cameras = malloc(((size_t)from->camera_count + 1) * sizeof *from->cameras);
     to->lights = malloc(((size_t)from->light_count + 1) * sizeof *from->lights);
-    if (!to->faces || !to->materials || !to->cameras || !to->lights) {
+    size_t embedded = from->embedded_at[from->embedded_count];
+    to->embedded = malloc(embedded + 1);
+    if (!to->faces || !to->materials || !to->cameras || !to->lights || !to->embedded) {
         mesh_free(to);
         return false;
     }
@@ -46,6 +48,7 @@ static bool mesh_copy(const mesh *from, mesh *to) {
     memcpy(to->lights, from->lights, (size_t)from->light_count * sizeof *from->lights);
     memcpy(to->faces, from->faces, from->face_count * sizeof *from->faces);
     memcpy(to->materials, from->materials, (size_t)from->material_count * sizeof *from->materials);
+    if (embedded) memcpy(to->embedded, from->embedded, embedded);
     return true;
 }
 

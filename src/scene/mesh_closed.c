@@ -108,6 +108,9 @@ static bool wind_outward(mesh *m, const bool *has_glass, uint32_t *parent, bool 
         vec3 p = face->v[1], n = face->n[1];
         face->v[1] = face->v[2], face->n[1] = face->n[2];
         face->v[2] = p, face->n[2] = n;
+        float uv[2] = {face->uv[1][0], face->uv[1][1]};
+        memcpy(face->uv[1], face->uv[2], sizeof uv);
+        memcpy(face->uv[2], uv, sizeof uv);
     }
     free(volume);
     return true;

@@ -34,11 +34,16 @@
 /* Normals are generated across edges whose faces meet at less than this (degrees): a cube stays
  * flat, a tessellated sphere turns smooth. */
 #define SMOOTHING_ANGLE 60.0f
-/* The import's time limit: this, plus the file's size over the rate below, unless
- * TRAZADOR_MESH_SECONDS gives one (at most LOAD_SECONDS_MAX). */
+/* The import's limit in processor time: this, plus the file's size over the rate below, unless
+ * TRAZADOR_MESH_SECONDS gives one (at most LOAD_SECONDS_MAX). Processor time, because CI's
+ * loaded cores once stretched a 10 ms import past a wall-clock limit of 2 s. */
 #define LOAD_SECONDS 2.0
 #define LOAD_BYTES_PER_SECOND 1e6
 #define LOAD_SECONDS_MAX 86400.0
+/* A child blocked on something other than a core (a model naming a FIFO) ends past this many
+ * times its limit on the wall clock, plus LOAD_WALL_SLACK seconds. */
+#define LOAD_WALL_FACTOR 10.0
+#define LOAD_WALL_SLACK 20.0
 /* The child's heap is reserved (heap_reserve) at this many bytes per byte of the file, and at
  * least HEAP_MIN. */
 #define HEAP_PER_FILE_BYTE 32
@@ -120,6 +125,11 @@ static void *gather_run(void *arg) {
                 struct aiVector3D n = me->mNormals ? me->mNormals[index] : (struct aiVector3D){0};
                 bool finite = isfinite(n.x) && isfinite(n.y) && isfinite(n.z);
                 mf->n[k] = finite ? v3(n.x, n.y, -n.z) : v3(0, 0, 0);
+                struct aiVector3D t =
+                    me->mTextureCoords[0] ? me->mTextureCoords[0][index] : (struct aiVector3D){0};
+                finite = isfinite(t.x) && isfinite(t.y);
+                mf->uv[k][0] = finite ? t.x : 0.0f;
+                mf->uv[k][1] = finite ? t.y : 0.0f;
             }
             mf++;
             g->written++;
@@ -161,6 +171,45 @@ static bool gather_faces(const struct aiScene *sc, mesh *out, char *error, size_
                         g[t].fail_index, g[t].fail_mesh, (double)g[t].fail_value.x,
                         (double)g[t].fail_value.y, (double)g[t].fail_value.z);
         out->face_count += g[t].written;
+    }
+    return true;
+}
+
+/* The compressed bytes of the embedded images ("*N") the materials name into out->embedded, each
+ * material's path renamed to its index there; an image assimp holds decoded (its height not 0)
+ * or past the limits is named unsupported and its maps dropped. False out of memory. */
+static bool gather_embedded(const struct aiScene *sc, mesh *out, char *error, size_t error_size) {
+    int index_of[MESH_MAX_EMBEDDED];
+    for (int k = 0; k < MESH_MAX_EMBEDDED; k++) index_of[k] = -1;
+    for (int m = 0; m < out->material_count; m++) {
+        for (int k = 0; k < MATERIAL_MAP_COUNT; k++) {
+            mesh_map *map = &out->materials[m].maps[k];
+            if (map->path[0] != '*') continue;
+            char *end;
+            long n = strtol(map->path + 1, &end, 10);
+            const struct aiTexture *t =
+                !*end && n >= 0 && n < (long)sc->mNumTextures && n < MESH_MAX_EMBEDDED
+                    ? sc->mTextures[n]
+                    : NULL;
+            size_t used = out->embedded_at[out->embedded_count];
+            bool room = t && (index_of[n] >= 0 || (out->embedded_count < MESH_MAX_EMBEDDED &&
+                                                   t->mWidth <= MESH_MAX_EMBEDDED_BYTES - used));
+            if (!t || t->mHeight != 0 || !room) {
+                mesh_note_unsupported(out->unsupported, sizeof out->unsupported,
+                                      "embedded textures stored decoded or past 256 MB");
+                map->path[0] = '\0';
+                continue;
+            }
+            if (index_of[n] < 0) {
+                uint8_t *grown = realloc(out->embedded, used + t->mWidth + 1);
+                if (!grown) return fail(error, error_size, "out of memory for its textures");
+                out->embedded = grown;
+                memcpy(grown + used, t->pcData, t->mWidth);
+                index_of[n] = out->embedded_count++;
+                out->embedded_at[out->embedded_count] = used + t->mWidth;
+            }
+            snprintf(map->path, sizeof map->path, "*%d", index_of[n]);
+        }
     }
     return true;
 }
@@ -302,6 +351,7 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
                                sizeof out->unsupported, error, error_size);
     out->material_count = (int)sc->mNumMaterials;
     if (ok) note_lost_strength(path, out);
+    if (ok) ok = gather_embedded(sc, out, error, error_size);
     if (ok) ok = gather_faces(sc, out, error, error_size);
     ai->release_import(sc); /* before the normals' tables: the peak is then one of the two */
     if (ok && out->face_count == 0)
@@ -328,6 +378,7 @@ typedef struct reply {
     scene_input inputs[MESH_MAX_INPUTS];
     int input_count;
     int camera_count, light_count; /* follow the materials */
+    int embedded_count;            /* the embedded images' ends and bytes follow the lights */
     char error[512];
 } reply;
 
@@ -362,11 +413,30 @@ static void child_run(int fd, int shm, const char *path, bool smooth, size_t fil
     r.input_count = m.input_count;
     r.camera_count = m.camera_count;
     r.light_count = m.light_count;
+    r.embedded_count = m.embedded_count;
     if (fd_write_all(fd, &r, sizeof r) && r.ok &&
         fd_write_all(fd, m.materials, (size_t)m.material_count * sizeof *m.materials) &&
-        fd_write_all(fd, m.cameras, (size_t)m.camera_count * sizeof *m.cameras))
-        fd_write_all(fd, m.lights, (size_t)m.light_count * sizeof *m.lights);
+        fd_write_all(fd, m.cameras, (size_t)m.camera_count * sizeof *m.cameras) &&
+        fd_write_all(fd, m.lights, (size_t)m.light_count * sizeof *m.lights) &&
+        fd_write_all(fd, m.embedded_at, sizeof m.embedded_at))
+        fd_write_all(fd, m.embedded, m.embedded_at[m.embedded_count]);
     _exit(0);
+}
+
+/* Reads the embedded images' ends and bytes the child sends after the lights into out; false
+ * when they do not arrive within the limit, are inconsistent or find no memory. */
+static bool receive_embedded(int fd, const reply *r, mesh *out, const fd_time_limit *limit,
+                             bool *late) {
+    if (r->embedded_count < 0 || r->embedded_count > MESH_MAX_EMBEDDED ||
+        !fd_read_all_by(fd, out->embedded_at, sizeof out->embedded_at, limit, late))
+        return false;
+    size_t bytes = out->embedded_at[r->embedded_count];
+    for (int k = 0; k < r->embedded_count; k++)
+        if (out->embedded_at[k] > out->embedded_at[k + 1]) return false;
+    if (out->embedded_at[0] != 0 || bytes > MESH_MAX_EMBEDDED_BYTES) return false;
+    out->embedded = malloc(bytes + 1);
+    out->embedded_count = r->embedded_count;
+    return out->embedded && fd_read_all_by(fd, out->embedded, bytes, limit, late);
 }
 
 /* The import's time limit in seconds for a file of `bytes`: TRAZADOR_MESH_SECONDS where set,
@@ -427,10 +497,16 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
         child_run(fds[1], shm, path, smooth, (size_t)st.st_size);
     }
     close(fds[1]);
-    double deadline = clock_seconds() + seconds;
+    fd_time_limit limit = {
+        .cpu_seconds = seconds,
+        .wall_deadline = clock_seconds() + LOAD_WALL_FACTOR * seconds + LOAD_WALL_SLACK};
+    if (clock_getcpuclockid(pid, &limit.cpu_clock) != 0) { /* then the wall clock alone */
+        limit.cpu_clock = CLOCK_MONOTONIC;
+        limit.cpu_seconds += clock_seconds();
+    }
     reply r = {0};
     bool late = false, reported = false, ok = false;
-    bool got = fd_read_all_by(fds[0], &r, sizeof r, deadline, &late);
+    bool got = fd_read_all_by(fds[0], &r, sizeof r, &limit, &late);
     if (got && r.ok) {
         out->face_count = r.face_count;
         out->material_count = r.material_count;
@@ -460,14 +536,14 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
             reported = true;
         } else {
             ok = fd_read_all_by(fds[0], out->materials,
-                                (size_t)r.material_count * sizeof *out->materials, deadline,
-                                &late) &&
+                                (size_t)r.material_count * sizeof *out->materials, &limit, &late) &&
                  fd_read_all_by(fds[0], out->cameras, (size_t)r.camera_count * sizeof *out->cameras,
-                                deadline, &late) &&
+                                &limit, &late) &&
                  fd_read_all_by(fds[0], out->lights, (size_t)r.light_count * sizeof *out->lights,
-                                deadline, &late);
+                                &limit, &late);
             out->camera_count = r.camera_count;
             out->light_count = r.light_count;
+            ok = ok && receive_embedded(fds[0], &r, out, &limit, &late);
             for (int k = 0; k < out->camera_count; k++)
                 out->cameras[k].name[sizeof out->cameras[k].name - 1] = '\0';
             for (int k = 0; k < out->light_count; k++) {
@@ -494,8 +570,8 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
     if (!ok && !reported) {
         if (late)
             fail(error, error_size,
-                 "cannot load: assimp did not finish within its time limit of %.1f s (a malformed "
-                 "file, or a slow one: TRAZADOR_MESH_SECONDS=N gives it N s)",
+                 "cannot load: assimp did not finish within its time limit of %.1f s of processor "
+                 "time (a malformed file, or a slow one: TRAZADOR_MESH_SECONDS=N gives it N s)",
                  seconds);
         else if (WIFSIGNALED(status))
             fail(error, error_size, "cannot load: assimp crashed reading it (signal %d)",
@@ -512,5 +588,6 @@ void mesh_free(mesh *m) {
     free(m->materials);
     free(m->cameras);
     free(m->lights);
+    free(m->embedded);
     memset(m, 0, sizeof *m);
 }

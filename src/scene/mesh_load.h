@@ -11,14 +11,32 @@
 
 #include "scene/scene.h"
 
-/* A material of the file as trazador renders it, and its name in the file (for messages). */
+/* A texture a file's material names: its path as the file gives it (relative to the model's
+ * folder), or "*N" for the file's embedded image N (mesh.embedded); TZ_WRAP_* of u and v and
+ * TZ_SLOT_SRGB in flags. An empty path: none. */
+#define MESH_MAP_PATH 200
+typedef struct mesh_map {
+    char path[MESH_MAP_PATH];
+    uint32_t flags;
+    float transform[6]; /* the UVs' affine map, texture_slot.transform's rows (glTF's
+                         * KHR_texture_transform), the identity when the file gives none */
+} mesh_map;
+
+/* A material of the file as trazador renders it, its textures (MAP_*), and its name in the file
+ * (for messages). */
 typedef struct mesh_material {
     material_kind kind;
     vec3 color;
     float ks, alpha, ior;
+    float roughness, metallic; /* pbr's */
     vec3 emission;
+    mesh_map maps[MATERIAL_MAP_COUNT];
     char name[64];
 } mesh_material;
+
+/* The most bytes of embedded images a model may carry to the parser. */
+#define MESH_MAX_EMBEDDED_BYTES ((size_t)256 << 20)
+#define MESH_MAX_EMBEDDED 256
 
 /* The most files of one model whose identities are kept (scene_input): a model and its MTL, or
  * a glTF and its buffers, need a few. */
@@ -27,7 +45,8 @@ typedef struct mesh_material {
 /* One triangle of the file, node transforms applied. */
 typedef struct mesh_face {
     vec3 v[3];
-    vec3 n[3]; /* the file's (or generated) normals; zero when the file gives none */
+    vec3 n[3];      /* the file's (or generated) normals; zero when the file gives none */
+    float uv[3][2]; /* the first texture coordinates (OpenGL's: v up), zero without any */
     int material;
 } mesh_face;
 
@@ -68,6 +87,11 @@ typedef struct mesh {
     int camera_count;
     mesh_light *lights;
     int light_count;
+    /* The compressed bytes (PNG, JPEG, ...) of the embedded images its materials use: image k
+     * is embedded[embedded_at[k]] to embedded[embedded_at[k + 1]]. */
+    uint8_t *embedded;
+    size_t embedded_at[MESH_MAX_EMBEDDED + 1];
+    int embedded_count;
 } mesh;
 
 /* Loads path; smooth: generate normals (by angle) where the file has none. False with a message

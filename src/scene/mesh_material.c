@@ -3,6 +3,7 @@
  * mirror and glass, the values it refuses said, what it cannot show named. */
 #include "scene/mesh_material.h"
 
+#include <assimp/GltfMaterial.h>
 #include <assimp/ObjMaterial.h>
 #include <assimp/material.h>
 #include <math.h>
@@ -11,13 +12,6 @@
 
 /* A mean specular colour at least this, over a black diffuse colour, is a mirror. */
 #define MIRROR_KS 0.95f
-/* glTF: metallic 1 and roughness under this is a mirror. */
-#define MIRROR_ROUGHNESS 0.05f
-/* glTF: what a dielectric (metallic 0) reflects at normal incidence. */
-#define DIELECTRIC_KS 0.04f
-/* The largest Phong exponent a roughness maps to (roughness 0 would be infinite). */
-#define MAX_ALPHA 10000.0f
-
 static float clamp01(float x) { return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x; }
 
 /* A material's values as the mapping reads them; the first value it refuses (a colour that is
@@ -53,13 +47,100 @@ static float float_of(material_reader *r, const char *name, const char *key, uns
     return *found ? (float)value : fallback;
 }
 
+/* A factor that must lie in [0, 1] (glTF's metallic and roughness), named in r->bad if not. */
+static void check_unit(material_reader *r, const char *name, float value, bool found) {
+    if (found && !(value >= 0.0f && value <= 1.0f) && !r->bad[0])
+        snprintf(r->bad, sizeof r->bad, "its %s is %g, outside [0, 1]", name, (double)value);
+}
+
 void mesh_note_unsupported(char *list, size_t size, const char *what) {
     if (strstr(list, what)) return;
     size_t used = strlen(list);
     snprintf(list + used, size - used, "%s%s", used ? ", " : "", what);
 }
 
-/* The texture kinds a material uses, named into list. */
+/* Whether material m comes from glTF's importer (which sets glTF's alpha mode on every one). */
+static bool from_gltf(const assimp_lib *ai, const struct aiMaterial *m) {
+    struct aiString mode = {0};
+    return ai->get_material_string(m, AI_MATKEY_GLTF_ALPHAMODE, &mode) == aiReturn_SUCCESS;
+}
+
+/* The affine map of UVs into rows (u' = r0 u + r1 v + r2, v' = r3 u + r4 v + r5) of the first
+ * texture of `type` of glTF material m: KHR_texture_transform (offset o, rotation r, scale S:
+ * uv' = o + R S uv in glTF's UVs, v down, R = (cos r, sin r; -sin r, cos r) by rows, with which
+ * the extension's TextureTransformTest model renders right), recovered from the aiUVTransform
+ * assimp 5.2's glTF
+ * importer makes of it by inverting its formulas, and written for trazador's UVs (v = 1 - v_glTF,
+ * as assimp flips them). The identity without one, for other formats (whose aiUVTransform
+ * follows assimp's own rule) or with a non-finite value. */
+static void uv_transform_of(const assimp_lib *ai, const struct aiMaterial *m,
+                            enum aiTextureType type, float rows[6]) {
+    static const float identity[6] = {1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
+    memcpy(rows, identity, sizeof identity);
+    float t[5]; /* aiUVTransform: translation x y, scaling x y, rotation r */
+    unsigned int count = 5;
+    if (!from_gltf(ai, m) ||
+        ai->get_material_float_array(m, _AI_MATKEY_UVTRANSFORM_BASE, type, 0, t, &count) !=
+            aiReturn_SUCCESS ||
+        count != 5)
+        return;
+    double sx = t[2], sy = t[3], c = cos(-(double)t[4]), s = sin(-(double)t[4]);
+    double ox = t[0] - 0.5 * sx * (1.0 - c + s);
+    double oy = -(double)t[1] + 0.5 * sy * (s + c - 1.0) + 1.0 - sy;
+    double g = -s; /* sin r: the importer keeps r, and builds the translation from -r */
+    double out[6] = {c * sx, g * sy, ox - g * sy, -g * sx, c * sy, 1.0 - c * sy - oy};
+    for (int k = 0; k < 6; k++)
+        if (!isfinite((float)out[k])) return;
+    for (int k = 0; k < 6; k++) rows[k] = (float)out[k];
+}
+
+/* The texture of `type` (its first) of material m into map, its wrap modes and srgb in flags;
+ * false (map empty) when it has none. */
+static bool map_of(const assimp_lib *ai, const struct aiMaterial *m, enum aiTextureType type,
+                   bool srgb, mesh_map *map) {
+    struct aiString path = {0};
+    if (ai->get_material_texture_count(m, type) == 0 ||
+        ai->get_material_string(m, _AI_MATKEY_TEXTURE_BASE, type, 0, &path) != aiReturn_SUCCESS ||
+        path.length == 0 || path.length >= sizeof map->path)
+        return false;
+    memcpy(map->path, path.data, path.length);
+    map->path[path.length] = '\0';
+    for (char *c = map->path; *c; c++) /* MTL files written on Windows: .\\wood.jpg */
+        if (*c == '\\') *c = '/';
+    int mode[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+    ai->get_material_integer_array(m, _AI_MATKEY_MAPPINGMODE_U_BASE, type, 0, &mode[0], NULL);
+    ai->get_material_integer_array(m, _AI_MATKEY_MAPPINGMODE_V_BASE, type, 0, &mode[1], NULL);
+    uint32_t wrap[2];
+    for (int k = 0; k < 2; k++)
+        wrap[k] = mode[k] == aiTextureMapMode_Mirror ? TZ_WRAP_MIRROR
+                  : mode[k] == aiTextureMapMode_Clamp || mode[k] == aiTextureMapMode_Decal
+                      ? TZ_WRAP_CLAMP
+                      : TZ_WRAP_REPEAT;
+    map->flags = wrap[0] | wrap[1] << 4 | (srgb ? TZ_SLOT_SRGB : 0u);
+    uv_transform_of(ai, m, type, map->transform);
+    return true;
+}
+
+/* The textures of material m trazador keeps (MAP_*): the colour (glTF's base colour, else the
+ * diffuse map: MTL's map_Kd), emission (map_Ke), normal (glTF's normal texture, MTL's norm;
+ * map_Bump is a height map, not one), alpha (map_d), glTF's metallic-roughness, else MTL's
+ * map_Pr and map_Pm. */
+static void read_maps(const assimp_lib *ai, const struct aiMaterial *m, mesh_material *out) {
+    if (!map_of(ai, m, aiTextureType_BASE_COLOR, true, &out->maps[MAP_COLOR]))
+        map_of(ai, m, aiTextureType_DIFFUSE, true, &out->maps[MAP_COLOR]);
+    map_of(ai, m, aiTextureType_EMISSIVE, true, &out->maps[MAP_EMISSION]);
+    map_of(ai, m, aiTextureType_NORMALS, false, &out->maps[MAP_NORMAL]);
+    map_of(ai, m, aiTextureType_OPACITY, false, &out->maps[MAP_ALPHA]);
+    /* assimp 5.2's glTF importer gives the metallic-roughness texture as UNKNOWN's first, and the
+     * same image as the metallic and roughness textures, whose red channel is not theirs. */
+    if (!map_of(ai, m, aiTextureType_UNKNOWN, false, &out->maps[MAP_METALLIC_ROUGHNESS])) {
+        map_of(ai, m, aiTextureType_DIFFUSE_ROUGHNESS, false, &out->maps[MAP_ROUGHNESS]);
+        map_of(ai, m, aiTextureType_METALNESS, false, &out->maps[MAP_METALLIC]);
+    }
+}
+
+/* The texture kinds a material uses, named into list (those the renderer shades left out; the
+ * metallic and roughness ones shade the microfacet kinds alone, as their factors do). */
 static void note_textures(const assimp_lib *ai, const struct aiMaterial *m, char *list,
                           size_t size) {
     static const struct {
@@ -83,6 +164,11 @@ static void note_textures(const assimp_lib *ai, const struct aiMaterial *m, char
         {aiTextureType_UNKNOWN, "other texture"},
     };
     for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
+        enum aiTextureType type = kinds[k].type;
+        if (type == aiTextureType_DIFFUSE || type == aiTextureType_BASE_COLOR ||
+            type == aiTextureType_NORMALS || type == aiTextureType_UNKNOWN ||
+            type == aiTextureType_METALNESS || type == aiTextureType_DIFFUSE_ROUGHNESS)
+            continue; /* the maps shaded (read_maps') */
         if (ai->get_material_texture_count(m, kinds[k].type) > 0)
             mesh_note_unsupported(list, size, kinds[k].name);
     }
@@ -148,21 +234,13 @@ static mesh_material map_material(material_reader *r, const char *name, char *un
         return out;
     }
     if (has_metal || has_rough) {
-        /* glTF's metallic-roughness model. */
-        if (metallic >= 1.0f && roughness < MIRROR_ROUGHNESS) {
-            out.kind = TZ_MATERIAL_MIRROR;
-            return out;
-        }
-        /* Dielectrics reflect 4% at normal incidence and diffuse the rest, metals reflect their
-         * colour's mean and diffuse nothing, so max(color) + ks stays at most 1 (Phong's ks is
-         * grey: a metal's tint is lost); the Phong lobe of exponent 2 / r^4 - 2 is as wide as
-         * GGX's of alpha r^2. */
-        out.kind = TZ_MATERIAL_PHONG;
-        float r = fmaxf(clamp01(roughness), 1e-3f), metal = clamp01(metallic);
-        float diffuse = (1.0f - metal) * (1.0f - DIELECTRIC_KS);
-        out.color = v3(color.x * diffuse, color.y * diffuse, color.z * diffuse);
-        out.ks = DIELECTRIC_KS * (1.0f - metal) + metal * (color.x + color.y + color.z) / 3.0f;
-        out.alpha = fminf(2.0f / (r * r * r * r) - 2.0f, MAX_ALPHA);
+        /* glTF's metallic-roughness model (and MTL's Pm, Pr) is the pbr material, exactly. */
+        check_unit(r, "metallic factor", metallic, has_metal);
+        check_unit(r, "roughness factor", roughness, has_rough);
+        out.kind = TZ_MATERIAL_PBR;
+        out.metallic = clamp01(metallic);
+        out.roughness = clamp01(roughness);
+        out.ior = has_ni && ni >= 1.0f ? ni : 1.5f;
         return out;
     }
     bool black = kd.x <= 0.0f && kd.y <= 0.0f && kd.z <= 0.0f;
@@ -188,6 +266,7 @@ bool mesh_map_material(const assimp_lib *ai, const struct aiMaterial *m, unsigne
     ai->get_material_string(m, AI_MATKEY_NAME, &name);
     name.data[name.length < sizeof name.data ? name.length : sizeof name.data - 1] = '\0';
     *out = map_material(&r, name.data, unsupported, size);
+    read_maps(ai, m, out);
     snprintf(out->name, sizeof out->name, "%.*s", (int)sizeof out->name - 1, name.data);
     if (!r.bad[0]) return true;
     if (name.data[0])

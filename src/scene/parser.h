@@ -16,9 +16,9 @@
 #define MAX_TOKENS (SCENE_MAX_LINE / 2 + 1)
 /* Characters of a bad token quoted back in an error message. */
 #define MAX_QUOTED_CHARS 60
-/* Keys per directive: the mesh has the most (file scale rotate translate smooth lights and the
- * five material keys: color ks alpha ior emission). */
-#define MAX_KEYS 12
+/* Keys per directive: the triangle has the most (v0 v1 v2 n0 n1 n2 uv0 uv1 uv2 and the
+ * material keys, the texture keys among them). */
+#define MAX_KEYS 26
 /* Spheres and triangles in all (a quad is two). A test build lowers it (test_parse_limit) to
  * reach the limit with a small text. */
 #ifndef PARSER_MAX_PRIMITIVES
@@ -36,8 +36,15 @@ typedef struct token {
     int col;
 } token;
 
-/* VALUE_WORD: one of the words listed in the key's `components`, its index the value. */
-typedef enum value_kind { VALUE_NUMBER, VALUE_INTEGER, VALUE_SWITCH, VALUE_WORD } value_kind;
+/* VALUE_WORD: one of the words listed in the key's `components`, its index the value;
+ * VALUE_PATH: one token, a file's path (parser_path reads it from value_token). */
+typedef enum value_kind {
+    VALUE_NUMBER,
+    VALUE_INTEGER,
+    VALUE_SWITCH,
+    VALUE_WORD,
+    VALUE_PATH
+} value_kind;
 
 typedef struct key_spec {
     const char *name;
@@ -91,7 +98,9 @@ typedef struct parser {
     int mode_given; /* the render's mode from the command line; -1: the scene's */
     /* A chunk parsed ahead: any directive but sphere, triangle and quad stops it. */
     bool primitives_only;
-    struct mesh_cache *meshes;  /* the models mesh lines loaded (mesh_cache.c), NULL before one */
+    /* A model's own textures: one that cannot be read is a warning, its map dropped. */
+    bool textures_optional;
+    struct mesh_cache *meshes; /* the models mesh lines loaded (mesh_cache.c), NULL before one */
     struct mesh_placed *placed; /* the mesh lines' models, for instances (scene_instance.c) */
     size_t placed_count;
     mesh_view *views; /* the mesh lines' boxes, in order (parser_note_mesh); freed by the parse */

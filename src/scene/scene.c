@@ -19,6 +19,15 @@ void scene_free(scene *s) {
     s->models = NULL;
     s->instances = NULL;
     s->model_face_count = s->model_count = s->instance_count = 0;
+    for (int k = 0; k < s->image_count; k++) texture_image_free(&s->images[k].texels);
+    free(s->images);
+    free(s->slots);
+    s->images = NULL;
+    s->slots = NULL;
+    s->image_count = s->slot_count = 0;
+    s->texel_bytes = 0;
+    free(s->environment.rgb);
+    s->environment = (environment_map){0};
     s->spheres = NULL;
     s->triangles = NULL;
     s->materials = NULL;
@@ -42,6 +51,7 @@ bool scene_emits(const scene *s) {
 
 bool scene_has_light(const scene *s) {
     if (s->background.x > 0.0f || s->background.y > 0.0f || s->background.z > 0.0f) return true;
+    if (s->environment.rgb) return true;
     for (int k = 0; k < s->light_count; k++) {
         const light *l = &s->lights[k];
         if (l->power > 0.0f && (l->color.x > 0.0f || l->color.y > 0.0f || l->color.z > 0.0f))

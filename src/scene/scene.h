@@ -7,6 +7,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "scene/texture.h"
 #include "shared_layout.h"
 #include "util/vec3.h"
 
@@ -51,7 +52,8 @@
  * precision, which overflows past about 1.8e19 (every pixel then the background). */
 #define SCENE_MAX_PLANE_DISTANCE 1e19
 
-/* A material: TZ_MATERIAL_LAMBERTIAN, _PHONG, _MIRROR or _REFRACTIVE (shared_layout.h), the
+/* A material: TZ_MATERIAL_LAMBERTIAN, _PHONG, _MIRROR, _REFRACTIVE, _CONDUCTOR or _PBR
+ * (shared_layout.h), the
  * numbers the shaders read. */
 typedef int material_kind;
 
@@ -82,17 +84,57 @@ static inline int scene_default_bounces(render_mode mode) {
     return mode == RENDER_MODE_PATH ? 16 : 5;
 }
 
+/* Bytes of an image's name kept for messages. */
+#define SCENE_IMAGE_NAME 256
+
+/* The texture maps a material may have (material.maps), each a slot of scene.slots; the order
+ * of shared_layout.h's TZ_MAP_* (gpu_material.maps). */
+enum {
+    MAP_COLOR,
+    MAP_EMISSION,
+    MAP_NORMAL,
+    MAP_ALPHA,
+    MAP_METALLIC_ROUGHNESS,
+    MAP_ROUGHNESS, /* MTL's map_Pr: a grey image alone */
+    MAP_METALLIC,  /* MTL's map_Pm */
+    MATERIAL_MAP_COUNT
+};
+
+/* How a material reads an image (a slot of the texture table, shared_layout.h): the image
+ * (scene.images), TZ_WRAP_* of u and v and TZ_SLOT_SRGB in flags, a parameter (the alpha
+ * cutoff, the normal scale) and the transform of the UVs (u' = t0 u + t1 v + t2, v' = t3 u +
+ * t4 v + t5; KHR_texture_transform). */
+typedef struct texture_slot {
+    uint32_t image;
+    uint32_t flags;
+    float param;
+    float transform[6];
+} texture_slot;
+
+/* An image file decoded once however many slots read it: its texels, its identity (device and
+ * inode; 0 and 0 for an image embedded in a model, then keyed by its model and index in name)
+ * and its path for messages. */
+typedef struct scene_image {
+    texture_image texels;
+    uint64_t device, inode;
+    char name[SCENE_IMAGE_NAME];
+} scene_image;
+
 /* A material (DESIGN section 2): what a sphere's or a face's line gives, or a model file's
  * material mapped. Held once, in scene.materials; spheres and faces refer to theirs by index,
  * and consecutive shapes that give the same share one (a quad's halves, a mesh's faces). */
 typedef struct material {
-    material_kind kind; /* a face's: lambertian, phong or mirror (glass needs a closed mesh) */
+    material_kind kind; /* a face's: lambertian, phong, mirror, conductor or pbr (glass needs a
+                         * closed mesh); conductor is a mirror of roughness above 0 */
     vec3 color;         /* kd for lambertian/phong, tint for mirror/refractive */
     float ks;           /* phong specular weight, 0 for the others */
     float alpha;        /* phong exponent */
-    float ior;          /* refractive index, 1 for the others */
+    float ior;          /* refractive index, 1 for the others; pbr's dielectric index */
+    float roughness;    /* conductor and pbr: the GGX roughness (alpha = roughness^2), else 0 */
+    float metallic;     /* pbr: the metal's share (glTF metallicFactor), else 0 */
     vec3 emission;      /* radiance emitted (path mode; an error in report mode); a face's is
                          * emitted from both sides */
+    uint32_t maps[MATERIAL_MAP_COUNT]; /* scene.slots index + 1 of each map, 0 for none */
 } material;
 
 typedef struct sphere {
@@ -101,9 +143,12 @@ typedef struct sphere {
     uint32_t material; /* scene.materials[material] */
 } sphere;
 
-/* The unit shading normals at a face's corners, interpolated across it. */
+/* The unit shading normals at a face's corners, interpolated across it, and the corners' texture
+ * coordinates (u, v). A flat face with UVs has zero normals here (the shaders then take its
+ * geometric normal). */
 typedef struct face_normals {
     vec3 n[3];
+    float uv[3][2];
 } face_normals;
 
 /* triangle.normals of a flat face. */
@@ -132,11 +177,18 @@ typedef struct scene_instance {
     int model;
     double to_world[3][4];
 } scene_instance;
+/* What a light is: a point light, a spot (a point light within a cone) or a sun (a distant
+ * light, a disc in the sky). */
+typedef enum light_type { LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN } light_type;
 
 typedef struct light {
-    vec3 position;
-    float power;
+    vec3 position; /* point lights and spots */
+    float power;   /* point lights and spots: the intensity (`power`); a sun: its irradiance */
     vec3 color;
+    light_type kind;
+    vec3 direction;             /* spots and suns: the unit direction the light travels along */
+    float cos_inner, cos_outer; /* spots: the cosines of the cone's half-angles */
+    float angle;                /* suns: the disc's angular diameter in degrees (0: a delta) */
 } light;
 
 /* Where and why parsing failed: "file:line:col: message". */
@@ -160,13 +212,26 @@ static inline bool scene_input_is(const scene_input *in, uint64_t device, uint64
     return in->device == device && in->inode == inode;
 }
 
+/* An environment map (`environment file`): the radiance of every direction as an equirectangular
+ * image, 2:1, rows top (+y) down, its centre column facing +z (scenes/README.md); rgb NULL
+ * without one (the background is seen). */
+typedef struct environment_map {
+    float *rgb; /* width * height * 3 floats, the intensity applied, finite and >= 0 */
+    int width, height;
+    float to_map[3][3]; /* rows: world directions to the map's (the inverse of its rotate) */
+} environment_map;
+
 typedef struct scene {
     vec3 camera_position, camera_direction, camera_up;
     float camera_fov;  /* horizontal field of view in degrees; 0: the plane sits 2 x width away */
     float camera_near; /* camera rays start this far along their direction */
+    float camera_aperture;    /* the thin lens's radius; 0: a pinhole */
+    float camera_focus;       /* the distance to the plane in focus (with an aperture) */
+    bool camera_orthographic; /* `projection orthographic`: parallel rays from the plane */
     float plane_width, plane_height, pixel_size;
     int width, height; /* pixels: plane size / pixel size */
     vec3 background;
+    environment_map environment;
     /* render settings; command-line flags override them */
     int spp; /* samples per pixel (`render samples`) */
     bool indirect;
@@ -174,6 +239,7 @@ typedef struct scene {
     bool bounces_given;
     bool roulette;          /* path mode: Russian roulette from the fourth vertex */
     int light_samples;      /* path mode: emitter samples a diffuse vertex (`light_samples`) */
+    float noise_threshold;  /* adaptive sampling's threshold (`noise_threshold`); 0: off */
     render_sampler sampler; /* auto unless the scene names one */
     uint32_t seed;
     render_mode mode;
@@ -183,7 +249,7 @@ typedef struct scene {
     int triangle_count;
     material *materials; /* the spheres' and the triangles' */
     int material_count;
-    face_normals *normals; /* the smooth triangles' */
+    face_normals *normals; /* the smooth triangles', and those of the faces with UVs */
     int normals_count;
     triangle *model_faces; /* the instanced models' faces (scene_model) */
     int model_face_count;
@@ -191,6 +257,11 @@ typedef struct scene {
     int model_count;
     scene_instance *instances;
     int instance_count;
+    scene_image *images; /* the textures' images, each once */
+    int image_count;
+    texture_slot *slots; /* how materials read them (material.maps) */
+    int slot_count;
+    size_t texel_bytes; /* of every image, against TEXTURE_MAX_SCENE_BYTES */
     light *lights;
     int light_count;
     scene_input *inputs; /* the meshes' files, each once */
@@ -238,7 +309,20 @@ static inline bool material_same(const material *a, const material *b) {
            !memcmp(&a->ks, &b->ks, sizeof a->ks) &&
            !memcmp(&a->alpha, &b->alpha, sizeof a->alpha) &&
            !memcmp(&a->ior, &b->ior, sizeof a->ior) &&
-           !memcmp(&a->emission, &b->emission, sizeof a->emission);
+           !memcmp(&a->roughness, &b->roughness, sizeof a->roughness) &&
+           !memcmp(&a->metallic, &b->metallic, sizeof a->metallic) &&
+           !memcmp(&a->emission, &b->emission, sizeof a->emission) &&
+           !memcmp(a->maps, b->maps, sizeof a->maps);
+}
+/* Whether material m has a texture map. */
+static inline bool material_textured(const material *m) {
+    for (int k = 0; k < MATERIAL_MAP_COUNT; k++)
+        if (m->maps[k]) return true;
+    return false;
+}
+/* Whether material m is of a GGX microfacet kind (conductor, pbr); never fails. */
+static inline bool material_is_microfacet(const material *m) {
+    return m->kind == TZ_MATERIAL_CONDUCTOR || m->kind == TZ_MATERIAL_PBR;
 }
 /* Whether shapes of material m emit light (path mode's emitters); never fails. */
 static inline bool material_emits(const material *m) {
@@ -252,11 +336,18 @@ static inline bool sphere_emits(const scene *s, const sphere *sp) {
 static inline bool triangle_emits(const scene *s, const triangle *t) {
     return material_emits(triangle_material(s, t));
 }
+/* Whether a material of scene s is of a microfacet kind (TZ_FLAG_MICROFACET); never fails. */
+static inline bool scene_has_microfacet(const scene *s) {
+    for (int k = 0; k < s->material_count; k++)
+        if (material_is_microfacet(&s->materials[k])) return true;
+    return false;
+}
 /* Whether some sphere or face emits light (path mode's emitters); never fails. */
 bool scene_emits(const scene *s);
 /* Whether anything can light the image: a point light of some power and colour (both modes), an
- * emitting sphere or face (path mode: report mode refuses emission) or a background that is not
- * black (seen by camera and mirror rays, and by report mode's indirect bounce); never fails. */
+ * emitting sphere or face (path mode: report mode refuses emission), an environment map or a
+ * background that is not black (seen by camera and mirror rays, and by report mode's indirect
+ * bounce); never fails. */
 bool scene_has_light(const scene *s);
 /* Releases the arrays of a parsed scene; safe on a zeroed scene. */
 void scene_free(scene *s);

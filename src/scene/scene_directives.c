@@ -1,6 +1,7 @@
 /* scene_directives.c: the directives of the scene format (DESIGN section 2; scenes/README.md) by
  * their words: which parser (directives.h) takes a tokenized line, which lines a chunk parsed ahead
  * may hold; and what the parsers share to build their messages and grow the scene's arrays. */
+#include <limits.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -39,6 +40,16 @@ bool directive_grow(parser *p, void **array, size_t *capacity, int count, int ad
     return true;
 }
 
+bool directive_file_path(parser *p, const token *t, const char *what, char *out, size_t size) {
+    char named[PATH_MAX];
+    if (!parser_path(p, t, named, sizeof named)) return false;
+    const char *slash = strrchr(p->filename, '/');
+    int dir =
+        named[0] == '/' || p->filename[0] == '<' || !slash ? 0 : (int)(slash - p->filename) + 1;
+    int n = snprintf(out, size, "%.*s%s", dir, p->filename, named);
+    return (n >= 0 && (size_t)n < size) || parser_fail(p, t->col, "%s path is too long", what);
+}
+
 typedef struct directive_spec {
     const char *word;
     bool (*parse)(parser *p);
@@ -49,10 +60,12 @@ static const directive_spec directives[] = {
     {"camera", directive_camera, false},
     {"plane", directive_plane, false},
     {"light", directive_light, false},
+    {"sun", directive_sun, false},
     {"sphere", directive_sphere, true},
     {"triangle", directive_triangle, true},
     {"quad", directive_quad, true},
     {"background", directive_background, false},
+    {"environment", directive_environment, false}, /* in order: it reads a file */
     {"render", directive_render, false},
     {"mesh", directive_mesh, false}, /* in order: it reads a file and may warn */
 };
@@ -66,6 +79,6 @@ bool parser_directive(parser *p) {
     }
     return parser_fail(p, word->col,
                        "unknown directive '%s' (expected one of: camera plane light sphere "
-                       "triangle quad mesh background render)",
+                       "triangle quad mesh environment background render)",
                        parser_quote(p, word));
 }

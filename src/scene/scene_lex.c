@@ -191,21 +191,25 @@ static bool parse_word(parser *p, const key_spec *k, const token *t, double *out
 
 /* Parses the value(s) of key k from token *next on; advances *next past them. */
 bool parser_values(parser *p, const key_spec *k, int *next, double value[3], int value_token[3]) {
-    int count = k->components && k->kind != VALUE_WORD ? 3 : 1;
+    int count = 1;
+    if (k->components && k->kind != VALUE_WORD) /* "x y z" three numbers, "u v" two */
+        count = 1 + (strchr(k->components, ' ') != NULL) +
+                (strchr(k->components, ' ') != strrchr(k->components, ' '));
     for (int c = 0; c < count; c++) {
         if (*next >= p->token_count) {
             if (count == 1) {
                 return parser_fail(p, parser_end_col(p),
                                    "expected a value for '%s', got end of line", k->name);
             }
-            return parser_fail(p, parser_end_col(p), "expected 3 numbers (%s) for '%s', got %d",
-                               k->components, k->name, c);
+            return parser_fail(p, parser_end_col(p), "expected %d numbers (%s) for '%s', got %d",
+                               count, k->components, k->name, c);
         }
         value_token[c] = *next;
         const token *t = &p->tokens[(*next)++];
         bool ok = k->kind == VALUE_NUMBER    ? parse_number(p, k, t, &value[c])
                   : k->kind == VALUE_INTEGER ? parse_integer(p, k, t, &value[c])
                   : k->kind == VALUE_SWITCH  ? parse_switch(p, k, t, &value[c])
+                  : k->kind == VALUE_PATH    ? (value[c] = 0.0, true)
                                              : parse_word(p, k, t, &value[c]);
         if (!ok) return false;
     }
@@ -225,9 +229,13 @@ bool parser_keys_of(parser *p, const char *owner, const char *word, const key_sp
         while (key < key_count && !((accepted & BIT(key)) && parser_token_is(t, keys[key].name)))
             key++;
         if (key == key_count) {
-            char list[128] = "";
+            char list[512] = "";
             for (int k = 0; k < key_count; k++) {
                 if (!(accepted & BIT(k))) continue;
+                if (!strcmp(keys[k].name, "color_map")) { /* the material's texture keys, last */
+                    strcat(list, " and the texture keys");
+                    break;
+                }
                 if (list[0]) strcat(list, " ");
                 strcat(list, keys[k].name);
             }

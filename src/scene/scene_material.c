@@ -7,7 +7,9 @@
 #include "scene/directives.h"
 #include "scene/parser.h"
 
-#define MATERIAL_COMMON_KEYS (BIT(MAT_COLOR) | BIT(MAT_EMISSION))
+#define MATERIAL_COMMON_KEYS (BIT(MAT_COLOR) | BIT(MAT_EMISSION) | MATERIAL_TEXTURE_KEYS)
+#define MIRROR_KEYS (MATERIAL_COMMON_KEYS | BIT(MAT_ROUGHNESS))
+#define PBR_KEYS (MATERIAL_COMMON_KEYS | BIT(MAT_METALLIC) | BIT(MAT_ROUGHNESS) | BIT(MAT_IOR))
 /* max(color) + ks may pass 1 by this before it warns: float rounding of values that sum to 1
  * (0.7 and 0.3, glTF's mapped 0.96 base and 0.04). */
 #define BRIGHT_SLACK 1e-6f
@@ -16,10 +18,11 @@
 static const material_spec materials[] = {
     {"lambertian", TZ_MATERIAL_LAMBERTIAN, MATERIAL_COMMON_KEYS, 0.8f, false},
     {"phong", TZ_MATERIAL_PHONG, MATERIAL_COMMON_KEYS | BIT(MAT_KS) | BIT(MAT_ALPHA), 0.8f, false},
-    {"mirror", TZ_MATERIAL_MIRROR, MATERIAL_COMMON_KEYS, 1.0f, false},
+    {"mirror", TZ_MATERIAL_MIRROR, MIRROR_KEYS, 1.0f, false},
     {"refractive", TZ_MATERIAL_REFRACTIVE, MATERIAL_COMMON_KEYS | BIT(MAT_IOR), 1.0f, false},
+    {"pbr", TZ_MATERIAL_PBR, PBR_KEYS, 0.8f, false},
     {"lambertiana", TZ_MATERIAL_LAMBERTIAN, MATERIAL_COMMON_KEYS, 0.8f, true},
-    {"espejo", TZ_MATERIAL_MIRROR, MATERIAL_COMMON_KEYS, 1.0f, true},
+    {"espejo", TZ_MATERIAL_MIRROR, MIRROR_KEYS, 1.0f, true},
     {"refractada", TZ_MATERIAL_REFRACTIVE, MATERIAL_COMMON_KEYS | BIT(MAT_IOR), 1.0f, true},
 };
 
@@ -97,19 +100,23 @@ void phong_note_bright(parser *p, int col, vec3 color, float ks, const char *wha
 material shape_material_of(parser *p, const shape_spec *shape, const material_spec *m,
                            const key_values *kv) {
     int k = shape->material_first;
-    bool phong = m->kind == TZ_MATERIAL_PHONG;
+    bool phong = m->kind == TZ_MATERIAL_PHONG, pbr = m->kind == TZ_MATERIAL_PBR;
+    float roughness = (float)parser_value_or(kv, k + MAT_ROUGHNESS, pbr ? 0.5 : 0.0);
     float c = m->default_color;
     if ((kv->given & BIT(k + MAT_EMISSION)) && !p->emission_line) {
         p->emission_line = p->line;
         p->emission_col = p->tokens[kv->key_token[k + MAT_EMISSION]].col;
     }
     material out = {
-        .kind = m->kind,
+        /* a mirror of roughness 0 is the delta mirror, bit for bit */
+        .kind = m->kind == TZ_MATERIAL_MIRROR && roughness > 0.0f ? TZ_MATERIAL_CONDUCTOR : m->kind,
         .color = parser_vec3(kv, k + MAT_COLOR, v3(c, c, c)),
         .ks = phong ? (float)parser_value_or(kv, k + MAT_KS, 0.5) : 0.0f,
         .alpha = phong ? (float)parser_value_or(kv, k + MAT_ALPHA, 32.0) : 0.0f,
-        .ior =
-            (float)parser_value_or(kv, k + MAT_IOR, m->kind == TZ_MATERIAL_REFRACTIVE ? 1.5 : 1.0),
+        .ior = (float)parser_value_or(kv, k + MAT_IOR,
+                                      m->kind == TZ_MATERIAL_REFRACTIVE || pbr ? 1.5 : 1.0),
+        .roughness = roughness,
+        .metallic = pbr ? (float)parser_value_or(kv, k + MAT_METALLIC, 0.0) : 0.0f,
         .emission = parser_vec3(kv, k + MAT_EMISSION, v3(0, 0, 0)),
     };
     if (phong) {

@@ -58,19 +58,6 @@ static bool looks_numeric(const token *t) {
     return (c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.';
 }
 
-/* The mesh file's path (bare or quoted: parser_path): absolute as given, else relative to the
- * scene file's folder (the working folder for text that is not a file: standard input, strings).
- * False (reported) when it is empty or does not fit. */
-static bool mesh_path(parser *p, const token *t, char *out, size_t size) {
-    char named[PATH_MAX];
-    if (!parser_path(p, t, named, sizeof named)) return false;
-    const char *slash = strrchr(p->filename, '/');
-    int dir =
-        named[0] == '/' || p->filename[0] == '<' || !slash ? 0 : (int)(slash - p->filename) + 1;
-    int n = snprintf(out, size, "%.*s%s", dir, p->filename, named);
-    return (n >= 0 && (size_t)n < size) || parser_fail(p, t->col, "mesh path is too long");
-}
-
 /* Reads a mesh line's keys after the optional material word (in any order; scale takes 1 or 3
  * numbers, rotate 4). False (reported) on a bad key or value. */
 static bool read_mesh_keys(parser *p, const material_spec *m, int next, key_values *kv,
@@ -137,18 +124,61 @@ static bool read_mesh_keys(parser *p, const material_spec *m, int next, key_valu
     return true;
 }
 
-/* A file material as trazador's (a lambertian grey when the face has none). */
-static material mapped_material(const mesh *me, int index) {
+/* A file material as trazador's (a lambertian grey when the face has none), its textures loaded
+ * (a path relative to the model's folder, or an image embedded in model `path`); false
+ * (reported at col) when one cannot be read. */
+static bool mapped_material(parser *p, const mesh *me, int index, const char *path, int col,
+                            material *out) {
     if (index < 0 || index >= me->material_count) {
-        return (material){.kind = TZ_MATERIAL_LAMBERTIAN, .color = v3(0.8f, 0.8f, 0.8f), .ior = 1};
+        *out = (material){.kind = TZ_MATERIAL_LAMBERTIAN, .color = v3(0.8f, 0.8f, 0.8f), .ior = 1};
+        return true;
     }
     const mesh_material *mm = &me->materials[index];
-    return (material){.kind = mm->kind,
+    *out = (material){.kind = mm->kind,
                       .color = mm->color,
                       .ks = mm->ks,
                       .alpha = mm->alpha,
                       .ior = mm->ior,
+                      .roughness = mm->roughness,
+                      .metallic = mm->metallic,
                       .emission = mm->emission};
+    for (int k = 0; k < MATERIAL_MAP_COUNT; k++) {
+        const mesh_map *map = &mm->maps[k];
+        if (!map->path[0]) continue;
+        char named[PATH_MAX + MESH_MAP_PATH];
+        char *end;
+        long n = map->path[0] == '*' ? strtol(map->path + 1, &end, 10) : -1;
+        bool ok;
+        p->textures_optional = true;
+        if (map->path[0] == '*') {
+            if (*end || n < 0 || n >= me->embedded_count) {
+                p->textures_optional = false;
+                return parser_fail(p, col, "mesh '%s': texture '%s' is not in the file", path,
+                                   map->path);
+            }
+            snprintf(named, sizeof named, "%s#%ld", path, n);
+            ok = texture_slot_of_bytes(p, col, named, me->embedded + me->embedded_at[n],
+                                       me->embedded_at[n + 1] - me->embedded_at[n], map->flags,
+                                       1.0f, map->transform, &out->maps[k]);
+        } else {
+            const char *slash = strrchr(path, '/');
+            int dir = map->path[0] == '/' || !slash ? 0 : (int)(slash - path) + 1;
+            snprintf(named, sizeof named, "%.*s%s", dir, path, map->path);
+            ok = texture_slot_of_file(p, col, named, map->flags, k == MAP_ALPHA ? 0.5f : 1.0f,
+                                      map->transform, &out->maps[k]);
+        }
+        p->textures_optional = false;
+        if (!ok) return false;
+    }
+    return true;
+}
+
+/* Whether a material of the file has a texture. */
+static bool mesh_has_maps(const mesh *me) {
+    for (int m = 0; m < me->material_count; m++)
+        for (int k = 0; k < MATERIAL_MAP_COUNT; k++)
+            if (me->materials[m].maps[k].path[0]) return true;
+    return false;
 }
 
 /* One thread's share of transform_faces: faces [begin, end), its kept ones first. */
@@ -237,7 +267,11 @@ static bool add_faces(parser *p, const mesh *me, size_t kept, const material *gi
                            ? face->material
                            : me->material_count; /* the last: no material */
             if (mapped[slot] == UINT32_MAX) {
-                material s = mapped_material(me, face->material);
+                material s;
+                if (!mapped_material(p, me, face->material, path, col, &s)) {
+                    free(mapped);
+                    return false;
+                }
                 *emits |= material_emits(&s);
                 if (s.kind == TZ_MATERIAL_PHONG && slot < me->material_count) {
                     char what[PATH_MAX + 96];
@@ -253,8 +287,11 @@ static bool add_faces(parser *p, const mesh *me, size_t kept, const material *gi
             index = mapped[slot];
         }
         bool flat = v3_is_zero(face->n[0]);
-        face_add(p, face->v[0], face->v[1], face->v[2], index,
-                 flat ? TRIANGLE_FLAT : normals_add(p, face->n));
+        /* A textured face keeps its UVs beside its normals (zero normals when flat). */
+        bool textured = material_textured(&p->s.materials[index]);
+        uint32_t corners = flat && !textured ? TRIANGLE_FLAT : normals_add(p, face->n);
+        if (textured) memcpy(p->s.normals[corners].uv, face->uv, sizeof face->uv);
+        face_add(p, face->v[0], face->v[1], face->v[2], index, corners);
     }
     free(mapped);
     return true;
@@ -419,7 +456,7 @@ bool directive_mesh(parser *p) {
     if (!read_mesh_keys(p, m, next, &kv, scale, rotate)) return false;
     const token *file = &p->tokens[kv.value_token[MESH_FILE][0]];
     char path[PATH_MAX];
-    if (!mesh_path(p, file, path, sizeof path)) return false;
+    if (!directive_file_path(p, file, "mesh", path, sizeof path)) return false;
     bool smooth = parser_value_or(&kv, MESH_SMOOTH, 0) != 0;
     bool lights = parser_value_or(&kv, MESH_LIGHTS, 0) != 0;
     double translate[3] = {0, 0, 0};
@@ -428,6 +465,7 @@ bool directive_mesh(parser *p) {
     mesh_transform xf = mesh_transform_make(scale, rotate, translate);
     material given = {0};
     if (m) given = shape_material_of(p, &mesh_shape, m, &kv);
+    if (m && !material_maps_read(p, MESH_MATERIAL, &kv, &given)) return false;
     /* A model an earlier line loaded, placed again: an instance (scene_instance.c). A mirroring
      * scale would turn glass inside out and `lights on` needs the file: those load faces. */
     bool mirror = scale[0] * scale[1] * scale[2] < 0.0;
@@ -476,7 +514,8 @@ bool directive_mesh(parser *p) {
                            first_drop);
     }
     int room = kept > (size_t)INT_MAX / 2 ? INT_MAX / 2 : (int)kept;
-    if (!faces_reserve(p, room) || (smooth && !normals_reserve(p, room)) ||
+    bool uvs = m ? material_textured(&given) : mesh_has_maps(&me);
+    if (!faces_reserve(p, room) || ((smooth || uvs) && !normals_reserve(p, room)) ||
         !add_faces(p, &me, kept, m ? &given : NULL, path, file->col, &emits)) {
         mesh_free(&me);
         return false;

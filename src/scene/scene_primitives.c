@@ -11,6 +11,8 @@
 
 /* Radii: as far as positions go (COORD_RANGE), zero excluded. */
 #define RADIUS_RANGE 0.0, 1e18, true
+/* Texture coordinates: a texture repeats, so any within float's exact integers. */
+#define UV_RANGE -16777216.0, 16777216.0, false
 
 enum {
     SPHERE_CENTER,
@@ -29,28 +31,37 @@ static const key_spec sphere_keys[SPHERE_KEY_COUNT] = {
 enum {
     TRIANGLE_V0,
     TRIANGLE_N0 = TRIANGLE_V0 + 3,
-    TRIANGLE_MATERIAL = TRIANGLE_N0 + 3,
+    TRIANGLE_UV0 = TRIANGLE_N0 + 3,
+    TRIANGLE_MATERIAL = TRIANGLE_UV0 + 3,
     TRIANGLE_KEY_COUNT = TRIANGLE_MATERIAL + MAT_KEY_COUNT
 };
 static const key_spec triangle_keys[TRIANGLE_KEY_COUNT] = {
-    {"v0", "x y z", VALUE_NUMBER, COORD_RANGE},
-    {"v1", "x y z", VALUE_NUMBER, COORD_RANGE},
-    {"v2", "x y z", VALUE_NUMBER, COORD_RANGE},
-    {"n0", "x y z", VALUE_NUMBER, NO_RANGE},
-    {"n1", "x y z", VALUE_NUMBER, NO_RANGE},
-    {"n2", "x y z", VALUE_NUMBER, NO_RANGE},
-    MATERIAL_KEY_SPECS,
+    {"v0", "x y z", VALUE_NUMBER, COORD_RANGE}, {"v1", "x y z", VALUE_NUMBER, COORD_RANGE},
+    {"v2", "x y z", VALUE_NUMBER, COORD_RANGE}, {"n0", "x y z", VALUE_NUMBER, NO_RANGE},
+    {"n1", "x y z", VALUE_NUMBER, NO_RANGE},    {"n2", "x y z", VALUE_NUMBER, NO_RANGE},
+    {"uv0", "u v", VALUE_NUMBER, UV_RANGE},     {"uv1", "u v", VALUE_NUMBER, UV_RANGE},
+    {"uv2", "u v", VALUE_NUMBER, UV_RANGE},     MATERIAL_KEY_SPECS,
 };
 _Static_assert(TRIANGLE_KEY_COUNT <= MAX_KEYS, "raise MAX_KEYS");
 
-enum { QUAD_V0, QUAD_MATERIAL = QUAD_V0 + 4, QUAD_KEY_COUNT = QUAD_MATERIAL + MAT_KEY_COUNT };
+enum {
+    QUAD_V0,
+    QUAD_UV0 = QUAD_V0 + 4,
+    QUAD_MATERIAL = QUAD_UV0 + 4,
+    QUAD_KEY_COUNT = QUAD_MATERIAL + MAT_KEY_COUNT
+};
 static const key_spec quad_keys[QUAD_KEY_COUNT] = {
     {"v0", "x y z", VALUE_NUMBER, COORD_RANGE},
     {"v1", "x y z", VALUE_NUMBER, COORD_RANGE},
     {"v2", "x y z", VALUE_NUMBER, COORD_RANGE},
     {"v3", "x y z", VALUE_NUMBER, COORD_RANGE},
+    {"uv0", "u v", VALUE_NUMBER, UV_RANGE},
+    {"uv1", "u v", VALUE_NUMBER, UV_RANGE},
+    {"uv2", "u v", VALUE_NUMBER, UV_RANGE},
+    {"uv3", "u v", VALUE_NUMBER, UV_RANGE},
     MATERIAL_KEY_SPECS,
 };
+_Static_assert(QUAD_KEY_COUNT <= MAX_KEYS, "raise MAX_KEYS");
 
 static const shape_spec sphere_shape = {
     .word = "sphere",
@@ -75,7 +86,7 @@ static const shape_spec quad_shape = {
     .key_count = QUAD_KEY_COUNT,
     .material_first = QUAD_MATERIAL,
     .own_keys = LOW_BITS(QUAD_MATERIAL),
-    .required = LOW_BITS(QUAD_MATERIAL), /* v0 v1 v2 v3 */
+    .required = LOW_BITS(QUAD_UV0), /* v0 v1 v2 v3 */
 };
 
 /* Spheres and triangles share one primitive index: false (reported at the directive word) when
@@ -101,7 +112,8 @@ bool directive_sphere(parser *p) {
     if (!ok || !reserve_primitives(p, 1)) return false;
     material f = shape_material_of(p, &sphere_shape, m, &kv);
     uint32_t index;
-    if (!material_add(p, &f, &index)) return false;
+    if (!material_maps_read(p, SPHERE_MATERIAL, &kv, &f) || !material_add(p, &f, &index))
+        return false;
     p->s.spheres[p->s.sphere_count++] = (sphere){
         .center = parser_vec3(&kv, SPHERE_CENTER, v3(0, 0, 0)),
         .radius = (float)parser_value_or(&kv, SPHERE_RADIUS, 0.0),
@@ -193,7 +205,7 @@ bool normals_reserve(parser *p, int adding) {
 }
 
 uint32_t normals_add(parser *p, const vec3 n[3]) {
-    p->s.normals[p->s.normals_count] = (face_normals){{n[0], n[1], n[2]}};
+    p->s.normals[p->s.normals_count] = (face_normals){.n = {n[0], n[1], n[2]}};
     return (uint32_t)p->s.normals_count++;
 }
 
@@ -235,13 +247,30 @@ bool directive_triangle(parser *p) {
         }
         n[k] = v3((float)(x / length), (float)(y / length), (float)(z / length));
     }
+    unsigned uvs = kv.given & (BIT(TRIANGLE_UV0) | BIT(TRIANGLE_UV0 + 1) | BIT(TRIANGLE_UV0 + 2));
+    if (uvs && uvs != (BIT(TRIANGLE_UV0) | BIT(TRIANGLE_UV0 + 1) | BIT(TRIANGLE_UV0 + 2))) {
+        int given = TRIANGLE_UV0, missing = TRIANGLE_UV0;
+        while (!(uvs & BIT(given))) given++;
+        while (uvs & BIT(missing)) missing++;
+        return parser_fail(p, p->tokens[kv.key_token[given]].col,
+                           "triangle %s needs %s: texture coordinates come all three (uv0 uv1 "
+                           "uv2) or none",
+                           triangle_keys[given].name, triangle_keys[missing].name);
+    }
+    bool corners = normals || uvs;
     if (!check_face(p, v[0], v[1], v[2], "triangle") || !faces_reserve(p, 1) ||
-        (normals && !normals_reserve(p, 1)))
+        (corners && !normals_reserve(p, 1)))
         return false;
     material f = shape_material_of(p, &triangle_shape, m, &kv);
     uint32_t index;
-    if (!material_add(p, &f, &index)) return false;
-    face_add(p, v[0], v[1], v[2], index, normals ? normals_add(p, n) : TRIANGLE_FLAT);
+    if (!material_maps_read(p, TRIANGLE_MATERIAL, &kv, &f) || !material_add(p, &f, &index))
+        return false;
+    uint32_t at = corners ? normals_add(p, n) : TRIANGLE_FLAT;
+    for (int k = 0; uvs && k < 3; k++) {
+        p->s.normals[at].uv[k][0] = (float)kv.value[TRIANGLE_UV0 + k][0];
+        p->s.normals[at].uv[k][1] = (float)kv.value[TRIANGLE_UV0 + k][1];
+    }
+    face_add(p, v[0], v[1], v[2], index, at);
     return true;
 }
 
@@ -276,11 +305,29 @@ bool directive_quad(parser *p) {
                                k);
         }
     }
-    if (!faces_reserve(p, 2)) return false;
     material f = shape_material_of(p, &quad_shape, m, &kv);
+    if (!material_maps_read(p, QUAD_MATERIAL, &kv, &f)) return false;
+    /* Texture coordinates where given or where a map reads them: the unit square by default. */
+    bool corners = (kv.given & (LOW_BITS(4) << QUAD_UV0)) || material_textured(&f);
     uint32_t index;
-    if (!material_add(p, &f, &index)) return false;
-    face_add(p, v[0], v[1], v[2], index, TRIANGLE_FLAT);
-    face_add(p, v[0], v[2], v[3], index, TRIANGLE_FLAT);
+    if (!faces_reserve(p, 2) || (corners && !normals_reserve(p, 2)) || !material_add(p, &f, &index))
+        return false;
+    if (!corners) {
+        face_add(p, v[0], v[1], v[2], index, TRIANGLE_FLAT);
+        face_add(p, v[0], v[2], v[3], index, TRIANGLE_FLAT);
+        return true;
+    }
+    static const float unit[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    float uv[4][2];
+    for (int k = 0; k < 4; k++)
+        for (int c = 0; c < 2; c++)
+            uv[k][c] = kv.given & BIT(QUAD_UV0 + k) ? (float)kv.value[QUAD_UV0 + k][c] : unit[k][c];
+    static const int halves[2][3] = {{0, 1, 2}, {0, 2, 3}};
+    const vec3 flat[3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    for (int h = 0; h < 2; h++) {
+        uint32_t at = normals_add(p, flat);
+        for (int k = 0; k < 3; k++) memcpy(p->s.normals[at].uv[k], uv[halves[h][k]], sizeof uv[0]);
+        face_add(p, v[halves[h][0]], v[halves[h][1]], v[halves[h][2]], index, at);
+    }
     return true;
 }

@@ -1,6 +1,6 @@
 /* scene_setup.c: the directives that set the scene up around its geometry (DESIGN section 2;
- * scenes/README.md): camera, plane, light, background and render, with the errors that need more
- * than one value (a camera frame, a plane's pixels). */
+ * scenes/README.md): camera, plane and render, with the errors that need more than one value (a
+ * camera frame, a plane's pixels); the lights are scene_lights.c's. */
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -30,6 +30,9 @@ enum {
     CAMERA_LOOK_AT,
     CAMERA_FOV,
     CAMERA_NEAR,
+    CAMERA_APERTURE,
+    CAMERA_FOCUS,
+    CAMERA_PROJECTION,
     CAMERA_KEY_COUNT
 };
 static const key_spec camera_keys[CAMERA_KEY_COUNT] = {
@@ -39,6 +42,9 @@ static const key_spec camera_keys[CAMERA_KEY_COUNT] = {
     {"look_at", "x y z", VALUE_NUMBER, COORD_RANGE},
     {"fov", NULL, VALUE_NUMBER, FOV_RANGE},
     {"near", NULL, VALUE_NUMBER, 0.0, 1e18, false},
+    {"aperture", NULL, VALUE_NUMBER, 0.0, 1e18, false},
+    {"focus", NULL, VALUE_NUMBER, 0.0, 1e18, true},
+    {"projection", "perspective orthographic", VALUE_WORD, 0.0, 1.0, false},
 };
 
 enum { PLANE_WIDTH, PLANE_HEIGHT, PLANE_PIXEL, PLANE_KEY_COUNT };
@@ -46,13 +52,6 @@ static const key_spec plane_keys[PLANE_KEY_COUNT] = {
     {"width", NULL, VALUE_NUMBER, PLANE_RANGE},
     {"height", NULL, VALUE_NUMBER, PLANE_RANGE},
     {"pixel", NULL, VALUE_NUMBER, PLANE_RANGE},
-};
-
-enum { LIGHT_POSITION, LIGHT_POWER, LIGHT_COLOR, LIGHT_KEY_COUNT };
-static const key_spec light_keys[LIGHT_KEY_COUNT] = {
-    {"position", "x y z", VALUE_NUMBER, COORD_RANGE},
-    {"power", NULL, VALUE_NUMBER, 0.0, FLT_MAX, false},
-    {"color", "r g b", VALUE_NUMBER, UNIT_RANGE},
 };
 
 enum {
@@ -64,6 +63,7 @@ enum {
     RENDER_ROULETTE,
     RENDER_SAMPLER,
     RENDER_LIGHT_SAMPLES,
+    RENDER_NOISE_THRESHOLD,
     RENDER_KEY_COUNT
 };
 /* The words of `render mode`, in render_mode order, then "seed", report's old name. */
@@ -79,10 +79,8 @@ static const key_spec render_keys[RENDER_KEY_COUNT] = {
     {"roulette", NULL, VALUE_SWITCH, 0.0, 1.0, false},
     {"sampler", RENDER_SAMPLER_WORDS, VALUE_WORD, 0.0, 1.0, false},
     {"light_samples", NULL, VALUE_INTEGER, 1.0, SCENE_MAX_LIGHT_SAMPLES, false},
+    {"noise_threshold", NULL, VALUE_NUMBER, 0.0, 1e6, false},
 };
-
-/* background takes three numbers and no key; this spec names them in messages. */
-static const key_spec background_spec = {"background", "r g b", VALUE_NUMBER, 0.0, FLT_MAX, false};
 
 /* camera, plane, background and render describe the whole image: one of each at most. */
 static bool claim_once(parser *p, int *first_line) {
@@ -126,6 +124,32 @@ static bool check_camera_vector(parser *p, const key_values *kv, int key, vec3 *
     float square = v3_dot(*v, *v);
     if (!(square >= FLT_MIN && square <= FLT_MAX)) *v = unit_in_double(*v);
     return check_camera_square(p, kv, key, *v);
+}
+
+/* The lens and the projection: an aperture above 0 needs a focus, a focus needs an aperture,
+ * and an orthographic camera has no field of view. */
+static bool camera_lens(parser *p, const key_values *kv) {
+    float aperture = (float)parser_value_or(kv, CAMERA_APERTURE, 0.0);
+    if (aperture > 0.0f && !(kv->given & BIT(CAMERA_FOCUS))) {
+        return parser_fail(p, p->tokens[kv->key_token[CAMERA_APERTURE]].col,
+                           "camera aperture above 0 needs focus (the distance to the plane in "
+                           "focus)");
+    }
+    if ((kv->given & BIT(CAMERA_FOCUS)) && !(aperture > 0.0f)) {
+        return parser_fail(p, p->tokens[kv->key_token[CAMERA_FOCUS]].col,
+                           "camera focus needs an aperture above 0 (a pinhole is sharp at every "
+                           "distance)");
+    }
+    bool orthographic = parser_value_or(kv, CAMERA_PROJECTION, 0.0) == 1.0;
+    if (orthographic && (kv->given & BIT(CAMERA_FOV))) {
+        return parser_fail(p, p->tokens[kv->key_token[CAMERA_FOV]].col,
+                           "an orthographic camera takes no fov: the plane's width and height "
+                           "are the view's size");
+    }
+    p->s.camera_aperture = aperture;
+    p->s.camera_focus = aperture > 0.0f ? (float)kv->value[CAMERA_FOCUS][0] : 0.0f;
+    p->s.camera_orthographic = orthographic;
+    return true;
 }
 
 bool directive_camera(parser *p) {
@@ -192,6 +216,7 @@ bool directive_camera(parser *p) {
         p->fov_col = p->tokens[kv.value_token[CAMERA_FOV][0]].col;
     }
     p->s.camera_near = (float)parser_value_or(&kv, CAMERA_NEAR, 0.0);
+    if (!camera_lens(p, &kv)) return false;
     p->camera_col = p->tokens[kv.value_token[CAMERA_POSITION][0]].col;
     p->s.camera_direction = direction;
     p->s.camera_up = up;
@@ -308,39 +333,6 @@ bool directive_plane(parser *p) {
     return true;
 }
 
-bool directive_light(parser *p) {
-    key_values kv;
-    if (!parser_keys(p, "light", light_keys, LIGHT_KEY_COUNT, ~0u, 1, &kv) ||
-        !parser_require_keys(p, "light", light_keys, LIGHT_KEY_COUNT,
-                             BIT(LIGHT_POSITION) | BIT(LIGHT_POWER), &kv)) {
-        return false;
-    }
-    void *array = p->s.lights;
-    bool ok = directive_grow(p, &array, &p->light_capacity, p->s.light_count, 1, SCENE_MAX_LIGHTS,
-                             sizeof(light), "lights");
-    p->s.lights = array;
-    if (!ok) return false;
-    p->s.lights[p->s.light_count++] = (light){
-        .position = parser_vec3(&kv, LIGHT_POSITION, v3(0, 0, 0)),
-        .power = (float)parser_value_or(&kv, LIGHT_POWER, 0.0),
-        .color = parser_vec3(&kv, LIGHT_COLOR, v3(1, 1, 1)),
-    };
-    return true;
-}
-
-bool directive_background(parser *p) {
-    if (!claim_once(p, &p->background_line)) return false;
-    double value[3];
-    int value_token[3], next = 1;
-    if (!parser_values(p, &background_spec, &next, value, value_token)) return false;
-    if (next < p->token_count) {
-        return parser_fail(p, p->tokens[next].col, "unexpected '%s' after background's 3 numbers",
-                           parser_quote(p, &p->tokens[next]));
-    }
-    p->s.background = v3((float)value[0], (float)value[1], (float)value[2]);
-    return true;
-}
-
 bool directive_render(parser *p) {
     key_values kv;
     if (!claim_once(p, &p->render_line) ||
@@ -358,6 +350,7 @@ bool directive_render(parser *p) {
         p->s.sampler =
             (render_sampler)(RENDER_SAMPLER_RANDOM + (int)parser_value_or(&kv, RENDER_SAMPLER, 0));
     p->s.light_samples = (int)parser_value_or(&kv, RENDER_LIGHT_SAMPLES, 1);
+    p->s.noise_threshold = (float)parser_value_or(&kv, RENDER_NOISE_THRESHOLD, 0.0);
     if (kv.given & BIT(RENDER_ROULETTE))
         p->roulette_col = p->tokens[kv.key_token[RENDER_ROULETTE]].col;
     if (kv.given & BIT(RENDER_INDIRECT))

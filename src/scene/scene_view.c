@@ -34,6 +34,8 @@ bool parser_note_mesh(parser *p, int col, size_t faces, vec3 lo, vec3 hi, const 
 typedef struct view {
     dvec3 origin, f, r, u;
     double half_width, half_height, distance, near_f; /* near_f: the least f part rays reach */
+    bool orthographic;      /* a box of the plane's size along f, not a pyramid */
+    double aperture, focus; /* a thin lens widens the view by aperture |1 - f part / focus| */
 } view;
 
 static dvec3 unit(dvec3 v) {
@@ -57,7 +59,10 @@ static view view_of(const scene *s) {
      */
     double corner =
         sqrt(v.distance * v.distance + v.half_width * v.half_width + v.half_height * v.half_height);
-    v.near_f = s->camera_near * v.distance / corner;
+    v.near_f = s->camera_orthographic ? s->camera_near : s->camera_near * v.distance / corner;
+    v.orthographic = s->camera_orthographic;
+    v.aperture = s->camera_aperture;
+    v.focus = s->camera_focus;
     return v;
 }
 
@@ -70,11 +75,14 @@ static bool outside(const view *v, vec3 lo, vec3 hi) {
         dvec3 c = {(k & 1 ? hi.x : lo.x) - v->origin.x, (k & 2 ? hi.y : lo.y) - v->origin.y,
                    (k & 4 ? hi.z : lo.z) - v->origin.z};
         double a = d3_dot(c, v->f), b = d3_dot(c, v->r), h = d3_dot(c, v->u);
+        /* the sides at depth a, over the plane's distance (a pyramid) or over 1 (a box) */
+        double scale = v->orthographic ? 1.0 : v->distance, depth = v->orthographic ? 1.0 : a;
+        double lens = v->aperture > 0.0 ? v->aperture * fabs(1.0 - a / v->focus) * scale : 0.0;
         beyond[0] += a <= v->near_f;
-        beyond[1] += b * v->distance > a * v->half_width;
-        beyond[2] += -b * v->distance > a * v->half_width;
-        beyond[3] += h * v->distance > a * v->half_height;
-        beyond[4] += -h * v->distance > a * v->half_height;
+        beyond[1] += b * scale > depth * v->half_width + lens;
+        beyond[2] += -b * scale > depth * v->half_width + lens;
+        beyond[3] += h * scale > depth * v->half_height + lens;
+        beyond[4] += -h * scale > depth * v->half_height + lens;
     }
     for (int side = 0; side < 5; side++)
         if (beyond[side] == 8) return true;

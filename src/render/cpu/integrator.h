@@ -17,6 +17,17 @@ vec3 integrator_report_sample(const packed_scene *p, uint32_t i, uint32_t j, uin
  */
 vec3 integrator_path_sample(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
 
+/* A sample's first-hit features (shaders/common/aov.h): hit false on a miss, the others zero. */
+typedef struct integrator_aov {
+    vec3 albedo, normal, position, emission;
+    float depth;
+    bool hit;
+} integrator_aov;
+
+/* The first-hit features of sample `sample_index` of pixel (i, j) (aov_sample); never fails. */
+integrator_aov integrator_aov_sample(const packed_scene *p, uint32_t i, uint32_t j,
+                                     uint32_t sample_index);
+
 /* The widest packet of any packet integrator. */
 #define PACKET_LANES_MAX 16
 /* The most packet integrators a build has, the one-sample reference included. */

@@ -9,6 +9,7 @@
 
 /* The shared text calls the accessors above. */
 #include "common/bsdf.h"
+#include "common/camera.h"
 #include "common/emitter.h"
 #include "common/primitive.h"
 #include "common/ray.h"
@@ -32,18 +33,18 @@
 /* The material of each lane's diffuse hit, gathered once for all the BRDF evaluations there. */
 typedef struct phong_lanes {
     lanes3 kd;
-    float ks[LANES], alpha[LANES];
+    float ks[LANES], alpha[LANES], ior[LANES];
     int material[LANES];
 } phong_lanes;
 
-/* Lane k's material of m (bsdf.h's; a lobe's, so no ior). */
+/* Lane k's material of m (bsdf.h's). */
 LANE_FN bsdf_material phong_lane(const phong_lanes *m, int k) {
     bsdf_material b;
     b.kind = m->material[k];
     b.color = get3(&m->kd, k);
     b.ks = m->ks[k];
     b.alpha = m->alpha[k];
-    b.ior = 1.0f;
+    b.ior = m->ior[k];
     return b;
 }
 
@@ -73,6 +74,22 @@ LANE_FN void packet_surfaces(const packed_scene *p, const lanes3 *o, const lanes
         h->alpha[k] = params.x;
         h->ior[k] = params.y;
         h->material[k] = (int)params.z;
+    }
+    for (int k = 0; TZ_HAS_TEXTURES_OF(p) && k < LANES; k++) { /* textured spheres: surface_at's */
+        if (id[k] < 0 || triangle[k]) continue;
+        surface sf = {.pos = get3(&h->pos, k),
+                      .nout = get3(&h->nout, k),
+                      .shading = get3(&h->shading, k),
+                      .m = {.kind = h->material[k],
+                            .color = get3(&h->kd, k),
+                            .ks = h->ks[k],
+                            .alpha = h->alpha[k],
+                            .ior = h->ior[k]}};
+        sf = sphere_textured(p, id[k], sf);
+        set3(&h->shading, k, sf.shading);
+        set3(&h->kd, k, sf.m.color);
+        h->ks[k] = sf.m.ks;
+        h->alpha[k] = sf.m.alpha;
     }
     for (int k = 0; any_lane(triangle) && k < LANES; k++) { /* triangles, lane by lane */
         if (!triangle[k]) continue;
@@ -107,6 +124,7 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
         set3(ng, k, v3(0.0f, 0.0f, 0.0f));
         set3(&m->kd, k, v3(0.0f, 0.0f, 0.0f));
         m->ks[k] = m->alpha[k] = 0.0f;
+        m->ior[k] = 1.0f;
         m->material[k] = TZ_MATERIAL_LAMBERTIAN;
     }
     for (uint32_t chain = 0; any_lane(active); chain++) {
@@ -131,6 +149,7 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
             set3(&m->kd, k, select3(diffuse, get3(&h.kd, k), get3(&m->kd, k)));
             m->ks[k] = diffuse ? h.ks[k] : m->ks[k];
             m->alpha[k] = diffuse ? h.alpha[k] : m->alpha[k];
+            m->ior[k] = diffuse ? h.ior[k] : m->ior[k];
             m->material[k] = diffuse ? h.material[k] : m->material[k];
         }
         for (int k = 0; k < LANES; k++) { /* mirror and glass lanes go on */
@@ -148,14 +167,22 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
     }
 }
 
-/* The BRDF per lane (bsdf_f of bsdf.h, its pow lane by lane where ks > 0). */
+/* The BRDF per lane (bsdf_f of bsdf.h, its pow lane by lane where ks > 0; a microfacet lane's
+ * bsdf_f itself). */
 LANE_FN void packet_phong(const phong_lanes *m, const lanes3 *n, const lanes3 *wi, const lanes3 *wo,
                           const int *active, lanes3 *f) {
     float x[LANES], lobe[LANES];
+    int microfacet[LANES];
     for (int k = 0; k < LANES; k++) x[k] = phong_lobe_cos(get3(n, k), get3(wi, k), get3(wo, k));
-    for (int k = 0; k < LANES; k++)
-        lobe[k] = active[k] && m->ks[k] > 0.0f ? phong_lobe(x[k], m->alpha[k]) : 0.0f;
+    for (int k = 0; k < LANES; k++) {
+        microfacet[k] = active[k] & is_microfacet(m->material[k]);
+        lobe[k] =
+            active[k] && !microfacet[k] && m->ks[k] > 0.0f ? phong_lobe(x[k], m->alpha[k]) : 0.0f;
+    }
     for (int k = 0; k < LANES; k++) set3(f, k, bsdf_f_of_lobe(phong_lane(m, k), lobe[k]));
+    for (int k = 0; any_lane(microfacet) && k < LANES; k++)
+        if (microfacet[k])
+            set3(f, k, bsdf_f(phong_lane(m, k), get3(n, k), get3(wi, k), get3(wo, k)));
 }
 
 /* The lanes whose path reached a diffuse hit (id[k] >= 0), and wo, the way back along their last
@@ -193,8 +220,9 @@ LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lan
         int facing[LANES], blocker[LANES];
         float blocker_t[LANES];
         tz_vec4 position_power = p->lights[l].position_power, color = p->lights[l].color;
+        tz_vec4 shape = p->lights[l].shape;
         for (int k = 0; k < LANES; k++) {
-            light_sample ls = point_light(position_power, color, get3(pos, k), get3(n, k));
+            light_sample ls = point_light(position_power, color, shape, get3(pos, k), get3(n, k));
             set3(&light, k, ls.radiance);
             set3(&wi, k, ls.wi);
             dist[k] = ls.dist;
@@ -272,21 +300,18 @@ void PACKET_ENTRY(PACKET_BUILD)(const packed_scene *p, uint32_t i, uint32_t j, u
     /* Copied once, here: read through fr in the loop, gcc copied them for every lane
      * (docs/PERF.md). */
     tz_vec4 right = fr->right, up = fr->up, forward = fr->forward;
-    tz_vec4 origin = fr->origin;
-    float pixel = fr->origin.w, near_distance = fr->near_distance;
+    tz_vec4 origin = fr->origin, lens = fr->lens;
+    float near_distance = fr->near_distance;
     for (int k = 0; k < LANES; k++) {
         active[k] = (uint32_t)k < lanes;
         sampler_state one =
             sampler_start(fr->flags, fr->seed, j * fr->width + i + (uint32_t)k, sample_index);
-        /* Both jitter numbers are always drawn so the indirect numbers do not depend on the flag.
-         */
-        float u, v;
-        sample_2d(fr->flags, &one, &u, &v);
+        camera_numbers c = camera_draw(fr->flags, &one);
         lane_sampler_set(&rng, k, 1, one);
-        if (!(fr->flags & TZ_FLAG_JITTER)) u = v = 0.5f;
-        vec3 dk = camera_direction(right, up, forward, pixel, i + (uint32_t)k, j, u, v);
-        set3(&d, k, dk);
-        set3(&o, k, camera_origin(origin, near_distance, dk));
+        next_ray ray = camera_ray_through(fr->flags, origin, right, up, forward, near_distance,
+                                          lens, i + (uint32_t)k, j, c);
+        set3(&d, k, ray.d);
+        set3(&o, k, ray.o);
         set3(&weight, k, v3(1.0f, 1.0f, 1.0f));
         self[k] = -1;
     }

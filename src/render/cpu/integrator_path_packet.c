@@ -39,6 +39,27 @@ typedef struct path_lanes {
     lanes3 o, d, beta, radiance, last_pos, last_n, last_origin;
 } path_lanes;
 
+/* bsdf_sample_lobe's direction and terms for the microfacet lanes in go (the Phong ones the other
+ * lanes computed): wi, cos_i, fv, f_scale and pdf as lanes_bsdf_bounce's; their lobes do not
+ * fold (folds cleared). */
+static __attribute__((noinline)) void lanes_microfacet_sample(
+    const vertex_lanes *v, const int *go, const float *us, const float *u1, const float *u2,
+    lanes3 *wi, float *cos_i, lanes3 *fv, float *f_scale, float *pdf, int *folds) {
+    for (int k = 0; k < LANES; k++) {
+        if (!(go[k] & v->microfacet[k])) continue;
+        bsdf_material m = vertex_material(v, k);
+        vec3 n = get3(&v->n, k), wo = get3(&v->wo, k);
+        vec3 w = microfacet_direction(m, n, wo, us[k], u1[k], u2[k]);
+        bsdf_value bv = microfacet_eval(m, n, w, wo);
+        set3(wi, k, w);
+        cos_i[k] = bv.cos_i;
+        set3(fv, k, bv.f);
+        f_scale[k] = bv.f_scale;
+        pdf[k] = bv.pdf;
+        folds[k] = 0;
+    }
+}
+
 /* The lanes' next rays at diffuse vertices: the BSDF's sample, beta and the last vertex updated;
  * lanes whose path ends here are made inactive. */
 LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float *us,
@@ -78,6 +99,8 @@ LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float
         f_scale[k] = cos_i[k];
     }
     if (any_fold) lanes_fold(v, folds, &wi, cos_i, &fv, f_scale, pdf);
+    if (v->any_microfacet)
+        lanes_microfacet_sample(v, go, us, u1, u2, &wi, cos_i, &fv, f_scale, pdf, folds);
     for (int k = 0; k < LANES; k++) {
         vec3 n = get3(&v->n, k), ng = get3(&v->ng, k), pos = get3(&v->pos, k);
         /* On a face that does not fold, a direction below it ends the path. */
@@ -207,6 +230,23 @@ LANE_FN void lanes_pick_spheres(const small_spheres *t, const int *index, vertex
     }
 }
 
+/* What the lanes in miss, whose rays left the scene, see there: the environment (with its MIS
+ * weight) and the sun's disc, times beta, added to their radiance. Apart from the vertex's loop,
+ * which most packets run with no lane missing. */
+static __attribute__((noinline)) void lanes_environment(const packed_scene *scene, const int *miss,
+                                                        path_lanes *s) {
+    for (int k = 0; k < LANES; k++) {
+        vec3 radiance = get3(&s->radiance, k), d = get3(&s->d, k);
+        float w = environment_mis_weight(scene, s->specular[k], s->last_pdf[k], d);
+        vec3 seen = v3_scale(v3_mul(get3(&s->beta, k), environment_radiance(scene, d)), w);
+        vec3 with_sun = v3_add(radiance, seen);
+        if (scene->frame.flags & TZ_FLAG_SUN_DISC)
+            with_sun = v3_add(with_sun, v3_mul(get3(&s->beta, k),
+                                               sun_seen(scene, s->specular[k], s->last_pdf[k], d)));
+        set3(&s->radiance, k, select3(miss[k], with_sun, radiance));
+    }
+}
+
 /* One vertex of every active lane's path (an iteration of path_sample's loop); small the
  * scene's small_spheres table, or NULL. */
 LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small, path_lanes *s) {
@@ -244,6 +284,22 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         set3(&v.nout, k, nout);
         set3(&v.shading, k, nout);
     }
+    for (int k = 0; TZ_HAS_TEXTURES_OF(scene) && k < LANES; k++) { /* a textured sphere's */
+        if (v.id[k] < 0 || triangle[k]) continue;
+        surface sf = {.pos = get3(&v.pos, k),
+                      .nout = get3(&v.nout, k),
+                      .shading = get3(&v.shading, k),
+                      .m = {.kind = v.material[k],
+                            .color = get3(&v.kd, k),
+                            .ks = v.ks[k],
+                            .alpha = v.alpha[k],
+                            .ior = v.ior[k]}};
+        sf = sphere_textured(scene, v.id[k], sf);
+        set3(&v.shading, k, sf.shading);
+        set3(&v.kd, k, sf.m.color);
+        v.ks[k] = sf.m.ks;
+        v.alpha[k] = sf.m.alpha;
+    }
     for (int k = 0; any_lane(triangle) && k < LANES; k++) { /* and of a triangle */
         if (!triangle[k]) continue;
         surface sf =
@@ -258,13 +314,15 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         v.material[k] = sf.m.kind;
         v.slot[k] = sf.emitter;
     }
+    int miss[LANES], any_miss = 0;
     for (int k = 0; k < LANES; k++) {
-        int hit = s->active[k] & (v.id[k] >= 0), miss = s->active[k] & (v.id[k] < 0);
-        vec3 radiance = get3(&s->radiance, k);
+        miss[k] = s->active[k] & (v.id[k] < 0);
+        any_miss |= miss[k];
+    }
+    if (any_miss) lanes_environment(scene, miss, s);
+    for (int k = 0; k < LANES; k++) {
+        int hit = s->active[k] & (v.id[k] >= 0);
         vec3 d = get3(&s->d, k), nout = get3(&v.nout, k), shading = get3(&v.shading, k);
-        float w = environment_mis_weight(scene, s->specular[k], s->last_pdf[k], d);
-        vec3 seen = v3_scale(v3_mul(get3(&s->beta, k), environment_radiance(scene, d)), w);
-        set3(&s->radiance, k, select3(miss, v3_add(radiance, seen), radiance));
         emit[k] = hit & (v.slot[k] >= 0);
         any_emit |= emit[k];
         int go = hit & !(s->vertex[k] > fr->bounces); /* else the path ends at this hit */
@@ -276,8 +334,10 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         set3(&v.ng, k, facing_normal(nout, d));
         set3(&v.wo, k, v3_scale(d, -1.0f));
         v.share[k] = bsdf_share(vertex_material(&v, k));
+        v.microfacet[k] = diffuse & is_microfacet(v.material[k]);
         s->active[k] = go;
     }
+    v.any_microfacet = any_lane(v.microfacet);
     if (any_emit) lanes_emission(scene, &v, emit, s);
     if (any_lane(v.diffuse)) {
         lanes3 direct;
@@ -339,7 +399,6 @@ typedef struct start_batch {
 LANE_FN void start_batch_make(const packed_scene *p, start_batch *b, uint32_t first, uint32_t i,
                               uint32_t y, uint32_t lanes, uint32_t sample0) {
     const struct gpu_frame fr = p->frame; /* a copy: the loop below then compiles to SIMD */
-    int jitter = (fr.flags & TZ_FLAG_JITTER) != 0u;
     uint32_t x[LANES], sample[LANES];
     for (int k = 0; k < LANES; k++) {
         x[k] = i + (first + (uint32_t)k) % lanes;
@@ -347,14 +406,12 @@ LANE_FN void start_batch_make(const packed_scene *p, start_batch *b, uint32_t fi
     }
     for (int k = 0; k < LANES; k++) {
         sampler_state rng = sampler_start(fr.flags, fr.seed, y * fr.width + x[k], sample[k]);
-        float u, v;
-        sample_2d(fr.flags, &rng, &u, &v);
-        u = jitter ? u : 0.5f;
-        v = jitter ? v : 0.5f;
-        vec3 d = camera_direction(fr.right, fr.up, fr.forward, fr.origin.w, x[k], y, u, v);
+        camera_numbers c = camera_draw(fr.flags, &rng);
+        next_ray ray = camera_ray_through(fr.flags, fr.origin, fr.right, fr.up, fr.forward,
+                                          fr.near_distance, fr.lens, x[k], y, c);
         lane_sampler_set(&b->rng, k, 1, rng);
-        set3(&b->o, k, camera_origin(fr.origin, fr.near_distance, d));
-        set3(&b->d, k, d);
+        set3(&b->o, k, ray.o);
+        set3(&b->d, k, ray.d);
     }
 }
 

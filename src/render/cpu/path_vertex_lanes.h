@@ -28,6 +28,7 @@ static __attribute__((noinline)) void trace_lanes(const packed_scene *p, const l
  * n and ng its shading and geometric normals facing the ray. */
 typedef struct vertex_lanes {
     int id[LANES], diffuse[LANES], specular[LANES], material[LANES], slot[LANES];
+    int microfacet[LANES], any_microfacet; /* diffuse lanes of a microfacet kind */
     float t[LANES], r[LANES], ks[LANES], alpha[LANES], ior[LANES], share[LANES];
     lanes3 pos, nout, shading, n, ng, wo, c, kd;
 } vertex_lanes;
@@ -71,7 +72,7 @@ LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v
         for (int k = 0; k < LANES; k++) {
             light_sample s =
                 point_light(light_position_power(scene, (int)l), light_color(scene, (int)l),
-                            get3(&v->pos, k), get3(&v->n, k));
+                            light_shape(scene, (int)l), get3(&v->pos, k), get3(&v->n, k));
             set3(&wi, k, s.wi);
             set3(&rad, k, s.radiance);
             dist[k] = s.dist;
@@ -111,6 +112,21 @@ static __attribute__((noinline)) void lanes_fold(const vertex_lanes *v, const in
     }
 }
 
+/* bsdf_eval of the microfacet lanes in want at directions wi into fv, f_scale and pdf (the Phong
+ * terms the other lanes computed). Out of line: most scenes have no such lane. */
+static __attribute__((noinline)) void lanes_microfacet_eval(const vertex_lanes *v, const int *want,
+                                                            const lanes3 *wi, lanes3 *fv,
+                                                            float *f_scale, float *pdf) {
+    for (int k = 0; k < LANES; k++) {
+        if (!(want[k] & v->microfacet[k])) continue;
+        bsdf_value bv =
+            microfacet_eval(vertex_material(v, k), get3(&v->n, k), get3(wi, k), get3(&v->wo, k));
+        set3(fv, k, bv.f);
+        f_scale[k] = bv.f_scale;
+        pdf[k] = bv.pdf;
+    }
+}
+
 /* The shadow rays of lanes_emitter_light toward the lanes' light points, with what weighs them. */
 typedef struct shadow_lanes {
     lanes3 origin, dir;
@@ -139,12 +155,14 @@ static __attribute__((noinline)) light_direction lanes_solid_angle(triangle_corn
 }
 
 /* emitter_light of path.h for the diffuse lanes (a sphere's strategies, sphere_cone_light and
- * sphere_area_light, both computed and one selected, a triangle's direction lane by lane), the
+ * sphere_area_light, both computed and one selected, a triangle's and the environment's
+ * direction lane by lane), the
  * shadow rays traced together (hint as packet_trace's), added to direct; ul, ua, ub the lanes'
  * numbers. */
 LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *v, const float *ul,
                                  const float *ua, const float *ub, uint32_t *hint, lanes3 *direct) {
-    int e[LANES], slot[LANES], triangle[LANES], strategy[LANES], blocked[LANES];
+    int e[LANES], slot[LANES], triangle[LANES], env[LANES], sun[LANES], strategy[LANES];
+    int blocked[LANES];
     float r[LANES], pick[LANES], cos_phi[LANES], sin_phi[LANES]; /* arrays of cos_sin: scalar */
     float t[LANES], x[LANES], lobe[LANES];
     int folds[LANES];
@@ -157,15 +175,19 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         if (one_emitter && k > 0) break;
         tz_vec4 emission_pick = emitter_emission_pick(scene, slot[k]);
         e[k] = (int)uint_bits(emitter_primitive_cdf(scene, slot[k]).x);
-        triangle[k] = is_triangle(scene, e[k]);
-        tz_vec4 cr = sphere_center_radius(scene, triangle[k] ? 0 : e[k]);
+        env[k] = e[k] == (int)TZ_ENV_PRIMITIVE;
+        sun[k] = e[k] == (int)TZ_SUN_PRIMITIVE;
+        triangle[k] = (!env[k]) & (!sun[k]) & is_triangle(scene, e[k]);
+        tz_vec4 cr = sphere_center_radius(scene, triangle[k] | env[k] | sun[k] ? 0 : e[k]);
         set3(&c, k, xyz(cr));
         r[k] = cr.w;
         set3(&emission, k, xyz(emission_pick));
         pick[k] = emission_pick.w;
     }
     for (int k = 1; one_emitter && k < LANES; k++) {
-        slot[k] = 0, e[k] = e[0], triangle[k] = triangle[0], r[k] = r[0], pick[k] = pick[0];
+        slot[k] = 0, e[k] = e[0], triangle[k] = triangle[0], env[k] = env[0], r[k] = r[0];
+        sun[k] = sun[0];
+        pick[k] = pick[0];
         set3(&c, k, get3(&c, 0));
         set3(&emission, k, get3(&emission, 0));
     }
@@ -211,6 +233,28 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
                  (p > 0.0f) & (p < INFINITY);
         shadow_lane_set(&s, k, o, w, p, ci, tl, ok);
     }
+    for (int k = 0; any_lane(env) && k < LANES; k++) {
+        if (!(v->diffuse[k] & env[k])) continue;
+        vec3 n = get3(&v->n, k), ng = get3(&v->ng, k), o = offset_origin(get3(&v->pos, k), ng);
+        environment_sample es = environment_sample_at(scene, ua[k], ub[k]);
+        float p = pick[k] * es.pdf;
+        float ci = v3_dot(n, es.wi);
+        int ok =
+            (folds[k] | (ci > 0.0f)) & (v3_dot(ng, es.wi) > 0.0f) & (p > 0.0f) & (p < INFINITY);
+        set3(&emission, k, es.radiance);
+        shadow_lane_set(&s, k, o, es.wi, p, ci, TZ_ENV_DISTANCE, ok);
+    }
+    for (int k = 0; any_lane(sun) && k < LANES; k++) {
+        if (!(v->diffuse[k] & sun[k])) continue;
+        vec3 n = get3(&v->n, k), ng = get3(&v->ng, k), o = offset_origin(get3(&v->pos, k), ng);
+        direction_sample ds =
+            cone_direction(xyz(scene->frame.sun), scene->frame.sun.w, ua[k], ub[k]);
+        float p = pick[k] * ds.pdf;
+        float ci = v3_dot(n, ds.wi);
+        int ok =
+            (folds[k] | (ci > 0.0f)) & (v3_dot(ng, ds.wi) > 0.0f) & (p > 0.0f) & (p < INFINITY);
+        shadow_lane_set(&s, k, o, ds.wi, p, ci, TZ_ENV_DISTANCE, ok);
+    }
     trace_lanes(scene, &s.origin, &s.dir, v->id, s.t_light, s.want, 1, hint, blocked, t);
     int any_fold = 0;
     for (int k = 0; k < LANES; k++) {
@@ -228,6 +272,7 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         f_scale[k] = s.cos_i[k];
     }
     if (any_fold) lanes_fold(v, folds, &s.dir, s.cos_i, &f, f_scale, b); /* emitter_light's */
+    if (v->any_microfacet) lanes_microfacet_eval(v, s.want, &s.dir, &f, f_scale, b);
     int lights_only = (scene->frame.flags & TZ_FLAG_LIGHTS_ONLY) != 0u;
     float n_light = (float)scene->frame.light_samples;
     for (int k = 0; k < LANES; k++) {

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "common/adaptive.h"
 #include "common/film_sum.h"
 #include "render/chunk_tree.h"
 #include "render/chunk_values.h"
@@ -32,6 +33,8 @@
 typedef struct cpu_job {
     const packed_scene *packed;
     packet_integrator packet; /* the fastest this processor runs */
+    /* The one-sample build of the mode: integrator_report_sample or integrator_path_sample. */
+    vec3 (*one)(const packed_scene *p, uint32_t i, uint32_t j, uint32_t sample_index);
     part *part;
     int width, height; /* the region */
     /* The pass: chunks first_chunk to first_chunk + chunks - 1, chunk k placed at top[k] with
@@ -43,8 +46,11 @@ typedef struct cpu_job {
      * abandoned with the part as before it) planes of its own, swapped in once it is done. */
     float *out_block[CHUNK_STACK_MAX];
     uint32_t *out_count;
+    float *out_adaptive; /* the noise threshold's state (part.adaptive); NULL when off */
     float *spare[CHUNK_STACK_MAX];
     uint32_t *spare_count;
+    float *spare_adaptive;
+    float threshold;             /* render_opts.noise_threshold */
     volatile sig_atomic_t *stop; /* NULL: never */
     int tiles_x, tile_count;
     /* Written by every thread after every tile: on lines of their own, so that the fields above,
@@ -54,6 +60,10 @@ typedef struct cpu_job {
     atomic_ullong nonfinite;
     atomic_ullong rays;
 } cpu_job;
+
+/* A packet of a noise threshold's render draws its lanes one by one once at most one in this
+ * many is still sampled. */
+#define ALONE_SHARE 4u
 
 /* The most chunks a path build's run takes at once: the longer a run, the less of it goes by
  * with lanes idle at its end. */
@@ -75,6 +85,15 @@ static unsigned long long render_lanes(cpu_job *job, int i, int j, uint32_t lane
     uint32_t x = (uint32_t)(p->meta.x0 + i), y = (uint32_t)(p->meta.y0 + j);
     unsigned long long dropped = 0;
     uint32_t counted[PACKET_LANES_MAX] = {0};
+    /* The noise threshold's state of each lane: its odd chunks' sum, the chunk it stopped at. */
+    vec3 odd[PACKET_LANES_MAX];
+    uint32_t stopped[PACKET_LANES_MAX] = {0};
+    for (uint32_t k = 0; p->adaptive && k < lanes; k++) {
+        const float *a = &p->adaptive[4 * (at + k)];
+        odd[k] = v3(a[0], a[1], a[2]);
+        stopped[k] = (uint32_t)a[3];
+    }
+    uint32_t run_chunks = p->adaptive ? 1u : RUN_CHUNKS; /* each chunk is decided on its own */
     /* A path build renders up to RUN_CHUNKS chunks' samples as one run (a lane whose path ends
      * takes the next sample); they are summed in sample order, chunk by chunk, all the same. */
     vec3 run[RUN_CHUNKS * TZ_CHUNK_SAMPLES * PACKET_LANES_MAX];
@@ -85,18 +104,33 @@ static unsigned long long render_lanes(cpu_job *job, int i, int j, uint32_t lane
             p->meta.spp - first < TZ_CHUNK_SAMPLES ? p->meta.spp : first + TZ_CHUNK_SAMPLES;
         vec3 sum[PACKET_LANES_MAX], comp[PACKET_LANES_MAX];
         for (uint32_t k = 0; k < lanes; k++) sum[k] = comp[k] = v3(0.0f, 0.0f, 0.0f);
+        uint32_t chunk = job->first_chunk + n, sampled = 0;
+        for (uint32_t k = 0; k < lanes; k++) {
+            if (p->adaptive && !stopped[k] &&
+                !adaptive_goes_on(chunk_stack_total(value[k], (uint32_t)job->top[n]), odd[k], chunk,
+                                  job->threshold))
+                stopped[k] = chunk;
+            sampled += !stopped[k];
+        }
+        /* A noise threshold's few lanes left are drawn alone by the one-sample build (bit for bit
+         * the packet's): a packet would draw every lane. */
+        bool alone = sampled * ALONE_SHARE <= lanes;
         if (!pk->samples) run_first = first; /* one sample of all lanes at a time */
-        if (pk->samples && n % RUN_CHUNKS == 0) {
-            uint32_t last = n + RUN_CHUNKS < job->chunks ? n + RUN_CHUNKS : job->chunks;
+        if (pk->samples && n % run_chunks == 0 && sampled && !alone) {
+            uint32_t last = n + run_chunks < job->chunks ? n + run_chunks : job->chunks;
             uint32_t run_end = (job->first_chunk + last) * TZ_CHUNK_SAMPLES;
             run_end = run_end < p->meta.spp ? run_end : p->meta.spp;
             run_first = first;
             pk->samples(job->packed, x, y, lanes, first, run_end - first, run);
         }
-        for (uint32_t s = first; s < end; s++) {
-            vec3 *l = run + (size_t)(s - run_first) * lanes;
-            if (!pk->samples) pk->sample(job->packed, x, y, lanes, s, l);
+        for (uint32_t s = first; sampled && s < end; s++) {
+            vec3 lone[PACKET_LANES_MAX];
+            vec3 *l = alone ? lone : run + (size_t)(s - run_first) * lanes;
+            for (uint32_t k = 0; alone && k < lanes; k++)
+                if (!stopped[k]) l[k] = job->one(job->packed, x + k, y, s);
+            if (!pk->samples && !alone) pk->sample(job->packed, x, y, lanes, s, l);
             for (uint32_t k = 0; k < lanes; k++) {
+                if (stopped[k]) continue; /* its samples are not drawn: zero */
                 if (!sample_finite(l[k])) {
                     dropped++;
                     continue;
@@ -106,9 +140,14 @@ static unsigned long long render_lanes(cpu_job *job, int i, int j, uint32_t lane
             }
         }
         for (uint32_t k = 0; k < lanes; k++) {
-            chunk_push(value[k], (uint32_t)job->top[n], (uint32_t)job->merges[n],
-                       film_sum_value(sum[k], comp[k]));
+            vec3 v = film_sum_value(sum[k], comp[k]);
+            chunk_push(value[k], (uint32_t)job->top[n], (uint32_t)job->merges[n], v);
+            if (p->adaptive && !stopped[k] && chunk % 2u == 1u) odd[k] = v3_add(odd[k], v);
         }
+    }
+    for (uint32_t k = 0; p->adaptive && k < lanes; k++) {
+        float *a = &job->out_adaptive[4 * (at + k)];
+        a[0] = odd[k].x, a[1] = odd[k].y, a[2] = odd[k].z, a[3] = (float)stopped[k];
     }
     for (uint32_t k = 0; k < lanes; k++) {
         for (int b = 0; b < job->new_count; b++)
@@ -200,7 +239,14 @@ static bool plan_pass(cpu_job *job, chunk_stack *shape, uint32_t chunks, int *to
         }
     for (int b = 0; b < shape->count; b++) job->out_block[b] = p->block[b];
     job->out_count = p->count;
+    job->out_adaptive = p->adaptive;
     if (!job->stop) return true;
+    if (p->adaptive && !job->spare_adaptive &&
+        !(job->spare_adaptive = big_malloc(n * 4 * sizeof(float)))) {
+        log_error("out of memory for a part of %zu pixels", n);
+        return false;
+    }
+    if (p->adaptive) job->out_adaptive = job->spare_adaptive;
     for (int b = 0; b < shape->count; b++)
         if (!job->spare[b] && !(job->spare[b] = big_malloc(n * 3 * sizeof(float)))) {
             log_error("out of memory for a part of %zu pixels", n);
@@ -228,6 +274,9 @@ static void swap_in(cpu_job *job) {
     uint32_t *old = p->count;
     p->count = job->spare_count;
     job->spare_count = old;
+    float *old_adaptive = p->adaptive;
+    p->adaptive = job->spare_adaptive;
+    job->spare_adaptive = old_adaptive;
 }
 
 /* What the CPU back end's passes share across pass_loop_run's calls. */
@@ -290,10 +339,13 @@ static bool render_cpu_part(const scene *s, const render_opts *opts, part *p, ui
     double start = clock_seconds();
     if (!scene_pack(s, opts, &packed)) return false;
     scene_pack_report(&packed, opts, start);
-    cpu_job job = {.packed = &packed,
-                   .part = p,
-                   .width = p->meta.x1 - p->meta.x0,
-                   .height = p->meta.y1 - p->meta.y0};
+    cpu_job job = {
+        .packed = &packed,
+        .part = p,
+        .threshold = opts->noise_threshold,
+        .one = opts->mode == RENDER_MODE_PATH ? integrator_path_sample : integrator_report_sample,
+        .width = p->meta.x1 - p->meta.x0,
+        .height = p->meta.y1 - p->meta.y0};
     const char *build = opts->cpu_build;
     job.packet = opts->mode == RENDER_MODE_PATH
                      ? integrator_path_choose(build, integrator_packet_walks(&packed))
@@ -339,6 +391,7 @@ static bool render_cpu_part(const scene *s, const render_opts *opts, part *p, ui
     free(merges);
     for (int b = 0; b < CHUNK_STACK_MAX; b++) free(job.spare[b]);
     free(job.spare_count);
+    free(job.spare_adaptive);
     scene_pack_free(&packed);
     return ok;
 }

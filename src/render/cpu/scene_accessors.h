@@ -30,6 +30,13 @@ static inline tz_vec4 triangle_v2(const packed_scene *p, int t) { return p->tria
 static inline tz_vec4 material_color_ks(const packed_scene *p, int m) {
     return p->materials[m].color_ks;
 }
+static inline tz_uvec4 material_maps(const packed_scene *p, int m) { return p->materials[m].maps; }
+static inline int sphere_material_index(const packed_scene *p, int k) {
+    return (int)p->spheres[k].material;
+}
+static inline uint32_t texture_word(const packed_scene *p, uint32_t i) {
+    return p->texture_words[i];
+}
 static inline tz_vec4 normals_n0(const packed_scene *p, int s) { return p->normals[s].n0; }
 static inline tz_vec4 normals_n1(const packed_scene *p, int s) { return p->normals[s].n1; }
 static inline tz_vec4 normals_n2(const packed_scene *p, int s) { return p->normals[s].n2; }
@@ -37,6 +44,7 @@ static inline tz_vec4 light_position_power(const packed_scene *p, int k) {
     return p->lights[k].position_power;
 }
 static inline tz_vec4 light_color(const packed_scene *p, int k) { return p->lights[k].color; }
+static inline tz_vec4 light_shape(const packed_scene *p, int k) { return p->lights[k].shape; }
 static inline uint32_t light_count(const packed_scene *p) { return p->frame.light_count; }
 static inline tz_vec4 instance_to_object(const packed_scene *p, int i, int r) {
     return p->instances[i].to_object[r];
@@ -52,6 +60,12 @@ static inline tz_vec4 emitter_emission_pick(const packed_scene *p, int e) {
 }
 static inline tz_vec4 emitter_primitive_cdf(const packed_scene *p, int e) {
     return p->emitters[e].primitive_cdf;
+}
+/* Texel k of the environment map and float k of its sampling tables (TZ_BINDING_ENVIRONMENT). */
+static inline tz_vec4 environment_texel(const packed_scene *p, int k) { return p->environment[k]; }
+static inline float environment_float(const packed_scene *p, int k) {
+    size_t map = (size_t)p->frame.env_width * p->frame.env_height;
+    return ((const float *)(p->environment + map))[k];
 }
 
 #endif

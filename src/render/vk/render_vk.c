@@ -80,7 +80,8 @@ static void record_steps(vk_render *r, const pass_plan *plan, uint64_t first, ui
                                 .region_height = plan->height,
                                 .chunk_flags = at.chunk_flags,
                                 .chunk_count = at.spans,
-                                .stack_depth = plan->depth};
+                                .stack_depth = plan->depth,
+                                .noise_threshold = plan->noise_threshold};
         for (uint32_t c = 0; c < at.spans; c++)
             push.stack_slot[c] = plan->slot[at.chunk + c].top | plan->slot[at.chunk + c].merges
                                                                     << 16u;
@@ -205,7 +206,7 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
      * cache keeps). The flags compile out the indirect bounce when it is off. */
     uint32_t lights = packed->frame.light_count;
     bool unroll_lights =
-        lights <= TZ_UNROLL_MAX_LIGHTS &&
+        lights <= TZ_UNROLL_MAX_LIGHTS && !(packed->frame.flags & TZ_FLAG_SHAPED_LIGHTS) &&
         (st->unrolled_spheres == 0u || st->unrolled_spheres * lights <= UNROLL_MAX_SHADOW_TESTS);
     spec_data constants = {.words = {
                                [TZ_SPEC_UNROLLED_SPHERES] = st->unrolled_spheres,
@@ -216,8 +217,10 @@ static bool create_kernel(vk_render *r, const packed_scene *packed, const vk_str
                            }};
     /* The unrolled spheres and lights, zero past the scene's (the shader reads none of those). */
     scene_pack_unrolled(packed, st->unrolled_spheres, &constants.scene);
-    if (unroll_lights)
-        memcpy(constants.scene.lights, packed->lights, lights * sizeof *packed->lights);
+    for (uint32_t k = 0; unroll_lights && k < lights; k++) {
+        constants.scene.lights[2 * k] = packed->lights[k].position_power;
+        constants.scene.lights[2 * k + 1] = packed->lights[k].color;
+    }
     VkSpecializationMapEntry entries[SPEC_COUNT];
     for (uint32_t k = 0; k < SPEC_COUNT; k++)
         entries[k] =
@@ -381,7 +384,8 @@ static render_status vk_render_part(const scene *s, const render_opts *opts, par
     packing.no_bvh = !st.use_bvh;
     int width = p->meta.x1 - p->meta.x0, height = p->meta.y1 - p->meta.y0;
     uint32_t end_chunk = part_chunk_of(p, sample_end);
-    uint32_t depth = pass_plan_stack_depth(&p->stack, end_chunk);
+    /* A noise threshold's state takes two blocks more a pixel (gpu_pass.noise_threshold). */
+    uint32_t depth = pass_plan_stack_depth(&p->stack, end_chunk) + (p->adaptive ? 2u : 0u);
     bool stoppable = opts->control && opts->control->stop;
     bool resumed = p->stack.count > 0;
     double t_pack = clock_seconds();
@@ -412,6 +416,7 @@ static render_status vk_render_part(const scene *s, const render_opts *opts, par
     uint64_t loop_fit = r.ctx.loop_limit ? vk_probe_safe_iterations(r.ctx.loop_limit) : 0u;
     pass_plan plan = pass_plan_make(&p->meta, st.sample_iterations, loop_fit, stoppable);
     plan.depth = depth;
+    memcpy(&plan.noise_threshold, &opts->noise_threshold, sizeof plan.noise_threshold);
     log_debug("vulkan: %" PRIu64
               " loop passes per sample at most, %u sample%s per dispatch on tiles of %u x %u, "
               "%" PRIu64 " dispatch%s per submission%s, %u chunk-tree block%s a pixel",

@@ -49,6 +49,18 @@ static vk_bytes materials(const vk_binding_sources *s) {
 static vk_bytes normals(const vk_binding_sources *s) {
     return (vk_bytes){s->scene->normals, s->scene->normals_count, sizeof *s->scene->normals};
 }
+static vk_bytes textures(const vk_binding_sources *s) {
+    return (vk_bytes){s->scene->texture_words, s->scene->texture_word_count,
+                      sizeof *s->scene->texture_words};
+}
+static vk_bytes environment(const vk_binding_sources *s) {
+    return (vk_bytes){s->scene->environment, s->scene->environment_texels,
+                      sizeof *s->scene->environment};
+}
+static vk_bytes instances(const vk_binding_sources *s) {
+    return (vk_bytes){s->scene->instances, s->scene->frame.instance_count,
+                      sizeof *s->scene->instances};
+}
 /* The part's sums and their compensation: a pixel each, rows padded to whole bands so that every
  * band binding stays inside the buffer. */
 static vk_bytes pixels(const vk_binding_sources *s) {
@@ -88,6 +100,11 @@ static const vk_binding_row table[VK_BINDINGS] = {
                             VK_FORMAT_R32G32B32A32_SFLOAT},
     [TZ_BINDING_WIDE_NODES] = {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, wide_nodes,
                                VK_FORMAT_R32G32B32A32_UINT},
+    [TZ_BINDING_TEXTURES] = {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, textures, VK_FORMAT_R32_UINT},
+    [TZ_BINDING_ENVIRONMENT] = {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, environment,
+                                VK_FORMAT_R32G32B32A32_SFLOAT},
+    [TZ_BINDING_INSTANCES] = {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, instances,
+                              VK_FORMAT_R32G32B32A32_UINT},
     [TZ_BINDING_ACCEL] = {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, NULL, VK_FORMAT_UNDEFINED},
 };
 _Static_assert(VK_BINDINGS <= VK_KERNEL_MAX_BINDINGS, "raise VK_KERNEL_MAX_BINDINGS");

@@ -183,7 +183,7 @@ bool vk_buffer_create_view(vk_context *ctx, vk_buffer *b, VkFormat format);
 /* Destroys the buffer (and its view) and frees its memory; safe on a zeroed vk_buffer. */
 void vk_buffer_destroy(vk_context *ctx, vk_buffer *b);
 
-#define VK_KERNEL_MAX_BINDINGS 14
+#define VK_KERNEL_MAX_BINDINGS 17
 
 /* One compute pipeline with one descriptor set of buffers (binding k has types[k]). */
 typedef struct vk_kernel_desc {

@@ -33,6 +33,7 @@ typedef struct pass_plan {
     uint32_t tile_width, tile_height;
     uint64_t steps_per_submit; /* steps a submission runs at most */
     uint32_t depth;            /* stack blocks a pixel has room for */
+    uint32_t noise_threshold;  /* gpu_pass.noise_threshold: the float's bits, 0 when off */
     /* The host pass being run: chunks first_chunk to first_chunk + chunks - 1, ending at sample
      * sample_end, each placed by slot[k]. */
     uint32_t first_chunk, chunks, sample_end;

@@ -73,6 +73,15 @@ bool vk_render_load_part(vk_render *r, const part *p, uint32_t depth) {
         for (int k = 0; k < p->stack.count; k++)
             memcpy(stack + (i * depth + (size_t)k) * STACK_BLOCK_BYTES, &p->block[k][3 * i],
                    STACK_BLOCK_BYTES);
+        if (p->adaptive) { /* the last two blocks (gpu_pass.noise_threshold) */
+            float state[6] = {p->adaptive[4 * i],
+                              p->adaptive[4 * i + 1],
+                              p->adaptive[4 * i + 2],
+                              p->adaptive[4 * i + 3],
+                              0.0f,
+                              0.0f};
+            memcpy(stack + (i * depth + depth - 2u) * STACK_BLOCK_BYTES, state, sizeof state);
+        }
     }
     return true;
 }
@@ -169,6 +178,10 @@ static bool sync_part(const pass_plan *plan, const char *sums, const char *stack
         for (int k = 0; k < shape->count; k++)
             memcpy(&p->block[k][3 * i], stacks + (i * plan->depth + (size_t)k) * STACK_BLOCK_BYTES,
                    STACK_BLOCK_BYTES);
+        if (p->adaptive) /* the last two blocks: odd RGB, then the stop chunk */
+            memcpy(&p->adaptive[4 * i],
+                   stacks + (i * plan->depth + plan->depth - 2u) * STACK_BLOCK_BYTES,
+                   4 * sizeof(float));
     }
     p->stack = *shape;
     p->meta.sample_end = part_sample_of(p, done);

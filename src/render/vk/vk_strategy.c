@@ -129,6 +129,16 @@ uint32_t vk_strategy_walk_loop(const vk_strategy *st) {
     return st->walk > 1u ? (st->walk - 1u) / 2u : 1u;
 }
 
+/* The words of s's texture table (texture_pack.c): its fixed tables and header, slots, images,
+ * the UVs of every face with corner data (a bound: the packer gives UVs to those alone) and the
+ * texels. */
+static uint64_t texture_words(const scene *s) {
+    if (s->slot_count == 0 && !scene_has_microfacet(s)) return 0;
+    return TZ_TEXTURE_FIRST_SLOT + (uint64_t)s->slot_count * TZ_SLOT_WORDS +
+           (uint64_t)s->image_count * TZ_IMAGE_WORDS + 6u * (uint64_t)s->normals_count +
+           s->texel_bytes / 4u;
+}
+
 /* Refuses what the device could not render right: scene or accumulation buffers past its limits,
  * and where the driver cuts loops (lavapipe 22.3) a sample whose worst-case loop work could
  * reach that limit; false with the reason in `reason` (RENDER_REASON_SIZE bytes), nothing
@@ -138,13 +148,6 @@ bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts 
     bool use_bvh = st->use_bvh;
     uint64_t sample_iterations = st->sample_iterations;
     uint32_t loop_limit = ctx->loop_limit;
-    if (s->instance_count > 0) { /* the shaders' walks have no second level yet */
-        snprintf(reason, RENDER_REASON_SIZE,
-                 "the scene places models as instances (%d), which the Vulkan walks do not "
-                 "take yet",
-                 s->instance_count);
-        return false;
-    }
     if (loop_limit && use_bvh && vk_strategy_walk_loop(st) < MIN_WALK_BUDGET) {
         snprintf(reason, RENDER_REASON_SIZE,
                  "with %d lights and this bounce limit a ray could walk the BVH only %u loop "
@@ -184,19 +187,24 @@ bool vk_strategy_check(const vk_context *ctx, const scene *s, const render_opts 
     /* A texel is one vec4 of the shared structs. */
     const uint64_t sphere_texels = sizeof(struct gpu_sphere) / 16u;
     const uint64_t material_texels = sizeof(struct gpu_material) / 16u;
-    uint64_t sizes[] = {(uint64_t)s->sphere_count * sphere_texels,
-                        (uint64_t)s->light_count * 2u,
+    uint64_t sizes[] = {(uint64_t)s->sphere_count * sphere_texels, (uint64_t)s->light_count * 2u,
                         (uint64_t)TZ_BAND_ROWS * row_bytes,
                         use_bvh ? primitives * 4u : 0u, /* < 1 node a primitive */
                         (uint64_t)s->triangle_count * 3u,
-                        (uint64_t)s->material_count * material_texels};
+                        (uint64_t)s->material_count * material_texels, texture_words(s),
+
+                        /* the map's texels and its tables, four floats a texel (a bound) */
+                        (uint64_t)s->environment.width * (uint64_t)s->environment.height * 5u / 4u +
+                            (uint64_t)s->environment.height + 2u};
     uint64_t limit[] = {limits->maxTexelBufferElements, limits->maxTexelBufferElements,
                         limits->maxStorageBufferRange,  limits->maxTexelBufferElements,
-                        limits->maxTexelBufferElements, limits->maxTexelBufferElements};
+                        limits->maxTexelBufferElements, limits->maxTexelBufferElements,
+                        limits->maxTexelBufferElements};
     const char *what[] = {"texels of spheres",          "texels of lights",
                           "bytes of accumulation rows", "texels of BVH nodes",
-                          "texels of triangles",        "texels of materials"};
-    for (int k = 0; k < 6; k++) {
+                          "texels of triangles",        "texels of materials",
+                          "words of textures",          "texels of the environment map"};
+    for (int k = 0; k < 7; k++) {
         if (sizes[k] > limit[k]) {
             snprintf(reason, RENDER_REASON_SIZE,
                      "the scene needs %" PRIu64
@@ -251,9 +259,13 @@ vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const rend
         rq.sample_iterations = sample_iterations(s, opts, emitters, 64u);
         return rq;
     }
-    bool unroll = spheres <= TZ_UNROLL_MAX_SPHERES && s->triangle_count == 0;
+    /* Textured spheres need their material's index, which the unrolled constants leave out. */
+    bool unroll = spheres <= TZ_UNROLL_MAX_SPHERES && s->triangle_count == 0 &&
+                  s->slot_count == 0 && s->instance_count == 0;
     vk_strategy st = {.unrolled_spheres = unroll ? spheres : 0u};
-    st.use_bvh = !opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u;
+    /* Instances live in the tree's leaves: it is walked whatever --no-bvh says (scene_pack.c). */
+    st.use_bvh = (!opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u) ||
+                 s->instance_count > 0;
     st.cooperative = st.use_bvh && walk == RENDER_WALK_COOPERATIVE;
     uint32_t limit = ctx->loop_limit;
     bool cut = limit != 0u; /* the driver stops loops silently */
@@ -263,11 +275,12 @@ vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const rend
         sample_iterations(s, opts, emitters, st.unrolled_spheres ? 0u : spheres);
     /* Many lights leave each walk too few passes; testing every sphere may still fit. */
     if (st.use_bvh && cut && vk_strategy_walk_loop(&st) < MIN_WALK_BUDGET &&
-        every_sphere < vk_probe_safe_iterations(limit)) {
+        s->instance_count == 0 && every_sphere < vk_probe_safe_iterations(limit)) {
         st.use_bvh = st.cooperative = false;
         st.walk = 0u;
     }
-    st.wide_bvh = st.use_bvh && wide_bvh_pays(ctx, s);
+    /* The wide tree holds the scene's nodes alone: the instances' models are binary trees. */
+    st.wide_bvh = st.use_bvh && s->instance_count == 0 && wide_bvh_pays(ctx, s);
     st.sample_iterations =
         st.use_bvh ? sample_iterations(s, opts, emitters, cut ? st.walk : 64u) : every_sphere;
     return st;
