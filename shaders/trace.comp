@@ -120,7 +120,9 @@ uvec4 node_field(uint k, uint f) { return texelFetch(node_texels, int(4u * k + f
 uvec4 wide_node_field(uint k, uint f) { return texelFetch(wide_node_texels, int(4u * k + f)); }
 
 /* Row r of struct gpu_instance i's to_object and to_world, and its model (common/instance.h). */
-vec4 instance_to_object(int i, int r) { return uintBitsToFloat(texelFetch(instance_texels, 7 * i + r)); }
+vec4 instance_to_object(int i, int r) {
+    return uintBitsToFloat(texelFetch(instance_texels, 7 * i + r));
+}
 vec4 instance_to_world(int i, int r) {
     return uintBitsToFloat(texelFetch(instance_texels, 7 * i + 3 + r));
 }

@@ -454,11 +454,10 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
     uint32_t *triangle_source = NULL;
     double env_mean = 0.0, radius = scene_radius(s);
     sun_disc sun = lights_pack(s, path, radius, out);
-    bool sorted =
-        environment_pack(env, out, &env_mean) &&
-        pack_bvh(out, s, (uint32_t)s->triangle_count, opts->no_bvh, &triangle_source) &&
-        pack_emitters(out, s, path, triangle_source,
-                      env_mean > 0.0 ? env_mean * radius * radius : 0.0, &sun);
+    bool sorted = environment_pack(env, out, &env_mean) &&
+                  pack_bvh(out, s, (uint32_t)s->triangle_count, opts->no_bvh, &triangle_source) &&
+                  pack_emitters(out, s, path, triangle_source,
+                                env_mean > 0.0 ? env_mean * radius * radius : 0.0, &sun);
     free(triangle_source);
     if (sorted && (!pack_soa(out, count) || !pack_triangle_soa(out, out->frame.triangle_count)))
         log_error("out of memory packing %u spheres", count);

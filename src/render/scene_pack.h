@@ -29,12 +29,12 @@ typedef struct packed_scene {
     uint32_t *texture_words; /* the texture table (TZ_TEXTURE_*), one zeroed word without any */
     size_t texture_word_count;
     struct gpu_light *lights;
-    sphere_soa sphere_soa;        /* the C back end's copy of spheres[].center_radius */
-    triangle_soa triangle_soa;    /* and of triangles[]' corners */
-    struct gpu_bvh_node *nodes;   /* frame.node_count of them; NULL (0) without a BVH */
-    struct gpu_emitter *emitters; /* frame.emitter_count (path mode), one zeroed when none */
+    sphere_soa sphere_soa;          /* the C back end's copy of spheres[].center_radius */
+    triangle_soa triangle_soa;      /* and of triangles[]' corners */
+    struct gpu_bvh_node *nodes;     /* frame.node_count of them; NULL (0) without a BVH */
+    struct gpu_emitter *emitters;   /* frame.emitter_count (path mode), one zeroed when none */
     struct gpu_instance *instances; /* frame.instance_count, NULL when none */
-    tz_vec4 *environment;         /* TZ_BINDING_ENVIRONMENT's texels, one zeroed without a map */
+    tz_vec4 *environment;           /* TZ_BINDING_ENVIRONMENT's texels, one zeroed without a map */
     uint32_t environment_texels;
     uint32_t bvh_depth;
     double bvh_seconds; /* build time */

@@ -100,7 +100,7 @@ typedef struct parser {
     bool primitives_only;
     /* A model's own textures: one that cannot be read is a warning, its map dropped. */
     bool textures_optional;
-    struct mesh_cache *meshes; /* the models mesh lines loaded (mesh_cache.c), NULL before one */
+    struct mesh_cache *meshes;  /* the models mesh lines loaded (mesh_cache.c), NULL before one */
     struct mesh_placed *placed; /* the mesh lines' models, for instances (scene_instance.c) */
     size_t placed_count;
     mesh_view *views; /* the mesh lines' boxes, in order (parser_note_mesh); freed by the parse */

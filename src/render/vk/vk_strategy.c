@@ -264,8 +264,8 @@ vk_strategy vk_strategy_choose(const vk_context *ctx, const scene *s, const rend
                   s->slot_count == 0 && s->instance_count == 0;
     vk_strategy st = {.unrolled_spheres = unroll ? spheres : 0u};
     /* Instances live in the tree's leaves: it is walked whatever --no-bvh says (scene_pack.c). */
-    st.use_bvh = (!opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u) ||
-                 s->instance_count > 0;
+    st.use_bvh =
+        (!opts->no_bvh && st.unrolled_spheres == 0u && spheres > 0u) || s->instance_count > 0;
     st.cooperative = st.use_bvh && walk == RENDER_WALK_COOPERATIVE;
     uint32_t limit = ctx->loop_limit;
     bool cut = limit != 0u; /* the driver stops loops silently */
