@@ -97,27 +97,36 @@ bool is_instance_leaf(instance_walk iw, uint k) {
     return !iw.inside && k >= frame.instance_leaf;
 }
 
+/* The ray o + t d in the space of instance i's model (moved by its rows unless they are the
+ * identity: a flattened copy's bits), its inverse direction and shear; returns the offset of its
+ * faces' keys over their primitive ids. */
+int instance_ray(int i, vec3 o, vec3 d, out vec3 mo, out vec3 md, out vec3 minv,
+                 out ray_shear msh) {
+    uvec4 model = instance_model(i);
+    mo = o, md = d;
+    if (model.z == 0u) {
+        mo = affine_point(instance_to_object(i, 0), instance_to_object(i, 1),
+                          instance_to_object(i, 2), o);
+        md = affine_direction(instance_to_object(i, 0), instance_to_object(i, 1),
+                              instance_to_object(i, 2), d);
+    }
+    minv = inverse_direction(md);
+    msh = shear_of(md);
+    return TZ_INSTANCE_KEY + (i << frame.instance_shift) - int(model.y) -
+           int(frame.sphere_count);
+}
+
 /* Enters the instance of leaf primitive k (the walk's `sphere`, end its leaf's end): the ray
  * moved into its model's space, the walk on at the model's root. */
-void instance_enter(inout instance_walk iw, int top, inout vec3 o, inout vec3 d, inout vec3 inv,
-                    inout ray_shear sh, inout uint k, inout uint end, out uint node) {
+void instance_enter(inout instance_walk iw, int top, out vec3 o, out vec3 d, out vec3 inv,
+                    out ray_shear sh, inout uint k, inout uint end, out uint node) {
     int i = int(k - frame.instance_leaf);
-    uvec4 model = instance_model(i);
     iw.inside = true;
     iw.top = top;
     iw.next = k + 1u, iw.end = end;
-    iw.offset = TZ_INSTANCE_KEY + (i << frame.instance_shift) - int(model.y) -
-                int(frame.sphere_count);
-    if (model.z == 0u) {
-        o = affine_point(instance_to_object(i, 0), instance_to_object(i, 1),
-                         instance_to_object(i, 2), iw.o);
-        d = affine_direction(instance_to_object(i, 0), instance_to_object(i, 1),
-                             instance_to_object(i, 2), iw.d);
-        inv = inverse_direction(d);
-        sh = shear_of(d);
-    }
+    iw.offset = instance_ray(i, iw.o, iw.d, o, d, inv, sh);
     k = end = 0u;
-    node = model.x;
+    node = instance_model(i).x;
 }
 
 /* Leaves the instance: the ray back in world space, the walk on at the rest of its leaf. */
@@ -322,7 +331,8 @@ bool coherent_rays;
 /* trace_bvh's query through the device's acceleration structure: every AABB candidate it
  * reports is primitive id k (vk_accel.c builds one AABB geometry in primitive order, each box
  * padded so that rounding in the device's box tests never drops a primitive the shared test
- * hits), tested with the shared test and kept by the tie rule, so the hit is trace_bvh's
+ * hits), or face k of the model of the instance whose custom index is one more than its own (the
+ * ray moved into its space as trace_bvh moves it, not by the device's transform), tested with the shared test and kept by the tie rule, so the hit is trace_bvh's
  * whatever order the device reports boxes in. A nearer hit is committed at its distance, which
  * lets the device skip boxes beyond it: a box holding a hit at the same distance starts before
  * it by the padding, so ties to a lower index still arrive. With any_hit the first committed hit
@@ -333,12 +343,25 @@ int trace_ray_query(vec3 o, vec3 d, int self, float tmax, bool any_hit, out floa
     rayQueryEXT query;
     uint flags = any_hit ? gl_RayFlagsTerminateOnFirstHitEXT : gl_RayFlagsNoneEXT;
     ray_shear sh = shear_of(d);
+    /* The ray in the space of the instance of the last candidate (-1: the scene's own). */
+    int space = -1, offset = 0;
+    vec3 mo = o, md = d, minv;
+    ray_shear msh = sh;
     rayQueryInitializeEXT(query, scene_accel, flags, 0xffu, o, tmin, d, min(tmax, RAY_QUERY_FAR));
     while (rayQueryProceedEXT(query)) {
         int k = rayQueryGetIntersectionPrimitiveIndexEXT(query, false);
-        float t = primitive_distance(k, o, d, sh, tmin, self);
+        int instance = TZ_HAS_INSTANCES
+                           ? rayQueryGetIntersectionInstanceCustomIndexEXT(query, false) - 1
+                           : -1;
+        if (instance != space) {
+            space = instance;
+            mo = o, md = d, msh = sh, offset = 0;
+            if (instance >= 0) offset = instance_ray(instance, o, d, mo, md, minv, msh);
+        }
+        if (instance >= 0) k += int(frame.sphere_count + instance_model(instance).y);
+        float t = primitive_distance(k, mo, md, msh, tmin, self - offset);
         bool nearer = t < best;
-        keep_nearer(k, t, best, id);
+        keep_nearer(k + offset, t, best, id);
         if (nearer) rayQueryGenerateIntersectionEXT(query, t);
     }
     t_out = best;

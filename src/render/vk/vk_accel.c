@@ -5,16 +5,12 @@
  * every primitive the shared test can hit. */
 #include "render/vk/vk_accel.h"
 
-#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include "render/vk/vk_accel_boxes.h"
 #include "render/vk/vk_internal.h"
 #include "util/log.h"
-
-/* Padding of a box, as a share of the largest coordinate a ray or the box can have: 2^-16 is
- * 128 float ulps, far past the few roundings of a slab test (position errors of a few ulps of
- * the ray origin and the box, which a padding widens every slab by at least as much). */
-#define BOX_PAD_SHARE (1.0 / 65536.0)
 
 /* The ray tracing functions, which the loader only hands out by name (device extensions). */
 typedef struct accel_functions {
@@ -50,57 +46,6 @@ static VkDeviceAddress buffer_address(const accel_functions *f, vk_context *ctx,
     VkBufferDeviceAddressInfo info = {.sType = VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO,
                                       .buffer = b->buffer};
     return f->get_buffer_address(ctx->device, &info);
-}
-
-static double max_abs3(double x, double y, double z) {
-    return fmax(fabs(x), fmax(fabs(y), fabs(z)));
-}
-
-/* The exact box of primitive k (spheres first, then triangles), in double. */
-static void primitive_box(const packed_scene *p, uint32_t k, double lo[3], double hi[3]) {
-    if (k < p->frame.sphere_count) {
-        const tz_vec4 *c = &p->spheres[k].center_radius;
-        double centre[3] = {c->x, c->y, c->z};
-        for (int a = 0; a < 3; a++) lo[a] = centre[a] - c->w, hi[a] = centre[a] + c->w;
-        return;
-    }
-    const struct gpu_triangle *t = &p->triangles[k - p->frame.sphere_count];
-    const tz_vec4 *v[3] = {&t->v0, &t->v1, &t->v2};
-    for (int a = 0; a < 3; a++) lo[a] = INFINITY, hi[a] = -INFINITY;
-    for (int c = 0; c < 3; c++) {
-        double x[3] = {v[c]->x, v[c]->y, v[c]->z};
-        for (int a = 0; a < 3; a++) lo[a] = fmin(lo[a], x[a]), hi[a] = fmax(hi[a], x[a]);
-    }
-}
-
-/* x as a float no greater (down) or no less than it. */
-static float round_out(double x, bool down) {
-    float f = (float)x;
-    if (down && (double)f > x) return nextafterf(f, -INFINITY);
-    if (!down && (double)f < x) return nextafterf(f, INFINITY);
-    return f;
-}
-
-/* Fills `boxes` with every primitive's box, padded by BOX_PAD_SHARE of the largest coordinate
- * a ray may start from (the camera's, or any point of any primitive) plus the box's own. */
-static void fill_boxes(const packed_scene *p, uint32_t count, VkAabbPositionsKHR *boxes) {
-    const tz_vec4 *eye = &p->frame.origin;
-    double reach = max_abs3(eye->x, eye->y, eye->z) + fabs((double)p->frame.near_distance);
-    for (uint32_t k = 0; k < count; k++) {
-        double lo[3], hi[3];
-        primitive_box(p, k, lo, hi);
-        reach = fmax(reach, fmax(max_abs3(lo[0], lo[1], lo[2]), max_abs3(hi[0], hi[1], hi[2])));
-    }
-    for (uint32_t k = 0; k < count; k++) {
-        double lo[3], hi[3];
-        primitive_box(p, k, lo, hi);
-        double own = fmax(max_abs3(lo[0], lo[1], lo[2]), max_abs3(hi[0], hi[1], hi[2]));
-        double pad = BOX_PAD_SHARE * fmax(reach + own, 1.0);
-        boxes[k] =
-            (VkAabbPositionsKHR){round_out(lo[0] - pad, true),  round_out(lo[1] - pad, true),
-                                 round_out(lo[2] - pad, true),  round_out(hi[0] + pad, false),
-                                 round_out(hi[1] + pad, false), round_out(hi[2] + pad, false)};
-    }
 }
 
 /* The scratch alignment the device asks for (minAccelerationStructureScratchOffsetAlignment). */
@@ -153,98 +98,147 @@ static VkAccelerationStructureBuildGeometryInfoKHR build_info(
     };
 }
 
+/* The instances' custom index is 24 bits: 0 is the scene's own primitives. */
+#define MAX_ACCEL_INSTANCES ((1u << 24) - 1u)
+
+/* The AABB geometry of primitives r of the boxes at `boxes`. */
+static VkAccelerationStructureGeometryKHR box_geometry(VkDeviceAddress boxes, accel_range r) {
+    return (VkAccelerationStructureGeometryKHR){
+        .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR,
+        .geometryType = VK_GEOMETRY_TYPE_AABBS_KHR,
+        .geometry.aabbs = {.sType =
+                               VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_AABBS_DATA_KHR,
+                           .data.deviceAddress = boxes + r.first * sizeof(VkAabbPositionsKHR),
+                           .stride = sizeof(VkAabbPositionsKHR)},
+        /* The shader decides every candidate either way; opaque spares any-hit bookkeeping. */
+        .flags = VK_GEOMETRY_OPAQUE_BIT_KHR,
+    };
+}
+
+/* The top level's instance of bottom structure `address`: identity for the scene's own
+ * primitives (the device's ray stays the shader's), else instance i's rows. */
+static VkAccelerationStructureInstanceKHR top_instance(const packed_scene *p, int i,
+                                                       VkDeviceAddress address) {
+    VkAccelerationStructureInstanceKHR in = {
+        .transform.matrix = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}},
+        .instanceCustomIndex = (uint32_t)(i + 1),
+        .mask = 0xffu,
+        .accelerationStructureReference = address,
+    };
+    for (int r = 0; i >= 0 && r < 3; r++) {
+        const tz_vec4 *row = &p->instances[i].to_world[r];
+        float m[4] = {row->x, row->y, row->z, row->w};
+        memcpy(in.transform.matrix[r], m, sizeof m);
+    }
+    return in;
+}
+
 bool vk_accel_build(vk_context *ctx, const packed_scene *p, vk_accel *out) {
     *out = (vk_accel){0};
     accel_functions f;
     if (!load_functions(ctx, &f)) return false;
     uint32_t count = p->frame.sphere_count + p->frame.triangle_count;
+    uint32_t instances = p->frame.instance_count;
+    if (instances > MAX_ACCEL_INSTANCES - 1u) {
+        log_error("the ray query walk takes at most %u instances, the scene has %u",
+                  MAX_ACCEL_INSTANCES - 1u, instances);
+        return false;
+    }
+    accel_range *ranges = NULL;
+    uint32_t bottoms = accel_ranges(p, &ranges);
+    if (!bottoms) return false;
+    out->bottoms = calloc(bottoms, sizeof *out->bottoms);
+    out->bottom_storage = calloc(bottoms, sizeof *out->bottom_storage);
+    VkAccelerationStructureGeometryKHR *geometries = calloc(bottoms, sizeof *geometries);
+    VkAccelerationStructureBuildGeometryInfoKHR *builds = calloc(bottoms, sizeof *builds);
+    VkAccelerationStructureBuildRangeInfoKHR *build_ranges = calloc(bottoms, sizeof *build_ranges);
+    VkDeviceAddress *addresses = calloc(bottoms, sizeof *addresses);
+    bool ok = out->bottoms && out->bottom_storage && geometries && builds && build_ranges &&
+              addresses;
+    if (!ok) log_error("out of memory for %u acceleration structures", bottoms);
+    out->bottom_count = ok ? bottoms : 0u;
     const VkBufferUsageFlags input =
         VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
         VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
-    if (!vk_buffer_create(ctx, (count ? count : 1u) * sizeof(VkAabbPositionsKHR), input,
-                          VK_MEMORY_UPLOAD, &out->boxes) ||
-        !vk_buffer_create(ctx, sizeof(VkAccelerationStructureInstanceKHR), input, VK_MEMORY_UPLOAD,
-                          &out->instance))
-        return false;
-    fill_boxes(p, count, out->boxes.mapped);
+    ok = ok &&
+         vk_buffer_create(ctx, (count ? count : 1u) * sizeof(VkAabbPositionsKHR), input,
+                          VK_MEMORY_UPLOAD, &out->boxes) &&
+         vk_buffer_create(ctx, (instances + 1u) * sizeof(VkAccelerationStructureInstanceKHR),
+                          input, VK_MEMORY_UPLOAD, &out->instances) &&
+         accel_fill_boxes(p, ranges, bottoms, out->boxes.mapped);
 
-    VkAccelerationStructureGeometryKHR boxes = {
-        .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR,
-        .geometryType = VK_GEOMETRY_TYPE_AABBS_KHR,
-        .geometry.aabbs = {.sType =
-                               VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_AABBS_DATA_KHR,
-                           .data.deviceAddress = buffer_address(&f, ctx, &out->boxes),
-                           .stride = sizeof(VkAabbPositionsKHR)},
-        /* The shader decides every candidate either way; opaque spares any-hit bookkeeping. */
-        .flags = VK_GEOMETRY_OPAQUE_BIT_KHR,
-    };
-    VkAccelerationStructureBuildGeometryInfoKHR bottom =
-        build_info(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, &boxes);
-    VkAccelerationStructureBuildSizesInfoKHR bottom_sizes, top_sizes;
-    if (!create_structure(ctx, &f, &bottom, count, &bottom_sizes, &out->bottom_storage,
-                          &out->bottom))
-        return false;
-    VkAccelerationStructureDeviceAddressInfoKHR bottom_address = {
-        .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR,
-        .accelerationStructure = out->bottom};
-    /* The identity transform: the device's ray stays the shader's, bit for bit. */
-    VkAccelerationStructureInstanceKHR instance = {
-        .transform.matrix = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}},
-        .mask = 0xffu,
-        .accelerationStructureReference = f.get_address(ctx->device, &bottom_address),
-    };
-    memcpy(out->instance.mapped, &instance, sizeof instance);
-    VkAccelerationStructureGeometryKHR instances = {
+    /* The bottom level: one structure a range, the scratch the largest build's. */
+    VkDeviceSize scratch = 0;
+    VkDeviceAddress boxes_at = ok ? buffer_address(&f, ctx, &out->boxes) : 0;
+    for (uint32_t b = 0; ok && b < bottoms; b++) {
+        geometries[b] = box_geometry(boxes_at, ranges[b]);
+        builds[b] = build_info(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, &geometries[b]);
+        build_ranges[b] = (VkAccelerationStructureBuildRangeInfoKHR){.primitiveCount =
+                                                                         ranges[b].count};
+        VkAccelerationStructureBuildSizesInfoKHR sizes;
+        ok = create_structure(ctx, &f, &builds[b], ranges[b].count, &sizes,
+                              &out->bottom_storage[b], &out->bottoms[b]);
+        if (sizes.buildScratchSize > scratch) scratch = sizes.buildScratchSize;
+        VkAccelerationStructureDeviceAddressInfoKHR at = {
+            .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR,
+            .accelerationStructure = out->bottoms[b]};
+        if (ok) addresses[b] = f.get_address(ctx->device, &at);
+    }
+    /* The top level: the scene's own primitives, then every instance. */
+    uint32_t tops = 0;
+    VkAccelerationStructureInstanceKHR *top_list = out->instances.mapped;
+    if (ok && ranges[0].count > 0) top_list[tops++] = top_instance(p, -1, addresses[0]);
+    for (uint32_t i = 0; ok && i < instances; i++)
+        top_list[tops++] =
+            top_instance(p, (int)i, addresses[accel_range_of(p, ranges, bottoms, i)]);
+    VkAccelerationStructureGeometryKHR top_geometry = {
         .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR,
         .geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR,
         .geometry.instances =
             {.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR,
-             .data.deviceAddress = buffer_address(&f, ctx, &out->instance)},
+             .data.deviceAddress = ok ? buffer_address(&f, ctx, &out->instances) : 0},
         .flags = VK_GEOMETRY_OPAQUE_BIT_KHR,
     };
     VkAccelerationStructureBuildGeometryInfoKHR top =
-        build_info(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, &instances);
-    if (!create_structure(ctx, &f, &top, 1u, &top_sizes, &out->top_storage, &out->top))
-        return false;
+        build_info(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, &top_geometry);
+    VkAccelerationStructureBuildSizesInfoKHR top_sizes;
+    ok = ok && create_structure(ctx, &f, &top, tops, &top_sizes, &out->top_storage, &out->top);
+    if (ok && top_sizes.buildScratchSize > scratch) scratch = top_sizes.buildScratchSize;
 
-    /* One scratch buffer for both builds, in turn (a barrier between), aligned as asked. */
+    /* One scratch buffer for every build, in turn (a barrier between), aligned as asked. */
     VkDeviceSize align = scratch_alignment(ctx);
-    VkDeviceSize scratch = bottom_sizes.buildScratchSize > top_sizes.buildScratchSize
-                               ? bottom_sizes.buildScratchSize
-                               : top_sizes.buildScratchSize;
-    if (!vk_buffer_create(
-            ctx, scratch + align,
-            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
-            VK_MEMORY_DEVICE, &out->scratch))
-        return false;
+    ok = ok && vk_buffer_create(ctx, scratch + align,
+                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                    VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                                VK_MEMORY_DEVICE, &out->scratch);
     VkDeviceAddress scratch_at =
-        (buffer_address(&f, ctx, &out->scratch) + align - 1u) / align * align;
-    bottom.scratchData.deviceAddress = scratch_at;
-    top.scratchData.deviceAddress = scratch_at;
-    VkAccelerationStructureBuildRangeInfoKHR bottom_range = {.primitiveCount = count};
-    VkAccelerationStructureBuildRangeInfoKHR top_range = {.primitiveCount = 1u};
-    const VkAccelerationStructureBuildRangeInfoKHR *bottom_ranges = &bottom_range;
+        ok ? (buffer_address(&f, ctx, &out->scratch) + align - 1u) / align * align : 0;
+    VkAccelerationStructureBuildRangeInfoKHR top_range = {.primitiveCount = tops};
     const VkAccelerationStructureBuildRangeInfoKHR *top_ranges = &top_range;
-
     VkCommandBuffer cmd = VK_NULL_HANDLE;
     VkFence fence = VK_NULL_HANDLE;
     VkFenceCreateInfo fence_info = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    if (!VK_CHECK(vkCreateFence(ctx->device, &fence_info, NULL, &fence))) return false;
-    bool ok = vk_commands_begin(ctx, &cmd);
+    ok = ok && VK_CHECK(vkCreateFence(ctx->device, &fence_info, NULL, &fence)) &&
+         vk_commands_begin(ctx, &cmd);
     if (ok) {
         const VkPipelineStageFlags build = VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR;
-        f.build(cmd, 1, &bottom, &bottom_ranges);
-        vk_commands_barrier(cmd, build, VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR, build,
-                            VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR |
-                                VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR);
+        const VkAccessFlags written = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
+        for (uint32_t b = 0; b < bottoms; b++) {
+            const VkAccelerationStructureBuildRangeInfoKHR *one = &build_ranges[b];
+            builds[b].scratchData.deviceAddress = scratch_at;
+            f.build(cmd, 1, &builds[b], &one);
+            vk_commands_barrier(cmd, build, written, build,
+                                VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR | written);
+        }
+        top.scratchData.deviceAddress = scratch_at;
         f.build(cmd, 1, &top, &top_ranges);
-        vk_commands_barrier(cmd, build, VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
-                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+        vk_commands_barrier(cmd, build, written, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                             VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR);
         ok = vk_commands_submit_wait(ctx, cmd, fence);
     }
     if (cmd) vkFreeCommandBuffers(ctx->device, ctx->command_pool, 1, &cmd);
-    vkDestroyFence(ctx->device, fence, NULL);
+    if (fence) vkDestroyFence(ctx->device, fence, NULL);
+    free(ranges), free(geometries), free(builds), free(build_ranges), free(addresses);
     return ok;
 }
 
@@ -267,14 +261,18 @@ void vk_accel_bind(vk_context *ctx, vk_kernel *k, uint32_t binding, const vk_acc
 
 void vk_accel_destroy(vk_context *ctx, vk_accel *a) {
     PFN_vkDestroyAccelerationStructureKHR destroy =
-        a->top || a->bottom ? (PFN_vkDestroyAccelerationStructureKHR)vk_loader_proc(
-                                  ctx->instance, "vkDestroyAccelerationStructureKHR")
-                            : NULL;
+        a->top || a->bottom_count ? (PFN_vkDestroyAccelerationStructureKHR)vk_loader_proc(
+                                        ctx->instance, "vkDestroyAccelerationStructureKHR")
+                                  : NULL;
     if (destroy && a->top) destroy(ctx->device, a->top, NULL);
-    if (destroy && a->bottom) destroy(ctx->device, a->bottom, NULL);
-    vk_buffer *buffers[] = {&a->scratch, &a->instance, &a->boxes, &a->top_storage,
-                            &a->bottom_storage};
+    for (uint32_t b = 0; b < a->bottom_count; b++) {
+        if (destroy && a->bottoms[b]) destroy(ctx->device, a->bottoms[b], NULL);
+        vk_buffer_destroy(ctx, &a->bottom_storage[b]);
+    }
+    vk_buffer *buffers[] = {&a->scratch, &a->instances, &a->boxes, &a->top_storage};
     for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; k++)
         vk_buffer_destroy(ctx, buffers[k]);
+    free(a->bottoms);
+    free(a->bottom_storage);
     *a = (vk_accel){0};
 }
