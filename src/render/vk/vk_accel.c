@@ -153,8 +153,8 @@ bool vk_accel_build(vk_context *ctx, const packed_scene *p, vk_accel *out) {
     VkAccelerationStructureBuildGeometryInfoKHR *builds = calloc(bottoms, sizeof *builds);
     VkAccelerationStructureBuildRangeInfoKHR *build_ranges = calloc(bottoms, sizeof *build_ranges);
     VkDeviceAddress *addresses = calloc(bottoms, sizeof *addresses);
-    bool ok = out->bottoms && out->bottom_storage && geometries && builds && build_ranges &&
-              addresses;
+    bool ok =
+        out->bottoms && out->bottom_storage && geometries && builds && build_ranges && addresses;
     if (!ok) log_error("out of memory for %u acceleration structures", bottoms);
     out->bottom_count = ok ? bottoms : 0u;
     const VkBufferUsageFlags input =
@@ -163,8 +163,8 @@ bool vk_accel_build(vk_context *ctx, const packed_scene *p, vk_accel *out) {
     ok = ok &&
          vk_buffer_create(ctx, (count ? count : 1u) * sizeof(VkAabbPositionsKHR), input,
                           VK_MEMORY_UPLOAD, &out->boxes) &&
-         vk_buffer_create(ctx, (instances + 1u) * sizeof(VkAccelerationStructureInstanceKHR),
-                          input, VK_MEMORY_UPLOAD, &out->instances) &&
+         vk_buffer_create(ctx, (instances + 1u) * sizeof(VkAccelerationStructureInstanceKHR), input,
+                          VK_MEMORY_UPLOAD, &out->instances) &&
          accel_fill_boxes(p, ranges, bottoms, out->boxes.mapped);
 
     /* The bottom level: one structure a range, the scratch the largest build's. */
@@ -173,11 +173,11 @@ bool vk_accel_build(vk_context *ctx, const packed_scene *p, vk_accel *out) {
     for (uint32_t b = 0; ok && b < bottoms; b++) {
         geometries[b] = box_geometry(boxes_at, ranges[b]);
         builds[b] = build_info(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, &geometries[b]);
-        build_ranges[b] = (VkAccelerationStructureBuildRangeInfoKHR){.primitiveCount =
-                                                                         ranges[b].count};
+        build_ranges[b] =
+            (VkAccelerationStructureBuildRangeInfoKHR){.primitiveCount = ranges[b].count};
         VkAccelerationStructureBuildSizesInfoKHR sizes;
-        ok = create_structure(ctx, &f, &builds[b], ranges[b].count, &sizes,
-                              &out->bottom_storage[b], &out->bottoms[b]);
+        ok = create_structure(ctx, &f, &builds[b], ranges[b].count, &sizes, &out->bottom_storage[b],
+                              &out->bottoms[b]);
         if (sizes.buildScratchSize > scratch) scratch = sizes.buildScratchSize;
         VkAccelerationStructureDeviceAddressInfoKHR at = {
             .sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR,
@@ -207,10 +207,10 @@ bool vk_accel_build(vk_context *ctx, const packed_scene *p, vk_accel *out) {
 
     /* One scratch buffer for every build, in turn (a barrier between), aligned as asked. */
     VkDeviceSize align = scratch_alignment(ctx);
-    ok = ok && vk_buffer_create(ctx, scratch + align,
-                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                    VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
-                                VK_MEMORY_DEVICE, &out->scratch);
+    ok = ok && vk_buffer_create(
+                   ctx, scratch + align,
+                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                   VK_MEMORY_DEVICE, &out->scratch);
     VkDeviceAddress scratch_at =
         ok ? (buffer_address(&f, ctx, &out->scratch) + align - 1u) / align * align : 0;
     VkAccelerationStructureBuildRangeInfoKHR top_range = {.primitiveCount = tops};
