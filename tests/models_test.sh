@@ -192,7 +192,6 @@ render_quiet "$cameras" --camera 0 --width 32 -o "$tmp/model0.pfm" && same "--ca
 grep -qF "camera 0 'nodes[1]': at 0.5 0.5 -3 looking along 0 0 1, up 0 1 0, fov 40.107, aspect 1" \
     "$tmp/info" || fail "info Cameras.gltf: $(cat "$tmp/info")"
 grep -qF "camera 1 'nodes[2]': orthographic" "$tmp/info" || fail "info Cameras.gltf: $(cat "$tmp/info")"
-# its camera 1 is orthographic: refused, named; a camera it has not: its cameras listed
 # expect_refusal NAME WANT ARGS...: exit 2 with WANT in the message.
 expect_refusal() {
     local name=$1 want=$2 rc=0
@@ -201,7 +200,16 @@ expect_refusal() {
     [ $rc = 2 ] || fail "$name: exit $rc, expected 2: $(cat "$tmp/out")"
     grep -qF -- "$want" "$tmp/out" || fail "$name: '$want' not in: $(cat "$tmp/out")"
 }
-expect_refusal "orthographic camera" "Cameras.gltf: camera 1 'nodes[2]' is orthographic" "$cameras" --camera 1
+# Its camera 1 is orthographic, xmag = ymag = 1 at the same node: a view 2 x 2 along +z, 32
+# pixels of 0.0625 across.
+{
+    printf 'camera position 0.5 0.5 -3 direction 0 0 1 up 0 1 0 projection orthographic\n'
+    printf 'plane width 2 height 2 pixel 0.0625\nmesh file %s\nbackground 1 1 1\n' "$cameras"
+    printf 'render mode path\n'
+} >"$tmp/cam1.scene"
+render_quiet "$cameras" --camera 1 --width 32 -o "$tmp/model1.pfm" || fail "Cameras.gltf --camera 1: exit $?: $(cat "$tmp/err")"
+render_quiet "$tmp/cam1.scene" -o "$tmp/hand1.pfm" || fail "cam1.scene: $(cat "$tmp/err")"
+same "Cameras.gltf camera 1 (orthographic)" "$tmp/model1.pfm" "$tmp/hand1.pfm"
 expect_refusal "--camera 5" "Cameras.gltf: --camera 5: the file has 2 cameras: 0 'nodes[1]', 1 'nodes[2]' (orthographic)" "$cameras" --camera 5
 expect_refusal "--camera of a scene" "--camera picks a camera of a model file" "$tmp/cam0.scene" --camera 0
 # gltf_with CAMERA_NODE CAMERA LIGHTS LIGHT_NODES: the square of Cameras.gltf, a camera on a
@@ -273,13 +281,36 @@ expect_refusal "negative light" "dark.gltf: light 0 'lamp' (point) has colour x 
 gltf_with '"translation":[0.5,0.5,3]' '{"aspectRatio":0,"yfov":0.7}' '{"type":"point"}' 3 \
     ',{"extensions":{"KHR_lights_punctual":{"light":0}}}' >"$tmp/flat.gltf"
 expect_refusal "aspect 0" "flat.gltf: camera 0 'eye' has an aspect ratio of 0" "$tmp/flat.gltf"
+# A spot light (cone 0.3 to 0.6 rad, 30 candela, white) and a directional light (2 lux, colour
+# 1 0.5 0.25), each on a node turned half round about y under the parent's 0 1 0: both travel
+# along trazador's 0 0 -1, the spot from 0.5 2 1; the cone in degrees of the angles' floats.
+gltf_with '"translation":[0.5,0.5,-3],"rotation":[0,1,0,0]' '{"aspectRatio":2.0,"yfov":0.7}' \
+    '{"type":"spot","intensity":30,"spot":{"innerConeAngle":0.3,"outerConeAngle":0.6}},{"type":"directional","color":[1,0.5,0.25],"intensity":2}' \
+    '3,4' ',{"name":"cone","translation":[0.5,1,-1],"rotation":[0,1,0,0],"extensions":{"KHR_lights_punctual":{"light":0}}},{"name":"sky","rotation":[0,1,0,0],"extensions":{"KHR_lights_punctual":{"light":1}}}' >"$tmp/spot.gltf"
+{
+    printf 'camera position 0.5 0.5 3 direction 0 0 -1 up 0 1 0 fov 72.2631454\n'
+    printf 'plane width 32 height 16 pixel 1\n'
+    printf 'light position 0.5 2 1 power 30 direction 0 0 -1 cone 17.188734536943613 34.377469073887227\n'
+    printf 'sun direction 0 0 -1 irradiance 2 color 1 0.5 0.25 angle 0\n'
+    printf 'mesh file %s\nrender mode path\n' "$tmp/spot.gltf"
+} >"$tmp/spot.scene"
+render_quiet "$tmp/spot.gltf" --width 32 -o "$tmp/model.pfm" || fail "spot.gltf: exit $?: $(cat "$tmp/err")"
+render_quiet "$tmp/spot.scene" -o "$tmp/hand.pfm" || fail "spot.scene: $(cat "$tmp/err")"
+same "a spot and a directional light" "$tmp/model.pfm" "$tmp/hand.pfm"
+"$tz" diff "$tmp/model.pfm" "$tmp/black.pfm" >/dev/null 2>&1 && fail "spot.gltf: rendered black" || true
+# a second directional light is warned of by name (a scene has one sun)
 gltf_with '"translation":[0.5,0.5,3]' '{"aspectRatio":1.0,"yfov":0.7}' \
-    '{"type":"spot","spot":{}}' 3 \
-    ',{"name":"cone","extensions":{"KHR_lights_punctual":{"light":0}}}' >"$tmp/spot.gltf"
-"$tz" render "$tmp/spot.gltf" --backend cpu --spp 1 --width 8 -o "$tmp/spot.pfm" 2>"$tmp/err" ||
-    fail "spot.gltf: exit $?"
-grep -qF "its spot light 'cone' is not rendered: trazador has point lights only" "$tmp/err" ||
-    fail "spot.gltf: no warning naming the spot light: $(cat "$tmp/err")"
+    '{"type":"directional"},{"type":"directional"}' 3,4 \
+    ',{"name":"one","extensions":{"KHR_lights_punctual":{"light":0}}},{"name":"two","extensions":{"KHR_lights_punctual":{"light":1}}}' >"$tmp/suns.gltf"
+"$tz" render "$tmp/suns.gltf" --backend cpu --spp 1 --width 8 -o "$tmp/suns.pfm" 2>"$tmp/err" ||
+    fail "suns.gltf: exit $?"
+grep -qF "its directional light 'two' (a second sun) is not rendered" "$tmp/err" ||
+    fail "suns.gltf: no warning naming the second sun: $(cat "$tmp/err")"
+# a spot whose cone is wider than a hemisphere is refused, named
+gltf_with '"translation":[0.5,0.5,3]' '{"aspectRatio":1.0,"yfov":0.7}' \
+    '{"type":"spot","spot":{"innerConeAngle":0.1,"outerConeAngle":2}}' 3 \
+    ',{"name":"wide","extensions":{"KHR_lights_punctual":{"light":0}}}' >"$tmp/wide.gltf"
+expect_refusal "wide spot" "spot light 0 'wide' has a cone of 0.1 to 2 radians" "$tmp/wide.gltf"
 # No camera: one framing the box (scenes/README.md's rule): from its centre c along (1, 1, -1),
 # d = r / sin(min(fov, vertical fov) / 2), r half the diagonal, fov 50, 4:3. A triangle's box is
 # 0 0 0 to 1 1 0 (z negated: 0); 32 x 24 pixels.

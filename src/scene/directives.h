@@ -149,6 +149,13 @@ bool mesh_placed_instance(parser *p, mesh_placed *r, const mesh_transform *xf, i
 bool mesh_placed_finish(parser *p);
 /* Releases the keys; safe when there are none. */
 void mesh_placed_free(parser *p);
+struct mesh;
+/* With `lights on`, the model's lights moved by the line's transform xf into the scene's
+ * lights (mesh_lights.c); the ones it cannot take warned of by name. False (reported at col) on
+ * a light of negative or non-finite intensity, a bad cone or direction, past the coordinate
+ * range or the lights' limit. */
+bool mesh_lights_add(parser *p, const struct mesh *me, const mesh_transform *xf, const char *path,
+                     int col);
 /* A `camera file PATH` line (scene_camera_file.c), the camera directive's word checked. */
 bool directive_camera_file(parser *p);
 

@@ -110,6 +110,8 @@ bool mesh_read_views(const struct aiScene *sc, bool gltf, mesh *m) {
         out->up = converted(&t, c->mUp, 0.0);
         out->aspect = c->mAspect;
         out->orthographic = c->mHorizontalFOV == 0.0f && c->mOrthographicWidth > 0.0f;
+        /* assimp's mOrthographicWidth is half the view's width (glTF's xmag) */
+        out->view_width = out->orthographic ? 2.0 * (double)c->mOrthographicWidth : 0.0;
         double fov = c->mHorizontalFOV;
         /* assimp 5.2.5 gives a glTF camera's yfov times its aspect: the horizontal fov that
          * shows what the file's vertical one does is 2 atan(aspect tan(yfov / 2)). */
@@ -124,7 +126,10 @@ bool mesh_read_views(const struct aiScene *sc, bool gltf, mesh *m) {
         copy_name(out->name, sizeof out->name, &l->mName, "light", k);
         snprintf(out->kind, sizeof out->kind, "%s", light_kind(l->mType));
         out->position = converted(&t, l->mPosition, 1.0);
-        /* glTF's KHR_lights_punctual: assimp gives colour x intensity (candela) */
+        out->direction = converted(&t, l->mDirection, 0.0);
+        out->inner = l->mAngleInnerCone;
+        out->outer = l->mAngleOuterCone;
+        /* glTF's KHR_lights_punctual: assimp gives colour x intensity (candela or lux) */
         out->color[0] = l->mColorDiffuse.r;
         out->color[1] = l->mColorDiffuse.g;
         out->color[2] = l->mColorDiffuse.b;

@@ -58,13 +58,17 @@ typedef struct mesh_camera {
     double fov;    /* horizontal field of view, degrees (0: orthographic or none given) */
     double aspect; /* width over height, as the file gives it (0: none) */
     bool orthographic;
+    double view_width; /* orthographic: the view's width in the file's units (2 xmag) */
 } mesh_camera;
 
-/* A light of the file in trazador's space, as mesh_camera; its colour times its intensity. */
+/* A light of the file in trazador's space, as mesh_camera; its colour times its intensity
+ * (candela for points and spots, lux for directional lights: glTF's KHR_lights_punctual). */
 typedef struct mesh_light {
     char name[64];
     char kind[16]; /* "point", "spot", "directional", "ambient", "area" or "undefined" */
     vec3 position;
+    vec3 direction;      /* spots and directional lights: the way the light travels */
+    double inner, outer; /* spots: the cone's half-angles, radians (glTF's, assimp's) */
     double color[3];
 } mesh_light;
 
@@ -139,7 +143,7 @@ bool mesh_smooth_normals(mesh *m, float max_angle_degrees);
  * its horizontal fov. False out of memory. */
 struct aiScene;
 bool mesh_read_views(const struct aiScene *sc, bool gltf, mesh *m);
-/* Point light l as trazador's light: power the largest of its colour x intensity, colour that
+/* File light l's power and colour: power the largest of its colour x intensity, colour that
  * over the power (white at power 0); false when a component is negative, not finite or past the
  * float range. */
 bool mesh_light_power(const mesh_light *l, float *power, vec3 *color);

@@ -24,6 +24,9 @@
 #define FRAME_FOV 50.0
 #define FRAME_ASPECT (4.0 / 3.0)
 static const double frame_from[3] = {1.0, 1.0, -1.0};
+/* An orthographic camera's view width, within what a plane line takes at any image width. */
+#define ORTHO_MIN_WIDTH 1e-6
+#define ORTHO_MAX_WIDTH 1e12
 /* The scene text: a camera, a plane and a mesh line and two more. */
 #define LINE_BYTES (PATH_MAX * 2 + 256)
 
@@ -100,19 +103,19 @@ static bool pick_camera(const char *path, const mesh *m, const char *named, int 
                 m->camera_count == 1 ? "" : "s", list);
 }
 
-/* False (err) unless camera k can be rendered: perspective, its fov in (0, 179] degrees and its
- * aspect finite and above 0. */
+/* False (err) unless camera k can be rendered: its aspect finite and above 0, and a perspective
+ * camera's fov in (0, 179] degrees or an orthographic one's view width finite and above 0. */
 static bool check_camera(const char *path, const mesh_camera *c, int k, scene_error *err) {
-    if (c->orthographic)
-        return fail(err, path,
-                    "camera %d '%s' is orthographic: trazador has perspective cameras only (pick "
-                    "another with --camera)",
-                    k, c->name);
     if (!isfinite(c->aspect) || !(c->aspect > 0.0))
         return fail(err, path,
                     "camera %d '%s' has an aspect ratio of %g: it must be finite and above 0", k,
                     c->name, c->aspect);
-    if (!isfinite(c->fov) || !(c->fov > 0.0) || c->fov > 179.0)
+    if (c->orthographic && (!isfinite(c->view_width) || !(c->view_width >= ORTHO_MIN_WIDTH) ||
+                            c->view_width > ORTHO_MAX_WIDTH))
+        return fail(err, path,
+                    "orthographic camera %d '%s' has a view %g wide: it must be from %g to %g", k,
+                    c->name, c->view_width, ORTHO_MIN_WIDTH, ORTHO_MAX_WIDTH);
+    if (!c->orthographic && (!isfinite(c->fov) || !(c->fov > 0.0) || c->fov > 179.0))
         return fail(err, path,
                     "camera %d '%s' has a horizontal field of view of %g degrees: it must be "
                     "finite, above 0 and at most 179",
@@ -156,6 +159,18 @@ static bool view_lines(const char *path, const mesh *m, int k, long long width, 
                     "a width of %lld pixels at the camera's aspect %g gives %g rows: "
                     "they must be 1 to %d",
                     width, aspect, rows, SCENE_MAX_RESOLUTION);
+    if (k >= 0 && m->cameras[k].orthographic) {
+        const mesh_camera *c = &m->cameras[k];
+        add(text, size, used,
+            "camera position %.9g %.9g %.9g direction %.9g %.9g %.9g up %.9g %.9g %.9g "
+            "projection orthographic\n",
+            c->position.x, c->position.y, c->position.z, c->direction.x, c->direction.y,
+            c->direction.z, c->up.x, c->up.y, c->up.z);
+        /* the view the file gives, width pixels across: whole pixels of a float's size */
+        double pixel = (float)(c->view_width / (double)width);
+        return add(text, size, used, "plane width %.17g height %.17g pixel %.9g\n",
+                   (double)width * pixel, rows * pixel, pixel);
+    }
     if (k >= 0) {
         const mesh_camera *c = &m->cameras[k];
         add(text, size, used,
@@ -185,21 +200,26 @@ static bool view_lines(const char *path, const mesh *m, int k, long long width, 
     return add(text, size, used, "plane width %lld height %.0f pixel 1\n", width, rows);
 }
 
-/* False (err) when a point light of the file has a negative or non-finite intensity; *points:
- * how many point lights it has (the mesh line's `lights on` brings them in). */
-static bool check_lights(const char *path, const mesh *m, int *points, scene_error *err) {
-    *points = 0;
+/* Whether the mesh line's `lights on` brings file light l in (mesh_lights.c). */
+static bool renders(const mesh_light *l) {
+    return !strcmp(l->kind, "point") || !strcmp(l->kind, "spot") || !strcmp(l->kind, "directional");
+}
+
+/* False (err) when a light the scene takes has a negative or non-finite intensity; *lit: how
+ * many lights it takes. */
+static bool check_lights(const char *path, const mesh *m, int *lit, scene_error *err) {
+    *lit = 0;
     for (int k = 0; k < m->light_count; k++) {
         const mesh_light *l = &m->lights[k];
         float power;
         vec3 color;
-        if (strcmp(l->kind, "point")) continue;
+        if (!renders(l)) continue;
         if (!mesh_light_power(l, &power, &color))
             return fail(err, path,
                         "light %d '%s' (%s) has colour x intensity %g %g %g: each must be finite "
                         "and at least 0",
                         k, l->name, l->kind, l->color[0], l->color[1], l->color[2]);
-        (*points)++;
+        (*lit)++;
     }
     return true;
 }

@@ -122,12 +122,7 @@ bool directive_camera_file(parser *p) {
     mesh_camera c = ok ? me.cameras[k] : (mesh_camera){0};
     mesh_free(&me);
     if (!ok) return false;
-    if (c.orthographic)
-        return parser_fail(p, col,
-                           "camera %d '%s' of '%s' is orthographic: trazador has perspective "
-                           "cameras only",
-                           k, c.name, path);
-    if (!isfinite(c.fov) || !(c.fov > 0.0) || c.fov > 179.0)
+    if (!c.orthographic && (!isfinite(c.fov) || !(c.fov > 0.0) || c.fov > 179.0))
         return parser_fail(p, col,
                            "camera %d '%s' of '%s' has a horizontal field of view of %g degrees: "
                            "it must be finite, above 0 and at most 179",
@@ -149,9 +144,11 @@ bool directive_camera_file(parser *p) {
     p->s.camera_position = position;
     p->s.camera_direction = direction;
     p->s.camera_up = up;
-    p->s.camera_fov = (float)c.fov;
+    /* an orthographic camera's view is the scene's plane, as its image is */
+    p->s.camera_fov = c.orthographic ? 0.0f : (float)c.fov;
+    p->s.camera_orthographic = c.orthographic;
     p->s.camera_near = 0.0f;
     p->camera_col = p->fov_col = ft->col;
-    p->fov_line = p->line;
+    if (!c.orthographic) p->fov_line = p->line;
     return true;
 }

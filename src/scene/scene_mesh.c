@@ -394,46 +394,6 @@ static bool check_glass(parser *p, mesh *me, const material_spec *m, const doubl
         (double)-open.edge[1].z);
 }
 
-/* With `lights on`, the file's point lights moved by the line's transform xf into the scene's
- * lights; its other lights warned of by name. False (reported at col) on a light of negative or
- * non-finite intensity, past the coordinate range or the lights' limit. */
-static bool add_lights(parser *p, const mesh *me, const mesh_transform *xf, const char *path,
-                       int col) {
-    char others[256] = "";
-    size_t used = 0;
-    for (int k = 0; k < me->light_count; k++) {
-        const mesh_light *l = &me->lights[k];
-        if (strcmp(l->kind, "point")) {
-            if (used < sizeof others)
-                used += (size_t)snprintf(others + used, sizeof others - used, "%s%s light '%s'",
-                                         used ? ", " : "", l->kind, l->name);
-            continue;
-        }
-        light out;
-        if (!mesh_light_power(l, &out.power, &out.color))
-            return parser_fail(p, col,
-                               "mesh '%s': light %d '%s' (%s) has colour x intensity %g %g %g: "
-                               "each must be finite and at least 0",
-                               path, k, l->name, l->kind, l->color[0], l->color[1], l->color[2]);
-        if (!mesh_transform_point(xf, l->position, &out.position))
-            return parser_fail(p, col,
-                               "mesh '%s': light %d '%s' leaves the coordinate range (1e18) once "
-                               "transformed",
-                               path, k, l->name);
-        void *array = p->s.lights;
-        bool ok = directive_grow(p, &array, &p->light_capacity, p->s.light_count, 1,
-                                 SCENE_MAX_LIGHTS, sizeof(light), "lights");
-        p->s.lights = array;
-        if (!ok) return false;
-        p->s.lights[p->s.light_count++] = out;
-    }
-    if (others[0])
-        parser_warn(p, p->line, col,
-                    "mesh '%s': its %s %s not rendered: trazador has point lights only (yet)", path,
-                    others, strchr(others, ',') ? "are" : "is");
-    return true;
-}
-
 /* A mesh from a model file (mesh_load.c): transformed, its degenerate faces dropped (one
  * warning), glass only when each of its parts is closed. */
 bool directive_mesh(parser *p) {
@@ -520,7 +480,7 @@ bool directive_mesh(parser *p) {
         mesh_free(&me);
         return false;
     }
-    if (lights && !add_lights(p, &me, &xf, path, file->col)) {
+    if (lights && !mesh_lights_add(p, &me, &xf, path, file->col)) {
         mesh_free(&me);
         return false;
     }
