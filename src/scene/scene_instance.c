@@ -23,6 +23,7 @@ struct mesh_placed {
     int normals_count;
     double to_world[3][4]; /* the first line's transform */
     int model;             /* its scene.models index, -1 before a second line */
+    double lo[3], hi[3];   /* its model's box, in the model's space (once it has one) */
 };
 
 /* The model of key path, smooth and material given (NULL: the file's own), NULL when new. */
@@ -100,18 +101,24 @@ static bool invertible(double rows[3][4]) {
            2.0 * largest * largest / fabs(det) < 1e38;
 }
 
-/* Notes the mesh line's box (parser_note_mesh): model `model`'s box moved by rows, corner by
- * corner. */
-static bool note_box(parser *p, int model, double rows[3][4], int col, const char *path) {
-    const scene_model *m = &p->s.models[model];
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+/* Keeps r's model's box, over its faces (once: a line's note_box is then 8 corners). */
+static void model_box(parser *p, mesh_placed *r) {
+    const scene_model *m = &p->s.models[r->model];
+    for (int a = 0; a < 3; a++) r->lo[a] = INFINITY, r->hi[a] = -INFINITY;
     for (int f = m->first; f < m->first + m->count; f++) {
         for (int c = 0; c < 3; c++) {
             const vec3 *v = &p->s.model_faces[f].v[c];
             double x[3] = {v->x, v->y, v->z};
-            for (int a = 0; a < 3; a++) lo[a] = fmin(lo[a], x[a]), hi[a] = fmax(hi[a], x[a]);
+            for (int a = 0; a < 3; a++)
+                r->lo[a] = fmin(r->lo[a], x[a]), r->hi[a] = fmax(r->hi[a], x[a]);
         }
     }
+}
+
+/* Notes the mesh line's box (parser_note_mesh): r's model's box moved by rows, corner by
+ * corner. */
+static bool note_box(parser *p, const mesh_placed *r, double rows[3][4], int col) {
+    const double *lo = r->lo, *hi = r->hi;
     double wlo[3] = {INFINITY, INFINITY, INFINITY}, whi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int corner = 0; corner < 8; corner++) {
         double x[3] = {corner & 1 ? hi[0] : lo[0], corner & 2 ? hi[1] : lo[1],
@@ -121,9 +128,9 @@ static bool note_box(parser *p, int model, double rows[3][4], int col, const cha
             wlo[i] = fmin(wlo[i], w), whi[i] = fmax(whi[i], w);
         }
     }
-    return parser_note_mesh(p, col, (size_t)m->count,
+    return parser_note_mesh(p, col, (size_t)p->s.models[r->model].count,
                             v3((float)wlo[0], (float)wlo[1], (float)wlo[2]),
-                            v3((float)whi[0], (float)whi[1], (float)whi[2]), path);
+                            v3((float)whi[0], (float)whi[1], (float)whi[2]), r->path);
 }
 
 /* Appends an instance of model `model` with rows to_world; false (reported at col) when the
@@ -157,8 +164,7 @@ static bool instance_add(parser *p, int model, double to_world[3][4], int col, c
 bool mesh_placed_instance(parser *p, mesh_placed *r, const mesh_transform *xf, int col) {
     double rows[3][4];
     rows_of(xf, rows);
-    return instance_add(p, r->model, rows, col, r->path) &&
-           note_box(p, r->model, rows, col, r->path);
+    return instance_add(p, r->model, rows, col, r->path) && note_box(p, r, rows, col);
 }
 
 bool mesh_placed_make_model(parser *p, mesh_placed *r, int first, int col) {
@@ -179,6 +185,7 @@ bool mesh_placed_make_model(parser *p, mesh_placed *r, int first, int col) {
     s->model_face_count += count;
     s->triangle_count = first; /* the faces moved: the model holds them (their normals stay) */
     r->model = s->model_count++;
+    model_box(p, r);
     return instance_add(p, r->model, r->to_world, col, r->path);
 }
 
