@@ -99,10 +99,9 @@ bool is_instance_leaf(instance_walk iw, uint k) {
 
 /* The ray o + t d in the space of instance i's model (moved by its rows unless they are the
  * identity: a flattened copy's bits), its inverse direction and shear; returns the offset of its
- * faces' keys over their primitive ids. */
-int instance_ray(int i, vec3 o, vec3 d, out vec3 mo, out vec3 md, out vec3 minv,
+ * faces' keys over their primitive ids. model is instance_model(i). */
+int instance_ray(int i, uvec4 model, vec3 o, vec3 d, out vec3 mo, out vec3 md, out vec3 minv,
                  out ray_shear msh) {
-    uvec4 model = instance_model(i);
     mo = o, md = d;
     if (model.z == 0u) {
         mo = affine_point(instance_to_object(i, 0), instance_to_object(i, 1),
@@ -121,12 +120,13 @@ int instance_ray(int i, vec3 o, vec3 d, out vec3 mo, out vec3 md, out vec3 minv,
 void instance_enter(inout instance_walk iw, int top, out vec3 o, out vec3 d, out vec3 inv,
                     out ray_shear sh, inout uint k, inout uint end, out uint node) {
     int i = int(k - frame.instance_leaf);
+    uvec4 model = instance_model(i);
     iw.inside = true;
     iw.top = top;
     iw.next = k + 1u, iw.end = end;
-    iw.offset = instance_ray(i, iw.o, iw.d, o, d, inv, sh);
+    iw.offset = instance_ray(i, model, iw.o, iw.d, o, d, inv, sh);
     k = end = 0u;
-    node = instance_model(i).x;
+    node = model.x;
 }
 
 /* Leaves the instance: the ray back in world space, the walk on at the rest of its leaf. */
@@ -165,9 +165,10 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
             break;
         }
         if (sphere >= leaf_end && node == WALK_NONE) {
-            if (TZ_HAS_INSTANCES && iw.inside && top == iw.top) {
+            /* the end of an instance: back to the top level, then on as the idle walk goes */
+            if (TZ_HAS_INSTANCES && iw.inside && top == iw.top)
                 instance_leave(iw, o, d, inv, sh, sphere, leaf_end);
-            } else {
+            if (sphere >= leaf_end) {
                 if (top == 0) break;
                 top--;
                 enter_child(stack[top], stack_t[top] < best, node, sphere, leaf_end);
@@ -307,7 +308,7 @@ int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, ou
          * child on top, entered when a lane voted for it. */
         if (TZ_HAS_INSTANCES && iw.inside && top == iw.top) {
             instance_leave(iw, o, d, inv, sh, sphere, leaf_end);
-            continue;
+            if (sphere < leaf_end) continue;
         }
         if (top == 0) break;
         top--;
@@ -353,12 +354,13 @@ int trace_ray_query(vec3 o, vec3 d, int self, float tmax, bool any_hit, out floa
         int instance = TZ_HAS_INSTANCES
                            ? rayQueryGetIntersectionInstanceCustomIndexEXT(query, false) - 1
                            : -1;
+        uvec4 model = instance >= 0 ? instance_model(instance) : uvec4(0u);
         if (instance != space) {
             space = instance;
             mo = o, md = d, msh = sh, offset = 0;
-            if (instance >= 0) offset = instance_ray(instance, o, d, mo, md, minv, msh);
+            if (instance >= 0) offset = instance_ray(instance, model, o, d, mo, md, minv, msh);
         }
-        if (instance >= 0) k += int(frame.sphere_count + instance_model(instance).y);
+        if (instance >= 0) k += int(frame.sphere_count + model.y);
         float t = primitive_distance(k, mo, md, msh, tmin, self - offset);
         bool nearer = t < best;
         keep_nearer(k + offset, t, best, id);
