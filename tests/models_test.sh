@@ -212,6 +212,7 @@ render_quiet "$tmp/cam1.scene" -o "$tmp/hand1.pfm" || fail "cam1.scene: $(cat "$
 same "Cameras.gltf camera 1 (orthographic)" "$tmp/model1.pfm" "$tmp/hand1.pfm"
 expect_refusal "--camera 5" "Cameras.gltf: --camera 5: the file has 2 cameras: 0 'nodes[1]', 1 'nodes[2]' (orthographic)" "$cameras" --camera 5
 expect_refusal "--camera of a scene" "--camera picks a camera of a model file" "$tmp/cam0.scene" --camera 0
+expect_refusal "--environment of a scene" "--environment lights a model file" "$tmp/cam0.scene" --environment "$here/../scenes/maps/sky.exr"
 # gltf_with CAMERA_NODE CAMERA LIGHTS LIGHT_NODES: the square of Cameras.gltf, a camera on a
 # node of its own and point lights on nodes under a parent moved up by 1.
 cp "$models/glTF2/cameras/simpleSquare.bin" "$tmp/"
@@ -243,7 +244,20 @@ gltf_with '"translation":[0.5,0.5,-3],"rotation":[0,1,0,0]' '{"aspectRatio":2.0,
 render_quiet "$tmp/lit.gltf" --width 32 -o "$tmp/model.pfm" || fail "lit.gltf: exit $?: $(cat "$tmp/err")"
 render_quiet "$tmp/lit.scene" -o "$tmp/hand.pfm" || fail "lit.scene: $(cat "$tmp/err")"
 same "a turned camera and a point light" "$tmp/model.pfm" "$tmp/hand.pfm"
+cp "$tmp/model.pfm" "$tmp/lit.pfm"
 "$tz" diff "$tmp/model.pfm" "$tmp/black.pfm" >/dev/null 2>&1 && fail "lit.gltf: rendered black" || true
+# --environment lights the model by a map beside its lights: the scene with that environment
+# line, bit for bit; a scene file is refused it (its environment line says what lights it).
+sky="$here/../scenes/maps/sky.exr"
+render_quiet "$tmp/lit.gltf" --width 32 --environment "$sky" -o "$tmp/model.pfm" ||
+    fail "lit.gltf --environment: exit $?: $(cat "$tmp/err")"
+{
+    cat "$tmp/lit.scene"
+    printf 'environment file "%s"\n' "$sky"
+} >"$tmp/lit_env.scene"
+render_quiet "$tmp/lit_env.scene" -o "$tmp/hand.pfm" || fail "lit_env.scene: $(cat "$tmp/err")"
+same "--environment" "$tmp/model.pfm" "$tmp/hand.pfm"
+cmp -s "$tmp/model.pfm" "$tmp/lit.pfm" && fail "--environment: the map changed nothing" || true
 # In a scene: `camera file` takes the file's camera and `mesh ... lights on` its point lights,
 # both moved by the line's transform: the hand-converted scene moved by 1 along x.
 {

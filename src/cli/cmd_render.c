@@ -40,6 +40,7 @@ typedef struct render_args {
     const char *region, *samples;    /* "x0,x1,y0,y1", "A:B"; NULL: all */
     const char *checkpoint, *resume; /* part files; NULL: none */
     const char *camera;              /* a model file's camera, index or name; NULL: its first */
+    const char *environment;         /* a model file's environment map; NULL: the default */
     double checkpoint_every;         /* seconds; -1: not given (CHECKPOINT_EVERY) */
     double time_limit;               /* seconds; -1: none */
     int exr_type;                    /* 0 half, 1 float */
@@ -99,6 +100,9 @@ static const opt_spec render_specs[] = {
     OPT_TEXT("--camera", NULL, ARG(camera), "N|NAME", "a camera's index or name",
              "a model file given as the scene: its camera N (from 0) or NAME (default: its "
              "first, or without one a camera that frames the model; `trazador info` lists them)"),
+    OPT_TEXT("--environment", NULL, ARG(environment), "PATH", "an environment map",
+             "a model file given as the scene: lit by the HDR map at PATH (EXR or Radiance HDR) "
+             "beside its own lights (default: its lights, or a white background without any)"),
     OPT_WHOLE(
         "--threads", NULL, ARG(threads), 1, RENDER_MAX_THREADS,
         "CPU back end threads, 1 to " CLI_AS_TEXT(RENDER_MAX_THREADS) " (default: one per core)"),
@@ -531,7 +535,8 @@ static bool parse_scene_or_model(const render_args *a, const char *scene_path, s
         return false;
     *model = true;
     log_debug("%s: a model file (%s), rendered as the scene", scene_path, kind);
-    model_scene_opts o = {.camera = a->camera, .width = a->width, .mode = a->mode};
+    model_scene_opts o = {
+        .camera = a->camera, .width = a->width, .mode = a->mode, .environment = a->environment};
     return model_scene_parse(scene_path, &o, s, err);
 }
 
@@ -561,10 +566,12 @@ int cmd_render(int argc, char **argv) {
         scene_error_print(&err);
         return err.out_of_memory ? 1 : 2;
     }
-    if (a.camera && !model) {
+    if ((a.camera || a.environment) && !model) {
         fprintf(stderr,
-                "trazador: render: --camera picks a camera of a model file given as the "
-                "scene (render model.glb --camera 1): '%s' is a scene\n",
+                a.camera ? "trazador: render: --camera picks a camera of a model file given as "
+                           "the scene (render model.glb --camera 1): '%s' is a scene\n"
+                         : "trazador: render: --environment lights a model file given as the "
+                           "scene; '%s' is a scene (its environment line says what lights it)\n",
                 scene_name);
         scene_free(&s);
         return 2;

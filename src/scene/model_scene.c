@@ -251,11 +251,11 @@ bool model_scene_parse(const char *path, const model_scene_opts *o, scene *out, 
     long long width = o->width > 0 ? o->width : MODEL_DEFAULT_WIDTH;
     size_t size = LINE_BYTES * 4, used = 0;
     char *text = malloc(size), quoted[PATH_MAX * 2 + 4];
-    int points = 0;
+    int lit = 0;
     bool ok = text && pick_camera(path, &m, o->camera, &camera, err) &&
               (camera < 0 || check_camera(path, &m.cameras[camera], camera, err)) &&
               view_lines(path, &m, camera, width, text, size, &used, err) &&
-              check_lights(path, &m, &points, err);
+              check_lights(path, &m, &lit, err);
     if (!text) fail(err, path, "out of memory");
     if (ok && camera >= 0)
         log_debug("%s: rendered from camera %d '%s'", path, camera, m.cameras[camera].name);
@@ -265,8 +265,14 @@ bool model_scene_parse(const char *path, const model_scene_opts *o, scene *out, 
     if (!ok || !mesh_cache_adopt(&cache, path, false, &m)) mesh_free(&m);
     if (ok) {
         quoted_path(path, quoted, sizeof quoted);
-        ok = add(text, size, &used, "mesh file %s lights on\n%srender mode path\n", quoted,
-                 points ? "" : "background 1 1 1\n");
+        ok = add(text, size, &used, "mesh file %s lights on\n", quoted);
+        if (ok && o->environment) {
+            quoted_path(o->environment, quoted, sizeof quoted);
+            ok = add(text, size, &used, "environment file %s\n", quoted);
+        } else if (ok && !lit) {
+            ok = add(text, size, &used, "background 1 1 1\n");
+        }
+        ok = ok && add(text, size, &used, "render mode path\n");
         if (!ok) fail(err, path, "its path is too long");
     }
     if (ok) {
