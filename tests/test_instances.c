@@ -313,8 +313,9 @@ static void expect_walks_agree(const char *what, const char *text) {
     scene_free(&s);
 }
 
-/* Identity instances of a 100,000-face model, and 300 moved, turned and scaled instances of a
- * 200-face one among a plain mesh line's faces and spheres, on every Vulkan walk. */
+/* Identity instances of a 100,000-face model, 300 moved, turned and scaled instances of a
+ * 200-face one among a plain mesh line's faces and spheres, and 1,000 moved instances of the
+ * 100,000-face model, on every Vulkan walk. */
 static void test_vulkan(void) {
     char text[2048];
     snprintf(text, sizeof text,
@@ -332,6 +333,9 @@ static void test_vulkan(void) {
     free(grid);
     expect_walks_agree("moved", mixed);
     free(mixed);
+    char *thousand = grid_text("big.obj", 1000);
+    expect_walks_agree("1,000 of 100,000 faces", thousand);
+    free(thousand);
 }
 
 int main(int argc, char **argv) {

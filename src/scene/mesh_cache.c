@@ -1,8 +1,10 @@
 /* mesh_cache.c: a parse's loaded models by file identity, since each import costs a process and
  * assimp's whole read. Each `mesh` line transforms its own copy of the faces, so a model kept
- * for later lines is a copy made before that; models up to CACHE_MAX_FACES faces are kept (a
- * model of a million faces used once would pay a copy of 76 MB for nothing), the oldest dropped
- * past CACHE_SLOTS. */
+ * for later lines is a copy made before that; models up to CACHE_MAX_FACES faces are kept, the
+ * oldest dropped past CACHE_SLOTS, and of the bigger ones the last alone, for the next line
+ * that loads it to take (one slot of its own): the copy of a million faces costs tens of
+ * milliseconds against the second import's second, which the first instance of a model
+ * (scene_instance.c) would otherwise pay, and holds one model's faces once more until then. */
 #include "scene/mesh_cache.h"
 
 #include <stdlib.h>
@@ -22,7 +24,7 @@ typedef struct cached_mesh {
 } cached_mesh;
 
 struct mesh_cache {
-    cached_mesh slot[CACHE_SLOTS];
+    cached_mesh slot[CACHE_SLOTS + 1]; /* the last: the one model past CACHE_MAX_FACES kept */
     int count, oldest;
 };
 
@@ -56,15 +58,15 @@ bool mesh_cache_load(mesh_cache **cache, const char *path, bool smooth, mesh *ou
                      size_t error_size) {
     struct stat file;
     bool known = stat(path, &file) == 0 && S_ISREG(file.st_mode);
-    for (int k = 0; known && *cache && k < (*cache)->count; k++) {
+    for (int k = 0; known && *cache && k <= CACHE_SLOTS; k++) {
         cached_mesh *c = &(*cache)->slot[k];
+        if (k < CACHE_SLOTS && k >= (*cache)->count) continue;
         if (!c->kept || c->smooth != smooth || !same_file(&c->file, &file)) continue;
-        if (c->once) { /* a model's scene: its one mesh line takes the model loaded for it */
+        if (c->once) { /* a model's scene's mesh line, or a big model's next: takes it */
             *out = c->model;
             memset(&c->model, 0, sizeof c->model);
             c->kept = false;
-            log_debug("mesh %s: %zu faces, the import made for the model's scene", path,
-                      out->face_count);
+            log_debug("mesh %s: %zu faces, the import kept for it", path, out->face_count);
             return true;
         }
         if (!mesh_copy(&c->model, out)) break; /* out of memory: load it as if new */
@@ -72,10 +74,17 @@ bool mesh_cache_load(mesh_cache **cache, const char *path, bool smooth, mesh *ou
         return true;
     }
     if (!mesh_load(path, smooth, out, error, error_size)) return false;
-    if (!known || out->face_count > CACHE_MAX_FACES) return true;
+    if (!known) return true;
     if (!*cache) *cache = calloc(1, sizeof **cache);
     if (!*cache) return true; /* out of memory: the next line loads again */
     mesh_cache *c = *cache;
+    if (out->face_count > CACHE_MAX_FACES) {
+        cached_mesh *big = &c->slot[CACHE_SLOTS];
+        mesh_free(&big->model);
+        *big = (cached_mesh){.file = file, .smooth = smooth, .once = true};
+        big->kept = mesh_copy(out, &big->model);
+        return true;
+    }
     int k = c->count < CACHE_SLOTS ? c->count++ : c->oldest;
     if (k == c->oldest && c->count == CACHE_SLOTS) mesh_free(&c->slot[k].model);
     c->oldest = c->count < CACHE_SLOTS ? 0 : (k + 1) % CACHE_SLOTS;
@@ -98,5 +107,6 @@ bool mesh_cache_adopt(mesh_cache **cache, const char *path, bool smooth, mesh *m
 
 void mesh_cache_free(mesh_cache *cache) {
     for (int k = 0; cache && k < cache->count; k++) mesh_free(&cache->slot[k].model);
+    if (cache) mesh_free(&cache->slot[CACHE_SLOTS].model);
     free(cache);
 }

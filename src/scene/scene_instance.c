@@ -242,6 +242,12 @@ bool mesh_placed_finish(parser *p) {
     }
     s->normals_count = kept;
     free(gone);
+    /* The first lines' faces are gone: their room goes back before the scene is packed (the
+     * one copy of a big model's faces it held is most of what instances cost in memory). */
+    triangle *t = realloc(s->triangles, (size_t)(out ? out : 1) * sizeof *t);
+    face_normals *nn = realloc(s->normals, (size_t)(kept ? kept : 1) * sizeof *nn);
+    if (t) s->triangles = t, p->triangle_capacity = (size_t)(out ? out : 1);
+    if (nn) s->normals = nn, p->normals_capacity = (size_t)(kept ? kept : 1);
     return true;
 }
 
