@@ -14,9 +14,9 @@
 
 /* What the command line asks of a model scene. */
 typedef struct model_scene_opts {
-    const char *camera; /* an index from 0 or a camera's name; NULL: the file's first */
-    long long width;    /* pixels across; -1: MODEL_DEFAULT_WIDTH */
-    int mode;           /* a render_mode, or -1: path */
+    const char *camera;      /* an index from 0 or a camera's name; NULL: the file's first */
+    long long width;         /* pixels across; -1: MODEL_DEFAULT_WIDTH */
+    int mode;                /* a render_mode, or -1: path */
     const char *environment; /* an environment map's path (relative to the working folder) to
                               * light the model by; NULL: a white background without lights */
 } model_scene_opts;
