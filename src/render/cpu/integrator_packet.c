@@ -149,7 +149,7 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
             set3(&m->kd, k, select3(diffuse, get3(&h.kd, k), get3(&m->kd, k)));
             m->ks[k] = diffuse ? h.ks[k] : m->ks[k];
             m->alpha[k] = diffuse ? h.alpha[k] : m->alpha[k];
-            m->ior[k] = diffuse ? h.ior[k] : m->ior[k];
+            m->ior[k] = diffuse ? bsdf_eta(h.material[k], h.ior[k], nk, dk) : m->ior[k];
             m->material[k] = diffuse ? h.material[k] : m->material[k];
         }
         for (int k = 0; k < LANES; k++) { /* mirror and glass lanes go on */

@@ -29,6 +29,7 @@ static __attribute__((noinline)) void trace_lanes(const packed_scene *p, const l
 typedef struct vertex_lanes {
     int id[LANES], diffuse[LANES], specular[LANES], material[LANES], slot[LANES];
     int microfacet[LANES], any_microfacet; /* diffuse lanes of a microfacet kind */
+    int dielectric[LANES], any_dielectric; /* and of rough glass (ior its bsdf_eta) */
     float t[LANES], r[LANES], ks[LANES], alpha[LANES], ior[LANES], share[LANES];
     lanes3 pos, nout, shading, n, ng, wo, c, kd;
 } vertex_lanes;
@@ -124,6 +125,23 @@ static __attribute__((noinline)) void lanes_microfacet_eval(const vertex_lanes *
         set3(fv, k, bv.f);
         f_scale[k] = bv.f_scale;
         pdf[k] = bv.pdf;
+    }
+}
+
+/* emitter_light of path.h itself for the rough glass lanes, whose light may come from below and
+ * whose shadow rays then leave below: added to direct. Out of line: few scenes have such lanes. */
+static __attribute__((noinline)) void lanes_dielectric_light(const packed_scene *scene,
+                                                             const vertex_lanes *v,
+                                                             const float *ul, const float *ua,
+                                                             const float *ub, lanes3 *direct) {
+    for (int k = 0; k < LANES; k++) {
+        if (!v->dielectric[k]) continue;
+        surface sf = surface_none();
+        sf.pos = get3(&v->pos, k);
+        sf.m = vertex_material(v, k);
+        vec3 l = emitter_light(scene, v->id[k], sf, get3(&v->n, k), get3(&v->ng, k),
+                               get3(&v->wo, k), v->share[k], ul[k], ua[k], ub[k]);
+        set3(direct, k, v3_add(get3(direct, k), l));
     }
 }
 
@@ -255,6 +273,7 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
             (folds[k] | (ci > 0.0f)) & (v3_dot(ng, ds.wi) > 0.0f) & (p > 0.0f) & (p < INFINITY);
         shadow_lane_set(&s, k, o, ds.wi, p, ci, TZ_ENV_DISTANCE, ok);
     }
+    for (int k = 0; v->any_dielectric && k < LANES; k++) s.want[k] &= !v->dielectric[k];
     trace_lanes(scene, &s.origin, &s.dir, v->id, s.t_light, s.want, 1, hint, blocked, t);
     int any_fold = 0;
     for (int k = 0; k < LANES; k++) {
@@ -283,6 +302,7 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         vec3 dk = get3(direct, k);
         set3(direct, k, select3(v->diffuse[k], v3_add(dk, l), dk));
     }
+    if (v->any_dielectric) lanes_dielectric_light(scene, v, ul, ua, ub, direct);
 }
 
 #endif
