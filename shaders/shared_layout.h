@@ -62,8 +62,8 @@ typedef struct tz_uvec4 {
 /* The scene has an environment map: without it the map's code is dead as the triangles' is
  * (lavapipe ran path mode 1.6x slower with it compiled in). */
 #define TZ_FLAG_ENVIRONMENT 512u
-/* The scene has a microfacet material (TZ_MATERIAL_CONDUCTOR, _PBR, _DIELECTRIC); without it their code is
- * dead as the triangles'. */
+/* The scene has a microfacet material (TZ_MATERIAL_CONDUCTOR, _PBR, _DIELECTRIC); without it their
+ * code is dead as the triangles'. */
 #define TZ_FLAG_MICROFACET 1024u
 /* A thin lens camera (gpu_frame.lens): its numbers are drawn after the jitter's, only then, so
  * that pinhole scenes keep their numbers (shaders/common/camera.h). */

@@ -226,13 +226,13 @@ static void test_furnace(void) {
 }
 
 /* A glass ball filling the view before a wall of lit and dark stripes: `%s` its roughness key. */
-#define GLASS_SCENE                                                                               \
-    "camera position 0 0 -4\nplane width 0.5 height 0.5 pixel 0.03125\n"                        \
-    "quad lambertian v0 -9 -0.6 3  v1 9 -0.6 3  v2 9 -0.2 3  v3 -9 -0.2 3  color 0 0 0 "          \
-    "emission 1 1 1\n"                                                                            \
-    "quad lambertian v0 -9 0.2 3  v1 9 0.2 3  v2 9 0.6 3  v3 -9 0.6 3  color 0 0 0 "              \
-    "emission 1 1 1\n"                                                                            \
-    "sphere refractive center 0 0 0 radius 1 %s\n"                                               \
+#define GLASS_SCENE                                                                      \
+    "camera position 0 0 -4\nplane width 0.5 height 0.5 pixel 0.03125\n"                 \
+    "quad lambertian v0 -9 -0.6 3  v1 9 -0.6 3  v2 9 -0.2 3  v3 -9 -0.2 3  color 0 0 0 " \
+    "emission 1 1 1\n"                                                                   \
+    "quad lambertian v0 -9 0.2 3  v1 9 0.2 3  v2 9 0.6 3  v3 -9 0.6 3  color 0 0 0 "     \
+    "emission 1 1 1\n"                                                                   \
+    "sphere refractive center 0 0 0 radius 1 %s\n"                                       \
     "render mode path samples %d bounces 6 seed 2\n"
 /* Renders GLASS_SCENE with rough (a key or nothing) into f. */
 static bool render_glass(const char *rough, int samples, film *f) {
@@ -288,10 +288,8 @@ static void test_back_ends_agree(void) {
 }
 
 static void test_bad_keys(void) {
-    expect_parse_error("sphere refractive center 0 0 0 radius 1 roughness 1.5\n", 1, 51,
-                       "[0, 1]");
-    expect_parse_error("sphere refractive center 0 0 0 radius 1 roughness -0.1\n", 1, 51,
-                       "[0, 1]");
+    expect_parse_error("sphere refractive center 0 0 0 radius 1 roughness 1.5\n", 1, 51, "[0, 1]");
+    expect_parse_error("sphere refractive center 0 0 0 radius 1 roughness -0.1\n", 1, 51, "[0, 1]");
 }
 
 int main(void) {

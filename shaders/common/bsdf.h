@@ -147,10 +147,10 @@ TZ_STRUCT(bsdf_value) {
 }
 TZ_STRUCT_END(bsdf_value)
 
-/* bsdf_eval of a microfacet material: its lobes at wi. The reflecting kinds' do not fold on smooth faces (a
- * direction below the shading or the geometric hemisphere gives nothing and ends a path): the
- * fold's second evaluation, summed under precise, sent glslang's propagation of precise past
- * 16 GB on the module of both modes. */
+/* bsdf_eval of a microfacet material: its lobes at wi. The reflecting kinds' do not fold on smooth
+ * faces (a direction below the shading or the geometric hemisphere gives nothing and ends a path):
+ * the fold's second evaluation, summed under precise, sent glslang's propagation of precise past 16
+ * GB on the module of both modes. */
 TZ_FN bsdf_value microfacet_eval(bsdf_material m, vec3 n, vec3 wi, vec3 wo) {
     tangent_frame f = basis(n);
     vec3 lo = to_local(f, n, wo), li = to_local(f, n, wi);
@@ -213,8 +213,9 @@ TZ_LANE_FN vec3 bsdf_next_origin(vec3 pos, vec3 ng, vec3 wi) {
 }
 
 /* The direction a microfacet material m draws at shading normal n seen from wo for uniform us,
- * u1, u2: rough glass's dielectric_direction; else us under the cosine lobe's share (1 - microfacet_spec_share) the cosine direction of
- * (u1, u2), else wo reflected about a visible normal (ggx_sample_half). */
+ * u1, u2: rough glass's dielectric_direction; else us under the cosine lobe's share (1 -
+ * microfacet_spec_share) the cosine direction of (u1, u2), else wo reflected about a visible normal
+ * (ggx_sample_half). */
 TZ_FN vec3 microfacet_direction(bsdf_material m, vec3 n, vec3 wo, float us, float u1, float u2) {
     if (is_dielectric(m.kind)) return dielectric_direction(m.ior, m.alpha, n, wo, us, u1, u2);
     tangent_frame f = basis(n);

@@ -53,8 +53,8 @@ TZ_FN microfacet_value dielectric_at(vec3 color, float eta, float alpha, vec3 lo
     float jac = 2.0f * oh * -ih * eta * eta / (den * den);
     float f_r = fr * d / (2.0f * g), pdf_r = fr * d / (2.0f * (co + so));
     float f_t = (1.0f - fr) * d * jac / g, pdf_t = (1.0f - fr) * d * jac / (co + so);
-    TZ_BOOL valid = (co > 0.0f) TZ_AND(li.z != 0.0f) TZ_AND(oh > 0.0f)
-        TZ_AND(reflects ? ih > 0.0f : ih < 0.0f);
+    TZ_BOOL valid =
+        (co > 0.0f) TZ_AND(li.z != 0.0f) TZ_AND(oh > 0.0f) TZ_AND(reflects ? ih > 0.0f : ih < 0.0f);
     microfacet_value v;
     v.f = v3_scale(color, valid ? (reflects ? f_r : f_t) : 0.0f);
     v.pdf = valid ? (reflects ? pdf_r : pdf_t) : 0.0f;
@@ -91,7 +91,7 @@ TZ_LANE_FN TZ_BOOL dielectric_goes_on(float cos_i, vec3 ng, vec3 wi, float pdf) 
     float side = v3_dot(ng, wi);
     TZ_BOOL above = (cos_i > 0.0f) TZ_AND(side > 0.0f);
     TZ_BOOL below = (cos_i < 0.0f) TZ_AND(side < 0.0f);
-    return (above TZ_OR below) TZ_AND(pdf > 0.0f);
+    return (above TZ_OR below)TZ_AND(pdf > 0.0f);
 }
 
 #endif

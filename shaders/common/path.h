@@ -34,8 +34,8 @@ TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, surface sf, vec3 n, vec3 ng, vec
     float cos_i = v3_dot(n, wi);
     TZ_BOOL folds = folds_at(n, ng);
     /* rough glass lets light through from below both normals, its shadow ray leaving below */
-    TZ_BOOL through = TZ_MICROFACET_ON && is_dielectric(sf.m.kind) && cos_i < 0.0f &&
-                      v3_dot(ng, wi) < 0.0f;
+    TZ_BOOL through =
+        TZ_MICROFACET_ON && is_dielectric(sf.m.kind) && cos_i < 0.0f && v3_dot(ng, wi) < 0.0f;
     TZ_BOOL above = !(TZ_MICROFACET_ON && is_dielectric(sf.m.kind)) || cos_i > 0.0f;
     if (!through && (!(folds || cos_i > 0.0f) || !(v3_dot(ng, wi) > 0.0f) || !above))
         return v3(0.0f, 0.0f, 0.0f);

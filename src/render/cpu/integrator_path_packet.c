@@ -104,8 +104,7 @@ LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float
     for (int k = 0; k < LANES; k++) {
         vec3 n = get3(&v->n, k), ng = get3(&v->ng, k), pos = get3(&v->pos, k);
         /* On a face that does not fold, a direction below it ends the path. */
-        int ok =
-            go[k] & bsdf_goes_on(v->material[k], folds[k], cos_i[k], ng, get3(&wi, k), pdf[k]);
+        int ok = go[k] & bsdf_goes_on(v->material[k], folds[k], cos_i[k], ng, get3(&wi, k), pdf[k]);
         vec3 f = v3_scale(get3(&fv, k), f_scale[k] / pdf[k]);
         vec3 o = offset_origin(pos, ng), next_o = bsdf_next_origin(pos, ng, get3(&wi, k));
         set3(&s->beta, k, select3(ok, v3_mul(get3(&s->beta, k), f), get3(&s->beta, k)));

@@ -131,9 +131,9 @@ static __attribute__((noinline)) void lanes_microfacet_eval(const vertex_lanes *
 /* emitter_light of path.h itself for the rough glass lanes, whose light may come from below and
  * whose shadow rays then leave below: added to direct. Out of line: few scenes have such lanes. */
 static __attribute__((noinline)) void lanes_dielectric_light(const packed_scene *scene,
-                                                             const vertex_lanes *v,
-                                                             const float *ul, const float *ua,
-                                                             const float *ub, lanes3 *direct) {
+                                                             const vertex_lanes *v, const float *ul,
+                                                             const float *ua, const float *ub,
+                                                             lanes3 *direct) {
     for (int k = 0; k < LANES; k++) {
         if (!v->dielectric[k]) continue;
         surface sf = surface_none();
