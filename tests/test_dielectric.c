@@ -3,7 +3,7 @@
  * together, and the test's power), the sampled weight against f |cos| / pdf evaluated apart and
  * against its closed form G2 / G1, the albedo of one interface from either side and a rough glass
  * ball in a white furnace never above 1, roughness 0 the delta glass's bits and small roughness
- * its image, CPU = Vulkan bit for bit, and the key's range. */
+ * its image, point lights through it, CPU = Vulkan bit for bit, and the key's range. */
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -287,6 +287,27 @@ static void test_back_ends_agree(void) {
         "0.8\nrender mode path samples 8 seed 5\n");
 }
 
+/* A point light inside a rough glass ball lights it through its surface in both modes, alike on
+ * both back ends (before, a light below the surface gave nothing). */
+static void test_point_light_through(void) {
+    const char *text =
+        "camera position 0 0 -4\nplane width 0.5 height 0.5 pixel 0.0625\n"
+        "sphere refractive center 0 0 0 radius 1 roughness 0.5\n"
+        "light position 0 0 0 power 10\nrender samples 4 seed 3\n";
+    for (int mode = 0; mode < 2; mode++) {
+        scene s;
+        render_opts o;
+        film f = {0};
+        if (!parse_scene_text(text, &s, &o)) continue;
+        o.mode = mode ? RENDER_MODE_PATH : RENDER_MODE_REPORT;
+        CHECK(render_on(false, &s, &o, &f), "mode %d: render failed", mode);
+        if (f.accum) CHECK(film_mean(&f) > 0.1, "mode %d: mean %.5f", mode, film_mean(&f));
+        film_free(&f);
+        scene_free(&s);
+    }
+    if (vk_context_device_count() > 0) expect_back_ends_agree(text);
+}
+
 static void test_bad_keys(void) {
     expect_parse_error("sphere refractive center 0 0 0 radius 1 roughness 1.5\n", 1, 51, "[0, 1]");
     expect_parse_error("sphere refractive center 0 0 0 radius 1 roughness -0.1\n", 1, 51, "[0, 1]");
@@ -300,5 +321,6 @@ int main(void) {
     CHECK_CASE(test_furnace);
     CHECK_CASE(test_delta_limit);
     CHECK_CASE(test_back_ends_agree);
+    CHECK_CASE(test_point_light_through);
     return check_summary("test_dielectric");
 }

@@ -188,6 +188,17 @@ TZ_FN float bsdf_pdf_at(bsdf_material m, float share, vec3 n, vec3 ng, vec3 wi, 
     return bsdf_eval(m, share, n, ng, wi, wo).pdf;
 }
 
+/* Whether a point light in direction wi (shading cosine cos_i) reaches a vertex of material
+ * kind and facing geometric normal ng: above both normals, or for rough glass below both
+ * (through it: its shadow ray leaves below, bsdf_next_origin, and its radiance, which holds
+ * cos_i, is negated). */
+TZ_LANE_FN TZ_BOOL point_light_reaches(int kind, float cos_i, vec3 ng, vec3 wi) {
+    float side = v3_dot(ng, wi);
+    TZ_BOOL above = !(cos_i <= 0.0f) TZ_AND !(side <= 0.0f);
+    TZ_BOOL through = is_dielectric(kind) TZ_AND(cos_i < 0.0f) TZ_AND(side < 0.0f);
+    return above TZ_OR through;
+}
+
 /* A direction drawn from a lobe material's BSDF: wi, weight f cos / pdf, the pdf, and whether the
  * path goes on (ok: above the face, pdf above 0). A delta's is bsdf_delta_transmits'. */
 TZ_STRUCT(bsdf_sample) {

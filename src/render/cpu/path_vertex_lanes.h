@@ -65,7 +65,6 @@ LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v
     lanes3 so;
     for (int k = 0; k < LANES; k++) set3(direct, k, v3(0.0f, 0.0f, 0.0f));
     if (light_count(scene) == 0u) return; /* path mode's usual case: emitters alone */
-    for (int k = 0; k < LANES; k++) set3(&so, k, offset_origin(get3(&v->pos, k), get3(&v->ng, k)));
     for (uint32_t l = 0; l < light_count(scene); l++) {
         lanes3 wi, rad;
         float dist[LANES], t[LANES];
@@ -74,10 +73,12 @@ LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v
             light_sample s =
                 point_light(light_position_power(scene, (int)l), light_color(scene, (int)l),
                             light_shape(scene, (int)l), get3(&v->pos, k), get3(&v->n, k));
+            vec3 ng = get3(&v->ng, k);
             set3(&wi, k, s.wi);
-            set3(&rad, k, s.radiance);
+            set3(&rad, k, select3(s.cos_i < 0.0f, v3_scale(s.radiance, -1.0f), s.radiance));
+            set3(&so, k, bsdf_next_origin(get3(&v->pos, k), ng, s.wi));
             dist[k] = s.dist;
-            want[k] = v->diffuse[k] & !(s.cos_i <= 0.0f) & !(v3_dot(get3(&v->ng, k), s.wi) <= 0.0f);
+            want[k] = v->diffuse[k] & point_light_reaches(v->material[k], s.cos_i, ng, s.wi);
         }
         trace_lanes(scene, &so, &wi, v->id, dist, want, 1, NULL, blocked, t);
         for (int k = 0; k < LANES; k++) {
