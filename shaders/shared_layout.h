@@ -34,9 +34,11 @@ typedef struct tz_uvec4 {
 #define TZ_MATERIAL_MIRROR 2
 #define TZ_MATERIAL_REFRACTIVE 3
 /* GGX microfacet kinds (shaders/common/microfacet.h): a rough mirror (`mirror roughness` above
- * 0), and glTF 2.0's metallic-roughness model (`pbr`). */
+ * 0), glTF 2.0's metallic-roughness model (`pbr`) and rough glass (`refractive roughness` above
+ * 0, shaders/common/dielectric.h). */
 #define TZ_MATERIAL_CONDUCTOR 4
 #define TZ_MATERIAL_PBR 5
+#define TZ_MATERIAL_DIELECTRIC 6
 /* The smallest GGX width (roughness^2) a material packs (scene_pack.c): below it D's peak,
  * 1 / (pi alpha^2), outgrows float and what light sampling can find; a mirror's roughness 0 is
  * the delta mirror itself. */
@@ -60,8 +62,8 @@ typedef struct tz_uvec4 {
 /* The scene has an environment map: without it the map's code is dead as the triangles' is
  * (lavapipe ran path mode 1.6x slower with it compiled in). */
 #define TZ_FLAG_ENVIRONMENT 512u
-/* The scene has a microfacet material (TZ_MATERIAL_CONDUCTOR, _PBR); without it their code is
- * dead as the triangles'. */
+/* The scene has a microfacet material (TZ_MATERIAL_CONDUCTOR, _PBR, _DIELECTRIC); without it their
+ * code is dead as the triangles'. */
 #define TZ_FLAG_MICROFACET 1024u
 /* A thin lens camera (gpu_frame.lens): its numbers are drawn after the jitter's, only then, so
  * that pinhole scenes keep their numbers (shaders/common/camera.h). */

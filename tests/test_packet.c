@@ -50,9 +50,9 @@ static const char facets[] =
     "background 0.1 0.1 0.2\n"
     "render mode path\n";
 
-/* The microfacet kinds: rough mirrors and pbr spheres and faces (one smooth, so that its lobes
- * fold), under a point light and emitters, beside a Phong sphere; path mode (seed mode's test
- * drops the emission). */
+/* The microfacet kinds: rough mirrors, rough glass and pbr spheres and faces (one smooth, so that
+ * its lobes fold), under a point light and emitters, beside a Phong sphere; path mode (seed mode's
+ * test drops the emission). */
 static const char rough[] =
     "camera position 0 1 -5 direction 0 -0.15 1 up 0 1 0\n"
     "plane width 4 height 4 pixel 0.1\n"
@@ -65,6 +65,8 @@ static const char rough[] =
     "sphere pbr center 0 -0.5 -0.5 radius 0.5 color 0.8 0.1 0.1 roughness 0.4 metallic 0.3\n"
     "sphere pbr center 0.3 0.6 1 radius 0.4 color 0.2 0.8 0.2 roughness 1\n"
     "sphere phong center -0.4 0.5 -1 radius 0.3 ks 0.4 alpha 20\n"
+    "sphere refractive center 0.9 0.2 -1.2 radius 0.35 roughness 0.3\n"
+    "sphere refractive center -1 -0.7 -1.5 radius 0.3 roughness 0.8 ior 1.3 color 0.9 1 0.9\n"
     "sphere lambertian center 0 3 0 radius 0.5 color 0 0 0 emission 6 6 5\n"
     "background 0.1 0.1 0.2\n"
     "render mode path\n";

@@ -8,6 +8,7 @@
 #define TRAZADOR_COMMON_BSDF_H
 
 #include "dialect.h"
+#include "dielectric.h"
 #include "microfacet.h"
 #include "sampling.h"
 #include "shade.h"
@@ -66,14 +67,19 @@ TZ_FN vec3 bsdf_f_at(bsdf_material m, float x) {
     return bsdf_f_of_lobe(m, lobe);
 }
 
+/* The lobes of microfacet material m at local lo (the way back) and li: rough glass's
+ * (dielectric_at, m.ior its bsdf_eta) or the reflecting kinds' (microfacet_at). */
+TZ_FN microfacet_value microfacet_lobes(bsdf_material m, vec3 lo, vec3 li) {
+    if (is_dielectric(m.kind)) return dielectric_at(m.color, m.ior, m.alpha, lo, li);
+    return microfacet_at(m.kind, m.color, m.ks, m.ior, m.alpha, lo, li);
+}
+
 /* The BRDF of lobe material m for light from wi seen from wo at shading normal n, unfolded (report
  * mode, point lights). */
 TZ_FN vec3 bsdf_f(bsdf_material m, vec3 n, vec3 wi, vec3 wo) {
     if (TZ_MICROFACET_ON && is_microfacet(m.kind)) {
         tangent_frame f = basis(n);
-        return microfacet_at(m.kind, m.color, m.ks, m.ior, m.alpha, to_local(f, n, wo),
-                             to_local(f, n, wi))
-            .f;
+        return microfacet_lobes(m, to_local(f, n, wo), to_local(f, n, wi)).f;
     }
     return bsdf_f_at(m, phong_lobe_cos(n, wi, wo));
 }
@@ -141,17 +147,17 @@ TZ_STRUCT(bsdf_value) {
 }
 TZ_STRUCT_END(bsdf_value)
 
-/* bsdf_eval of a microfacet material: its lobes at wi. They do not fold on smooth faces (a
- * direction below the shading or the geometric hemisphere gives nothing and ends a path): the
- * fold's second evaluation, summed under precise, sent glslang's propagation of precise past
- * 16 GB on the module of both modes. */
+/* bsdf_eval of a microfacet material: its lobes at wi. The reflecting kinds' do not fold on smooth
+ * faces (a direction below the shading or the geometric hemisphere gives nothing and ends a path):
+ * the fold's second evaluation, summed under precise, sent glslang's propagation of precise past 16
+ * GB on the module of both modes. */
 TZ_FN bsdf_value microfacet_eval(bsdf_material m, vec3 n, vec3 wi, vec3 wo) {
     tangent_frame f = basis(n);
     vec3 lo = to_local(f, n, wo), li = to_local(f, n, wi);
-    microfacet_value a = microfacet_at(m.kind, m.color, m.ks, m.ior, m.alpha, lo, li);
+    microfacet_value a = microfacet_lobes(m, lo, li);
     bsdf_value v;
     v.f = a.f;
-    v.f_scale = li.z;
+    v.f_scale = TZ_ABS(li.z); /* rough glass's transmission is below */
     v.pdf = a.pdf;
     v.cos_i = li.z;
     return v;
@@ -182,6 +188,17 @@ TZ_FN float bsdf_pdf_at(bsdf_material m, float share, vec3 n, vec3 ng, vec3 wi, 
     return bsdf_eval(m, share, n, ng, wi, wo).pdf;
 }
 
+/* Whether a point light in direction wi (shading cosine cos_i) reaches a vertex of material
+ * kind and facing geometric normal ng: above both normals, or for rough glass below both
+ * (through it: its shadow ray leaves below, bsdf_next_origin, and its radiance, which holds
+ * cos_i, is negated). */
+TZ_LANE_FN TZ_BOOL point_light_reaches(int kind, float cos_i, vec3 ng, vec3 wi) {
+    float side = v3_dot(ng, wi);
+    TZ_BOOL above = !(cos_i <= 0.0f) TZ_AND !(side <= 0.0f);
+    TZ_BOOL through = is_dielectric(kind) TZ_AND(cos_i < 0.0f) TZ_AND(side < 0.0f);
+    return above TZ_OR through;
+}
+
 /* A direction drawn from a lobe material's BSDF: wi, weight f cos / pdf, the pdf, and whether the
  * path goes on (ok: above the face, pdf above 0). A delta's is bsdf_delta_transmits'. */
 TZ_STRUCT(bsdf_sample) {
@@ -193,16 +210,25 @@ TZ_STRUCT(bsdf_sample) {
 TZ_STRUCT_END(bsdf_sample)
 
 /* Whether a path goes on along wi drawn at a vertex of geometric normal ng (cos_i the shading
- * cosine, pdf the BSDF's, folds whether it folds): above the face, and above the shading normal
- * unless folded, with a pdf above 0. */
-TZ_LANE_FN TZ_BOOL bsdf_goes_on(TZ_BOOL folds, float cos_i, vec3 ng, vec3 wi, float pdf) {
-    return (folds TZ_OR(cos_i > 0.0f)) TZ_AND(v3_dot(ng, wi) > 0.0f) TZ_AND(pdf > 0.0f);
+ * cosine, pdf the BSDF's, folds whether it folds) from material kind: above the face, and above
+ * the shading normal unless folded, with a pdf above 0; rough glass's dielectric_goes_on. */
+TZ_LANE_FN TZ_BOOL bsdf_goes_on(int kind, TZ_BOOL folds, float cos_i, vec3 ng, vec3 wi, float pdf) {
+    TZ_BOOL on = (folds TZ_OR(cos_i > 0.0f)) TZ_AND(v3_dot(ng, wi) > 0.0f) TZ_AND(pdf > 0.0f);
+    return is_dielectric(kind) ? dielectric_goes_on(cos_i, ng, wi, pdf) : on;
+}
+
+/* Where the ray along wi leaves a non-delta vertex at pos of facing geometric normal ng: offset
+ * to the side wi goes to (below only for rough glass's transmission). */
+TZ_LANE_FN vec3 bsdf_next_origin(vec3 pos, vec3 ng, vec3 wi) {
+    return offset_origin(pos, select3(v3_dot(ng, wi) < 0.0f, v3_scale(ng, -1.0f), ng));
 }
 
 /* The direction a microfacet material m draws at shading normal n seen from wo for uniform us,
- * u1, u2: us under the cosine lobe's share (1 - microfacet_spec_share) the cosine direction of
- * (u1, u2), else wo reflected about a visible normal (ggx_sample_half). */
+ * u1, u2: rough glass's dielectric_direction; else us under the cosine lobe's share (1 -
+ * microfacet_spec_share) the cosine direction of (u1, u2), else wo reflected about a visible normal
+ * (ggx_sample_half). */
 TZ_FN vec3 microfacet_direction(bsdf_material m, vec3 n, vec3 wo, float us, float u1, float u2) {
+    if (is_dielectric(m.kind)) return dielectric_direction(m.ior, m.alpha, n, wo, us, u1, u2);
     tangent_frame f = basis(n);
     vec3 lo = to_local(f, n, wo);
     float ps = microfacet_spec_share(m.kind, m.color, m.ks, m.ior, lo.z, ggx_albedo(lo.z, m.alpha),
@@ -233,7 +259,7 @@ TZ_FN bsdf_sample bsdf_sample_lobe(bsdf_material m, float share, vec3 n, vec3 ng
     bsdf_sample s;
     s.wi = wi;
     s.pdf = v.pdf;
-    s.ok = bsdf_goes_on(folds, v.cos_i, ng, wi, v.pdf);
+    s.ok = bsdf_goes_on(m.kind, folds, v.cos_i, ng, wi, v.pdf);
     TZ_PRECISE vec3 f = v3_scale(v.f, v.f_scale / v.pdf);
     s.weight = f;
     return s;

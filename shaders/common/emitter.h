@@ -407,4 +407,18 @@ TZ_FN emitter_sample emitter_sample_from(TZ_SCENE_PARAM int slot, int id, vec3 p
     return s;
 }
 
+/* Where a shadow ray from o along wi toward emitter slot ends (emitter_sample_from's t_light),
+ * for a ray that leaves another origin than the sample's: rough glass's light from below. */
+TZ_FN float emitter_distance_from(TZ_SCENE_PARAM int slot, int id, vec3 o, vec3 wi) {
+    TZ_UINT e_bits = uint_bits(emitter_primitive_cdf(TZ_SCENE_ARG slot).x);
+    int e = TZ_INT(e_bits);
+    if (e_bits == TZ_ENV_PRIMITIVE || e_bits == TZ_SUN_PRIMITIVE) return TZ_ENV_DISTANCE;
+    if (is_triangle(TZ_SCENE_ARG e)) {
+        triangle_corners k = corners_of(TZ_SCENE_ARG e);
+        return triangle_light_distance(k.a, k.b, k.c, o, wi);
+    }
+    TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG e);
+    return sphere_distance(cr.x, cr.y, cr.z, cr.w, o, wi, ray_eps(o), e == id);
+}
+
 #endif

@@ -22,7 +22,8 @@ static inline float ggx_table(uint32_t i) { return ggx_albedo_words[i]; }
 
 /* Whether material kind scatters by the microfacet lobes here. */
 TZ_LANE_FN TZ_BOOL is_microfacet(int kind) {
-    return (kind == TZ_MATERIAL_CONDUCTOR) TZ_OR(kind == TZ_MATERIAL_PBR);
+    return (kind == TZ_MATERIAL_CONDUCTOR) TZ_OR(kind == TZ_MATERIAL_PBR)
+        TZ_OR(kind == TZ_MATERIAL_DIELECTRIC);
 }
 
 /* Unit w in the frame (t, b, n) of basis(n). */

@@ -33,9 +33,17 @@ TZ_FN vec3 emitter_light(TZ_SCENE_PARAM int id, surface sf, vec3 n, vec3 ng, vec
     float t_light = es.t_light;
     float cos_i = v3_dot(n, wi);
     TZ_BOOL folds = folds_at(n, ng);
-    if (!(folds || cos_i > 0.0f) || !(v3_dot(ng, wi) > 0.0f) || !(pdf > 0.0f) ||
-        !(pdf < TZ_INFINITY))
+    /* rough glass lets light through from below both normals, its shadow ray leaving below */
+    TZ_BOOL through =
+        TZ_MICROFACET_ON && is_dielectric(sf.m.kind) && cos_i < 0.0f && v3_dot(ng, wi) < 0.0f;
+    TZ_BOOL above = !(TZ_MICROFACET_ON && is_dielectric(sf.m.kind)) || cos_i > 0.0f;
+    if (!through && (!(folds || cos_i > 0.0f) || !(v3_dot(ng, wi) > 0.0f) || !above))
         return v3(0.0f, 0.0f, 0.0f);
+    if (!(pdf > 0.0f) || !(pdf < TZ_INFINITY)) return v3(0.0f, 0.0f, 0.0f);
+    if (through) {
+        o = offset_origin(sf.pos, v3_scale(ng, -1.0f));
+        t_light = emitter_distance_from(TZ_SCENE_ARG slot, id, o, wi);
+    }
     if (!(t_light < TZ_INFINITY) || integrator_occluded(TZ_SCENE_ARG o, wi, t_light, id))
         return v3(0.0f, 0.0f, 0.0f);
     bsdf_value bv = bsdf_eval(sf.m, share, n, ng, wi, wo);
@@ -104,6 +112,7 @@ TZ_FN path_state path_step(TZ_SCENE_PARAM path_state p) {
         return p;
     }
     surface sf = surface_at(TZ_SCENE_ARG id, p.o, p.d, t);
+    sf.m.ior = bsdf_eta(sf.m.kind, sf.m.ior, sf.nout, p.d);
     bsdf_material m = sf.m;
     vec3 pos = sf.pos;
     vec3 nout = sf.nout;
@@ -158,7 +167,7 @@ TZ_FN path_state path_step(TZ_SCENE_PARAM path_state p) {
         p.last.id = id;
         p.last.bsdf_pdf = bs.pdf;
         p.specular = TZ_FALSE;
-        p.o = offset_origin(pos, ng);
+        p.o = bsdf_next_origin(pos, ng, bs.wi);
         p.d = bs.wi;
     } else {
         vec3 n = specular_normal(nout, sf.shading, d);

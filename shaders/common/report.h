@@ -47,6 +47,7 @@ TZ_FN specular_chain follow_specular(TZ_SCENE_PARAM vec3 o, vec3 d, int self) {
         surface s = surface_at(TZ_SCENE_ARG id, o, d, t);
         c.s = s;
         if (!bsdf_is_delta(s.m.kind)) {
+            c.s.m.ior = bsdf_eta(s.m.kind, s.m.ior, s.nout, d);
             c.n = facing_shading(s, d);
             c.ng = facing_normal(s.nout, d);
             c.id = id;

@@ -228,7 +228,11 @@ static mesh_material map_material(material_reader *r, const char *name, char *un
     bool glass = (has_d && d < 1.0f) || illum == 4 || illum == 6 || illum == 7 ||
                  (has_trans && transmission > 0.0f);
     if (glass) {
-        out.kind = TZ_MATERIAL_REFRACTIVE;
+        /* glTF's transmission is glass as rough as its roughness factor (1 by default) */
+        bool rough = has_trans && has_rough && transmission > 0.0f;
+        check_unit(r, "roughness factor", roughness, rough);
+        out.roughness = rough ? clamp01(roughness) : 0.0f;
+        out.kind = out.roughness > 0.0f ? TZ_MATERIAL_DIELECTRIC : TZ_MATERIAL_REFRACTIVE;
         out.ior = has_ni && ni >= 1.0f ? ni : 1.5f;
         if (!has_base && !has_kd) out.color = v3(1, 1, 1);
         return out;

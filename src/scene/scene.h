@@ -320,9 +320,10 @@ static inline bool material_textured(const material *m) {
         if (m->maps[k]) return true;
     return false;
 }
-/* Whether material m is of a GGX microfacet kind (conductor, pbr); never fails. */
+/* Whether material m is of a GGX microfacet kind (conductor, pbr, rough glass); never fails. */
 static inline bool material_is_microfacet(const material *m) {
-    return m->kind == TZ_MATERIAL_CONDUCTOR || m->kind == TZ_MATERIAL_PBR;
+    return m->kind == TZ_MATERIAL_CONDUCTOR || m->kind == TZ_MATERIAL_PBR ||
+           m->kind == TZ_MATERIAL_DIELECTRIC;
 }
 /* Whether shapes of material m emit light (path mode's emitters); never fails. */
 static inline bool material_emits(const material *m) {

@@ -9,6 +9,7 @@
 
 #define MATERIAL_COMMON_KEYS (BIT(MAT_COLOR) | BIT(MAT_EMISSION) | MATERIAL_TEXTURE_KEYS)
 #define MIRROR_KEYS (MATERIAL_COMMON_KEYS | BIT(MAT_ROUGHNESS))
+#define GLASS_KEYS (MATERIAL_COMMON_KEYS | BIT(MAT_IOR) | BIT(MAT_ROUGHNESS))
 #define PBR_KEYS (MATERIAL_COMMON_KEYS | BIT(MAT_METALLIC) | BIT(MAT_ROUGHNESS) | BIT(MAT_IOR))
 /* max(color) + ks may pass 1 by this before it warns: float rounding of values that sum to 1
  * (0.7 and 0.3, glTF's mapped 0.96 base and 0.04). */
@@ -19,11 +20,11 @@ static const material_spec materials[] = {
     {"lambertian", TZ_MATERIAL_LAMBERTIAN, MATERIAL_COMMON_KEYS, 0.8f, false},
     {"phong", TZ_MATERIAL_PHONG, MATERIAL_COMMON_KEYS | BIT(MAT_KS) | BIT(MAT_ALPHA), 0.8f, false},
     {"mirror", TZ_MATERIAL_MIRROR, MIRROR_KEYS, 1.0f, false},
-    {"refractive", TZ_MATERIAL_REFRACTIVE, MATERIAL_COMMON_KEYS | BIT(MAT_IOR), 1.0f, false},
+    {"refractive", TZ_MATERIAL_REFRACTIVE, GLASS_KEYS, 1.0f, false},
     {"pbr", TZ_MATERIAL_PBR, PBR_KEYS, 0.8f, false},
     {"lambertiana", TZ_MATERIAL_LAMBERTIAN, MATERIAL_COMMON_KEYS, 0.8f, true},
     {"espejo", TZ_MATERIAL_MIRROR, MIRROR_KEYS, 1.0f, true},
-    {"refractada", TZ_MATERIAL_REFRACTIVE, MATERIAL_COMMON_KEYS | BIT(MAT_IOR), 1.0f, true},
+    {"refractada", TZ_MATERIAL_REFRACTIVE, GLASS_KEYS, 1.0f, true},
 };
 
 const material_spec *material_lookup(const token *word) {
@@ -107,9 +108,12 @@ material shape_material_of(parser *p, const shape_spec *shape, const material_sp
         p->emission_line = p->line;
         p->emission_col = p->tokens[kv->key_token[k + MAT_EMISSION]].col;
     }
+    /* a mirror or glass of roughness 0 is the delta one, bit for bit */
+    material_kind kind = m->kind;
+    if (roughness > 0.0f && kind == TZ_MATERIAL_MIRROR) kind = TZ_MATERIAL_CONDUCTOR;
+    if (roughness > 0.0f && kind == TZ_MATERIAL_REFRACTIVE) kind = TZ_MATERIAL_DIELECTRIC;
     material out = {
-        /* a mirror of roughness 0 is the delta mirror, bit for bit */
-        .kind = m->kind == TZ_MATERIAL_MIRROR && roughness > 0.0f ? TZ_MATERIAL_CONDUCTOR : m->kind,
+        .kind = kind,
         .color = parser_vec3(kv, k + MAT_COLOR, v3(c, c, c)),
         .ks = phong ? (float)parser_value_or(kv, k + MAT_KS, 0.5) : 0.0f,
         .alpha = phong ? (float)parser_value_or(kv, k + MAT_ALPHA, 32.0) : 0.0f,

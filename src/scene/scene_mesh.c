@@ -361,8 +361,10 @@ static bool check_glass(parser *p, mesh *me, const material_spec *m, const doubl
         return parser_fail(p, col, "out of memory");
     }
     for (int k = 0; k <= me->material_count; k++) {
-        is_glass[k] = m ? m->kind == TZ_MATERIAL_REFRACTIVE
-                        : k < me->material_count && me->materials[k].kind == TZ_MATERIAL_REFRACTIVE;
+        is_glass[k] =
+            m ? m->kind == TZ_MATERIAL_REFRACTIVE
+              : k < me->material_count && (me->materials[k].kind == TZ_MATERIAL_REFRACTIVE ||
+                                           me->materials[k].kind == TZ_MATERIAL_DIELECTRIC);
         *glass |= is_glass[k];
     }
     mesh_open_part open;

@@ -149,7 +149,7 @@ LANE_FN void packet_follow_specular(const packed_scene *p, lanes3 *o, lanes3 *d,
             set3(&m->kd, k, select3(diffuse, get3(&h.kd, k), get3(&m->kd, k)));
             m->ks[k] = diffuse ? h.ks[k] : m->ks[k];
             m->alpha[k] = diffuse ? h.alpha[k] : m->alpha[k];
-            m->ior[k] = diffuse ? h.ior[k] : m->ior[k];
+            m->ior[k] = diffuse ? bsdf_eta(h.material[k], h.ior[k], nk, dk) : m->ior[k];
             m->material[k] = diffuse ? h.material[k] : m->material[k];
         }
         for (int k = 0; k < LANES; k++) { /* mirror and glass lanes go on */
@@ -209,11 +209,7 @@ LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lan
                                  const lanes3 *n, const lanes3 *ng, const phong_lanes *m,
                                  const lanes3 *wo, const int *active, lanes3 *sum) {
     lanes3 o;
-    for (int k = 0; k < LANES; k++) {
-        vec3 pk = get3(pos, k);
-        set3(&o, k, offset_origin(pk, get3(ng, k)));
-        set3(sum, k, v3(0.0f, 0.0f, 0.0f));
-    }
+    for (int k = 0; k < LANES; k++) set3(sum, k, v3(0.0f, 0.0f, 0.0f));
     for (uint32_t l = 0; l < p->frame.light_count; l++) {
         lanes3 wi, light, f;
         float dist[LANES];
@@ -223,10 +219,12 @@ LANE_FN void packet_direct_light(const packed_scene *p, const int *id, const lan
         tz_vec4 shape = p->lights[l].shape;
         for (int k = 0; k < LANES; k++) {
             light_sample ls = point_light(position_power, color, shape, get3(pos, k), get3(n, k));
-            set3(&light, k, ls.radiance);
+            vec3 ngk = get3(ng, k);
+            set3(&light, k, select3(ls.cos_i < 0.0f, v3_scale(ls.radiance, -1.0f), ls.radiance));
             set3(&wi, k, ls.wi);
+            set3(&o, k, bsdf_next_origin(get3(pos, k), ngk, ls.wi));
             dist[k] = ls.dist;
-            facing[k] = active[k] & !(ls.cos_i <= 0.0f) & !(v3_dot(get3(ng, k), ls.wi) <= 0.0f);
+            facing[k] = active[k] & point_light_reaches(m->material[k], ls.cos_i, ngk, ls.wi);
         }
         if (!any_lane(facing)) continue;
         packet_trace(p, &o, &wi, id, dist, facing, 1, NULL, blocker, blocker_t);

@@ -104,9 +104,9 @@ LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float
     for (int k = 0; k < LANES; k++) {
         vec3 n = get3(&v->n, k), ng = get3(&v->ng, k), pos = get3(&v->pos, k);
         /* On a face that does not fold, a direction below it ends the path. */
-        int ok = go[k] & bsdf_goes_on(folds[k], cos_i[k], ng, get3(&wi, k), pdf[k]);
+        int ok = go[k] & bsdf_goes_on(v->material[k], folds[k], cos_i[k], ng, get3(&wi, k), pdf[k]);
         vec3 f = v3_scale(get3(&fv, k), f_scale[k] / pdf[k]);
-        vec3 o = offset_origin(pos, ng);
+        vec3 o = offset_origin(pos, ng), next_o = bsdf_next_origin(pos, ng, get3(&wi, k));
         set3(&s->beta, k, select3(ok, v3_mul(get3(&s->beta, k), f), get3(&s->beta, k)));
         set3(&s->last_pos, k, select3(ok, pos, get3(&s->last_pos, k)));
         set3(&s->last_n, k, select3(ok, n, get3(&s->last_n, k)));
@@ -114,7 +114,7 @@ LANE_FN void lanes_bsdf_bounce(const vertex_lanes *v, path_lanes *s, const float
         s->last_id[k] = ok ? v->id[k] : s->last_id[k];
         s->last_pdf[k] = ok ? pdf[k] : s->last_pdf[k];
         s->specular[k] = ok ? 0 : s->specular[k];
-        set3(&s->o, k, select3(ok, o, get3(&s->o, k)));
+        set3(&s->o, k, select3(ok, next_o, get3(&s->o, k)));
         set3(&s->d, k, select3(ok, get3(&wi, k), get3(&s->d, k)));
         s->active[k] = v->diffuse[k] ? ok : s->active[k];
     }
@@ -328,6 +328,8 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         int go = hit & !(s->vertex[k] > fr->bounces); /* else the path ends at this hit */
         int diffuse = go & !bsdf_is_delta(v.material[k]);
         v.diffuse[k] = diffuse;
+        v.ior[k] = bsdf_eta(v.material[k], v.ior[k], nout, d);
+        v.dielectric[k] = diffuse & is_dielectric(v.material[k]);
         v.specular[k] = go & !diffuse;
         /* facing_shading and facing_normal of primitive.h and shade.h */
         set3(&v.n, k, select3(v3_dot(nout, d) < 0.0f, shading, v3_scale(shading, -1.0f)));
@@ -338,6 +340,7 @@ LANE_FN void lanes_vertex(const packed_scene *scene, const small_spheres *small,
         s->active[k] = go;
     }
     v.any_microfacet = any_lane(v.microfacet);
+    v.any_dielectric = any_lane(v.dielectric);
     if (any_emit) lanes_emission(scene, &v, emit, s);
     if (any_lane(v.diffuse)) {
         lanes3 direct;

@@ -29,6 +29,7 @@ static __attribute__((noinline)) void trace_lanes(const packed_scene *p, const l
 typedef struct vertex_lanes {
     int id[LANES], diffuse[LANES], specular[LANES], material[LANES], slot[LANES];
     int microfacet[LANES], any_microfacet; /* diffuse lanes of a microfacet kind */
+    int dielectric[LANES], any_dielectric; /* and of rough glass (ior its bsdf_eta) */
     float t[LANES], r[LANES], ks[LANES], alpha[LANES], ior[LANES], share[LANES];
     lanes3 pos, nout, shading, n, ng, wo, c, kd;
 } vertex_lanes;
@@ -64,7 +65,6 @@ LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v
     lanes3 so;
     for (int k = 0; k < LANES; k++) set3(direct, k, v3(0.0f, 0.0f, 0.0f));
     if (light_count(scene) == 0u) return; /* path mode's usual case: emitters alone */
-    for (int k = 0; k < LANES; k++) set3(&so, k, offset_origin(get3(&v->pos, k), get3(&v->ng, k)));
     for (uint32_t l = 0; l < light_count(scene); l++) {
         lanes3 wi, rad;
         float dist[LANES], t[LANES];
@@ -73,10 +73,12 @@ LANE_FN void lanes_point_lights(const packed_scene *scene, const vertex_lanes *v
             light_sample s =
                 point_light(light_position_power(scene, (int)l), light_color(scene, (int)l),
                             light_shape(scene, (int)l), get3(&v->pos, k), get3(&v->n, k));
+            vec3 ng = get3(&v->ng, k);
             set3(&wi, k, s.wi);
-            set3(&rad, k, s.radiance);
+            set3(&rad, k, select3(s.cos_i < 0.0f, v3_scale(s.radiance, -1.0f), s.radiance));
+            set3(&so, k, bsdf_next_origin(get3(&v->pos, k), ng, s.wi));
             dist[k] = s.dist;
-            want[k] = v->diffuse[k] & !(s.cos_i <= 0.0f) & !(v3_dot(get3(&v->ng, k), s.wi) <= 0.0f);
+            want[k] = v->diffuse[k] & point_light_reaches(v->material[k], s.cos_i, ng, s.wi);
         }
         trace_lanes(scene, &so, &wi, v->id, dist, want, 1, NULL, blocked, t);
         for (int k = 0; k < LANES; k++) {
@@ -124,6 +126,23 @@ static __attribute__((noinline)) void lanes_microfacet_eval(const vertex_lanes *
         set3(fv, k, bv.f);
         f_scale[k] = bv.f_scale;
         pdf[k] = bv.pdf;
+    }
+}
+
+/* emitter_light of path.h itself for the rough glass lanes, whose light may come from below and
+ * whose shadow rays then leave below: added to direct. Out of line: few scenes have such lanes. */
+static __attribute__((noinline)) void lanes_dielectric_light(const packed_scene *scene,
+                                                             const vertex_lanes *v, const float *ul,
+                                                             const float *ua, const float *ub,
+                                                             lanes3 *direct) {
+    for (int k = 0; k < LANES; k++) {
+        if (!v->dielectric[k]) continue;
+        surface sf = surface_none();
+        sf.pos = get3(&v->pos, k);
+        sf.m = vertex_material(v, k);
+        vec3 l = emitter_light(scene, v->id[k], sf, get3(&v->n, k), get3(&v->ng, k),
+                               get3(&v->wo, k), v->share[k], ul[k], ua[k], ub[k]);
+        set3(direct, k, v3_add(get3(direct, k), l));
     }
 }
 
@@ -255,6 +274,7 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
             (folds[k] | (ci > 0.0f)) & (v3_dot(ng, ds.wi) > 0.0f) & (p > 0.0f) & (p < INFINITY);
         shadow_lane_set(&s, k, o, ds.wi, p, ci, TZ_ENV_DISTANCE, ok);
     }
+    for (int k = 0; v->any_dielectric && k < LANES; k++) s.want[k] &= !v->dielectric[k];
     trace_lanes(scene, &s.origin, &s.dir, v->id, s.t_light, s.want, 1, hint, blocked, t);
     int any_fold = 0;
     for (int k = 0; k < LANES; k++) {
@@ -283,6 +303,7 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         vec3 dk = get3(direct, k);
         set3(direct, k, select3(v->diffuse[k], v3_add(dk, l), dk));
     }
+    if (v->any_dielectric) lanes_dielectric_light(scene, v, ul, ua, ub, direct);
 }
 
 #endif
