@@ -10,7 +10,6 @@
 #include "render/render.h"
 #include "scene/scene.h"
 
-
 #define FORMATS "png|ppm|pfm|exr"
 static const char *const format_names[] = {"png", "ppm", "pfm", "exr"};
 static const char *const default_outputs[] = {"render.png", "render.ppm", "render.pfm",
@@ -142,8 +141,7 @@ static const opt_command render_command = {
     .max_positional = 1,
 };
 
-opt_result parse_render_args(int argc, char **argv, render_args *a,
-                                    const char **scene_path) {
+opt_result parse_render_args(int argc, char **argv, render_args *a, const char **scene_path) {
     *a = (render_args){.format = -1,
                        .tm = -1,
                        .exr_type = -1,
