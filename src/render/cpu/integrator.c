@@ -6,6 +6,10 @@
 
 #include <math.h>
 
+#include "render/cpu/scene_accessors.h"
+
+/* The shared text calls the accessors above (face_cut). */
+#include "common/primitive.h"
 #include "common/ray.h"
 #include "common/rng.h"
 #include "common/shade.h"
@@ -60,6 +64,16 @@ static inline void triangles_hit(const triangle_soa *tr, int begin, int end, int
     }
 }
 
+/* Sets t[lane] to INFINITY where primitive first + lane is hit but cut away there (face_cut):
+ * out of line, so that scenes without cut-outs keep the walk they had. */
+static __attribute__((noinline)) void faces_cut(const packed_scene *p, int first, vec3 o, vec3 d,
+                                                float *t) {
+    ray_shear sh = shear_of(d);
+    for (int lane = 0; lane < SOA_LANES; lane++)
+        if (t[lane] < INFINITY && face_cut(p, first + lane, corners_of(p, first + lane), o, sh))
+            t[lane] = INFINITY;
+}
+
 /* Tests triangles [begin, end) (at most SOA_LANES, by triangle index) and keeps the nearest hit
  * below *best (nearer_hit, over primitive ids). */
 static inline void triangle_leaf_hit(const packed_scene *p, uint32_t begin, uint32_t end, vec3 o,
@@ -67,6 +81,7 @@ static inline void triangle_leaf_hit(const packed_scene *p, uint32_t begin, uint
     float t[SOA_LANES];
     int first_id = (int)p->frame.sphere_count;
     triangles_hit(&p->triangle_soa, (int)begin, (int)end, first_id, o, d, tmin, self, t);
+    if (TZ_HAS_CUTOUTS_OF(p)) faces_cut(p, first_id + (int)begin, o, d, t);
     keep_nearest(t, first_id + (int)begin, best, id);
 }
 

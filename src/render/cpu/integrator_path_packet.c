@@ -161,7 +161,9 @@ LANE_FN void lanes_emission(const packed_scene *scene, const vertex_lanes *v, co
                                         (float)scene->frame.light_samples *
                                             light_pdf_at(scene, last, v->id[k], get3(&v->pos, k),
                                                          get3(&s->d, k)));
-        vec3 emitted = v3_scale(v3_mul(get3(&s->beta, k), emitter_radiance(scene, v->slot[k])), w);
+        vec3 le = emitted_radiance(scene, v->slot[k], v->id[k], get3(&s->o, k), get3(&s->d, k),
+                                   get3(&v->pos, k));
+        vec3 emitted = v3_scale(v3_mul(get3(&s->beta, k), le), w);
         set3(&s->radiance, k, v3_add(get3(&s->radiance, k), emitted));
     }
 }

@@ -8,6 +8,10 @@
 #include <math.h>
 #include <string.h>
 
+#include "render/cpu/scene_accessors.h"
+
+/* The shared text calls the accessors above (face_cut). */
+#include "common/primitive.h"
 #include "common/ray.h"
 #include "render/cpu/integrator.h"
 
@@ -142,6 +146,20 @@ LANE_FN void shear_lanes_of(const lanes3 *o, const lanes3 *d, const int *active,
     for (int k = 0; k < LANES; k++) set3(&sh->o, k, shear_axes(get3(o, k), sh->kz, sh->swap));
 }
 
+/* Sets ts[lane] to INFINITY where the lane's ray hits triangle primitive s but the face is cut
+ * away there (face_cut, with the lane's shear_of): out of line, as scenes without cut-outs
+ * never call it. */
+static __attribute__((noinline)) void packet_faces_cut(const packed_scene *p, uint32_t s,
+                                                       const shear_lanes *sh, const lanes3 *o,
+                                                       float *ts) {
+    triangle_corners k = corners_of(p, (int)s);
+    for (int lane = 0; lane < LANES; lane++) {
+        ray_shear r = {sh->lane_kz[lane], sh->lane_swap[lane], sh->sx[lane], sh->sy[lane],
+                       sh->sz[lane]};
+        if (ts[lane] < INFINITY && face_cut(p, (int)s, k, get3(o, lane), r)) ts[lane] = INFINITY;
+    }
+}
+
 /* packet_sphere for triangle primitive s (the triangles' ids follow the spheres'), the lanes'
  * rays sheared by sh. */
 LANE_FN void packet_triangle(const packed_scene *p, uint32_t s, const shear_lanes *sh,
@@ -170,6 +188,7 @@ LANE_FN void packet_triangle(const packed_scene *p, uint32_t s, const shear_lane
                                                  (int)s == self[lane]);
         }
     }
+    if (TZ_HAS_CUTOUTS_OF(p)) packet_faces_cut(p, s, sh, o, ts);
     if (tie)
         keep_nearer(best, id, ts, (int)s);
     else

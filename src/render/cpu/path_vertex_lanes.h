@@ -216,6 +216,8 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         vec3 o = offset_origin(pos, ng);
         float tl = sphere_distance(ck.x, ck.y, ck.z, rk, o, w, ray_eps(o), e[k] == v->id[k]);
         shadow_lane_set(&s, k, o, w, p, ci, tl, ok);
+        if (TZ_HAS_TEXTURES_OF(scene) && v->diffuse[k] && !(triangle[k] | env[k] | sun[k]))
+            set3(&emission, k, emitter_radiance_along(scene, slot[k], e[k], o, w, tl));
     }
     for (int k = 0; any_lane(triangle) && k < LANES; k++) {
         if (!(v->diffuse[k] & triangle[k])) continue;
@@ -228,6 +230,8 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         vec3 w = l.wi;
         float p = pick[k] * l.pdf;
         float tl = triangle_light_distance(tk.a, tk.b, tk.c, o, w);
+        if (TZ_HAS_TEXTURES_OF(scene))
+            set3(&emission, k, emitter_radiance_along(scene, slot[k], e[k], o, w, tl));
         float ci = v3_dot(n, w);
         int ok = (e[k] != v->id[k]) & (folds[k] | (ci > 0.0f)) & (v3_dot(ng, w) > 0.0f) &
                  (p > 0.0f) & (p < INFINITY);
