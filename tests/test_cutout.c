@@ -4,12 +4,14 @@
  * quad's kept half alone (the cut half shows the wall and casts no shadow, the kept half casts
  * it); an emission map seen directly is its texel times the emission; light sampling finds the
  * map's radiance where BSDF sampling does (a textured emitter against the untextured one it
- * equals, pixel for pixel; light sampling alone against BSDF sampling alone in mean); a fence of
+ * equals, pixel for pixel; light sampling alone against BSDF sampling alone in mean); glTF's
+ * MASK cuts by its cutoff and BLEND lets through one minus its alpha of the rays; a fence of
  * cut-out quads, BLEND among them, gives one film on every CPU build and every Vulkan walk. */
 #include <math.h>
 #include <png.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "render/vk/vk_context.h"
@@ -234,10 +236,55 @@ static void test_emission_strategies(void) {
     film_free(&b);
 }
 
-/* A fence of 64 cut-out quads (a checker alpha map, MASK and grey maps, one of BLEND through a
- * glTF-like stochastic slot is left to the models test) before a lit wall, enough faces for the
- * BVH: report and path mode films of every CPU packet build and of Vulkan's compute and
- * cooperative walks (and ray queries where the device has them) are one film, bit for bit. */
+/* Writes a glTF of one quad (-1..1)^2 at z = 0, UVs over the unit square, whose material's base
+ * colour texture is `image` with alpha mode `mode` and alphaCutoff `cutoff`. */
+static void write_gltf_quad(const char *path, const char *image, const char *mode, double cutoff) {
+    /* positions (4 x 3 floats), UVs (4 x 2 floats), indices (6 shorts), little-endian */
+    static const float positions[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+    static const float uvs[8] = {0, 1, 1, 1, 1, 0, 0, 0};
+    static const uint16_t indices[6] = {0, 1, 2, 0, 2, 3};
+    uint8_t bytes[92];
+    memcpy(bytes, positions, 48);
+    memcpy(bytes + 48, uvs, 32);
+    memcpy(bytes + 80, indices, 12);
+    static const char table[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    char base64[128];
+    int n = 0;
+    for (int k = 0; k < 92; k += 3) {
+        uint32_t v = (uint32_t)bytes[k] << 16 | (k + 1 < 92 ? bytes[k + 1] << 8 : 0) |
+                     (k + 2 < 92 ? bytes[k + 2] : 0);
+        base64[n++] = table[v >> 18 & 63];
+        base64[n++] = table[v >> 12 & 63];
+        base64[n++] = k + 1 < 92 ? table[v >> 6 & 63] : '=';
+        base64[n++] = k + 2 < 92 ? table[v & 63] : '=';
+    }
+    base64[n] = '\0';
+    FILE *fp = fopen(path, "w");
+    if (!fp) exit(1);
+    fprintf(fp,
+            "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+            "\"nodes\":[{\"mesh\":0}],\"meshes\":[{\"primitives\":[{\"attributes\":"
+            "{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":2,\"material\":0}]}],"
+            "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorFactor\":[0,0,0,1],"
+            "\"baseColorTexture\":{\"index\":0},\"metallicFactor\":0,\"roughnessFactor\":1},"
+            "\"alphaMode\":\"%s\",\"alphaCutoff\":%g}],"
+            "\"textures\":[{\"source\":0}],\"images\":[{\"uri\":\"%s\"}],"
+            "\"buffers\":[{\"byteLength\":92,\"uri\":\"data:application/octet-stream;base64,%s\"}],"
+            "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":48},"
+            "{\"buffer\":0,\"byteOffset\":48,\"byteLength\":32},"
+            "{\"buffer\":0,\"byteOffset\":80,\"byteLength\":12}],"
+            "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":"
+            "\"VEC3\",\"min\":[-1,-1,0],\"max\":[1,1,0]},{\"bufferView\":1,"
+            "\"componentType\":5126,\"count\":4,\"type\":\"VEC2\"},{\"bufferView\":2,"
+            "\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"}]}\n",
+            mode, cutoff, image, base64);
+    fclose(fp);
+}
+
+/* A fence of 64 cut-out quads (a grey checker alpha map at two cutoffs) and a glTF quad of BLEND
+ * before a lit wall, enough faces for the BVH: report and path mode films of every CPU packet
+ * build and of Vulkan's compute and cooperative walks (and ray queries where the device has
+ * them) are one film, bit for bit. */
 static void test_walks_agree(void) {
     if (!use_vulkan) return;
     static const uint8_t checker[4] = {255, 0, 0, 255};
@@ -257,6 +304,11 @@ static void test_walks_agree(void) {
                       x, y, z, x, y + 0.45, z, x + 0.55, y + 0.45, z, x + 0.55, y, z,
                       tmp_path("checker.png"), k % 2 ? " alpha_cutoff 0.3" : "");
     }
+    static const uint8_t texel[4] = {0, 0, 0, 128};
+    write_png(tmp_path("alpha128.png"), 1, 1, PNG_COLOR_TYPE_RGBA, texel);
+    write_gltf_quad(tmp_path("blend.gltf"), "alpha128.png", "BLEND", 0.5);
+    snprintf(text + n, sizeof text - n, "mesh file %s scale 0.8 translate 0.3 0.2 -1\n",
+             tmp_path("blend.gltf"));
     for (int mode = 0; mode < 2; mode++) {
         scene s;
         render_opts o;
@@ -301,6 +353,47 @@ static void test_walks_agree(void) {
     }
 }
 
+/* A glTF quad of base colour alpha 128 / 255 (black, and nothing lights it) before a white
+ * background: MASK at
+ * cutoff 0.6 cuts it all (every pixel the background's 1 exactly), at 0.4 none (0); BLEND lets
+ * through the share 1 - 128 / 255 of the camera rays, within four standard errors over the
+ * image's samples. */
+static void test_gltf_alpha_modes(void) {
+    if (use_vulkan || access("/usr/share/assimp", F_OK) != 0) return;
+    static const uint8_t texel[4] = {0, 0, 0, 128};
+    write_png(tmp_path("alpha128.png"), 1, 1, PNG_COLOR_TYPE_RGBA, texel);
+    static const struct {
+        const char *mode;
+        double cutoff, want, tolerance;
+    } cases[3] = {{"MASK", 0.6, 1.0, 0.0}, {"MASK", 0.4, 0.0, 0.0}, {"BLEND", 0.5, 127.0 / 255, 4}};
+    for (int k = 0; k < 3; k++) {
+        write_gltf_quad(tmp_path("quad.gltf"), "alpha128.png", cases[k].mode, cases[k].cutoff);
+        char text[1024];
+        snprintf(text, sizeof text,
+                 "camera position 0 0 -4\nplane width 2 height 2 pixel 0.05\nbackground 1 1 1\n"
+                 "render samples 16 indirect off\nmesh file %s scale 2\n",
+                 tmp_path("quad.gltf"));
+        scene sc;
+        render_opts o;
+        film f = {0};
+        if (!parse_scene_text(text, &sc, &o)) {
+            CHECK(false, "%s: parse", cases[k].mode);
+            continue;
+        }
+        CHECK(render_on(false, &sc, &o, &f), "%s: render", cases[k].mode);
+        scene_free(&sc);
+        if (!f.accum) continue;
+        double mean, se;
+        film_mean(&f, &mean, &se);
+        int samples = f.width * f.height * 16;
+        double bound = cases[k].tolerance * sqrt(cases[k].want * (1 - cases[k].want) / samples);
+        CHECK(fabs(mean - cases[k].want) <= bound,
+              "%s cutoff %g: the background's share %.5f, not %.5f within %.2g", cases[k].mode,
+              cases[k].cutoff, mean, cases[k].want, bound);
+        film_free(&f);
+    }
+}
+
 /* Cut-outs are for faces: a sphere's alpha_map is refused where it stands. */
 static void test_sphere_refused(void) {
     if (use_vulkan) return;
@@ -320,6 +413,7 @@ int main(int argc, char **argv) {
     CHECK_CASE(test_emission_light_sampling);
     CHECK_CASE(test_emission_strategies);
     CHECK_CASE(test_walks_agree);
+    CHECK_CASE(test_gltf_alpha_modes);
     CHECK_CASE(test_sphere_refused);
     return check_summary(use_vulkan ? "test_cutout vulkan" : "test_cutout");
 }
