@@ -427,8 +427,6 @@ TZ_FN emitter_sample emitter_sample_from(TZ_SCENE_PARAM int slot, int id, vec3 p
         s.wi = l.wi;
         s.pdf = pdf;
         s.t_light = triangle_light_distance(k.a, k.b, k.c, o, l.wi);
-        if (TZ_HAS_TEXTURES)
-            s.radiance = emitter_radiance_along(TZ_SCENE_ARG slot, e, o, l.wi, s.t_light);
     } else {
         TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG e);
         vec3 c = xyz(cr);
@@ -444,9 +442,10 @@ TZ_FN emitter_sample emitter_sample_from(TZ_SCENE_PARAM int slot, int id, vec3 p
         s.wi = l.wi;
         s.pdf = pdf;
         s.t_light = sphere_distance(c.x, c.y, c.z, r, o, l.wi, ray_eps(o), e == id);
-        if (TZ_HAS_TEXTURES)
-            s.radiance = emitter_radiance_along(TZ_SCENE_ARG slot, e, o, l.wi, s.t_light);
     }
+    /* a sphere or a face (the environment and the sun are no primitives): its maps, once */
+    if (TZ_HAS_TEXTURES && uint_bits(primitive_cdf.x) < TZ_SUN_PRIMITIVE)
+        s.radiance = emitter_radiance_along(TZ_SCENE_ARG slot, e, o, s.wi, s.t_light);
     s.ok = TZ_TRUE;
     return s;
 }
