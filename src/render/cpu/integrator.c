@@ -64,13 +64,15 @@ static inline void triangles_hit(const triangle_soa *tr, int begin, int end, int
     }
 }
 
-/* Sets t[lane] to INFINITY where primitive first + lane is hit but cut away there (face_cut):
- * out of line, so that scenes without cut-outs keep the walk they had. */
+/* Sets t[lane] to INFINITY where primitive first + lane is hit but cut away there (face_cut);
+ * hits past best, which cannot be kept, are not looked up. Out of line, so that scenes without
+ * cut-outs keep the walk they had. */
 static __attribute__((noinline)) void faces_cut(const packed_scene *p, int first, vec3 o, vec3 d,
-                                                float *t) {
+                                                float best, float *t) {
     ray_shear sh = shear_of(d);
     for (int lane = 0; lane < SOA_LANES; lane++)
-        if (t[lane] < INFINITY && face_cut(p, first + lane, corners_of(p, first + lane), o, sh))
+        if (t[lane] < INFINITY && t[lane] <= best &&
+            face_cut(p, first + lane, corners_of(p, first + lane), o, sh))
             t[lane] = INFINITY;
 }
 
@@ -81,7 +83,7 @@ static inline void triangle_leaf_hit(const packed_scene *p, uint32_t begin, uint
     float t[SOA_LANES];
     int first_id = (int)p->frame.sphere_count;
     triangles_hit(&p->triangle_soa, (int)begin, (int)end, first_id, o, d, tmin, self, t);
-    if (TZ_HAS_CUTOUTS_OF(p)) faces_cut(p, first_id + (int)begin, o, d, t);
+    if (TZ_HAS_CUTOUTS_OF(p)) faces_cut(p, first_id + (int)begin, o, d, *best, t);
     keep_nearest(t, first_id + (int)begin, best, id);
 }
 

@@ -147,16 +147,18 @@ LANE_FN void shear_lanes_of(const lanes3 *o, const lanes3 *d, const int *active,
 }
 
 /* Sets ts[lane] to INFINITY where the lane's ray hits triangle primitive s but the face is cut
- * away there (face_cut, with the lane's shear_of): out of line, as scenes without cut-outs
- * never call it. */
+ * away there (face_cut, with the lane's shear_of); hits past the lane's best, which cannot be
+ * kept, are not looked up. Out of line, as scenes without cut-outs never call it. */
 static __attribute__((noinline)) void packet_faces_cut(const packed_scene *p, uint32_t s,
                                                        const shear_lanes *sh, const lanes3 *o,
-                                                       float *ts) {
+                                                       const float *best, float *ts) {
     triangle_corners k = corners_of(p, (int)s);
     for (int lane = 0; lane < LANES; lane++) {
         ray_shear r = {sh->lane_kz[lane], sh->lane_swap[lane], sh->sx[lane], sh->sy[lane],
                        sh->sz[lane]};
-        if (ts[lane] < INFINITY && face_cut(p, (int)s, k, get3(o, lane), r)) ts[lane] = INFINITY;
+        if (ts[lane] < INFINITY && ts[lane] <= best[lane] &&
+            face_cut(p, (int)s, k, get3(o, lane), r))
+            ts[lane] = INFINITY;
     }
 }
 
@@ -188,7 +190,7 @@ LANE_FN void packet_triangle(const packed_scene *p, uint32_t s, const shear_lane
                                                  (int)s == self[lane]);
         }
     }
-    if (TZ_HAS_CUTOUTS_OF(p)) packet_faces_cut(p, s, sh, o, ts);
+    if (TZ_HAS_CUTOUTS_OF(p)) packet_faces_cut(p, s, sh, o, best, ts);
     if (tie)
         keep_nearer(best, id, ts, (int)s);
     else
