@@ -5,6 +5,7 @@
 #include "render/cpu/integrator.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "render/cpu/scene_accessors.h"
 
@@ -64,16 +65,18 @@ static inline void triangles_hit(const triangle_soa *tr, int begin, int end, int
     }
 }
 
-/* Sets t[lane] to INFINITY where primitive first + lane is hit but cut away there (face_cut);
- * hits past best, which cannot be kept, are not looked up. Out of line, so that scenes without
- * cut-outs keep the walk they had. */
-static __attribute__((noinline)) void faces_cut(const packed_scene *p, int first, vec3 o, vec3 d,
-                                                float best, float *t) {
+/* Bit lane set where primitive first + lane is hit (at t[lane]) but cut away there (face_cut);
+ * hits past best, which cannot be kept, are not looked up. Out of line, and on a copy of the
+ * distances, so that the walk of scenes without cut-outs keeps them in registers. */
+static __attribute__((noinline)) uint32_t faces_cut(const packed_scene *p, int first, vec3 o,
+                                                    vec3 d, float best, const float *t) {
     ray_shear sh = shear_of(d);
+    uint32_t cut = 0;
     for (int lane = 0; lane < SOA_LANES; lane++)
         if (t[lane] < INFINITY && t[lane] <= best &&
             face_cut(p, first + lane, corners_of(p, first + lane), o, sh))
-            t[lane] = INFINITY;
+            cut |= 1u << lane;
+    return cut;
 }
 
 /* Tests triangles [begin, end) (at most SOA_LANES, by triangle index) and keeps the nearest hit
@@ -83,7 +86,13 @@ static inline void triangle_leaf_hit(const packed_scene *p, uint32_t begin, uint
     float t[SOA_LANES];
     int first_id = (int)p->frame.sphere_count;
     triangles_hit(&p->triangle_soa, (int)begin, (int)end, first_id, o, d, tmin, self, t);
-    if (TZ_HAS_CUTOUTS_OF(p)) faces_cut(p, first_id + (int)begin, o, d, *best, t);
+    if (TZ_HAS_CUTOUTS_OF(p)) {
+        float copy[SOA_LANES];
+        memcpy(copy, t, sizeof copy);
+        uint32_t cut = faces_cut(p, first_id + (int)begin, o, d, *best, copy);
+        for (int lane = 0; lane < SOA_LANES; lane++)
+            t[lane] = cut >> lane & 1u ? INFINITY : t[lane];
+    }
     keep_nearest(t, first_id + (int)begin, best, id);
 }
 

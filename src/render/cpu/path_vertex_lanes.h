@@ -154,6 +154,22 @@ static __attribute__((noinline)) light_direction lanes_solid_angle(triangle_corn
     return solid_angle_light_direction(k, o, ua, ub, by_area);
 }
 
+/* The radiance of the sphere and face emitters e (slots slot) the wanted lanes' shadow rays s
+ * aim at, their maps looked up where the rays end (emitter_radiance_along, as
+ * emitter_sample_from): out of line, so that the lanes' loops above stay vector code. */
+static __attribute__((noinline)) void lanes_emitter_maps(const packed_scene *scene,
+                                                         const vertex_lanes *v, const int *slot,
+                                                         const int *e, const shadow_lanes *s,
+                                                         lanes3 *emission) {
+    for (int k = 0; k < LANES; k++) {
+        int primitive = e[k] != (int)TZ_ENV_PRIMITIVE && e[k] != (int)TZ_SUN_PRIMITIVE;
+        if (v->diffuse[k] && s->want[k] && primitive)
+            set3(emission, k,
+                 emitter_radiance_along(scene, slot[k], e[k], get3(&s->origin, k), get3(&s->dir, k),
+                                        s->t_light[k]));
+    }
+}
+
 /* emitter_light of path.h for the diffuse lanes (a sphere's strategies, sphere_cone_light and
  * sphere_area_light, both computed and one selected, a triangle's and the environment's
  * direction lane by lane), the
@@ -216,8 +232,6 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         vec3 o = offset_origin(pos, ng);
         float tl = sphere_distance(ck.x, ck.y, ck.z, rk, o, w, ray_eps(o), e[k] == v->id[k]);
         shadow_lane_set(&s, k, o, w, p, ci, tl, ok);
-        if (TZ_HAS_TEXTURES_OF(scene) && v->diffuse[k] && !(triangle[k] | env[k] | sun[k]))
-            set3(&emission, k, emitter_radiance_along(scene, slot[k], e[k], o, w, tl));
     }
     for (int k = 0; any_lane(triangle) && k < LANES; k++) {
         if (!(v->diffuse[k] & triangle[k])) continue;
@@ -230,8 +244,6 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         vec3 w = l.wi;
         float p = pick[k] * l.pdf;
         float tl = triangle_light_distance(tk.a, tk.b, tk.c, o, w);
-        if (TZ_HAS_TEXTURES_OF(scene))
-            set3(&emission, k, emitter_radiance_along(scene, slot[k], e[k], o, w, tl));
         float ci = v3_dot(n, w);
         int ok = (e[k] != v->id[k]) & (folds[k] | (ci > 0.0f)) & (v3_dot(ng, w) > 0.0f) &
                  (p > 0.0f) & (p < INFINITY);
@@ -259,6 +271,7 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
             (folds[k] | (ci > 0.0f)) & (v3_dot(ng, ds.wi) > 0.0f) & (p > 0.0f) & (p < INFINITY);
         shadow_lane_set(&s, k, o, ds.wi, p, ci, TZ_ENV_DISTANCE, ok);
     }
+    if (TZ_HAS_TEXTURES_OF(scene)) lanes_emitter_maps(scene, v, slot, e, &s, &emission);
     trace_lanes(scene, &s.origin, &s.dir, v->id, s.t_light, s.want, 1, hint, blocked, t);
     int any_fold = 0;
     for (int k = 0; k < LANES; k++) {
