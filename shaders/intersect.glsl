@@ -130,8 +130,8 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
             }
         }
         if (sphere < leaf_end) {
-            keep_nearer(int(sphere), primitive_distance(int(sphere), o, d, sh, tmin, self), best,
-                        id);
+            float t = primitive_distance(int(sphere), o, d, sh, tmin, self, best);
+            keep_nearer(int(sphere), t, best, id);
             sphere++;
             if (any_hit && id >= 0) break;
         }
@@ -187,7 +187,7 @@ int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, ou
         float tl = box_entry(uintBitsToFloat(left_lo), uintBitsToFloat(left_hi), o, inv, reach);
         float tr = box_entry(uintBitsToFloat(right_lo), uintBitsToFloat(right_hi), o, inv, reach);
         if (test) {
-            float t = primitive_distance(int(sphere), o, d, sh, tmin, self);
+            float t = primitive_distance(int(sphere), o, d, sh, tmin, self, best);
             keep_nearer(int(sphere), t, best, id);
             sphere++;
         }
@@ -255,7 +255,7 @@ int trace_ray_query(vec3 o, vec3 d, int self, float tmax, bool any_hit, out floa
     rayQueryInitializeEXT(query, scene_accel, flags, 0xffu, o, tmin, d, min(tmax, RAY_QUERY_FAR));
     while (rayQueryProceedEXT(query)) {
         int k = rayQueryGetIntersectionPrimitiveIndexEXT(query, false);
-        float t = primitive_distance(k, o, d, sh, tmin, self);
+        float t = primitive_distance(k, o, d, sh, tmin, self, best);
         bool nearer = t < best;
         keep_nearer(k, t, best, id);
         if (nearer) rayQueryGenerateIntersectionEXT(query, t);
@@ -295,7 +295,7 @@ int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
         ray_shear sh = shear_of(d);
         for (uint k = 0u; k < frame.triangle_count; k++) {
             int t = int(frame.sphere_count + k);
-            keep_nearer(t, triangle_distance_at(t, o, sh, tmin, self), best, id);
+            keep_nearer(t, triangle_distance_at(t, o, sh, tmin, self, best), best, id);
         }
     }
     t_out = best;
@@ -319,7 +319,7 @@ bool integrator_occluded(vec3 o, vec3 d, float dist, int self) {
         ray_shear sh = shear_of(d);
         for (uint k = 0u; k < frame.triangle_count; k++) {
             int t = int(frame.sphere_count + k);
-            if (triangle_distance_at(t, o, sh, tmin, self) < dist) return true;
+            if (triangle_distance_at(t, o, sh, tmin, self, dist) < dist) return true;
         }
     }
     return false;

@@ -83,21 +83,24 @@ TZ_FN TZ_BOOL face_cut(TZ_SCENE_PARAM int id, triangle_corners k, vec3 o, ray_sh
 }
 
 /* Distance to triangle primitive id along o + t d, sh the ray's shear_of(d) (triangle_distance);
- * infinity where the face is cut away there (face_cut). */
-TZ_FN float triangle_distance_at(TZ_SCENE_PARAM int id, vec3 o, ray_shear sh, float tmin,
-                                 int self) {
+ * infinity where the face is cut away there (face_cut), looked up only for hits at most best
+ * (the walk's hit so far: a farther one loses to it, cut or not). */
+TZ_FN float triangle_distance_at(TZ_SCENE_PARAM int id, vec3 o, ray_shear sh, float tmin, int self,
+                                 float best) {
     triangle_corners k = corners_of(TZ_SCENE_ARG id);
     float t = sheared_triangle_distance(k.a, k.b, k.c, o, sh, tmin, id == self);
-    if (TZ_HAS_CUTOUTS && t < TZ_INFINITY && face_cut(TZ_SCENE_ARG id, k, o, sh)) t = TZ_INFINITY;
+    if (TZ_HAS_CUTOUTS && t < TZ_INFINITY && t <= best && face_cut(TZ_SCENE_ARG id, k, o, sh))
+        t = TZ_INFINITY;
     return t;
 }
 
 /* Distance to primitive id along o + t d: the nearest t > tmin, infinity for a miss; self is
- * the primitive the ray leaves, sh the ray's shear_of(d), made once a walk. */
+ * the primitive the ray leaves, sh the ray's shear_of(d), made once a walk, best the walk's hit
+ * so far (triangle_distance_at). */
 TZ_FN float primitive_distance(TZ_SCENE_PARAM int id, vec3 o, vec3 d, ray_shear sh, float tmin,
-                               int self) {
+                               int self, float best) {
     if (is_triangle(TZ_SCENE_ARG id))
-        return triangle_distance_at(TZ_SCENE_ARG id, o, sh, tmin, self);
+        return triangle_distance_at(TZ_SCENE_ARG id, o, sh, tmin, self, best);
     TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG id);
     return sphere_distance(cr.x, cr.y, cr.z, cr.w, o, d, tmin, id == self);
 }
