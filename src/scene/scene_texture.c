@@ -144,6 +144,10 @@ bool material_maps_read(parser *p, int first, const key_values *kv, material *m)
         int key = first + maps[k].key;
         if (!(kv->given & BIT(key))) continue;
         const token *t = &p->tokens[kv->value_token[key][0]];
+        if (maps[k].map == MAP_EMISSION && !material_emits(m))
+            parser_warn(p, p->line, t->col,
+                        "emission_map without emission: it scales `emission`, "
+                        "so nothing is emitted");
         char path[PATH_MAX];
         if (!directive_file_path(p, t, "texture", path, sizeof path)) return false;
         float param =
