@@ -208,9 +208,8 @@ int trace_bvh(vec3 o, vec3 d, int self, float tmax, bool any_hit, out float t_ou
         if (TZ_HAS_INSTANCES && sphere < leaf_end && is_instance_leaf(iw, sphere)) {
             instance_enter(iw, top, o, d, inv, sh, sphere, leaf_end, node);
         } else if (sphere < leaf_end) {
-            keep_nearer(int(sphere) + iw.offset,
-                        primitive_distance(int(sphere), o, d, sh, tmin, self - iw.offset), best,
-                        id);
+            float t = primitive_distance(int(sphere), o, d, sh, tmin, self - iw.offset, best);
+            keep_nearer(int(sphere) + iw.offset, t, best, id);
             sphere++;
             if (any_hit && id >= 0) break;
         }
@@ -272,7 +271,7 @@ int trace_bvh_cooperative(vec3 o, vec3 d, int self, float tmax, bool any_hit, ou
         if (enter) {
             instance_enter(iw, top, o, d, inv, sh, sphere, leaf_end, entered_node);
         } else if (test) {
-            float t = primitive_distance(int(sphere), o, d, sh, tmin, self - iw.offset);
+            float t = primitive_distance(int(sphere), o, d, sh, tmin, self - iw.offset, best);
             keep_nearer(int(sphere) + iw.offset, t, best, id);
             sphere++;
         }
@@ -361,7 +360,7 @@ int trace_ray_query(vec3 o, vec3 d, int self, float tmax, bool any_hit, out floa
             if (instance >= 0) offset = instance_ray(instance, model, o, d, mo, md, minv, msh);
         }
         if (instance >= 0) k += int(frame.sphere_count + model.y);
-        float t = primitive_distance(k, mo, md, msh, tmin, self - offset);
+        float t = primitive_distance(k, mo, md, msh, tmin, self - offset, best);
         bool nearer = t < best;
         keep_nearer(k + offset, t, best, id);
         if (nearer) rayQueryGenerateIntersectionEXT(query, t);
@@ -401,7 +400,7 @@ int integrator_nearest(vec3 o, vec3 d, int self, out float t_out) {
         ray_shear sh = shear_of(d);
         for (uint k = 0u; k < frame.triangle_count; k++) {
             int t = int(frame.sphere_count + k);
-            keep_nearer(t, triangle_distance_at(t, o, sh, tmin, self), best, id);
+            keep_nearer(t, triangle_distance_at(t, o, sh, tmin, self, best), best, id);
         }
     }
     t_out = best;
@@ -425,7 +424,7 @@ bool integrator_occluded(vec3 o, vec3 d, float dist, int self) {
         ray_shear sh = shear_of(d);
         for (uint k = 0u; k < frame.triangle_count; k++) {
             int t = int(frame.sphere_count + k);
-            if (triangle_distance_at(t, o, sh, tmin, self) < dist) return true;
+            if (triangle_distance_at(t, o, sh, tmin, self, dist) < dist) return true;
         }
     }
     return false;

@@ -76,6 +76,9 @@ typedef struct tz_uvec4 {
 /* Path mode: the sun has a disc (angle > 0), an emitter of the emitter table (TZ_SUN_PRIMITIVE)
  * sampled in its cone and found by rays that leave the scene (common/emitter.h). */
 #define TZ_FLAG_SUN_DISC 16384u
+/* Some face's material has an alpha map (a cut-out, common/primitive.h's face_cut): without it no
+ * walk looks one up. */
+#define TZ_FLAG_CUTOUTS 65536u
 /* The scene places models as instances (struct gpu_instance): its walks take the two levels. */
 #define TZ_FLAG_INSTANCES 131072u
 
@@ -242,7 +245,10 @@ struct gpu_normals {
 #define TZ_WRAP_REPEAT 0u
 #define TZ_WRAP_CLAMP 1u
 #define TZ_WRAP_MIRROR 2u
-#define TZ_SLOT_SRGB 256u /* an 8-bit image's RGB is sRGB (colour and emission maps) */
+#define TZ_SLOT_SRGB 256u      /* an 8-bit image's RGB is sRGB (colour and emission maps) */
+#define TZ_SLOT_ALPHA_RED 512u /* an alpha map whose image has no alpha: its red is the alpha */
+/* glTF's BLEND: the alpha is the share of rays that meet the face (texture.h's alpha_cut). */
+#define TZ_SLOT_STOCHASTIC 1024u
 /* Texel formats: a word a texel (R in bits 0-7, G, B, A), or four floats a texel. */
 #define TZ_TEXEL_RGBA8 0u
 #define TZ_TEXEL_RGBA32F 1u

@@ -39,7 +39,8 @@ TZ_FN aov_features aov_sample(TZ_SCENE_PARAM TZ_UINT i, TZ_UINT j, TZ_UINT sampl
     a.hit = TZ_TRUE;
     a.position = s.pos;
     a.depth = v3_length(v3_sub(s.pos, xyz(TZ_FRAME.origin)));
-    if (s.emitter >= 0) a.emission = emitter_radiance(TZ_SCENE_ARG s.emitter);
+    if (s.emitter >= 0)
+        a.emission = emitted_radiance(TZ_SCENE_ARG s.emitter, id, camera.o, camera.d, s.pos);
     if (!bsdf_is_delta(s.m.kind)) {
         a.albedo = bsdf_albedo(s.m);
         a.normal = facing_shading(s, camera.d);

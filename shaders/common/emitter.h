@@ -185,6 +185,46 @@ TZ_LANE_FN vec3 emitter_radiance(TZ_SCENE_PARAM int slot) {
     return xyz(emitter_emission_pick(TZ_SCENE_ARG slot));
 }
 
+/* The radiance emitter slot of primitive id sends along the ray o + t d that meets it at pos:
+ * emitter_radiance times its material's emission map (each channel at least 0) at the point's
+ * UV, a face's from the ray's edge functions (face_uv_along), a sphere's sphere_uv; so light
+ * sampling and a BSDF ray that meet one point see one radiance. */
+TZ_FN vec3 emitted_radiance(TZ_SCENE_PARAM int slot, int id, vec3 o, vec3 d, vec3 pos) {
+    vec3 radiance = emitter_radiance(TZ_SCENE_ARG slot);
+    if (TZ_HAS_TEXTURES) {
+        TZ_BOOL face = is_triangle(TZ_SCENE_ARG id);
+        int t = id - TZ_INT(TZ_FRAME.sphere_count);
+        int material = face ? TZ_INT(uint_bits(triangle_v0(TZ_SCENE_ARG t).w))
+                            : sphere_material_index(TZ_SCENE_ARG id);
+        TZ_UINT map = map_slot(material_maps(TZ_SCENE_ARG material), TZ_MAP_EMISSION);
+        if (map != 0u) {
+            tex_uv uv;
+            if (face) {
+                uv = face_uv_along(TZ_SCENE_ARG corners_of(TZ_SCENE_ARG id),
+                                   uint_bits(triangle_v1(TZ_SCENE_ARG t).w), o, shear_of(d));
+            } else {
+                TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG id);
+                uv = sphere_uv(sphere_normal(xyz(cr), cr.w, pos));
+            }
+            vec3 c = texture_sample(TZ_SCENE_ARG map - 1u, uv).rgb;
+            radiance =
+                v3_mul(radiance, v3(TZ_MAX(c.x, 0.0f), TZ_MAX(c.y, 0.0f), TZ_MAX(c.z, 0.0f)));
+        }
+    }
+    return radiance;
+}
+
+/* The radiance a light sample of emitter slot (primitive id) brings along the shadow ray o + t d
+ * that ends on it at t_light: emitted_radiance's there, none where the face is cut away
+ * (face_cut), as a BSDF ray along it would pass through. */
+TZ_FN vec3 emitter_radiance_along(TZ_SCENE_PARAM int slot, int id, vec3 o, vec3 d, float t_light) {
+    vec3 radiance = emitted_radiance(TZ_SCENE_ARG slot, id, o, d, ray_point(o, d, t_light));
+    if (TZ_HAS_CUTOUTS && is_triangle(TZ_SCENE_ARG id) &&
+        face_cut(TZ_SCENE_ARG id, corners_of(TZ_SCENE_ARG id), o, shear_of(d)))
+        radiance = v3(0.0f, 0.0f, 0.0f);
+    return radiance;
+}
+
 /* How light sampling serves a vertex at pos (facing normal n, on sphere id) for the emitter on
  * sphere e of centre c and radius r: by its cone from outside, by its area from inside (or on it
  * with n pointing in), not at all on it with n pointing out (it cannot light its own outside). */
@@ -403,6 +443,9 @@ TZ_FN emitter_sample emitter_sample_from(TZ_SCENE_PARAM int slot, int id, vec3 p
         s.pdf = pdf;
         s.t_light = sphere_distance(c.x, c.y, c.z, r, o, l.wi, ray_eps(o), e == id);
     }
+    /* a sphere or a face (the environment and the sun are no primitives): its maps, once */
+    if (TZ_HAS_TEXTURES && uint_bits(primitive_cdf.x) < TZ_SUN_PRIMITIVE)
+        s.radiance = emitter_radiance_along(TZ_SCENE_ARG slot, e, o, s.wi, s.t_light);
     s.ok = TZ_TRUE;
     return s;
 }

@@ -126,7 +126,8 @@ TZ_FN path_state path_step(TZ_SCENE_PARAM path_state p) {
                       : power_heuristic(p.last.bsdf_pdf,
                                         TZ_FLOAT(TZ_FRAME.light_samples) *
                                             light_pdf_at(TZ_SCENE_ARG p.last, id, pos, d));
-        TZ_PRECISE vec3 emitted = v3_scale(v3_mul(p.beta, emitter_radiance(TZ_SCENE_ARG slot)), w);
+        TZ_PRECISE vec3 emitted =
+            v3_scale(v3_mul(p.beta, emitted_radiance(TZ_SCENE_ARG slot, id, p.o, p.d, pos)), w);
         p.radiance = v3_add(p.radiance, emitted);
     }
     if (p.k > TZ_FRAME.bounces) {

@@ -67,19 +67,70 @@ TZ_FN triangle_corners corners_of(TZ_SCENE_PARAM int id) {
     return corners_in_world(TZ_SCENE_ARG id, k);
 }
 
-/* Distance to triangle primitive id along o + t d, sh the ray's shear_of(d) (triangle_distance). */
-TZ_FN float triangle_distance_at(TZ_SCENE_PARAM int id, vec3 o, ray_shear sh, float tmin,
-                                 int self) {
+/* Whether the scene has cut-outs (faces with alpha maps), from the flags. */
+#define TZ_HAS_CUTOUTS ((TZ_FLAGS & TZ_FLAG_CUTOUTS) != 0u)
+/* The same of packed scene p, for the C walks' own loops. */
+#define TZ_HAS_CUTOUTS_OF(p) (((p)->frame.flags & TZ_FLAG_CUTOUTS) != 0u)
+
+/* The UV where the ray from o of shear sh (shear_of(d)) meets face k of corner data `corners`
+ * (gpu_normals index, TZ_FLAT for none: then (0, 0)): its corners' UVs blended by the barycentric
+ * weights of the walk's own edge functions, as triangle_surface blends them. */
+TZ_FN tex_uv face_uv_along(TZ_SCENE_PARAM triangle_corners k, TZ_UINT corners, vec3 o,
+                           ray_shear sh) {
+    tex_uv uv = tex_uv_of(0.0f, 0.0f);
+    if (corners != TZ_FLAT) {
+        triangle_edges e = triangle_edge_functions(k.a, k.b, k.c, o, sh);
+        TZ_PRECISE float inv = 1.0f / e.det;
+        TZ_PRECISE float b0 = e.u * inv, b1 = e.v * inv, b2 = e.w * inv;
+        uv = corner_uv(TZ_SCENE_ARG corners, b0, b1, b2);
+    }
+    return uv;
+}
+
+/* A uniform number of the ray from o of shear sh meeting primitive id: a hash of their bits, the
+ * same on every back end, for glTF's BLEND (alpha_cut). */
+TZ_FN float face_ray_uniform(int id, vec3 o, ray_shear sh) {
+    TZ_UINT h = rng_hash(TZ_UINT_OF(id) ^ rng_hash(uint_bits(sh.sx) ^ rng_hash(uint_bits(sh.sy))));
+    h = rng_hash(h ^ uint_bits(sh.sz) ^ rng_hash(uint_bits(o.x) ^ rng_hash(uint_bits(o.y))));
+    h = rng_hash(h ^ uint_bits(o.z));
+    return TZ_FLOAT(h >> 8) * (1.0f / 16777216.0f);
+}
+
+/* Whether face primitive id (corners k) is cut away where the ray from o of shear sh meets it:
+ * its material's alpha map at the hit's UV (alpha_cut); false without one. Every walk asks it of
+ * each face it hits, under TZ_FLAG_CUTOUTS alone, so a cut face is no hit for any ray. */
+TZ_FN TZ_BOOL face_cut(TZ_SCENE_PARAM int id, triangle_corners k, vec3 o, ray_shear sh) {
+    int t = id - TZ_INT(TZ_FRAME.sphere_count);
+    TZ_UINT material = uint_bits(triangle_v0(TZ_SCENE_ARG t).w);
+    TZ_UINT slot = map_slot(material_maps(TZ_SCENE_ARG TZ_INT(material)), TZ_MAP_ALPHA);
+    TZ_BOOL cut = TZ_FALSE;
+    if (slot != 0u) {
+        TZ_UINT corners = uint_bits(triangle_v1(TZ_SCENE_ARG t).w);
+        tex_uv uv = face_uv_along(TZ_SCENE_ARG k, corners, o, sh);
+        cut = alpha_cut(TZ_SCENE_ARG slot, uv, face_ray_uniform(id, o, sh));
+    }
+    return cut;
+}
+
+/* Distance to triangle primitive id along o + t d, sh the ray's shear_of(d) (triangle_distance);
+ * infinity where the face is cut away there (face_cut), looked up only for hits at most best
+ * (the walk's hit so far: a farther one loses to it, cut or not). */
+TZ_FN float triangle_distance_at(TZ_SCENE_PARAM int id, vec3 o, ray_shear sh, float tmin, int self,
+                                 float best) {
     triangle_corners k = corners_of(TZ_SCENE_ARG id);
-    return sheared_triangle_distance(k.a, k.b, k.c, o, sh, tmin, id == self);
+    float t = sheared_triangle_distance(k.a, k.b, k.c, o, sh, tmin, id == self);
+    if (TZ_HAS_CUTOUTS && t < TZ_INFINITY && t <= best && face_cut(TZ_SCENE_ARG id, k, o, sh))
+        t = TZ_INFINITY;
+    return t;
 }
 
 /* Distance to primitive id along o + t d: the nearest t > tmin, infinity for a miss; self is
- * the primitive the ray leaves, sh the ray's shear_of(d), made once a walk. */
+ * the primitive the ray leaves, sh the ray's shear_of(d), made once a walk, best the walk's hit
+ * so far (triangle_distance_at). */
 TZ_FN float primitive_distance(TZ_SCENE_PARAM int id, vec3 o, vec3 d, ray_shear sh, float tmin,
-                               int self) {
+                               int self, float best) {
     if (is_triangle(TZ_SCENE_ARG id))
-        return triangle_distance_at(TZ_SCENE_ARG id, o, sh, tmin, self);
+        return triangle_distance_at(TZ_SCENE_ARG id, o, sh, tmin, self, best);
     TZ_VEC4 cr = sphere_center_radius(TZ_SCENE_ARG id);
     return sphere_distance(cr.x, cr.y, cr.z, cr.w, o, d, tmin, id == self);
 }

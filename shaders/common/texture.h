@@ -8,6 +8,7 @@
 
 #include "bsdf.h"
 #include "dialect.h"
+#include "rng.h"
 #include "transcendental.h"
 
 /* A texture coordinate pair. */
@@ -214,6 +215,21 @@ TZ_FN bsdf_material textured_material(TZ_SCENE_PARAM bsdf_material m, TZ_UVEC4 m
         m.alpha = TZ_MAX(width, TZ_GGX_MIN_ALPHA);
     }
     return m;
+}
+
+/* Whether the alpha map of slot + 1 `slot` cuts its face away at uv: the map's alpha (its red
+ * where the image has none, TZ_SLOT_ALPHA_RED) below the slot's parameter (the cutoff over
+ * glTF's alpha factor), or for a stochastic slot (glTF's BLEND, the parameter the factor's
+ * inverse) below the parameter times u, a uniform number of the ray (face_ray_uniform), so that
+ * the share of rays kept is the alpha. */
+TZ_FN TZ_BOOL alpha_cut(TZ_SCENE_PARAM TZ_UINT slot, tex_uv uv, float u) {
+    TZ_UINT s = TZ_TEXTURE_FIRST_SLOT + (slot - 1u) * TZ_SLOT_WORDS;
+    TZ_UINT flags = texture_word(TZ_SCENE_ARG s + 1u);
+    float param = texture_float(TZ_SCENE_ARG s + 2u);
+    texel t = texture_sample(TZ_SCENE_ARG slot - 1u, uv);
+    float alpha = (flags & TZ_SLOT_ALPHA_RED) != 0u ? t.rgb.x : t.a;
+    float threshold = (flags & TZ_SLOT_STOCHASTIC) != 0u ? param * u : param;
+    return alpha < threshold;
 }
 
 /* The surface's derivatives of position along u and along v, from which a normal map's tangent

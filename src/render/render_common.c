@@ -191,6 +191,13 @@ static uint64_t digest_textures(uint64_t h, const scene *s) {
     return h;
 }
 
+/* Whether a material of s has an emission or an alpha map. */
+static bool has_emission_or_alpha_maps(const scene *s) {
+    for (int k = 0; k < s->material_count; k++)
+        if (s->materials[k].maps[MAP_EMISSION] || s->materials[k].maps[MAP_ALPHA]) return true;
+    return false;
+}
+
 /* The scene's digest: every field of the scene and every setting that changes a sample, in a
  * fixed order, field by field (no padding bytes). */
 static uint64_t render_digest(const scene *s, const render_opts *o) {
@@ -274,6 +281,9 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
     if (s->triangle_count > 0) h = digest_int(h, 3);
     /* Only textured scenes hash their textures: the others keep their digest. */
     if (s->slot_count > 0) h = digest_textures(h, s);
+    /* Emission and alpha maps were once read but not shaded: parts rendered then estimate
+     * another image, so scenes with them hash one more word. */
+    if (has_emission_or_alpha_maps(s)) h = digest_int(h, 5);
     return h;
 }
 

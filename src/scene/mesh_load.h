@@ -18,6 +18,7 @@
 typedef struct mesh_map {
     char path[MESH_MAP_PATH];
     uint32_t flags;
+    float param;        /* the slot's parameter: an alpha map's cutoff (over glTF's factor) */
     float transform[6]; /* the UVs' affine map, texture_slot.transform's rows (glTF's
                          * KHR_texture_transform), the identity when the file gives none */
 } mesh_map;

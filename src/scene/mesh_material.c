@@ -117,20 +117,49 @@ static bool map_of(const assimp_lib *ai, const struct aiMaterial *m, enum aiText
                       ? TZ_WRAP_CLAMP
                       : TZ_WRAP_REPEAT;
     map->flags = wrap[0] | wrap[1] << 4 | (srgb ? TZ_SLOT_SRGB : 0u);
+    map->param = 1.0f;
     uv_transform_of(ai, m, type, map->transform);
     return true;
 }
 
+/* glTF's alpha mode of material m as its base colour map's alpha (MAP_ALPHA): MASK cuts where the
+ * texture's alpha times the factor's is below alphaCutoff (0.5 by default), BLEND keeps that
+ * product's share of rays (TZ_SLOT_STOCHASTIC); the factor folded into the slot's parameter
+ * (cutoff / factor, 1 / factor). Nothing for OPAQUE, other formats or without a texture. */
+static void gltf_alpha_map(const assimp_lib *ai, const struct aiMaterial *m, mesh_material *out) {
+    struct aiString mode = {0};
+    if (ai->get_material_string(m, AI_MATKEY_GLTF_ALPHAMODE, &mode) != aiReturn_SUCCESS ||
+        !out->maps[MAP_COLOR].path[0])
+        return;
+    bool mask = !strcmp(mode.data, "MASK"), blend = !strcmp(mode.data, "BLEND");
+    if (!mask && !blend) return;
+    struct aiColor4D base = {1.0f, 1.0f, 1.0f, 1.0f};
+    ai->get_material_color(m, AI_MATKEY_BASE_COLOR, &base);
+    float cutoff = 0.5f;
+    ai->get_material_float_array(m, AI_MATKEY_GLTF_ALPHACUTOFF, &cutoff, NULL);
+    float factor = base.a > 0.0f && base.a <= 1.0f ? base.a : base.a > 1.0f ? 1.0f : 0.0f;
+    float param = factor > 0.0f ? (mask ? cutoff : 1.0f) / factor : 2.0f; /* 0: every ray cut */
+    mesh_map *alpha = &out->maps[MAP_ALPHA];
+    *alpha = out->maps[MAP_COLOR];
+    alpha->flags = (alpha->flags & ~TZ_SLOT_SRGB) | (blend ? TZ_SLOT_STOCHASTIC : 0u);
+    alpha->param = isfinite(param) ? param : 2.0f;
+}
+
 /* The textures of material m trazador keeps (MAP_*): the colour (glTF's base colour, else the
- * diffuse map: MTL's map_Kd), emission (map_Ke), normal (glTF's normal texture, MTL's norm;
- * map_Bump is a height map, not one), alpha (map_d), glTF's metallic-roughness, else MTL's
- * map_Pr and map_Pm. */
+ * diffuse map: MTL's map_Kd), emission (glTF's emissive texture, MTL's map_Ke), normal (glTF's
+ * normal texture, MTL's norm; map_Bump is a height map, not one), alpha (MTL's map_d, its first
+ * channel where it has no alpha; glTF's base colour alpha by its alpha mode), glTF's
+ * metallic-roughness, else MTL's map_Pr and map_Pm. */
 static void read_maps(const assimp_lib *ai, const struct aiMaterial *m, mesh_material *out) {
     if (!map_of(ai, m, aiTextureType_BASE_COLOR, true, &out->maps[MAP_COLOR]))
         map_of(ai, m, aiTextureType_DIFFUSE, true, &out->maps[MAP_COLOR]);
     map_of(ai, m, aiTextureType_EMISSIVE, true, &out->maps[MAP_EMISSION]);
     map_of(ai, m, aiTextureType_NORMALS, false, &out->maps[MAP_NORMAL]);
-    map_of(ai, m, aiTextureType_OPACITY, false, &out->maps[MAP_ALPHA]);
+    if (map_of(ai, m, aiTextureType_OPACITY, false, &out->maps[MAP_ALPHA])) {
+        out->maps[MAP_ALPHA].flags |= TZ_SLOT_ALPHA_RED;
+        out->maps[MAP_ALPHA].param = 0.5f;
+    }
+    gltf_alpha_map(ai, m, out);
     /* assimp 5.2's glTF importer gives the metallic-roughness texture as UNKNOWN's first, and the
      * same image as the metallic and roughness textures, whose red channel is not theirs. */
     if (!map_of(ai, m, aiTextureType_UNKNOWN, false, &out->maps[MAP_METALLIC_ROUGHNESS])) {
@@ -167,7 +196,8 @@ static void note_textures(const assimp_lib *ai, const struct aiMaterial *m, char
         enum aiTextureType type = kinds[k].type;
         if (type == aiTextureType_DIFFUSE || type == aiTextureType_BASE_COLOR ||
             type == aiTextureType_NORMALS || type == aiTextureType_UNKNOWN ||
-            type == aiTextureType_METALNESS || type == aiTextureType_DIFFUSE_ROUGHNESS)
+            type == aiTextureType_METALNESS || type == aiTextureType_DIFFUSE_ROUGHNESS ||
+            type == aiTextureType_EMISSIVE || type == aiTextureType_OPACITY)
             continue; /* the maps shaded (read_maps') */
         if (ai->get_material_texture_count(m, kinds[k].type) > 0)
             mesh_note_unsupported(list, size, kinds[k].name);

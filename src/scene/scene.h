@@ -343,6 +343,13 @@ static inline bool scene_has_microfacet(const scene *s) {
         if (material_is_microfacet(&s->materials[k])) return true;
     return false;
 }
+/* Whether a material of scene s has an alpha map (TZ_FLAG_CUTOUTS: faces cut away where it
+ * says); never fails. */
+static inline bool scene_has_cutouts(const scene *s) {
+    for (int k = 0; k < s->material_count; k++)
+        if (s->materials[k].maps[MAP_ALPHA]) return true;
+    return false;
+}
 /* Whether some sphere or face emits light (path mode's emitters); never fails. */
 bool scene_emits(const scene *s);
 /* Whether anything can light the image: a point light of some power and colour (both modes), an

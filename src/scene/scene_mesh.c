@@ -159,13 +159,13 @@ static bool mapped_material(parser *p, const mesh *me, int index, const char *pa
             snprintf(named, sizeof named, "%s#%ld", path, n);
             ok = texture_slot_of_bytes(p, col, named, me->embedded + me->embedded_at[n],
                                        me->embedded_at[n + 1] - me->embedded_at[n], map->flags,
-                                       1.0f, map->transform, &out->maps[k]);
+                                       map->param, map->transform, &out->maps[k]);
         } else {
             const char *slash = strrchr(path, '/');
             int dir = map->path[0] == '/' || !slash ? 0 : (int)(slash - path) + 1;
             snprintf(named, sizeof named, "%.*s%s", dir, path, map->path);
-            ok = texture_slot_of_file(p, col, named, map->flags, k == MAP_ALPHA ? 0.5f : 1.0f,
-                                      map->transform, &out->maps[k]);
+            ok = texture_slot_of_file(p, col, named, map->flags, map->param, map->transform,
+                                      &out->maps[k]);
         }
         p->textures_optional = false;
         if (!ok) return false;

@@ -110,6 +110,9 @@ bool directive_sphere(parser *p) {
                              SCENE_MAX_SPHERES, sizeof(sphere), "spheres");
     p->s.spheres = array;
     if (!ok || !reserve_primitives(p, 1)) return false;
+    if (kv.given & BIT(SPHERE_MATERIAL + MAT_ALPHA_MAP))
+        return parser_fail(p, p->tokens[kv.value_token[SPHERE_MATERIAL + MAT_ALPHA_MAP][0]].col,
+                           "alpha_map: cut-outs are for faces (triangle, quad, mesh), not spheres");
     material f = shape_material_of(p, &sphere_shape, m, &kv);
     uint32_t index;
     if (!material_maps_read(p, SPHERE_MATERIAL, &kv, &f) || !material_add(p, &f, &index))

@@ -33,10 +33,25 @@ static bool image_add(parser *p, int col, texture_image *image, const char *name
     return true;
 }
 
+/* Whether every texel of t has alpha 1: an image without an alpha channel (the decoders give
+ * such images alpha 1), whose alpha map reads its first channel (TZ_SLOT_ALPHA_RED). */
+static bool image_opaque(const texture_image *t) {
+    for (size_t k = 0; k < t->word_count; k++) {
+        bool alpha = t->format == TZ_TEXEL_RGBA8 || k % 4 == 3;
+        if (!alpha) continue;
+        bool one = t->format == TZ_TEXEL_RGBA8 ? t->words[k] >> 24 == 255u
+                                               : t->words[k] == 0x3f800000u; /* 1.0f */
+        if (!one) return false;
+    }
+    return true;
+}
+
 /* The slot reading image with flags, param and transform: an existing one when the same, else a
  * new one; *slot its index + 1. False (reported at col) out of memory. */
 static bool slot_add(parser *p, int col, uint32_t image, uint32_t flags, float param,
                      const float transform[6], uint32_t *slot) {
+    if ((flags & TZ_SLOT_ALPHA_RED) && !image_opaque(&p->s.images[image].texels))
+        flags &= ~TZ_SLOT_ALPHA_RED;
     texture_slot s = {.image = image, .flags = flags, .param = param};
     memcpy(s.transform, transform, sizeof s.transform);
     for (int k = 0; k < p->s.slot_count; k++) {
@@ -129,13 +144,18 @@ bool material_maps_read(parser *p, int first, const key_values *kv, material *m)
         int key = first + maps[k].key;
         if (!(kv->given & BIT(key))) continue;
         const token *t = &p->tokens[kv->value_token[key][0]];
+        if (maps[k].map == MAP_EMISSION && !material_emits(m))
+            parser_warn(p, p->line, t->col,
+                        "emission_map without emission: it scales `emission`, "
+                        "so nothing is emitted");
         char path[PATH_MAX];
         if (!directive_file_path(p, t, "texture", path, sizeof path)) return false;
         float param =
             maps[k].map == MAP_NORMAL  ? (float)parser_value_or(kv, first + MAT_NORMAL_SCALE, 1.0)
             : maps[k].map == MAP_ALPHA ? (float)parser_value_or(kv, first + MAT_ALPHA_CUTOFF, 0.5)
                                        : 0.0f;
-        uint32_t flags = wrap | wrap << 4 | (maps[k].srgb ? TZ_SLOT_SRGB : 0u);
+        uint32_t flags = wrap | wrap << 4 | (maps[k].srgb ? TZ_SLOT_SRGB : 0u) |
+                         (maps[k].map == MAP_ALPHA ? TZ_SLOT_ALPHA_RED : 0u);
         if (!texture_slot_of_file(p, t->col, path, flags, param, identity_uv,
                                   &m->maps[maps[k].map]))
             return false;

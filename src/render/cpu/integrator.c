@@ -5,8 +5,13 @@
 #include "render/cpu/integrator.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "common/affine.h"
+#include "render/cpu/scene_accessors.h"
+
+/* The shared text calls the accessors above (face_cut). */
+#include "common/primitive.h"
 #include "common/ray.h"
 #include "common/rng.h"
 #include "common/shade.h"
@@ -61,6 +66,20 @@ static inline void triangles_hit(const triangle_soa *tr, int begin, int end, int
     }
 }
 
+/* Bit lane set where primitive first + lane is hit (at t[lane]) but cut away there (face_cut);
+ * hits past best, which cannot be kept, are not looked up. Out of line, and on a copy of the
+ * distances, so that the walk of scenes without cut-outs keeps them in registers. */
+static __attribute__((noinline)) uint32_t faces_cut(const packed_scene *p, int first, vec3 o,
+                                                    vec3 d, float best, const float *t) {
+    ray_shear sh = shear_of(d);
+    uint32_t cut = 0;
+    for (int lane = 0; lane < SOA_LANES; lane++)
+        if (t[lane] < INFINITY && t[lane] <= best &&
+            face_cut(p, first + lane, corners_of(p, first + lane), o, sh))
+            cut |= 1u << lane;
+    return cut;
+}
+
 /* Tests triangles [begin, end) (at most SOA_LANES, by triangle index) and keeps the nearest hit
  * below *best (nearer_hit, over primitive ids: triangle t is first_id + t, sphere_count + t but
  * in an instance, whose faces are keys). */
@@ -69,6 +88,14 @@ static inline void triangle_leaf_hit(const packed_scene *p, uint32_t begin, uint
                                      float *best, int *id) {
     float t[SOA_LANES];
     triangles_hit(&p->triangle_soa, (int)begin, (int)end, first_id, o, d, tmin, self, t);
+    if (TZ_HAS_CUTOUTS_OF(p)) {
+        float copy[SOA_LANES];
+        memcpy(copy, t, sizeof copy);
+        /* by the faces' own ids: an instance's keys would name its corners in world space */
+        uint32_t cut = faces_cut(p, (int)(p->frame.sphere_count + begin), o, d, *best, copy);
+        for (int lane = 0; lane < SOA_LANES; lane++)
+            t[lane] = cut >> lane & 1u ? INFINITY : t[lane];
+    }
     keep_nearest(t, first_id + (int)begin, best, id);
 }
 

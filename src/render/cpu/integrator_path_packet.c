@@ -141,6 +141,14 @@ LANE_FN void lanes_specular_bounce(uint32_t flags, const vertex_lanes *v, path_l
     }
 }
 
+/* emitted_radiance of lane k's hit, its maps looked up: out of line, so that the texture lookup
+ * does not weigh on the inlining of the lanes' code. */
+static __attribute__((noinline)) vec3 lane_emitted(const packed_scene *scene, const vertex_lanes *v,
+                                                   const path_lanes *s, int k) {
+    return emitted_radiance(scene, v->slot[k], v->id[k], get3(&s->o, k), get3(&s->d, k),
+                            get3(&v->pos, k));
+}
+
 /* The emission of the emitters the lanes hit (emit[k]), weighted by MIS, added to radiance. */
 LANE_FN void lanes_emission(const packed_scene *scene, const vertex_lanes *v, const int *emit,
                             path_lanes *s) {
@@ -161,7 +169,9 @@ LANE_FN void lanes_emission(const packed_scene *scene, const vertex_lanes *v, co
                                         (float)scene->frame.light_samples *
                                             light_pdf_at(scene, last, v->id[k], get3(&v->pos, k),
                                                          get3(&s->d, k)));
-        vec3 emitted = v3_scale(v3_mul(get3(&s->beta, k), emitter_radiance(scene, v->slot[k])), w);
+        vec3 le = TZ_HAS_TEXTURES_OF(scene) ? lane_emitted(scene, v, s, k)
+                                            : emitter_radiance(scene, v->slot[k]);
+        vec3 emitted = v3_scale(v3_mul(get3(&s->beta, k), le), w);
         set3(&s->radiance, k, v3_add(get3(&s->radiance, k), emitted));
     }
 }

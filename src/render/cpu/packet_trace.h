@@ -9,6 +9,10 @@
 #include <string.h>
 
 #include "common/affine.h"
+#include "render/cpu/scene_accessors.h"
+
+/* The shared text calls the accessors above (face_cut). */
+#include "common/primitive.h"
 #include "common/ray.h"
 #include "render/cpu/integrator.h"
 
@@ -125,6 +129,7 @@ typedef struct shear_lanes {
  * active lanes alone (the others' hits are never taken). */
 LANE_FN void shear_lanes_of(const lanes3 *o, const lanes3 *d, const int *active, shear_lanes *sh) {
     int first = 0, uniform = 0;
+    sh->kz = 0, sh->swap = 0;         /* read by no lane unless uniform */
     for (int k = 0; k < LANES; k++) { /* branch-free: vector code */
         ray_shear r = shear_of(get3(d, k));
         sh->lane_kz[k] = r.kz, sh->lane_swap[k] = r.swap;
@@ -143,11 +148,31 @@ LANE_FN void shear_lanes_of(const lanes3 *o, const lanes3 *d, const int *active,
     for (int k = 0; k < LANES; k++) set3(&sh->o, k, shear_axes(get3(o, k), sh->kz, sh->swap));
 }
 
-/* packet_triangle for the triangle of primitive id s, numbered key (an instance's face: its
- * key, shaders/shared_layout.h). */
+/* Bit lane set where the lane's ray hits triangle primitive s (at ts[lane]) but the face is cut
+ * away there (face_cut, with the lane's shear_of); hits past the lane's best, which cannot be
+ * kept, are not looked up. Out of line and on a copy of the distances, as scenes without
+ * cut-outs never call it. */
+static __attribute__((noinline)) uint32_t packet_faces_cut(const packed_scene *p, uint32_t s,
+                                                           const shear_lanes *sh, const lanes3 *o,
+                                                           const float *best, const float *ts) {
+    uint32_t cut = 0;
+    triangle_corners k = corners_of(p, (int)s);
+    for (int lane = 0; lane < LANES; lane++) {
+        ray_shear r = {sh->lane_kz[lane], sh->lane_swap[lane], sh->sx[lane], sh->sy[lane],
+                       sh->sz[lane]};
+        if (ts[lane] < INFINITY && ts[lane] <= best[lane] &&
+            face_cut(p, (int)s, k, get3(o, lane), r))
+            cut |= 1u << lane;
+    }
+    return cut;
+}
+
+/* packet_sphere for the triangle of primitive id s, numbered key (an instance's face: its key,
+ * shaders/shared_layout.h), the lanes' rays sheared by sh; with cutouts (a constant:
+ * packet_triangles_cut) faces cut away where a lane's ray meets them are no hit. */
 LANE_FN void packet_triangle_keyed(const packed_scene *p, uint32_t s, int key,
                                    const shear_lanes *sh, const lanes3 *o, const int *self,
-                                   const float *tmin, int tie, float *best, int *id) {
+                                   const float *tmin, int tie, int cutouts, float *best, int *id) {
     const struct gpu_triangle *tr = &p->triangles[s - p->frame.sphere_count];
     vec3 a = v3(tr->v0.x, tr->v0.y, tr->v0.z);
     vec3 b = v3(tr->v1.x, tr->v1.y, tr->v1.z);
@@ -171,18 +196,36 @@ LANE_FN void packet_triangle_keyed(const packed_scene *p, uint32_t s, int key,
                 sheared_triangle_distance(a, b, c, get3(o, lane), r, tmin[lane], key == self[lane]);
         }
     }
+    if (cutouts) {
+        float copy[LANES];
+        memcpy(copy, ts, sizeof copy);
+        uint32_t cut = packet_faces_cut(p, s, sh, o, best, copy);
+        for (int lane = 0; lane < LANES; lane++) ts[lane] = cut >> lane & 1u ? INFINITY : ts[lane];
+    }
     if (tie)
         keep_nearer(best, id, ts, key);
     else
         keep_nearer_in_order(best, id, ts, key);
 }
 
-/* packet_sphere for triangle primitive s (the triangles' ids follow the spheres'), the lanes'
- * rays sheared by sh. */
+/* packet_triangle_keyed for triangle primitive s numbered s (the triangles' ids follow the
+ * spheres'). */
 LANE_FN void packet_triangle(const packed_scene *p, uint32_t s, const shear_lanes *sh,
                              const lanes3 *o, const int *self, const float *tmin, int tie,
-                             float *best, int *id) {
-    packet_triangle_keyed(p, s, (int)s, sh, o, self, tmin, tie, best, id);
+                             int cutouts, float *best, int *id) {
+    packet_triangle_keyed(p, s, (int)s, sh, o, self, tmin, tie, cutouts, best, id);
+}
+
+/* packet_triangle_keyed with cut-outs over triangle primitives [first, end), numbered from
+ * key_offset on (an instance's): out of line, so that the walks of scenes without cut-outs are
+ * the code they were. */
+static __attribute__((noinline)) void packet_triangles_cut(const packed_scene *p, uint32_t first,
+                                                           uint32_t end, int key_offset,
+                                                           const shear_lanes *sh, const lanes3 *o,
+                                                           const int *self, const float *tmin,
+                                                           int tie, float *best, int *id) {
+    for (uint32_t s = first; s < end; s++)
+        packet_triangle_keyed(p, s, (int)s + key_offset, sh, o, self, tmin, tie, 1, best, id);
 }
 
 /* 1 when every active lane has a hit. */
@@ -234,6 +277,7 @@ LANE_FN void packet_walk_from(const packed_scene *p, uint32_t root, int key_offs
     shear_lanes sh; /* read by triangle leaves alone */
     sh.uniform = 0, sh.kz = 0, sh.swap = 0;
     if (p->frame.triangle_count > 0) shear_lanes_of(o, d, active, &sh);
+    int cutouts = TZ_HAS_CUTOUTS_OF(p);
     uint32_t stack[TZ_BVH_MAX_DEPTH];
     float stack_t[TZ_BVH_MAX_DEPTH][LANES];
     int top = 0;
@@ -247,9 +291,12 @@ LANE_FN void packet_walk_from(const packed_scene *p, uint32_t root, int key_offs
             } else if (p->frame.instance_count > 0 && first >= p->frame.instance_leaf) {
                 packet_walk_instances(p, first, leaf_count, o, d, self, tmin, active, any_hit, best,
                                       id);
+            } else if (cutouts) {
+                packet_triangles_cut(p, first, first + leaf_count, key_offset, &sh, o, self, tmin,
+                                     1, best, id);
             } else {
                 for (uint32_t s = first; s < first + leaf_count; s++)
-                    packet_triangle_keyed(p, s, (int)s + key_offset, &sh, o, self, tmin, 1, best,
+                    packet_triangle_keyed(p, s, (int)s + key_offset, &sh, o, self, tmin, 1, 0, best,
                                           id);
             }
             if (any_hit && all_hit(id, active)) return;
@@ -367,8 +414,11 @@ LANE_FN void packet_trace(const packed_scene *p, const lanes3 *o, const lanes3 *
         if (all > count && !blocked) {
             shear_lanes sh;
             shear_lanes_of(o, d, active, &sh);
-            for (uint32_t s = count; s < all; s++)
-                packet_triangle(p, s, &sh, o, self, tmin, 0, t, id);
+            if (TZ_HAS_CUTOUTS_OF(p))
+                packet_triangles_cut(p, count, all, 0, &sh, o, self, tmin, 0, t, id);
+            else
+                for (uint32_t s = count; s < all; s++)
+                    packet_triangle(p, s, &sh, o, self, tmin, 0, 0, t, id);
         }
     } else if (rays >= (any_hit ? SHADOW_WALK_GROUP_MIN : WALK_GROUP_MIN)) {
         if (any_hit)

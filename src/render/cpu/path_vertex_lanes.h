@@ -173,6 +173,22 @@ static __attribute__((noinline)) light_direction lanes_solid_angle(triangle_corn
     return solid_angle_light_direction(k, o, ua, ub, by_area);
 }
 
+/* The radiance of the sphere and face emitters e (slots slot) the wanted lanes' shadow rays s
+ * aim at, their maps looked up where the rays end (emitter_radiance_along, as
+ * emitter_sample_from): out of line, so that the lanes' loops above stay vector code. */
+static __attribute__((noinline)) void lanes_emitter_maps(const packed_scene *scene,
+                                                         const vertex_lanes *v, const int *slot,
+                                                         const int *e, const shadow_lanes *s,
+                                                         lanes3 *emission) {
+    for (int k = 0; k < LANES; k++) {
+        int primitive = e[k] != (int)TZ_ENV_PRIMITIVE && e[k] != (int)TZ_SUN_PRIMITIVE;
+        if (v->diffuse[k] && s->want[k] && primitive)
+            set3(emission, k,
+                 emitter_radiance_along(scene, slot[k], e[k], get3(&s->origin, k), get3(&s->dir, k),
+                                        s->t_light[k]));
+    }
+}
+
 /* emitter_light of path.h for the diffuse lanes (a sphere's strategies, sphere_cone_light and
  * sphere_area_light, both computed and one selected, a triangle's and the environment's
  * direction lane by lane), the
@@ -275,6 +291,7 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         shadow_lane_set(&s, k, o, ds.wi, p, ci, TZ_ENV_DISTANCE, ok);
     }
     for (int k = 0; v->any_dielectric && k < LANES; k++) s.want[k] &= !v->dielectric[k];
+    if (TZ_HAS_TEXTURES_OF(scene)) lanes_emitter_maps(scene, v, slot, e, &s, &emission);
     trace_lanes(scene, &s.origin, &s.dir, v->id, s.t_light, s.want, 1, hint, blocked, t);
     int any_fold = 0;
     for (int k = 0; k < LANES; k++) {
