@@ -5,7 +5,8 @@
  * flattened in double within the bound of rays moved into each instance's space; the reference
  * and packet builds agree bit for bit; a singular transform is an error at its line. With the
  * argument `vulkan`: every Vulkan walk the device has renders the CPU back end's bits (exit 77
- * only without a Vulkan device). */
+ * only without a Vulkan device). Cut-outs work inside instances, and the parts' digest covers
+ * the placements. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,6 +14,8 @@
 
 #include "check.h"
 #include "mesh_test.h"
+#include "png_test.h"
+#include "render/part.h"
 #include "render/scene_pack.h"
 #include "render/vk/vk_context.h"
 #include "tmp_dir.h"
@@ -271,6 +274,93 @@ static void test_singular(void) {
     if (ok) scene_free(&s);
 }
 
+/* A unit square of 8 x 8 quads with UVs across it (OBJ) and an RGBA map whose left texel is
+ * cut (alpha 0) and right kept: a cut-out model for instances. */
+static void write_cutout_model(void) {
+    char obj[16384];
+    size_t n = 0;
+    for (int j = 0; j <= 8; j++)
+        for (int i = 0; i <= 8; i++)
+            n += (size_t)snprintf(obj + n, sizeof obj - n, "v %g %g 0\nvt %g %g\n", i / 8.0,
+                                  j / 8.0, i / 8.0, j / 8.0);
+    for (int j = 0; j < 8; j++)
+        for (int i = 0; i < 8; i++) {
+            int a = j * 9 + i + 1, b = a + 1, c = a + 10, d = a + 9;
+            n += (size_t)snprintf(obj + n, sizeof obj - n, "f %d/%d %d/%d %d/%d %d/%d\n", a, a, b,
+                                  b, c, c, d, d);
+        }
+    tmp_file_write(tmp_path("fence.obj"), obj, n);
+    const uint8_t texels[8] = {200, 40, 40, 0, 40, 200, 40, 255};
+    write_png(tmp_path("cut.png"), 2, 1, PNG_COLOR_TYPE_RGBA, texels);
+}
+
+/* Two instances of the fence model, one moved and turned, before a sphere: the scene text,
+ * cut out by cut.png or not. */
+static void cutout_text(char *text, size_t size, bool cut) {
+    char map[600] = "";
+    if (cut) snprintf(map, sizeof map, " alpha_map %s", tmp_path("cut.png"));
+    snprintf(text, size,
+             "%smesh lambertian file fence.obj color 0.8 0.8 0.8%s scale 3 translate -1.5 0 -2\n"
+             "mesh lambertian file fence.obj color 0.8 0.8 0.8%s scale 2.5 rotate 0 1 0 35 "
+             "translate 0.5 0.2 -1\nsphere lambertian center 0 1 2 radius 1 color 0.2 0.4 0.8\n",
+             header, map, map);
+}
+
+/* Cut-outs inside instances: a face is cut in its model's space, the packet build and the
+ * reference agree, and the cut half lets the light through (the film is not the uncut one). */
+static void test_cutout(void) {
+    char text[2048];
+    scene s, whole;
+    scene_error err;
+    cutout_text(text, sizeof text, true);
+    bool ok = parse(text, 1, &s, &err);
+    CHECK(ok, "cut-out instances: %s", err.message);
+    if (!ok) return;
+    cutout_text(text, sizeof text, false);
+    ok = parse(text, 1, &whole, &err);
+    CHECK(ok, "uncut instances: %s", err.message);
+    CHECK(s.instance_count == 2, "cut-out instances: %d instances", s.instance_count);
+    film a = {0}, r = {0}, w = {0};
+    CHECK(render_with(&s, NULL, &a) && render_with(&s, "reference", &r) &&
+              (!ok || render_with(&whole, NULL, &w)),
+          "cut-out instances: a render failed");
+    CHECK(same_film(&a, &r), "cut-out instances: the packet build differs from the reference");
+    CHECK(ok && a.accum && w.accum && !same_film(&a, &w), "cut-out instances: nothing was cut");
+    film_free(&a), film_free(&r), film_free(&w);
+    scene_free(&s);
+    if (ok) scene_free(&whole);
+}
+
+/* The digest of scene s's parts (render_part_meta), as text. */
+static void digest_of(const scene *s, char *out, size_t size) {
+    render_opts o;
+    render_opts_from_scene(s, &o);
+    part_meta m;
+    render_part_meta(s, &o, &m);
+    snprintf(out, size, "%.*s", (int)sizeof m.digest, m.digest);
+}
+
+/* Parts of scenes that place a model differently do not merge: the digest covers the models'
+ * faces and every instance's transform; the same text twice gives the same digest. */
+static void test_digest(void) {
+    char *text = grid_text("small.obj", 3);
+    char *moved = strdup(text);
+    char *at = moved ? strstr(moved, "translate -10.00") : NULL;
+    if (at) memcpy(at, "translate -9.000", 16); /* the first instance moves along x */
+    scene a, b, c;
+    scene_error err;
+    bool ok =
+        parse(text, 1, &a, &err) && parse(text, 1, &b, &err) && at && parse(moved, 1, &c, &err);
+    free(text), free(moved);
+    CHECK(ok && a.instance_count == 3, "digest: %s", ok ? "no instances" : err.message);
+    if (!ok) return;
+    char da[300], db[300], dc[300];
+    digest_of(&a, da, sizeof da), digest_of(&b, db, sizeof db), digest_of(&c, dc, sizeof dc);
+    CHECK(!strcmp(da, db), "digest: the same scene gives %s and %s", da, db);
+    CHECK(strcmp(da, dc), "digest: a moved instance keeps the digest %s", da);
+    scene_free(&a), scene_free(&b), scene_free(&c);
+}
+
 /* The walks of the Vulkan back end, and their names. */
 static const render_walk walks[] = {RENDER_WALK_COMPUTE, RENDER_WALK_COOPERATIVE,
                                     RENDER_WALK_RAY_QUERY};
@@ -333,6 +423,9 @@ static void test_vulkan(void) {
     free(grid);
     expect_walks_agree("moved", mixed);
     free(mixed);
+    char cut[2048];
+    cutout_text(cut, sizeof cut, true);
+    expect_walks_agree("cut-out instances", cut);
     char *thousand = grid_text("big.obj", 1000);
     expect_walks_agree("1,000 of 100,000 faces", thousand);
     free(thousand);
@@ -348,6 +441,7 @@ int main(int argc, char **argv) {
     write_model("big.obj", 201, 250); /* 2 x 250 x 200 = 100,000 faces */
     write_model("big_copy.obj", 201, 250);
     write_model("small.obj", 11, 10); /* 200 faces */
+    write_cutout_model();
     if (vulkan) {
         test_vulkan();
         return check_summary("test_instances vulkan");
@@ -356,5 +450,7 @@ int main(int argc, char **argv) {
     test_moved();
     test_thousand();
     test_singular();
+    test_cutout();
+    test_digest();
     return check_summary("test_instances");
 }

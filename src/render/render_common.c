@@ -94,9 +94,12 @@ static void triangle_words(const scene *s, const triangle *t, uint32_t out[TRIAN
     out[TRIANGLE_WORDS - 1] = (uint32_t)m->kind;
 }
 
-/* Blocks [begin, end) of a scene's triangles, block b hashed into digests[b - begin]. */
+/* Blocks [begin, end) of faces (a scene's triangles or its models' faces), block b hashed into
+ * digests[b - begin]. */
 typedef struct digest_share {
     const scene *s;
+    const triangle *faces;
+    size_t count;
     uint64_t *digests;
     size_t begin, end;
 } digest_share;
@@ -105,13 +108,13 @@ typedef struct digest_share {
  * are then folded into one. */
 static void *digest_share_run(void *arg) {
     const digest_share *d = arg;
-    size_t count = (size_t)d->s->triangle_count;
+    size_t count = d->count;
     for (size_t block = d->begin; block < d->end; block++) {
         uint64_t lane[4] = {0xcbf29ce484222325u, 0x84222325cbf29ce4u, 0xcbf29ce4u, 0x84222325u};
         size_t last = (block + 1) * DIGEST_BLOCK < count ? (block + 1) * DIGEST_BLOCK : count;
         for (size_t k = block * DIGEST_BLOCK; k < last; k++) {
             uint32_t w[TRIANGLE_WORDS];
-            triangle_words(d->s, &d->s->triangles[k], w);
+            triangle_words(d->s, &d->faces[k], w);
             for (int c = 0; c < TRIANGLE_WORDS; c++) lane[c & 3] = digest_word(lane[c & 3], w[c]);
         }
         uint64_t h = 0xcbf29ce484222325u;
@@ -121,15 +124,15 @@ static void *digest_share_run(void *arg) {
     return NULL;
 }
 
-/* h continued by every triangle of s: blocks hashed on every core, their digests folded in
- * order, the same whatever the thread count (one stream waited on its multiplies). */
-static uint64_t digest_triangles(uint64_t h, const scene *s) {
-    size_t blocks = ((size_t)s->triangle_count + DIGEST_BLOCK - 1) / DIGEST_BLOCK;
+/* h continued by count faces of s: blocks hashed on every core, their digests folded in order,
+ * the same whatever the thread count (one stream waited on its multiplies). */
+static uint64_t digest_triangles(uint64_t h, const scene *s, const triangle *faces, size_t count) {
+    size_t blocks = (count + DIGEST_BLOCK - 1) / DIGEST_BLOCK;
     uint64_t *digests = malloc(blocks * sizeof *digests);
     if (!digests) { /* no memory: block by block on this thread */
         for (size_t b = 0; b < blocks; b++) {
             uint64_t one;
-            digest_share_run(&(digest_share){s, &one, b, b + 1});
+            digest_share_run(&(digest_share){s, faces, count, &one, b, b + 1});
             h = digest_int(h, (int64_t)one);
         }
         return h;
@@ -139,7 +142,8 @@ static uint64_t digest_triangles(uint64_t h, const scene *s) {
     digest_share d[THREADS_MAX];
     for (int t = 0; t < shares; t++) {
         size_t begin = blocks * (size_t)t / (size_t)shares;
-        d[t] = (digest_share){s, digests + begin, begin, blocks * (size_t)(t + 1) / (size_t)shares};
+        d[t] = (digest_share){
+            s, faces, count, digests + begin, begin, blocks * (size_t)(t + 1) / (size_t)shares};
     }
     threads_run(digest_share_run, d, sizeof d[0], shares);
     for (size_t b = 0; b < blocks; b++) h = digest_int(h, (int64_t)digests[b]);
@@ -165,8 +169,9 @@ static uint64_t digest_textures(uint64_t h, const scene *s) {
     for (int k = 0; k < s->material_count; k++)
         for (int c = 0; c < MATERIAL_MAP_COUNT; c++) h = digest_int(h, s->materials[k].maps[c]);
     for (int k = 0; k < s->sphere_count; k++) h = digest_int(h, s->spheres[k].material);
-    for (int k = 0; k < s->triangle_count; k++) {
-        const triangle *t = &s->triangles[k];
+    for (int k = 0; k < s->triangle_count + s->model_face_count; k++) { /* models' after */
+        const triangle *t =
+            k < s->triangle_count ? &s->triangles[k] : &s->model_faces[k - s->triangle_count];
         h = digest_int(h, t->material);
         if (t->normals == TRIANGLE_FLAT) continue;
         for (int c = 0; c < 3; c++) {
@@ -248,7 +253,17 @@ static uint64_t render_digest(const scene *s, const render_opts *o) {
      * their part files stay mergeable with ones rendered before triangles existed). */
     if (s->triangle_count > 0) {
         h = digest_int(h, s->triangle_count);
-        h = digest_triangles(h, s);
+        h = digest_triangles(h, s, s->triangles, (size_t)s->triangle_count);
+    }
+    /* Only scenes with instances hash their models' faces and the placements. */
+    if (s->instance_count > 0) {
+        h = digest_int(digest_int(h, 6), s->model_face_count);
+        h = digest_triangles(h, s, s->model_faces, (size_t)s->model_face_count);
+        for (int k = 0; k < s->model_count; k++)
+            h = digest_int(digest_int(h, s->models[k].first), s->models[k].count);
+        for (int k = 0; k < s->instance_count; k++)
+            h = digest_bytes(digest_int(h, s->instances[k].model), s->instances[k].to_world,
+                             sizeof s->instances[k].to_world);
     }
     /* Only scenes with an environment map hash it (its texels, as its radiance), so that the
      * others keep their digest. */

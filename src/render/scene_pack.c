@@ -418,7 +418,8 @@ bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out) {
         (s->slot_count > 0 ? TZ_FLAG_TEXTURES : 0u) |
         (s->environment.rgb ? TZ_FLAG_ENVIRONMENT : 0u) |
         (scene_has_microfacet(s) ? TZ_FLAG_MICROFACET : 0u) |
-        (s->triangle_count > 0 && scene_has_cutouts(s) ? TZ_FLAG_CUTOUTS : 0u) |
+        (s->triangle_count + s->model_face_count > 0 && scene_has_cutouts(s) ? TZ_FLAG_CUTOUTS
+                                                                             : 0u) |
         (s->camera_aperture > 0.0f ? TZ_FLAG_LENS : 0u) |
         (s->camera_orthographic ? TZ_FLAG_ORTHOGRAPHIC : 0u);
     /* The plane's distance: 2 x width (the seed's), or what the field of view asks. */

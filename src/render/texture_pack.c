@@ -79,10 +79,12 @@ bool texture_pack(const scene *s, packed_scene *out) {
         memcpy(w + first, t->words, t->word_count * sizeof *t->words);
         first += t->word_count;
     }
-    /* The UVs at the faces' gpu_normals indices, which pack_triangles gives in scene order. */
+    /* The UVs at the faces' gpu_normals indices, which pack_triangles gives in scene order: the
+     * scene's faces, then its models' (instances). */
     uint32_t n = 0;
-    for (int k = 0; k < s->triangle_count; k++) {
-        const triangle *t = &s->triangles[k];
+    for (int k = 0; k < s->triangle_count + s->model_face_count; k++) {
+        const triangle *t =
+            k < s->triangle_count ? &s->triangles[k] : &s->model_faces[k - s->triangle_count];
         if (t->normals == TRIANGLE_FLAT) continue;
         const face_normals *fn = &s->normals[t->normals];
         for (int c = 0; c < 3; c++) {
