@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "chi_square.h"
 #include "common/bsdf.h"
 #include "common/rng.h"
 #include "render/vk/vk_context.h"
@@ -20,7 +21,6 @@
 #define PHI_BINS 64
 #define QUAD 24
 #define SAMPLES 400000
-#define MIN_EXPECTED 5.0
 
 static const vec3 up = {0.0f, 0.0f, 1.0f};
 
@@ -63,8 +63,7 @@ static double chi_square_z(bsdf_material m, bsdf_material pdf_m, vec3 wo, uint32
         pi = pi < 0 ? 0 : pi >= PHI_BINS ? PHI_BINS - 1 : pi;
         observed[ci][pi] += 1.0;
     }
-    double chi2 = 0.0, pool_o = dropped, pool_e = SAMPLES;
-    int dof = 0;
+    chi_square c2 = chi_square_start(SAMPLES, dropped);
     for (int a = 0; a < COS_BINS; a++) {
         for (int b = 0; b < PHI_BINS; b++) {
             double c0 = -1.0 + a * dc, p0 = b * dp, mass = 0.0;
@@ -74,21 +73,10 @@ static double chi_square_z(bsdf_material m, bsdf_material pdf_m, vec3 wo, uint32
                     mass += bsdf_eval(pdf_m, 0.0f, up, up, wi, wo).pdf;
                 }
             double expected = mass * dc * dp / (QUAD * QUAD) * SAMPLES;
-            pool_e -= expected;
-            if (expected < MIN_EXPECTED) {
-                pool_o += observed[a][b];
-                pool_e += expected;
-                continue;
-            }
-            double diff = observed[a][b] - expected;
-            chi2 += diff * diff / expected;
-            dof++;
+            chi_square_bin(&c2, observed[a][b], expected);
         }
     }
-    pool_e = pool_e > MIN_EXPECTED ? pool_e : MIN_EXPECTED;
-    chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
-    double k = dof > 0 ? dof : 1;
-    return (cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / sqrt(2.0 / (9.0 * k));
+    return chi_square_result(c2);
 }
 
 static void test_sampling_fits(void) {

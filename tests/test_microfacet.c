@@ -10,6 +10,7 @@
 #include <stdio.h>
 
 #include "check.h"
+#include "chi_square.h"
 #include "common/bsdf.h"
 #include "common/rng.h"
 #include "render/ggx_albedo.h"
@@ -18,7 +19,6 @@
 #define COS_BINS 24
 #define PHI_BINS 24
 #define SAMPLES 400000
-#define MIN_EXPECTED 5.0
 
 /* A material seen from wo at normal +z, binned about axis w over cos theta in [c_lo, 1]. */
 typedef struct lobe_case {
@@ -79,8 +79,7 @@ static double chi_square_z(const lobe_case *c, uint32_t seed) {
         pi = pi < 0 ? 0 : pi >= PHI_BINS ? PHI_BINS - 1 : pi;
         observed[ci][pi] += 1.0;
     }
-    double chi2 = 0.0, pool_o = below, pool_e = SAMPLES;
-    int dof = 0;
+    chi_square c2 = chi_square_start(SAMPLES, below);
     for (int a = 0; a < COS_BINS; a++) {
         for (int bb = 0; bb < PHI_BINS; bb++) {
             double c0 = c->c_lo + a * dc, p0 = bb * dp, mass = 0.0;
@@ -88,21 +87,10 @@ static double chi_square_z(const lobe_case *c, uint32_t seed) {
                 for (int j = 0; j < c->qp; j++)
                     mass += pdf_at(c, c0 + (i + 0.5) * dc / c->qc, p0 + (j + 0.5) * dp / c->qp);
             double expected = mass * dc * dp / (c->qc * c->qp) * SAMPLES;
-            pool_e -= expected;
-            if (expected < MIN_EXPECTED) {
-                pool_o += observed[a][bb];
-                pool_e += expected;
-                continue;
-            }
-            double diff = observed[a][bb] - expected;
-            chi2 += diff * diff / expected;
-            dof++;
+            chi_square_bin(&c2, observed[a][bb], expected);
         }
     }
-    pool_e = pool_e > MIN_EXPECTED ? pool_e : MIN_EXPECTED;
-    chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
-    double k = dof > 0 ? dof : 1;
-    return (cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / sqrt(2.0 / (9.0 * k));
+    return chi_square_result(c2);
 }
 
 /* A case of material m seen at polar angle theta_o, binned about wo's mirror image. */

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "chi_square.h"
 #include "common/rng.h"
 #include "common/sampling.h"
 
@@ -17,15 +18,14 @@
 #define COS_BINS 24
 #define PHI_BINS 24
 #define SAMPLES 400000
-#define MIN_EXPECTED 5.0
 
 typedef vec3 (*sampler)(const void *ctx, float u1, float u2);
 typedef double (*pdf_fn)(const void *ctx, double cos_t, double phi);
 
 /* The chi-square statistic's z score (Wilson-Hilferty) of the samples' (cos theta, phi) about
  * axis w against pdf: bins over cos theta in [c_lo, 1] (narrow lobes and cones need a narrow
- * range) and phi, one more bin for everything below c_lo, bins expecting fewer than MIN_EXPECTED
- * samples pooled. */
+ * range) and phi, one more bin for everything below c_lo, bins expecting fewer than
+ * CHI_SQUARE_MIN_EXPECTED samples pooled. */
 static double chi_square_z(sampler sample, pdf_fn pdf, const void *ctx, vec3 w, double c_lo,
                            uint32_t seed) {
     static double observed[COS_BINS][PHI_BINS];
@@ -52,8 +52,7 @@ static double chi_square_z(sampler sample, pdf_fn pdf, const void *ctx, vec3 w, 
         pi = pi < 0 ? 0 : pi >= PHI_BINS ? PHI_BINS - 1 : pi;
         observed[ci][pi] += 1.0;
     }
-    double chi2 = 0.0, pool_o = below, pool_e = SAMPLES;
-    int dof = 0;
+    chi_square c2 = chi_square_start(SAMPLES, below);
     for (int a = 0; a < COS_BINS; a++) {
         for (int bb = 0; bb < PHI_BINS; bb++) {
             /* the pdf integrated over the bin (d omega = d cos d phi) by 64 x 4 midpoints */
@@ -62,22 +61,10 @@ static double chi_square_z(sampler sample, pdf_fn pdf, const void *ctx, vec3 w, 
                 for (int j = 0; j < 4; j++)
                     mass += pdf(ctx, c0 + (i + 0.5) * dc / 64, p0 + (j + 0.5) * dp / 4);
             double expected = mass * dc * dp / 256.0 * SAMPLES;
-            pool_e -= expected;
-            if (expected < MIN_EXPECTED) {
-                pool_o += observed[a][bb];
-                pool_e += expected;
-                continue;
-            }
-            double diff = observed[a][bb] - expected;
-            chi2 += diff * diff / expected;
-            dof++;
+            chi_square_bin(&c2, observed[a][bb], expected);
         }
     }
-    /* the pool: what lies below c_lo and the sparse bins, expected by the rest of the mass */
-    pool_e = pool_e > MIN_EXPECTED ? pool_e : MIN_EXPECTED;
-    chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
-    double k = dof > 0 ? dof : 1; /* the pool's bin is the one constraint */
-    return (cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / sqrt(2.0 / (9.0 * k));
+    return chi_square_result(c2);
 }
 
 typedef struct lobe_ctx {
@@ -163,8 +150,7 @@ static double triangle_chi_square_z(bool wrong_warp) {
             }
         }
     }
-    double k = cells - 1;
-    return (cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / sqrt(2.0 / (9.0 * k));
+    return chi_square_z_of(chi2, cells - 1);
 }
 
 int main(void) {
