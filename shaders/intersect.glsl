@@ -344,7 +344,7 @@ int trace_ray_query(vec3 o, vec3 d, int self, float tmax, bool any_hit, out floa
     uint flags = any_hit ? gl_RayFlagsTerminateOnFirstHitEXT : gl_RayFlagsNoneEXT;
     ray_shear sh = shear_of(d);
     /* The ray in the space of the instance of the last candidate (-1: the scene's own). */
-    int space = -1, offset = 0;
+    int space = -1, offset = 0, first = 0; /* first: the primitive id of its model's face 0 */
     vec3 mo = o, md = d, minv;
     ray_shear msh = sh;
     rayQueryInitializeEXT(query, scene_accel, flags, 0xffu, o, tmin, d, min(tmax, RAY_QUERY_FAR));
@@ -353,13 +353,16 @@ int trace_ray_query(vec3 o, vec3 d, int self, float tmax, bool any_hit, out floa
         int instance = TZ_HAS_INSTANCES
                            ? rayQueryGetIntersectionInstanceCustomIndexEXT(query, false) - 1
                            : -1;
-        uvec4 model = instance >= 0 ? instance_model(instance) : uvec4(0u);
-        if (instance != space) {
+        if (instance != space) { /* the model's texel read once a run of its candidates */
             space = instance;
-            mo = o, md = d, msh = sh, offset = 0;
-            if (instance >= 0) offset = instance_ray(instance, model, o, d, mo, md, minv, msh);
+            mo = o, md = d, msh = sh, offset = 0, first = 0;
+            if (instance >= 0) {
+                uvec4 model = instance_model(instance);
+                offset = instance_ray(instance, model, o, d, mo, md, minv, msh);
+                first = int(frame.sphere_count + model.y);
+            }
         }
-        if (instance >= 0) k += int(frame.sphere_count + model.y);
+        k += first;
         float t = primitive_distance(k, mo, md, msh, tmin, self - offset, best);
         bool nearer = t < best;
         keep_nearer(k + offset, t, best, id);
