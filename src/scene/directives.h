@@ -144,6 +144,19 @@ bool mesh_placed_make_model(parser *p, mesh_placed *r, int first, int col);
 /* Places r's model by xf; false (reported at col) when xf is singular or the instances pass
  * their limit (SCENE_MAX_INSTANCE_KEYS). */
 bool mesh_placed_instance(parser *p, mesh_placed *r, const mesh_transform *xf, int col);
+/* Whether the 3 x 3 part of rows inverts in single precision: its determinant is not lost to
+ * rounding against the product of its rows' lengths, and the inverse's entries (each a 2 x 2
+ * cofactor over the determinant, at most 2 largest^2 / |det|) are finite floats. */
+bool scene_rows_invertible(double rows[3][4]);
+/* Grows the box wlo..whi by the box lo..hi moved by rows, corner by corner. */
+void scene_box_moved(const double lo[3], const double hi[3], double rows[3][4], double wlo[3],
+                     double whi[3]);
+/* Moves scene.triangles[first, end), faces loaded untransformed, into a new model: its index in
+ * *model, its box in lo..hi; false (reported at col) out of memory. */
+bool scene_model_take(parser *p, int first, int col, int *model, double lo[3], double hi[3]);
+/* Appends an instance of model `model` with rows to_world; false (reported at col, naming path)
+ * when the transform is singular or past the instances' limit (SCENE_MAX_INSTANCE_KEYS). */
+bool scene_instance_add(parser *p, int model, double to_world[3][4], int col, const char *path);
 /* Takes out the faces (and their normals) of the first lines whose models became instances;
  * false (reported) out of memory. */
 bool mesh_placed_finish(parser *p);

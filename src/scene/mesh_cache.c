@@ -36,19 +36,25 @@ static bool same_file(const struct stat *a, const struct stat *b) {
 /* A copy of model `from` into *to (its own arrays); false out of memory (*to empty). */
 static bool mesh_copy(const mesh *from, mesh *to) {
     *to = *from;
-    to->faces = malloc(from->face_count * sizeof *from->faces);
+    size_t faces = from->face_count + from->part_face_count;
+    to->faces = malloc(faces * sizeof *from->faces);
+    to->parts = malloc(((size_t)from->part_count + 1) * sizeof *from->parts);
+    to->instances = malloc(((size_t)from->instance_count + 1) * sizeof *from->instances);
     to->materials = malloc(((size_t)from->material_count + 1) * sizeof *from->materials);
     to->cameras = malloc(((size_t)from->camera_count + 1) * sizeof *from->cameras);
     to->lights = malloc(((size_t)from->light_count + 1) * sizeof *from->lights);
     size_t embedded = from->embedded_at[from->embedded_count];
     to->embedded = malloc(embedded + 1);
-    if (!to->faces || !to->materials || !to->cameras || !to->lights || !to->embedded) {
+    if (!to->faces || !to->materials || !to->cameras || !to->lights || !to->embedded ||
+        !to->parts || !to->instances) {
         mesh_free(to);
         return false;
     }
     memcpy(to->cameras, from->cameras, (size_t)from->camera_count * sizeof *from->cameras);
     memcpy(to->lights, from->lights, (size_t)from->light_count * sizeof *from->lights);
-    memcpy(to->faces, from->faces, from->face_count * sizeof *from->faces);
+    memcpy(to->faces, from->faces, faces * sizeof *from->faces);
+    memcpy(to->parts, from->parts, (size_t)from->part_count * sizeof *from->parts);
+    memcpy(to->instances, from->instances, (size_t)from->instance_count * sizeof *from->instances);
     memcpy(to->materials, from->materials, (size_t)from->material_count * sizeof *from->materials);
     if (embedded) memcpy(to->embedded, from->embedded, embedded);
     return true;

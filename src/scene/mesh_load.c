@@ -321,6 +321,9 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
         mesh_free(out);
         return fail(error, error_size, "out of memory");
     }
+    /* A mesh that several nodes place is kept once, with its placements (mesh_nodes.c) */
+    bool shared = mesh_nodes_shared(sc);
+    if (shared) flags &= ~(unsigned)aiProcess_PreTransformVertices;
     sc = ai->apply_post_processing(sc, flags);
     if (!sc) {
         mesh_free(out);
@@ -336,15 +339,16 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
         ok = fail(error, error_size, "holds no triangles (%u mesh%s of points or lines only)",
                   sc->mNumMeshes, sc->mNumMeshes == 1 ? "" : "es");
     }
-    if (ok && ftruncate(fd, (off_t)(faces * sizeof *out->faces)) != 0) {
+    if (ok && !shared && ftruncate(fd, (off_t)(faces * sizeof *out->faces)) != 0) {
         ok = fail(error, error_size, "cannot hold its %zu faces (%.0f MB) in shared memory: %s%s",
                   faces, (double)(faces * sizeof *out->faces) / 1e6, strerror(errno),
                   errno == EFBIG ? " (the file-size limit, ulimit -f, caps it)" : "");
     }
     if (ok) {
-        out->faces = faces_room(faces);
+        out->faces = shared ? NULL : faces_room(faces);
         out->materials = calloc(sc->mNumMaterials ? sc->mNumMaterials : 1, sizeof *out->materials);
-        if (!out->faces || !out->materials) ok = fail(error, error_size, "out of memory");
+        if ((!shared && !out->faces) || !out->materials)
+            ok = fail(error, error_size, "out of memory");
     }
     for (unsigned i = 0; ok && i < sc->mNumMaterials; i++)
         ok = mesh_map_material(ai, sc->mMaterials[i], i, &out->materials[i], out->unsupported,
@@ -352,16 +356,26 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
     out->material_count = (int)sc->mNumMaterials;
     if (ok) note_lost_strength(path, out);
     if (ok) ok = gather_embedded(sc, out, error, error_size);
-    if (ok) ok = gather_faces(sc, out, error, error_size);
+    if (ok)
+        ok = shared ? mesh_nodes_gather(sc, out, error, error_size)
+                    : gather_faces(sc, out, error, error_size);
     ai->release_import(sc); /* before the normals' tables: the peak is then one of the two */
-    if (ok && out->face_count == 0)
+    size_t all = out->face_count + out->part_face_count;
+    if (ok && all == 0)
         ok = fail(error, error_size, "holds no triangles (its faces are points or lines)");
     if (ok && smooth && !mesh_smooth_normals(out, SMOOTHING_ANGLE))
         ok = fail(error, error_size, "out of memory generating its normals");
-    if (ok && !copy_faces(fd, out->faces, out->face_count, true)) {
+    for (int k = 0; ok && smooth && k < out->part_count; k++) {
+        mesh part = mesh_part_view(out, k);
+        if (!mesh_smooth_normals(&part, SMOOTHING_ANGLE))
+            ok = fail(error, error_size, "out of memory generating its normals");
+    }
+    if (ok && shared && ftruncate(fd, (off_t)(all * sizeof *out->faces)) != 0)
+        ok = fail(error, error_size, "cannot hold its %zu faces in shared memory: %s", all,
+                  strerror(errno));
+    if (ok && !copy_faces(fd, out->faces, all, true)) {
         ok = fail(error, error_size, "cannot put its %zu faces (%.0f MB) in shared memory: %s%s",
-                  out->face_count, (double)(out->face_count * sizeof *out->faces) / 1e6,
-                  strerror(errno),
+                  all, (double)(all * sizeof *out->faces) / 1e6, strerror(errno),
                   errno == EFBIG ? " (the file-size limit, ulimit -f, caps it)" : "");
     }
     if (!ok) mesh_free(out);
@@ -377,8 +391,10 @@ typedef struct reply {
     char unsupported[384];
     scene_input inputs[MESH_MAX_INPUTS];
     int input_count;
-    int camera_count, light_count; /* follow the materials */
-    int embedded_count;            /* the embedded images' ends and bytes follow the lights */
+    int camera_count, light_count;  /* follow the materials */
+    int embedded_count;             /* the embedded images' ends and bytes follow the lights */
+    size_t part_face_count;         /* in shared memory after the placed faces */
+    int part_count, instance_count; /* follow the embedded images */
     char error[512];
 } reply;
 
@@ -414,12 +430,17 @@ static void child_run(int fd, int shm, const char *path, bool smooth, size_t fil
     r.camera_count = m.camera_count;
     r.light_count = m.light_count;
     r.embedded_count = m.embedded_count;
+    r.part_face_count = m.part_face_count;
+    r.part_count = m.part_count;
+    r.instance_count = m.instance_count;
     if (fd_write_all(fd, &r, sizeof r) && r.ok &&
         fd_write_all(fd, m.materials, (size_t)m.material_count * sizeof *m.materials) &&
         fd_write_all(fd, m.cameras, (size_t)m.camera_count * sizeof *m.cameras) &&
         fd_write_all(fd, m.lights, (size_t)m.light_count * sizeof *m.lights) &&
-        fd_write_all(fd, m.embedded_at, sizeof m.embedded_at))
-        fd_write_all(fd, m.embedded, m.embedded_at[m.embedded_count]);
+        fd_write_all(fd, m.embedded_at, sizeof m.embedded_at) &&
+        fd_write_all(fd, m.embedded, m.embedded_at[m.embedded_count]) &&
+        fd_write_all(fd, m.parts, (size_t)m.part_count * sizeof *m.parts))
+        fd_write_all(fd, m.instances, (size_t)m.instance_count * sizeof *m.instances);
     _exit(0);
 }
 
@@ -437,6 +458,30 @@ static bool receive_embedded(int fd, const reply *r, mesh *out, const fd_time_li
     out->embedded = malloc(bytes + 1);
     out->embedded_count = r->embedded_count;
     return out->embedded && fd_read_all_by(fd, out->embedded, bytes, limit, late);
+}
+
+/* Reads the parts and instances the child sends after the embedded images into out (room for
+ * them made); false when they do not arrive within the limit or are inconsistent. */
+static bool receive_nodes(int fd, const reply *r, mesh *out, const fd_time_limit *limit,
+                          bool *late) {
+    out->part_face_count = r->part_face_count;
+    if (!fd_read_all_by(fd, out->parts, (size_t)r->part_count * sizeof *out->parts, limit, late) ||
+        !fd_read_all_by(fd, out->instances, (size_t)r->instance_count * sizeof *out->instances,
+                        limit, late))
+        return false;
+    out->part_count = r->part_count;
+    out->instance_count = r->instance_count;
+    for (int k = 0; k < out->part_count; k++) {
+        const mesh_part *part = &out->parts[k];
+        if (part->count == 0 || part->first > out->part_face_count ||
+            part->count > out->part_face_count - part->first)
+            return false;
+    }
+    for (int k = 0; k < out->instance_count; k++) {
+        out->instances[k].node[sizeof out->instances[k].node - 1] = '\0';
+        if (out->instances[k].part < 0 || out->instances[k].part >= out->part_count) return false;
+    }
+    return true;
 }
 
 /* The import's time limit in seconds for a file of `bytes`: TRAZADOR_MESH_SECONDS where set,
@@ -519,18 +564,26 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
         for (int k = 0; k < out->input_count; k++)
             out->inputs[k].path[sizeof out->inputs[k].path - 1] = '\0';
         struct stat shared;
-        bool fits = fstat(shm, &shared) == 0 &&
-                    (uint64_t)shared.st_size >= r.face_count * sizeof *out->faces;
-        out->faces = fits && r.face_count > 0 ? faces_room(r.face_count) : NULL;
+        size_t all = r.face_count + r.part_face_count;
+        bool fits = all >= r.face_count && all <= SIZE_MAX / sizeof *out->faces &&
+                    fstat(shm, &shared) == 0 &&
+                    (uint64_t)shared.st_size >= all * sizeof *out->faces;
+        bool nodes = r.part_count >= 0 && r.part_count <= MESH_MAX_INSTANCES &&
+                     r.instance_count >= 0 && r.instance_count <= MESH_MAX_INSTANCES;
+        out->faces = fits && nodes && all > 0 ? faces_room(all) : NULL;
+        out->parts = nodes ? calloc((size_t)r.part_count + 1, sizeof *out->parts) : NULL;
+        out->instances =
+            nodes ? calloc((size_t)r.instance_count + 1, sizeof *out->instances) : NULL;
         out->materials = calloc((size_t)r.material_count + 1, sizeof *out->materials);
         bool views = r.camera_count >= 0 && r.camera_count <= MESH_MAX_CAMERAS &&
                      r.light_count >= 0 && r.light_count <= MESH_MAX_LIGHTS;
         out->cameras = views ? calloc((size_t)r.camera_count + 1, sizeof *out->cameras) : NULL;
         out->lights = views ? calloc((size_t)r.light_count + 1, sizeof *out->lights) : NULL;
-        if (!out->faces || !out->materials || !out->cameras || !out->lights) {
-            fail(error, error_size, "out of memory for %zu faces", r.face_count);
+        if (!out->faces || !out->materials || !out->cameras || !out->lights || !out->parts ||
+            !out->instances) {
+            fail(error, error_size, "out of memory for %zu faces", all);
             reported = true;
-        } else if (!copy_faces(shm, out->faces, r.face_count, false)) {
+        } else if (!copy_faces(shm, out->faces, all, false)) {
             fail(error, error_size, "cannot read its %zu faces back from shared memory: %s",
                  r.face_count, strerror(errno));
             reported = true;
@@ -543,7 +596,8 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
                                 &limit, &late);
             out->camera_count = r.camera_count;
             out->light_count = r.light_count;
-            ok = ok && receive_embedded(fds[0], &r, out, &limit, &late);
+            ok = ok && receive_embedded(fds[0], &r, out, &limit, &late) &&
+                 receive_nodes(fds[0], &r, out, &limit, &late);
             for (int k = 0; k < out->camera_count; k++)
                 out->cameras[k].name[sizeof out->cameras[k].name - 1] = '\0';
             for (int k = 0; k < out->light_count; k++) {
@@ -585,6 +639,8 @@ bool mesh_load(const char *path, bool smooth, mesh *out, char *error, size_t err
 
 void mesh_free(mesh *m) {
     free(m->faces);
+    free(m->parts);
+    free(m->instances);
     free(m->materials);
     free(m->cameras);
     free(m->lights);

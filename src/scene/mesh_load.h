@@ -77,9 +77,34 @@ typedef struct mesh_light {
 #define MESH_MAX_CAMERAS 256
 #define MESH_MAX_LIGHTS SCENE_MAX_LIGHTS
 
+/* A mesh of the file that two or more nodes place (mesh_nodes.c): its faces, in the file's
+ * space made left-handed and no node's transform applied, are part_faces first to first + count
+ * of the faces that follow the placed ones (mesh.faces + mesh.face_count). */
+typedef struct mesh_part {
+    size_t first, count;
+    int mesh; /* the file's mesh index, for messages */
+} mesh_part;
+
+/* A node's placement of a part: rows [A | t] that move the part's faces where the node puts
+ * them in trazador's space (the node's world transform with z negated on both sides). */
+typedef struct mesh_instance {
+    int part;
+    double rows[3][4];
+    char node[64];
+} mesh_instance;
+
+/* The most node placements of shared meshes kept of a file (scene_instance.c has the scene's
+ * own limit). */
+#define MESH_MAX_INSTANCES (1 << 20)
+
 typedef struct mesh {
-    mesh_face *faces;
+    mesh_face *faces; /* face_count placed faces, then part_face_count of the parts */
     size_t face_count;
+    size_t part_face_count;
+    mesh_part *parts; /* the meshes two or more nodes place, none without such */
+    int part_count;
+    mesh_instance *instances;
+    int instance_count;
     mesh_material *materials;
     int material_count;
     /* What the file holds that trazador cannot show ("textures (diffuse), vertex colours"),
@@ -148,6 +173,24 @@ bool mesh_read_views(const struct aiScene *sc, bool gltf, mesh *m);
  * over the power (white at power 0); false when a component is negative, not finite or past the
  * float range. */
 bool mesh_light_power(const mesh_light *l, float *power, vec3 *color);
+/* Whether a node of sc (as imported, before any post-processing) places a mesh that another
+ * placement places too: then mesh_nodes_gather reads the file rather than PreTransformVertices. */
+bool mesh_nodes_shared(const struct aiScene *sc);
+/* The faces of sc (post-processed without PreTransformVertices) into m: each mesh one node
+ * places moved by that node's world transform, as PreTransformVertices would, then the parts,
+ * the meshes several nodes place, once each with an instance per placement; false (error) out of
+ * memory, on a non-finite corner or past MESH_MAX_INSTANCES. */
+bool mesh_nodes_gather(const struct aiScene *sc, mesh *m, char *error, size_t error_size);
+/* Moves the instances for which flatten[k] is true out of m: their part's faces placed by their
+ * rows join the placed faces (as PreTransformVertices would place them: a mirroring node's
+ * faces wound back). False out of memory (m kept). */
+bool mesh_nodes_flatten(mesh *m, const bool *flatten);
+/* The box of m's faces as placed: the placed ones and every instance's part moved by its rows;
+ * false when m has no face. */
+bool mesh_bounds(const mesh *m, vec3 *lo, vec3 *hi);
+/* A view of part k of m as a mesh of its own (its faces, m's materials and embedded images),
+ * owning nothing: never to be freed. */
+mesh mesh_part_view(const mesh *m, int k);
 /* Releases a loaded mesh; safe on a zeroed one. */
 void mesh_free(mesh *m);
 

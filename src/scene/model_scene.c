@@ -178,13 +178,8 @@ static bool view_lines(const char *path, const mesh *m, int k, long long width, 
             c->position.x, c->position.y, c->position.z, c->direction.x, c->direction.y,
             c->direction.z, c->up.x, c->up.y, c->up.z, (double)(float)c->fov);
     } else {
-        vec3 lo = m->faces[0].v[0], hi = lo;
-        for (size_t f = 0; f < m->face_count; f++)
-            for (int j = 0; j < 3; j++) {
-                vec3 v = m->faces[f].v[j];
-                lo = v3(fminf(lo.x, v.x), fminf(lo.y, v.y), fminf(lo.z, v.z));
-                hi = v3(fmaxf(hi.x, v.x), fmaxf(hi.y, v.y), fmaxf(hi.z, v.z));
-            }
+        vec3 lo = v3(0, 0, 0), hi = lo;
+        mesh_bounds(m, &lo, &hi); /* (a loaded model has a face) */
         double c[3] = {0.5 * ((double)lo.x + hi.x), 0.5 * ((double)lo.y + hi.y),
                        0.5 * ((double)lo.z + hi.z)};
         double e[3] = {(double)hi.x - lo.x, (double)hi.y - lo.y, (double)hi.z - lo.z};
@@ -299,7 +294,15 @@ bool model_scene_parse(const char *path, const model_scene_opts *o, scene *out, 
 bool model_scene_list(const char *path, FILE *out, scene_error *err) {
     mesh m;
     if (!load(path, &m, err)) return false;
-    fprintf(out, "%s: %zu faces, %d camera%s, %d light%s\n", path, m.face_count, m.camera_count,
+    size_t placed = m.face_count;
+    for (int k = 0; k < m.instance_count; k++) placed += m.parts[m.instances[k].part].count;
+    char shared[160] = "";
+    if (m.instance_count)
+        snprintf(shared, sizeof shared,
+                 " (%zu unique: %d of its meshes, of %zu faces, placed by %d instances)",
+                 m.face_count + m.part_face_count, m.part_count, m.part_face_count,
+                 m.instance_count);
+    fprintf(out, "%s: %zu faces%s, %d camera%s, %d light%s\n", path, placed, shared, m.camera_count,
             m.camera_count == 1 ? "" : "s", m.light_count, m.light_count == 1 ? "" : "s");
     char line[512];
     for (int k = 0; k < m.camera_count; k++) {

@@ -84,10 +84,7 @@ static int key_bits(const scene *s) {
     return bits;
 }
 
-/* Whether the 3 x 3 part of rows inverts in single precision: its determinant is not lost to
- * rounding against the product of its rows' lengths, and the inverse's entries (each a 2 x 2
- * cofactor over the determinant, at most 2 largest^2 / |det|) are finite floats. */
-static bool invertible(double rows[3][4]) {
+bool scene_rows_invertible(double rows[3][4]) {
     double(*a)[4] = rows;
     double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
                  a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
@@ -101,25 +98,21 @@ static bool invertible(double rows[3][4]) {
            2.0 * largest * largest / fabs(det) < 1e38;
 }
 
-/* Keeps r's model's box, over its faces (once: a line's note_box is then 8 corners). */
-static void model_box(parser *p, mesh_placed *r) {
-    const scene_model *m = &p->s.models[r->model];
-    for (int a = 0; a < 3; a++) r->lo[a] = INFINITY, r->hi[a] = -INFINITY;
+/* The box lo..hi of model `model`'s faces, in its space. */
+static void model_box(const scene *s, int model, double lo[3], double hi[3]) {
+    const scene_model *m = &s->models[model];
+    for (int a = 0; a < 3; a++) lo[a] = INFINITY, hi[a] = -INFINITY;
     for (int f = m->first; f < m->first + m->count; f++) {
         for (int c = 0; c < 3; c++) {
-            const vec3 *v = &p->s.model_faces[f].v[c];
+            const vec3 *v = &s->model_faces[f].v[c];
             double x[3] = {v->x, v->y, v->z};
-            for (int a = 0; a < 3; a++)
-                r->lo[a] = fmin(r->lo[a], x[a]), r->hi[a] = fmax(r->hi[a], x[a]);
+            for (int a = 0; a < 3; a++) lo[a] = fmin(lo[a], x[a]), hi[a] = fmax(hi[a], x[a]);
         }
     }
 }
 
-/* Notes the mesh line's box (parser_note_mesh): r's model's box moved by rows, corner by
- * corner. */
-static bool note_box(parser *p, const mesh_placed *r, double rows[3][4], int col) {
-    const double *lo = r->lo, *hi = r->hi;
-    double wlo[3] = {INFINITY, INFINITY, INFINITY}, whi[3] = {-INFINITY, -INFINITY, -INFINITY};
+void scene_box_moved(const double lo[3], const double hi[3], double rows[3][4], double wlo[3],
+                     double whi[3]) {
     for (int corner = 0; corner < 8; corner++) {
         double x[3] = {corner & 1 ? hi[0] : lo[0], corner & 2 ? hi[1] : lo[1],
                        corner & 4 ? hi[2] : lo[2]};
@@ -128,15 +121,20 @@ static bool note_box(parser *p, const mesh_placed *r, double rows[3][4], int col
             wlo[i] = fmin(wlo[i], w), whi[i] = fmax(whi[i], w);
         }
     }
+}
+
+/* Notes the mesh line's box (parser_note_mesh): r's model's box moved by rows, corner by
+ * corner. */
+static bool note_box(parser *p, const mesh_placed *r, double rows[3][4], int col) {
+    double wlo[3] = {INFINITY, INFINITY, INFINITY}, whi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    scene_box_moved(r->lo, r->hi, rows, wlo, whi);
     return parser_note_mesh(p, col, (size_t)p->s.models[r->model].count,
                             v3((float)wlo[0], (float)wlo[1], (float)wlo[2]),
                             v3((float)whi[0], (float)whi[1], (float)whi[2]), r->path);
 }
 
-/* Appends an instance of model `model` with rows to_world; false (reported at col) when the
- * transform is singular or past the instances' limit. */
-static bool instance_add(parser *p, int model, double to_world[3][4], int col, const char *path) {
-    if (!invertible(to_world))
+bool scene_instance_add(parser *p, int model, double to_world[3][4], int col, const char *path) {
+    if (!scene_rows_invertible(to_world))
         return parser_fail(p, col,
                            "mesh '%s': its transform is singular (an instance needs one that "
                            "inverts in single precision)",
@@ -164,10 +162,10 @@ static bool instance_add(parser *p, int model, double to_world[3][4], int col, c
 bool mesh_placed_instance(parser *p, mesh_placed *r, const mesh_transform *xf, int col) {
     double rows[3][4];
     rows_of(xf, rows);
-    return instance_add(p, r->model, rows, col, r->path) && note_box(p, r, rows, col);
+    return scene_instance_add(p, r->model, rows, col, r->path) && note_box(p, r, rows, col);
 }
 
-bool mesh_placed_make_model(parser *p, mesh_placed *r, int first, int col) {
+bool scene_model_take(parser *p, int first, int col, int *model, double lo[3], double hi[3]) {
     scene *s = &p->s;
     int count = s->triangle_count - first;
     triangle *faces =
@@ -184,9 +182,14 @@ bool mesh_placed_make_model(parser *p, mesh_placed *r, int first, int col) {
     s->models[s->model_count] = (scene_model){.first = s->model_face_count, .count = count};
     s->model_face_count += count;
     s->triangle_count = first; /* the faces moved: the model holds them (their normals stay) */
-    r->model = s->model_count++;
-    model_box(p, r);
-    return instance_add(p, r->model, r->to_world, col, r->path);
+    *model = s->model_count++;
+    model_box(s, *model, lo, hi);
+    return true;
+}
+
+bool mesh_placed_make_model(parser *p, mesh_placed *r, int first, int col) {
+    return scene_model_take(p, first, col, &r->model, r->lo, r->hi) &&
+           scene_instance_add(p, r->model, r->to_world, col, r->path);
 }
 
 /* The removed ranges in scene order. */

@@ -1,6 +1,8 @@
 /* scene_mesh.c: the mesh directive (DESIGN section 3.4; scenes/README.md): a model file loaded
  * (mesh_load.c), moved by the line's scale, rotate and translate, its degenerate faces dropped,
  * glass only when it is closed, appended to the scene's triangles. */
+#include "scene/scene_mesh.h"
+
 #include <limits.h>
 #include <math.h>
 #include <stdint.h>
@@ -181,7 +183,7 @@ static bool mesh_has_maps(const mesh *me) {
     return false;
 }
 
-/* One thread's share of transform_faces: faces [begin, end), its kept ones first. */
+/* One thread's share of mesh_faces_transform: faces [begin, end), its kept ones first. */
 typedef struct transform_share {
     mesh_face *faces;
     const mesh_transform *xf;
@@ -215,12 +217,10 @@ static void *transform_run(void *arg) {
     return NULL;
 }
 
-/* The mesh's faces transformed in place, the degenerate ones dropped (counted, the first
- * described) and the kept ones first, in order; on every core when there are many (a million
- * faces took 0.1 s on one). False with *outside the first face that leaves the coordinate range. */
-static bool transform_faces(mesh *me, const mesh_transform *xf, bool smooth, size_t *kept,
-                            size_t *dropped, char *first_drop, size_t first_drop_size,
-                            size_t *outside) {
+/* (a million faces took 0.1 s on one core) */
+bool mesh_faces_transform(mesh *me, const mesh_transform *xf, bool smooth, size_t *kept,
+                          size_t *dropped, char *first_drop, size_t first_drop_size,
+                          size_t *outside) {
     int shares = me->face_count >= TRANSFORM_MIN_FACES ? thread_count(0, THREADS_MAX) : 1;
     transform_share t[THREADS_MAX];
     for (int k = 0; k < shares; k++)
@@ -244,12 +244,10 @@ static bool transform_faces(mesh *me, const mesh_transform *xf, bool smooth, siz
     return true;
 }
 
-/* Appends the mesh's first `kept` faces, of material *given or else each of its file's, a file
- * material added to the scene's when a face first takes it (a Phong one brighter than the light
- * it receives noted, by its name, for path mode's warning); *emits says whether one emits. False
- * (reported) out of memory. */
-static bool add_faces(parser *p, const mesh *me, size_t kept, const material *given,
-                      const char *path, int col, bool *emits) {
+/* (a Phong material brighter than the light it receives is noted, by its name, for path mode's
+ * warning) */
+bool mesh_faces_add(parser *p, const mesh *me, size_t kept, const material *given, const char *path,
+                    int col, bool *emits) {
     uint32_t index = 0, *mapped = NULL; /* mapped[k]: the scene's index of file material k */
     if (given && !material_add(p, given, &index)) return false;
     if (!given) {
@@ -348,13 +346,11 @@ static void warn_tiny_glass(parser *p, vec3 lo, vec3 hi, const char *path, int c
                 (double)TZ_EPS);
 }
 
-/* Checks the mesh's glass, the line's material m or the file's refractive ones, part by part
- * (mesh_glass_parts): an open part is refused naming it (its material, first face, box and an
- * open edge, in the file's own coordinates: z as the file has it); closed parts are wound
- * outward, as glass tells entering from leaving by the geometric normal. *glass: whether there
- * is any. False (reported) when a part is open or out of memory. */
-static bool check_glass(parser *p, mesh *me, const material_spec *m, const double scale[3],
-                        const char *path, int col, bool *glass) {
+/* (mesh_glass_parts: an open part is refused naming it, its material, first face, box and an
+ * open edge, in the file's own coordinates: z as the file has it; closed parts are wound
+ * outward, as glass tells entering from leaving by the geometric normal) */
+bool mesh_faces_check_glass(parser *p, mesh *me, const material_spec *m, const double scale[3],
+                            const char *path, int col, bool *glass) {
     bool *is_glass = calloc((size_t)me->material_count + 1, sizeof *is_glass);
     if (!is_glass) {
         if (p->err) p->err->out_of_memory = true;
@@ -450,27 +446,31 @@ bool directive_mesh(parser *p) {
                                MODEL_BLENDER_ADVICE, error);
         return parser_fail(p, file->col, "mesh '%s': %s", path, error);
     }
-    if (!add_inputs(p, &me)) {
+    if (!add_inputs(p, &me) ||
+        (me.instance_count &&
+         !mesh_nodes_choose(p, &me, m, m ? &given : NULL, mirror, file->col))) {
         mesh_free(&me);
         return false;
     }
+    bool nodes = me.instance_count > 0; /* meshes that several nodes place: instances */
     bool glass = false, emits = false;
-    if (!check_glass(p, &me, m, instance ? unit_scale : scale, path, file->col, &glass)) {
+    if (!mesh_faces_check_glass(p, &me, m, instance ? unit_scale : scale, path, file->col,
+                                &glass)) {
         mesh_free(&me);
         return false;
     }
     /* Transformed in place; kept faces first. */
     size_t kept = 0, dropped = 0, outside = 0;
     char first_drop[320] = "";
-    if (!transform_faces(&me, &faces_xf, smooth, &kept, &dropped, first_drop, sizeof first_drop,
-                         &outside)) {
+    if (!mesh_faces_transform(&me, &faces_xf, smooth, &kept, &dropped, first_drop,
+                              sizeof first_drop, &outside)) {
         mesh_free(&me);
         return parser_fail(p, file->col,
                            "mesh '%s': face %zu leaves the coordinate range (1e18) once "
                            "transformed",
                            path, outside);
     }
-    if (kept == 0) {
+    if (kept == 0 && !nodes) {
         mesh_free(&me);
         return parser_fail(p, file->col, "mesh '%s': every face is degenerate (face %s)", path,
                            first_drop);
@@ -478,7 +478,7 @@ bool directive_mesh(parser *p) {
     int room = kept > (size_t)INT_MAX / 2 ? INT_MAX / 2 : (int)kept;
     bool uvs = m ? material_textured(&given) : mesh_has_maps(&me);
     if (!faces_reserve(p, room) || ((smooth || uvs) && !normals_reserve(p, room)) ||
-        !add_faces(p, &me, kept, m ? &given : NULL, path, file->col, &emits)) {
+        !mesh_faces_add(p, &me, kept, m ? &given : NULL, path, file->col, &emits)) {
         mesh_free(&me);
         return false;
     }
@@ -490,16 +490,32 @@ bool directive_mesh(parser *p) {
         p->emission_line = p->line;
         p->emission_col = file->col;
     }
-    vec3 lo, hi;
-    mesh_box(&me, kept, &lo, &hi);
-    if (glass && !instance) warn_tiny_glass(p, lo, hi, path, file->col);
-    bool noted = instance ? mesh_placed_make_model(p, placed, first, file->col) &&
-                                mesh_placed_instance(p, placed, &xf, file->col)
-                          : parser_note_mesh(p, file->col, kept, lo, hi, path) &&
-                                mesh_placed_note(
-                                    p, path, smooth, m ? &given : NULL,
-                                    !emits && !(m && material_emits(&given)) && !mirror && !lights,
-                                    first, normals_first, &xf);
+    vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    if (kept) mesh_box(&me, kept, &lo, &hi);
+    if (glass && !instance && kept) warn_tiny_glass(p, lo, hi, path, file->col);
+    bool noted;
+    if (instance) {
+        noted = mesh_placed_make_model(p, placed, first, file->col) &&
+                mesh_placed_instance(p, placed, &xf, file->col);
+    } else {
+        bool instanceable = !emits && !(m && material_emits(&given)) && !mirror && !lights;
+        double blo[3] = {lo.x, lo.y, lo.z}, bhi[3] = {hi.x, hi.y, hi.z};
+        mesh_nodes_count count = {.unique = kept, .placed = kept};
+        noted = mesh_placed_note(p, path, smooth, m ? &given : NULL, instanceable && !nodes, first,
+                                 normals_first, &xf) &&
+                (!nodes || mesh_nodes_place(p, &me, m, m ? &given : NULL, smooth, &xf, path,
+                                            file->col, blo, bhi, &count));
+        if (noted && count.placed == 0)
+            noted = parser_fail(p, file->col,
+                                "mesh '%s': places no face (every node that places one has a "
+                                "transform that does not invert)",
+                                path);
+        lo = v3((float)blo[0], (float)blo[1], (float)blo[2]);
+        hi = v3((float)bhi[0], (float)bhi[1], (float)bhi[2]);
+        noted = noted && parser_note_mesh(p, file->col, count.placed, lo, hi, path);
+        if (noted && nodes)
+            parser_note_mesh_nodes(p, count.unique, count.instances, count.shared_meshes);
+    }
     if (!noted) {
         mesh_free(&me);
         return false;

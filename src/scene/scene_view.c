@@ -23,7 +23,8 @@ bool parser_note_mesh(parser *p, int col, size_t faces, vec3 lo, vec3 hi, const 
         p->view_capacity = capacity;
     }
     mesh_view *v = &p->views[p->view_count++];
-    *v = (mesh_view){.line = p->line, .col = col, .faces = faces, .lo = lo, .hi = hi};
+    *v = (mesh_view){
+        .line = p->line, .col = col, .faces = faces, .unique = faces, .lo = lo, .hi = hi};
     snprintf(v->path, sizeof v->path, "%s", path);
     return true;
 }
@@ -89,6 +90,14 @@ static bool outside(const view *v, vec3 lo, vec3 hi) {
     return false;
 }
 
+void parser_note_mesh_nodes(parser *p, size_t unique, int instances, int shared_meshes) {
+    if (p->view_count == 0) return;
+    mesh_view *v = &p->views[p->view_count - 1];
+    v->unique = unique;
+    v->instances = instances;
+    v->shared_meshes = shared_meshes;
+}
+
 void parser_report_meshes(parser *p) {
     view v = view_of(&p->s);
     const mesh_view *first = NULL;
@@ -96,10 +105,15 @@ void parser_report_meshes(parser *p) {
     for (size_t k = 0; k < p->view_count; k++) {
         const mesh_view *m = &p->views[k];
         bool out = outside(&v, m->lo, m->hi);
+        char shared[160] = "";
+        if (m->instances)
+            snprintf(shared, sizeof shared,
+                     " (%zu unique: %d of its meshes placed by %d instances, kept once)", m->unique,
+                     m->shared_meshes, m->instances);
         log_debug(
-            "mesh '%s' (line %d): %zu faces, bounding box after its transform %g %g %g to "
+            "mesh '%s' (line %d): %zu faces%s, bounding box after its transform %g %g %g to "
             "%g %g %g%s",
-            m->path, m->line, m->faces, (double)m->lo.x, (double)m->lo.y, (double)m->lo.z,
+            m->path, m->line, m->faces, shared, (double)m->lo.x, (double)m->lo.y, (double)m->lo.z,
             (double)m->hi.x, (double)m->hi.y, (double)m->hi.z,
             out ? ", wholly outside the camera's view" : "");
         if (out && !first)
