@@ -224,8 +224,7 @@ static void test_counts(void) {
     if (out) fclose(out);
     char want[160];
     snprintf(want, sizeof want,
-             "%d faces (%d unique: 1 of its meshes, of %d faces, placed by %d "
-             "instances)",
+             "%d faces (%d unique: 0 placed once, %d in 1 meshes that %d instances share)",
              MOVED * FACES, FACES, FACES, MOVED);
     CHECK(ok && text && strstr(text, want), "info: %s (wanted '%s')", ok ? text : err.message,
           want);

@@ -24,6 +24,7 @@
 
 #include "scene/assimp_lib.h"
 #include "scene/mesh_gltf.h"
+#include "scene/mesh_import.h"
 #include "scene/mesh_material.h"
 #include "util/big_memory.h"
 #include "util/clock.h"
@@ -48,8 +49,6 @@
  * least HEAP_MIN. */
 #define HEAP_PER_FILE_BYTE 32
 #define HEAP_MIN ((size_t)64 << 20)
-/* From this many faces the child gathers them on every core. */
-#define GATHER_MIN_FACES 65536
 
 /* assimp, opened by mesh_load before it forks the child that imports (which inherits it). */
 static const assimp_lib *ai;
@@ -79,212 +78,6 @@ static bool copy_faces(int fd, mesh_face *faces, size_t count, bool to) {
     return fd_copy_at(fd, faces, count * sizeof *faces, to);
 }
 
-/* One thread's share of the faces gathered (gather_faces): faces [begin, end) of the triangle
- * meshes' faces counted in order, written from out + begin on (where they go when every one of
- * them is a triangle; with one share, faces of other sizes are skipped). */
-typedef struct gather_share {
-    const struct aiScene *sc;
-    size_t begin, end;
-    mesh_face *out;
-    size_t written;
-    /* The first non-finite corner met, if any: its mesh, index and value. */
-    bool failed;
-    unsigned fail_mesh, fail_index;
-    struct aiVector3D fail_value;
-} gather_share;
-
-/* Gathers a share's faces with their corners' normals (zero where the file gives none), in
- * trazador's left-handed space: model files are right-handed (OBJ, glTF, PLY, STL, COLLADA), so
- * z and the normals' z are negated and each face's winding flipped (corners 0 2 1), as assimp's
- * aiProcess_MakeLeftHanded with FlipWindingOrder would; a model's front (+Z) then faces a camera
- * at -z looking along +z, its geometric normals still point where the file's did. */
-static void *gather_run(void *arg) {
-    static const int corner_of[3] = {0, 2, 1};
-    gather_share *g = arg;
-    mesh_face *mf = g->out + g->begin;
-    size_t start = 0; /* mesh i's first face among all the triangle meshes' faces */
-    for (unsigned i = 0; i < g->sc->mNumMeshes && !g->failed && start < g->end; i++) {
-        const struct aiMesh *me = g->sc->mMeshes[i];
-        if (!(me->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
-        size_t from = g->begin > start ? g->begin - start : 0;
-        size_t to = g->end - start < me->mNumFaces ? g->end - start : me->mNumFaces;
-        start += me->mNumFaces;
-        for (size_t f = from; f < to && !g->failed; f++) {
-            const struct aiFace *face = &me->mFaces[f];
-            if (face->mNumIndices != 3) continue;
-            mf->material = me->mMaterialIndex < g->sc->mNumMaterials ? (int)me->mMaterialIndex : -1;
-            for (int k = 0; k < 3; k++) {
-                unsigned index = face->mIndices[corner_of[k]];
-                struct aiVector3D v = me->mVertices[index];
-                if (!isfinite(v.x) || !isfinite(v.y) || !isfinite(v.z)) {
-                    g->failed = true;
-                    g->fail_mesh = i, g->fail_index = index, g->fail_value = v;
-                    break;
-                }
-                mf->v[k] = v3(v.x, v.y, -v.z);
-                struct aiVector3D n = me->mNormals ? me->mNormals[index] : (struct aiVector3D){0};
-                bool finite = isfinite(n.x) && isfinite(n.y) && isfinite(n.z);
-                mf->n[k] = finite ? v3(n.x, n.y, -n.z) : v3(0, 0, 0);
-                struct aiVector3D t =
-                    me->mTextureCoords[0] ? me->mTextureCoords[0][index] : (struct aiVector3D){0};
-                finite = isfinite(t.x) && isfinite(t.y);
-                mf->uv[k][0] = finite ? t.x : 0.0f;
-                mf->uv[k][1] = finite ? t.y : 0.0f;
-            }
-            mf++;
-            g->written++;
-        }
-    }
-    return NULL;
-}
-
-/* The triangle faces of sc into out->faces (room for all of them), in order: on every core when
- * there are many and every triangle mesh holds triangles alone (so a share knows where its faces
- * go: the reads of assimp's arrays and the 76 MB written took the child 0.1 s for a million
- * faces on one); false (error) at the first non-finite corner,
- * the one a single pass would meet first. */
-static bool gather_faces(const struct aiScene *sc, mesh *out, char *error, size_t error_size) {
-    size_t total = 0;
-    bool pure = true;
-    for (unsigned i = 0; i < sc->mNumMeshes; i++) {
-        const struct aiMesh *me = sc->mMeshes[i];
-        if (!(me->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
-        if (me->mColors[0])
-            mesh_note_unsupported(out->unsupported, sizeof out->unsupported, "vertex colours");
-        total += me->mNumFaces;
-        /* (triangulated polygons keep a flag that says so: their faces are triangles) */
-        pure &= (me->mPrimitiveTypes & ~(unsigned)aiPrimitiveType_NGONEncodingFlag) ==
-                aiPrimitiveType_TRIANGLE;
-    }
-    int shares = pure && total >= GATHER_MIN_FACES ? thread_count(0, THREADS_MAX) : 1;
-    gather_share g[THREADS_MAX];
-    for (int t = 0; t < shares; t++)
-        g[t] = (gather_share){.sc = sc,
-                              .begin = total * (size_t)t / (size_t)shares,
-                              .end = total * (size_t)(t + 1) / (size_t)shares,
-                              .out = out->faces};
-    threads_run(gather_run, g, sizeof g[0], shares);
-    for (int t = 0; t < shares; t++) {
-        if (g[t].failed)
-            return fail(error, error_size,
-                        "vertex %u of mesh %u has a non-finite position (%g %g %g)",
-                        g[t].fail_index, g[t].fail_mesh, (double)g[t].fail_value.x,
-                        (double)g[t].fail_value.y, (double)g[t].fail_value.z);
-        out->face_count += g[t].written;
-    }
-    return true;
-}
-
-/* The compressed bytes of the embedded images ("*N") the materials name into out->embedded, each
- * material's path renamed to its index there; an image assimp holds decoded (its height not 0)
- * or past the limits is named unsupported and its maps dropped. False out of memory. */
-static bool gather_embedded(const struct aiScene *sc, mesh *out, char *error, size_t error_size) {
-    int index_of[MESH_MAX_EMBEDDED];
-    for (int k = 0; k < MESH_MAX_EMBEDDED; k++) index_of[k] = -1;
-    for (int m = 0; m < out->material_count; m++) {
-        for (int k = 0; k < MATERIAL_MAP_COUNT; k++) {
-            mesh_map *map = &out->materials[m].maps[k];
-            if (map->path[0] != '*') continue;
-            char *end;
-            long n = strtol(map->path + 1, &end, 10);
-            const struct aiTexture *t =
-                !*end && n >= 0 && n < (long)sc->mNumTextures && n < MESH_MAX_EMBEDDED
-                    ? sc->mTextures[n]
-                    : NULL;
-            size_t used = out->embedded_at[out->embedded_count];
-            bool room = t && (index_of[n] >= 0 || (out->embedded_count < MESH_MAX_EMBEDDED &&
-                                                   t->mWidth <= MESH_MAX_EMBEDDED_BYTES - used));
-            if (!t || t->mHeight != 0 || !room) {
-                mesh_note_unsupported(out->unsupported, sizeof out->unsupported,
-                                      "embedded textures stored decoded or past 256 MB");
-                map->path[0] = '\0';
-                continue;
-            }
-            if (index_of[n] < 0) {
-                uint8_t *grown = realloc(out->embedded, used + t->mWidth + 1);
-                if (!grown) return fail(error, error_size, "out of memory for its textures");
-                out->embedded = grown;
-                memcpy(grown + used, t->pcData, t->mWidth);
-                index_of[n] = out->embedded_count++;
-                out->embedded_at[out->embedded_count] = used + t->mWidth;
-            }
-            snprintf(map->path, sizeof map->path, "*%d", index_of[n]);
-        }
-    }
-    return true;
-}
-
-/* The import's file system (aiFileIO): assimp's own, but recording each file it opens in the
- * mesh's inputs, so that the CLI can refuse to write over a model's MTL or buffers as over the
- * model, and opening regular files alone (a FIFO that an OBJ names as its MTL would block the
- * import until killed). The import only reads. */
-static FILE *file_of(struct aiFile *f) { return (FILE *)(void *)f->UserData; }
-
-static size_t file_read(struct aiFile *f, char *buffer, size_t size, size_t count) {
-    return fread(buffer, size, count, file_of(f));
-}
-
-static size_t file_write(struct aiFile *f, const char *buffer, size_t size, size_t count) {
-    (void)f, (void)buffer, (void)size, (void)count;
-    return 0;
-}
-
-static size_t file_tell(struct aiFile *f) {
-    off_t at = ftello(file_of(f));
-    return at < 0 ? 0 : (size_t)at;
-}
-
-static size_t file_size(struct aiFile *f) {
-    struct stat st;
-    return fstat(fileno(file_of(f)), &st) == 0 ? (size_t)st.st_size : 0;
-}
-
-/* assimp passes an offset from the end as a negative number in a size_t. */
-static enum aiReturn file_seek(struct aiFile *f, size_t offset, enum aiOrigin origin) {
-    int whence = origin == aiOrigin_SET ? SEEK_SET : origin == aiOrigin_CUR ? SEEK_CUR : SEEK_END;
-    return fseeko(file_of(f), (off_t)offset, whence) == 0 ? aiReturn_SUCCESS : aiReturn_FAILURE;
-}
-
-static void file_flush(struct aiFile *f) { (void)f; }
-
-/* Keeps the identity st of the file opened as path in m's inputs (each file once). */
-static void record_input(mesh *m, const struct stat *st, const char *path) {
-    for (int k = 0; k < m->input_count; k++)
-        if (scene_input_is(&m->inputs[k], (uint64_t)st->st_dev, st->st_ino)) return;
-    if (m->input_count == MESH_MAX_INPUTS) return;
-    scene_input *in = &m->inputs[m->input_count++];
-    in->device = (uint64_t)st->st_dev;
-    in->inode = (uint64_t)st->st_ino;
-    snprintf(in->path, sizeof in->path, "%s", path);
-}
-
-static struct aiFile *file_open(struct aiFileIO *io, const char *path, const char *mode) {
-    if (strpbrk(mode, "wa+")) return NULL;
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC); /* a FIFO's open would block */
-    if (fd < 0) return NULL;
-    struct stat st;
-    FILE *fp = NULL;
-    struct aiFile *f = malloc(sizeof *f);
-    if (f && fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
-        fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK) == 0)
-        fp = fdopen(fd, "rb");
-    if (!fp) {
-        free(f);
-        close(fd);
-        return NULL;
-    }
-    record_input((mesh *)(void *)io->UserData, &st, path);
-    *f = (struct aiFile){file_read, file_write, file_tell,         file_size,
-                         file_seek, file_flush, (char *)(void *)fp};
-    return f;
-}
-
-static void file_close(struct aiFileIO *io, struct aiFile *f) {
-    (void)io;
-    fclose(file_of(f));
-    free(f);
-}
-
 /* assimp 5.2.5 reads no KHR_materials_emissive_strength (no key of its glTF reader holds it), so
  * a glTF emitter that has one renders its emissive factor alone: Blender exports a strong lamp
  * as factor 1 and strength 12, and it came out 12 times too dark without a word. Where a
@@ -311,7 +104,7 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
     memset(out, 0, sizeof *out);
     /* The cameras and lights are read before the post-processing, which renames them */
     unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType;
-    struct aiFileIO files = {file_open, file_close, (char *)(void *)out};
+    struct aiFileIO files = {mesh_file_open, mesh_file_close, (char *)(void *)out};
     const struct aiScene *sc = ai->import_file_ex(path, aiProcess_ValidateDataStructure, &files);
     if (!sc) return fail(error, error_size, "cannot load: %s", ai->get_error_string());
     const char *dot = strrchr(path, '.');
@@ -355,10 +148,10 @@ static bool import(const char *path, bool smooth, int fd, mesh *out, char *error
                                sizeof out->unsupported, error, error_size);
     out->material_count = (int)sc->mNumMaterials;
     if (ok) note_lost_strength(path, out);
-    if (ok) ok = gather_embedded(sc, out, error, error_size);
+    if (ok) ok = mesh_gather_embedded(sc, out, error, error_size);
     if (ok)
         ok = shared ? mesh_nodes_gather(sc, out, error, error_size)
-                    : gather_faces(sc, out, error, error_size);
+                    : mesh_gather_faces(sc, out, error, error_size);
     ai->release_import(sc); /* before the normals' tables: the peak is then one of the two */
     size_t all = out->face_count + out->part_face_count;
     if (ok && all == 0)

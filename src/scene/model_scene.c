@@ -299,8 +299,8 @@ bool model_scene_list(const char *path, FILE *out, scene_error *err) {
     char shared[160] = "";
     if (m.instance_count)
         snprintf(shared, sizeof shared,
-                 " (%zu unique: %d of its meshes, of %zu faces, placed by %d instances)",
-                 m.face_count + m.part_face_count, m.part_count, m.part_face_count,
+                 " (%zu unique: %zu placed once, %zu in %d meshes that %d instances share)",
+                 m.face_count + m.part_face_count, m.face_count, m.part_face_count, m.part_count,
                  m.instance_count);
     fprintf(out, "%s: %zu faces%s, %d camera%s, %d light%s\n", path, placed, shared, m.camera_count,
             m.camera_count == 1 ? "" : "s", m.light_count, m.light_count == 1 ? "" : "s");

@@ -68,9 +68,10 @@ typedef struct key_values {
 typedef struct mesh_view {
     int line, col; /* of the mesh line's file value */
     size_t faces;
-    size_t unique;     /* of which kept once: faces placed once and shared meshes' (nodes) */
-    int instances;     /* the shared meshes' placements (nodes), 0 when none */
-    int shared_meshes; /* and how many meshes they place */
+    /* A file whose nodes share meshes (scene_mesh_nodes.c): the faces placed once, the shared
+     * meshes' faces (kept once), how many such meshes and their instances (0 without). */
+    size_t once, shared;
+    int shared_meshes, instances;
     vec3 lo, hi;
     char path[SCENE_INPUT_PATH];
 } mesh_view;
@@ -133,9 +134,10 @@ float parser_largest_coordinate(vec3 v);
 /* Keeps a mesh line's box (its file value at col, its faces, its path) for parser_report_meshes;
  * false (reported) out of memory. */
 bool parser_note_mesh(parser *p, int col, size_t faces, vec3 lo, vec3 hi, const char *path);
-/* Notes of the last mesh line noted that `unique` of its faces are kept once and that it places
- * `shared_meshes` of its file's meshes by `instances` instances (scene_mesh_nodes.c). */
-void parser_note_mesh_nodes(parser *p, size_t unique, int instances, int shared_meshes);
+/* Notes of the last mesh line noted that `once` of its faces are placed once and that
+ * `shared_meshes` meshes of `shared` faces are kept once, placed by `instances` instances. */
+void parser_note_mesh_nodes(parser *p, size_t once, size_t shared, int shared_meshes,
+                            int instances);
 /* Prints each mesh's box (--verbose) and warns of the first mesh wholly outside the camera's
  * view (scene_view.c); the scene's camera and plane are final. */
 void parser_report_meshes(parser *p);

@@ -26,6 +26,10 @@ bool mesh_faces_add(parser *p, const mesh *me, size_t kept, const material *give
  * when a part is open or out of memory. */
 bool mesh_faces_check_glass(parser *p, mesh *me, const material_spec *m, const double scale[3],
                             const char *path, int col, bool *glass);
+/* Warns, once a scene as for spheres (tiny_warned), when glass mesh `path` has a bounding box
+ * lo..hi whose smallest half-extent is under SCENE_TINY_OFFSETS ray offsets at its largest
+ * |coordinate|. */
+void mesh_warn_tiny_glass(parser *p, vec3 lo, vec3 hi, const char *path, int col);
 /* Flattens the instances of me's shared meshes that cannot stay instances under the line's
  * material (m, given) and mirror: those of a mesh that emits (instances are not lights) and the
  * mirrored ones of a glass mesh (its faces are wound outward once, in its own space). False

@@ -67,27 +67,36 @@ static void line_after_node(const mesh_transform *xf, const double node[3][4], d
                          line[i][2] * node[2][j] + (j == 3 ? line[i][3] : 0.0);
 }
 
-/* Makes part k of me a model (its faces checked, their degenerate ones dropped), its index in
- * *model and box in lo..hi; *model -1 when every face is degenerate. False (reported). */
+/* Degenerate faces dropped from the parts: how many, and the first described. */
+typedef struct dropped_faces {
+    size_t count;
+    int mesh; /* the file's mesh of the first */
+    char first[320];
+} dropped_faces;
+
+/* Makes part k of me a model (its faces checked, their degenerate ones dropped and noted in
+ * *dropped), its index in *model and box in lo..hi; *model -1 when every face is degenerate.
+ * False (reported). */
 static bool part_model(parser *p, mesh *me, int k, const material_spec *m, const material *given,
                        bool smooth, const char *path, int col, int *model, double lo[3],
-                       double hi[3]) {
+                       double hi[3], dropped_faces *dropped) {
     *model = -1;
     mesh part = mesh_part_view(me, k);
     const double unit_scale[3] = {1, 1, 1}, unit_rotate[4] = {0, 0, 1, 0}, origin[3] = {0, 0, 0};
     mesh_transform identity = mesh_transform_make(unit_scale, unit_rotate, origin);
     bool glass = false, emits = false;
     if (!mesh_faces_check_glass(p, &part, m, unit_scale, path, col, &glass)) return false;
-    size_t kept = 0, dropped = 0, outside = 0;
+    size_t kept = 0, drops = 0, outside = 0;
     char first_drop[320] = "";
-    if (!mesh_faces_transform(&part, &identity, smooth, &kept, &dropped, first_drop,
+    if (!mesh_faces_transform(&part, &identity, smooth, &kept, &drops, first_drop,
                               sizeof first_drop, &outside))
         return parser_fail(p, col, "mesh '%s': face %zu of its mesh %d leaves the coordinate range",
                            path, outside, me->parts[k].mesh);
-    if (dropped)
-        parser_warn(p, p->line, col,
-                    "mesh '%s': %zu degenerate face%s of its mesh %d dropped (the first, face %s)",
-                    path, dropped, dropped == 1 ? "" : "s", me->parts[k].mesh, first_drop);
+    if (drops && !dropped->count) {
+        dropped->mesh = me->parts[k].mesh;
+        snprintf(dropped->first, sizeof dropped->first, "%s", first_drop);
+    }
+    dropped->count += drops;
     if (kept == 0) return true;
     bool uvs = given && material_textured(given);
     for (int j = 0; !given && j < me->material_count; j++)
@@ -104,13 +113,15 @@ bool mesh_nodes_place(parser *p, mesh *me, const material_spec *m, const materia
                       double lo[3], double hi[3], mesh_nodes_count *count) {
     int skipped = 0;
     const char *first_skipped = "";
+    dropped_faces dropped = {0};
     for (int k = 0; k < me->part_count; k++) {
         bool used = false;
         for (int i = 0; i < me->instance_count && !used; i++) used = me->instances[i].part == k;
         if (!used) continue; /* every placement flattened (mesh_nodes_choose) */
         int model;
         double mlo[3], mhi[3];
-        if (!part_model(p, me, k, m, given, smooth, path, col, &model, mlo, mhi)) return false;
+        if (!part_model(p, me, k, m, given, smooth, path, col, &model, mlo, mhi, &dropped))
+            return false;
         if (model < 0) continue;
         count->shared_meshes++;
         int faces = p->s.models[model].count;
@@ -130,6 +141,12 @@ bool mesh_nodes_place(parser *p, mesh *me, const material_spec *m, const materia
             count->instances++;
         }
     }
+    if (dropped.count)
+        parser_warn(p, p->line, col,
+                    "mesh '%s': %zu degenerate face%s of the meshes its nodes share dropped (the "
+                    "first, of its mesh %d, face %s)",
+                    path, dropped.count, dropped.count == 1 ? "" : "s", dropped.mesh,
+                    dropped.first);
     if (skipped)
         parser_warn(p, p->line, col,
                     "mesh '%s': %d node%s (the first '%s') place%s a shared mesh by a transform "

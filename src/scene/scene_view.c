@@ -23,8 +23,7 @@ bool parser_note_mesh(parser *p, int col, size_t faces, vec3 lo, vec3 hi, const 
         p->view_capacity = capacity;
     }
     mesh_view *v = &p->views[p->view_count++];
-    *v = (mesh_view){
-        .line = p->line, .col = col, .faces = faces, .unique = faces, .lo = lo, .hi = hi};
+    *v = (mesh_view){.line = p->line, .col = col, .faces = faces, .lo = lo, .hi = hi};
     snprintf(v->path, sizeof v->path, "%s", path);
     return true;
 }
@@ -90,12 +89,14 @@ static bool outside(const view *v, vec3 lo, vec3 hi) {
     return false;
 }
 
-void parser_note_mesh_nodes(parser *p, size_t unique, int instances, int shared_meshes) {
+void parser_note_mesh_nodes(parser *p, size_t once, size_t shared, int shared_meshes,
+                            int instances) {
     if (p->view_count == 0) return;
     mesh_view *v = &p->views[p->view_count - 1];
-    v->unique = unique;
-    v->instances = instances;
+    v->once = once;
+    v->shared = shared;
     v->shared_meshes = shared_meshes;
+    v->instances = instances;
 }
 
 void parser_report_meshes(parser *p) {
@@ -108,8 +109,8 @@ void parser_report_meshes(parser *p) {
         char shared[160] = "";
         if (m->instances)
             snprintf(shared, sizeof shared,
-                     " (%zu unique: %d of its meshes placed by %d instances, kept once)", m->unique,
-                     m->shared_meshes, m->instances);
+                     " (%zu unique: %zu placed once, %zu in %d meshes that %d instances share)",
+                     m->once + m->shared, m->once, m->shared, m->shared_meshes, m->instances);
         log_debug(
             "mesh '%s' (line %d): %zu faces%s, bounding box after its transform %g %g %g to "
             "%g %g %g%s",
