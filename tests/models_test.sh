@@ -341,6 +341,36 @@ render_quiet "$tmp/tri.obj" --width 32 -o "$tmp/model.pfm" || fail "tri.obj: exi
 render_quiet "$tmp/framed.scene" -o "$tmp/hand.pfm" || fail "framed.scene: $(cat "$tmp/err")"
 "$tz" diff "$tmp/model.pfm" "$tmp/hand.pfm" --max-rmse 0.001 >/dev/null ||
     fail "tri.obj: not framed by the documented rule: $("$tz" diff "$tmp/model.pfm" "$tmp/hand.pfm" 2>&1)"
+# shared FILE DISTANCE INSTANCES: a file whose nodes place one mesh several times keeps it once,
+# with INSTANCES instances (`trazador info`), is seen, and agrees across back ends.
+shared() {
+    local file=$1 distance=$2 instances=$3 out
+    out=$("$tz" info "$models/$file" 2>&1) || fail "$file: no info: $out"
+    grep -q "meshes that $instances instances share" <<<"$out" ||
+        fail "$file: expected $instances instances: $out"
+    scene_for "$file" "$distance" >"$tmp/model.scene"
+    if ! "$tz" render "$tmp/model.scene" --backend cpu --spp 1 --quiet -o "$tmp/cpu.pfm" \
+        2>"$tmp/err"; then
+        fail "$file: not rendered: $(tail -1 "$tmp/err")"
+        return
+    fi
+    local rc=0
+    "$tz" diff "$tmp/cpu.pfm" "$tmp/black.pfm" >/dev/null 2>&1 || rc=$?
+    [ $rc = 1 ] || fail "$file: not seen (every pixel black, or diff failed: exit $rc)"
+    [ $vulkan = 1 ] || return 0
+    if ! "$tz" render "$tmp/model.scene" --backend vulkan --validate --spp 1 --quiet \
+        -o "$tmp/vk.pfm" 2>"$tmp/vk.log"; then
+        fail "$file: not rendered on Vulkan: $(tail -1 "$tmp/vk.log")"
+    elif ! cmp -s "$tmp/cpu.pfm" "$tmp/vk.pfm"; then
+        fail "$file: Vulkan and the CPU back end differ"
+    fi
+}
+
+shared glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb 600 100
+shared glTF/CesiumMilkTruck/CesiumMilkTruck.gltf 8 2
+shared glTF2/textureTransform/TextureTransformTest.gltf 3 5
+shared Collada/teapot_instancenodes.DAE 8 2
+
 # Every glTF, OBJ and PLY of assimp-testmodels given as the scene: an image (exit 0) or a
 # message (exit 2), never a crash or a hang.
 while IFS= read -r -d '' file; do
