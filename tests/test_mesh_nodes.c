@@ -4,8 +4,9 @@
  * bits, moved, turned, scaled, mirrored and nested ones the image within the bound of
  * test_instances; the reference and packet builds agree; `trazador info` counts unique faces and
  * instances; emitters and mirrored glass stay flattened; a singular node is skipped with a
- * warning. With the argument `vulkan`: every Vulkan walk the device has renders the CPU back
- * end's bits (exit 77 only without a Vulkan device). */
+ * warning, one that moves the mesh past the coordinate range is an error. With the argument
+ * `vulkan`: every Vulkan walk the device has renders the CPU back end's bits (exit 77 only without
+ * a Vulkan device). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -296,6 +297,18 @@ static void test_singular(void) {
         warned |= strstr(s.warnings[k].message, "'n1'") && strstr(s.warnings[k].message, "skipped");
     CHECK(warned, "singular node: no warning names node n1");
     scene_free(&s);
+    nodes[0] = '\0';
+    node(nodes, sizeof nodes, false, 0, "");
+    node(nodes, sizeof nodes, false, 1, "\"translation\":[1e30,0,0]");
+    write_gltf("far_node", 1, nodes, "0,1", NULL);
+    char text[1024];
+    snprintf(text, sizeof text, "%smesh file far_node.gltf\n", header);
+    scene_error err;
+    bool ok = parse(text, 1, &s, &err);
+    CHECK(!ok && err.line == 6 && strstr(err.message, "node 'n1'") &&
+              strstr(err.message, "coordinate range"),
+          "far node: %s %d %s", ok ? "parsed" : "refused", err.line, ok ? "" : err.message);
+    if (ok) scene_free(&s);
 }
 
 /* COLLADA: three nodes instance one geometry (assimp keeps it one mesh): three instances. */

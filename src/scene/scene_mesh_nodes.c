@@ -135,6 +135,15 @@ bool mesh_nodes_place(parser *p, mesh *me, const material_spec *m, const materia
                 if (!skipped++) first_skipped = in->node;
                 continue;
             }
+            double wlo[3] = {INFINITY, INFINITY, INFINITY};
+            double whi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            scene_box_moved(mlo, mhi, rows, wlo, whi);
+            for (int a = 0; a < 3; a++)
+                if (!(fabs(wlo[a]) <= 1e18 && fabs(whi[a]) <= 1e18))
+                    return parser_fail(p, col,
+                                       "mesh '%s': node '%s' moves its mesh %d out of the "
+                                       "coordinate range (1e18)",
+                                       path, in->node, me->parts[k].mesh);
             if (!scene_instance_add(p, model, rows, col, path)) return false;
             scene_box_moved(mlo, mhi, rows, lo, hi);
             count->placed += (size_t)faces;
