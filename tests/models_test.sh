@@ -342,18 +342,20 @@ render_quiet "$tmp/framed.scene" -o "$tmp/hand.pfm" || fail "framed.scene: $(cat
 "$tz" diff "$tmp/model.pfm" "$tmp/hand.pfm" --max-rmse 0.001 >/dev/null ||
     fail "tri.obj: not framed by the documented rule: $("$tz" diff "$tmp/model.pfm" "$tmp/hand.pfm" 2>&1)"
 # shared FILE DISTANCE INSTANCES: a file whose nodes place one mesh several times keeps it once,
-# with INSTANCES instances (`trazador info`), is seen, and agrees across back ends.
+# with INSTANCES instances (`trazador info`, `--verbose`), is seen, and agrees across back ends.
 shared() {
     local file=$1 distance=$2 instances=$3 out
     out=$("$tz" info "$models/$file" 2>&1) || fail "$file: no info: $out"
     grep -q "meshes that $instances instances share" <<<"$out" ||
         fail "$file: expected $instances instances: $out"
     scene_for "$file" "$distance" >"$tmp/model.scene"
-    if ! "$tz" render "$tmp/model.scene" --backend cpu --spp 1 --quiet -o "$tmp/cpu.pfm" \
-        2>"$tmp/err"; then
+    if ! "$tz" render "$tmp/model.scene" --backend cpu --spp 1 --verbose -o "$tmp/cpu.pfm" \
+        >"$tmp/err" 2>&1; then
         fail "$file: not rendered: $(tail -1 "$tmp/err")"
         return
     fi
+    grep -q "meshes that $instances instances share), bounding box" "$tmp/err" ||
+        fail "$file: --verbose does not count $instances instances"
     local rc=0
     "$tz" diff "$tmp/cpu.pfm" "$tmp/black.pfm" >/dev/null 2>&1 || rc=$?
     [ $rc = 1 ] || fail "$file: not seen (every pixel black, or diff failed: exit $rc)"
