@@ -181,6 +181,10 @@ bool mesh_nodes_shared(const struct aiScene *sc);
  * the meshes several nodes place, once each with an instance per placement; false (error) out of
  * memory, on a non-finite corner or past MESH_MAX_INSTANCES. */
 bool mesh_nodes_gather(const struct aiScene *sc, mesh *m, char *error, size_t error_size);
+/* The determinant of rows' 3 x 3 part. */
+double mesh_rows_determinant(const double rows[3][4]);
+/* The inverse transpose of rows' 3 x 3 part (cofactors over the determinant), for normals. */
+void mesh_rows_normal_matrix(const double rows[3][4], double out[3][3]);
 /* Moves the instances for which flatten[k] is true out of m: their part's faces placed by their
  * rows join the placed faces (as PreTransformVertices would place them: a mirroring node's
  * faces wound back). False out of memory (m kept). */

@@ -28,12 +28,6 @@ static void part_kinds(const mesh *me, int k, const material_spec *m, const mate
     }
 }
 
-static double determinant(const double a[3][4]) {
-    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
-           a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-           a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-}
-
 bool mesh_nodes_choose(parser *p, mesh *me, const material_spec *m, const material *given,
                        bool mirror, int col) {
     bool *flatten = calloc((size_t)me->instance_count + 1, sizeof *flatten);
@@ -44,7 +38,7 @@ bool mesh_nodes_choose(parser *p, mesh *me, const material_spec *m, const materi
         part_kinds(me, k, m, given, &emits[k], &glass[k]);
     for (int k = 0; ok && k < me->instance_count; k++) {
         const mesh_instance *in = &me->instances[k];
-        bool mirrored = (determinant(in->rows) < 0.0) != mirror;
+        bool mirrored = (mesh_rows_determinant(in->rows) < 0.0) != mirror;
         flatten[k] = emits[in->part] || (glass[in->part] && mirrored);
     }
     ok = ok && mesh_nodes_flatten(me, flatten);
