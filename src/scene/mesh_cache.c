@@ -84,7 +84,7 @@ bool mesh_cache_load(mesh_cache **cache, const char *path, bool smooth, mesh *ou
     if (!*cache) *cache = calloc(1, sizeof **cache);
     if (!*cache) return true; /* out of memory: the next line loads again */
     mesh_cache *c = *cache;
-    if (out->face_count > CACHE_MAX_FACES) {
+    if (out->face_count + out->part_face_count > CACHE_MAX_FACES) {
         cached_mesh *big = &c->slot[CACHE_SLOTS];
         mesh_free(&big->model);
         *big = (cached_mesh){.file = file, .smooth = smooth, .once = true};
