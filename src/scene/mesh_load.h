@@ -189,8 +189,8 @@ void mesh_rows_normal_matrix(const double rows[3][4], double out[3][3]);
  * rows join the placed faces (as PreTransformVertices would place them: a mirroring node's
  * faces wound back). False out of memory (m kept). */
 bool mesh_nodes_flatten(mesh *m, const bool *flatten);
-/* The box of m's faces as placed: the placed ones and every instance's part moved by its rows;
- * false when m has no face. */
+/* The box of m's faces as placed: the placed ones and every instance's part moved by its rows
+ * (past many, a box around it: its part's box moved); false when m has no face. */
 bool mesh_bounds(const mesh *m, vec3 *lo, vec3 *hi);
 /* A view of part k of m as a mesh of its own (its faces, m's materials and embedded images),
  * owning nothing: never to be freed. */

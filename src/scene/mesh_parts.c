@@ -6,6 +6,10 @@
 
 #include "scene/mesh_load.h"
 
+/* Up to this many faces placed by instances, mesh_bounds moves each one's corners (a tenth of
+ * a second); past it, each instance's box. */
+#define BOUNDS_EXACT_FACES ((size_t)1 << 24)
+
 double mesh_rows_determinant(const double a[3][4]) {
     return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
            a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
@@ -93,9 +97,20 @@ bool mesh_bounds(const mesh *m, vec3 *lo, vec3 *hi) {
     bool any = false;
     for (size_t f = 0; f < m->face_count; f++)
         for (int j = 0; j < 3; j++) grow(m->faces[f].v[j], lo, hi, &any);
-    /* an instance by its part's box's corners moved (a box around the part's faces moved) */
-    vec3 *boxes = malloc(((size_t)m->part_count + 1) * 2 * sizeof *boxes);
     const mesh_face *part_faces = m->faces + m->face_count;
+    size_t placed = 0;
+    for (int k = 0; k < m->instance_count; k++) placed += m->parts[m->instances[k].part].count;
+    if (placed <= BOUNDS_EXACT_FACES) { /* every corner moved: the box flattened faces have */
+        for (int k = 0; k < m->instance_count; k++) {
+            const mesh_instance *in = &m->instances[k];
+            const mesh_part *part = &m->parts[in->part];
+            for (size_t f = part->first; f < part->first + part->count; f++)
+                for (int j = 0; j < 3; j++) grow(moved(in->rows, part_faces[f].v[j]), lo, hi, &any);
+        }
+        return any;
+    }
+    /* past that, an instance by its part's box's corners moved (a box around its faces) */
+    vec3 *boxes = malloc(((size_t)m->part_count + 1) * 2 * sizeof *boxes);
     for (int k = 0; boxes && k < m->part_count; k++) {
         bool some = false;
         for (size_t f = m->parts[k].first; f < m->parts[k].first + m->parts[k].count; f++)
