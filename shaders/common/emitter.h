@@ -64,7 +64,7 @@ TZ_LANE_FN int environment_texel_of(TZ_SCENE_PARAM vec3 m) {
 }
 
 /* The radiance the environment sends along direction d to a ray that meets nothing: the map's
- * texel, or the constant background without a map. */
+ * texel, or the constant background without a map (report mode's look-up). */
 TZ_LANE_FN vec3 environment_radiance(TZ_SCENE_PARAM vec3 d) {
     vec3 seen = xyz(TZ_FRAME.background);
     if ((TZ_FLAGS & TZ_FLAG_ENVIRONMENT) != 0u) {
@@ -74,28 +74,55 @@ TZ_LANE_FN vec3 environment_radiance(TZ_SCENE_PARAM vec3 d) {
     return seen;
 }
 
-/* The solid-angle pdf (the pick included) with which light sampling draws direction d toward
- * the environment: 0 where the environment is not sampled (the constant background, report
- * mode). */
-TZ_LANE_FN float environment_pdf(TZ_SCENE_PARAM vec3 d) {
+/* The solid-angle pdf (the pick included) with which light sampling draws map direction m, whose
+ * texel's pdf over the map's unit square is density: 0 where the environment is not sampled
+ * (report mode, a black map). */
+TZ_LANE_FN float environment_light_pdf(TZ_SCENE_PARAM vec3 m, float density) {
     float pdf = 0.0f;
-    if (((TZ_FLAGS & TZ_FLAG_ENVIRONMENT) != 0u) TZ_AND(TZ_FRAME.env_slot > 0u)) {
-        vec3 m = environment_map_direction(TZ_SCENE_ARG d);
+    if (TZ_FRAME.env_slot > 0u) {
         TZ_PRECISE float sin_theta = TZ_SQRT(m.x * m.x + m.z * m.z);
         float pick = emitter_emission_pick(TZ_SCENE_ARG TZ_INT(TZ_FRAME.env_slot) - 1).w;
-        float texel = environment_texel(TZ_SCENE_ARG environment_texel_of(TZ_SCENE_ARG m)).w;
-        float p = pick * texel / (TZ_TWO_PI_SQUARED * sin_theta);
+        float p = pick * density / (TZ_TWO_PI_SQUARED * sin_theta);
         pdf = sin_theta > 0.0f ? p : 0.0f;
     }
     return pdf;
 }
 
-/* The MIS weight of the environment's radiance found along d by a ray the BSDF drew with pdf
- * bsdf_pdf (specular: a camera ray or a mirror's or glass's, which light sampling cannot draw):
- * the power heuristic against environment_pdf, 1 where light sampling never draws d or BSDF
- * sampling is alone, 0 where light sampling is. */
-TZ_LANE_FN float environment_mis_weight(TZ_SCENE_PARAM TZ_BOOL specular, float bsdf_pdf, vec3 d) {
-    float light_pdf = environment_pdf(TZ_SCENE_ARG d);
+/* What a ray along d that meets nothing finds in path mode, from one look-up of the map: the
+ * environment's radiance (environment_radiance's) and the pdf with which light sampling draws d
+ * (environment_light_pdf's; 0 for the constant background). */
+TZ_STRUCT(environment_look) {
+    vec3 radiance;
+    float light_pdf;
+}
+TZ_STRUCT_END(environment_look)
+TZ_LANE_FN environment_look environment_look_along(TZ_SCENE_PARAM vec3 d) {
+    environment_look l;
+    l.radiance = xyz(TZ_FRAME.background);
+    l.light_pdf = 0.0f;
+    if ((TZ_FLAGS & TZ_FLAG_ENVIRONMENT) != 0u) {
+        vec3 m = environment_map_direction(TZ_SCENE_ARG d);
+        TZ_VEC4 texel = environment_texel(TZ_SCENE_ARG environment_texel_of(TZ_SCENE_ARG m));
+        l.radiance = xyz(texel);
+        l.light_pdf = environment_light_pdf(TZ_SCENE_ARG m, texel.w);
+    }
+    return l;
+}
+
+/* The solid-angle pdf (the pick included) with which light sampling draws direction d toward
+ * the environment: 0 where the environment is not sampled (the constant background, report
+ * mode). */
+TZ_LANE_FN float environment_pdf(TZ_SCENE_PARAM vec3 d) {
+    return environment_look_along(TZ_SCENE_ARG d).light_pdf;
+}
+
+/* The MIS weight of the environment's radiance found by a ray the BSDF drew with pdf bsdf_pdf
+ * (specular: a camera ray or a mirror's or glass's, which light sampling cannot draw) along a
+ * direction light sampling draws with pdf light_pdf (environment_look_along's): the power
+ * heuristic, 1 where light sampling never draws it or BSDF sampling is alone, 0 where light
+ * sampling is. */
+TZ_LANE_FN float environment_mis_weight(TZ_SCENE_PARAM TZ_BOOL specular, float bsdf_pdf,
+                                        float light_pdf) {
     float n_light = TZ_FLOAT(TZ_FRAME.light_samples);
     TZ_BOOL bsdf_only = (TZ_FRAME.flags & TZ_FLAG_BSDF_ONLY) != 0u;
     TZ_BOOL full = specular TZ_OR !(light_pdf > 0.0f) TZ_OR bsdf_only;
