@@ -152,26 +152,25 @@ TZ_LANE_FN vec3 sun_seen(TZ_SCENE_PARAM TZ_BOOL specular, float bsdf_pdf, vec3 d
 }
 
 /* The first index k of `count` whose next entry of the table at `first` exceeds u (the cdf
- * table's entries first..first + count, from 0 to 1), and u's place between the two in [0, 1). */
+ * table's entries first..first + count, from 0 to 1), and u's place between the two in [0, 1):
+ * from the entry its guide (`count` entries at `guide`, environment_pack.c) names for u, a step
+ * down while u lies below it (a guide rounded up) and up while the next entry does not exceed
+ * u; the first such k whatever the start, so a binary search's. */
 TZ_STRUCT(table_pick) {
     int k;
     float within;
 }
 TZ_STRUCT_END(table_pick)
-TZ_FN table_pick environment_table_pick(TZ_SCENE_PARAM int first, int count, float u) {
-    int lo = 0, hi = count - 1;
-    while (lo < hi) {
-        int mid = (lo + hi) / 2;
-        if (u < environment_float(TZ_SCENE_ARG first + mid + 1))
-            hi = mid;
-        else
-            lo = mid + 1;
-    }
-    float below = environment_float(TZ_SCENE_ARG first + lo);
-    float above = environment_float(TZ_SCENE_ARG first + lo + 1);
+TZ_FN table_pick environment_table_pick(TZ_SCENE_PARAM int first, int count, int guide, float u) {
+    int j = environment_index_of(u * TZ_FLOAT(count), count);
+    int k = TZ_INT(environment_float(TZ_SCENE_ARG guide + j));
+    while (k > 0 && u < environment_float(TZ_SCENE_ARG first + k)) k--;
+    while (k < count - 1 && !(u < environment_float(TZ_SCENE_ARG first + k + 1))) k++;
+    float below = environment_float(TZ_SCENE_ARG first + k);
+    float above = environment_float(TZ_SCENE_ARG first + k + 1);
     float within = (u - below) / (above - below);
     table_pick t;
-    t.k = lo;
+    t.k = k;
     t.within = TZ_MIN(TZ_MAX(within, 0.0f), 0.99999994f);
     return t;
 }
@@ -187,8 +186,10 @@ TZ_STRUCT(environment_sample) {
 TZ_STRUCT_END(environment_sample)
 TZ_FN environment_sample environment_sample_at(TZ_SCENE_PARAM float ua, float ub) {
     int w = TZ_INT(TZ_FRAME.env_width), h = TZ_INT(TZ_FRAME.env_height);
-    table_pick row = environment_table_pick(TZ_SCENE_ARG 0, h, ua);
-    table_pick column = environment_table_pick(TZ_SCENE_ARG h + 1 + row.k * (w + 1), w, ub);
+    int guides = (h + 1) + h * (w + 1);
+    table_pick row = environment_table_pick(TZ_SCENE_ARG 0, h, guides, ua);
+    table_pick column =
+        environment_table_pick(TZ_SCENE_ARG h + 1 + row.k * (w + 1), w, guides + h + row.k * w, ub);
     float u = (TZ_FLOAT(column.k) + column.within) / TZ_FLOAT(w);
     float v = (TZ_FLOAT(row.k) + row.within) / TZ_FLOAT(h);
     cos_sin theta = cos_sin_turn(v * 0.5f);

@@ -190,10 +190,9 @@ static __attribute__((noinline)) void lanes_emitter_maps(const packed_scene *sce
 }
 
 /* emitter_light of path.h for the diffuse lanes (a sphere's strategies, sphere_cone_light and
- * sphere_area_light, both computed and one selected, a triangle's and the environment's
- * direction lane by lane), the
- * shadow rays traced together (hint as packet_trace's), added to direct; ul, ua, ub the lanes'
- * numbers. */
+ * sphere_area_light, both computed and one selected where some lane aims at a sphere, a
+ * triangle's and the environment's direction lane by lane), the shadow rays traced together (hint
+ * as packet_trace's), added to direct; ul, ua, ub the lanes' numbers. */
 LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *v, const float *ul,
                                  const float *ua, const float *ub, uint32_t *hint, lanes3 *direct) {
     int e[LANES], slot[LANES], triangle[LANES], env[LANES], sun[LANES], strategy[LANES];
@@ -226,14 +225,20 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         set3(&c, k, get3(&c, 0));
         set3(&emission, k, get3(&emission, 0));
     }
-    for (int k = 0; k < LANES; k++) {
+    int sphere[LANES];
+    for (int k = 0; k < LANES; k++) sphere[k] = v->diffuse[k] & !(triangle[k] | env[k] | sun[k]);
+    int any_sphere = any_lane(sphere);
+    /* no lane aims at a sphere (the lights are faces, the map, the sun): none wanted yet */
+    for (int k = 0; !any_sphere && k < LANES; k++)
+        shadow_lane_set(&s, k, get3(&v->pos, k), get3(&v->n, k), 0.0f, 0.0f, INFINITY, 0);
+    for (int k = 0; any_sphere && k < LANES; k++) {
         strategy[k] =
             light_strategy(get3(&v->pos, k), get3(&v->n, k), v->id[k], e[k], get3(&c, k), r[k]);
         cos_sin phi = cos_sin_turn(ub[k]);
         cos_phi[k] = phi.c;
         sin_phi[k] = phi.s;
     }
-    for (int k = 0; k < LANES; k++) {
+    for (int k = 0; any_sphere && k < LANES; k++) {
         vec3 pos = get3(&v->pos, k), n = get3(&v->n, k), ng = get3(&v->ng, k), ck = get3(&c, k);
         float rk = r[k];
         cos_sin phi;
