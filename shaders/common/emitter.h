@@ -3,8 +3,10 @@
  * gpu_emitter) is picked (pick_emitter), sampled from a vertex (emitter_sample_from: a direction,
  * its pdf, where the shadow ray ends and the radiance), its pdf for a direction found otherwise
  * (light_pdf_at) and the radiance seen along a ray (emitter_radiance); the environment, what a
- * ray that meets nothing sees (today the scene's constant background), is evaluated through
- * environment_radiance at every miss, with its MIS weight in path mode (environment_mis_weight).
+ * ray that meets nothing sees (a map or the constant background), is evaluated through
+ * environment_radiance at every miss in report mode, and in path mode through
+ * environment_look_along (radiance and light pdf from one look-up) with its MIS weight
+ * (environment_mis_weight).
  * A new kind of light is a branch of emitter_sample_from and light_pdf_at and its packing in
  * src/render/scene_pack.c. */
 #ifndef TRAZADOR_COMMON_EMITTER_H
