@@ -242,32 +242,12 @@ LANE_FN void lanes_pick_spheres(const small_spheres *t, const int *index, vertex
 
 /* What the lanes in miss, whose rays left the scene, see there: the environment (with its MIS
  * weight) and the sun's disc, times beta, added to their radiance. Apart from the vertex's loop,
- * which most packets run with no lane missing; environment_look_along in three loops, the texels'
- * indices, their fetch and the weights, so that the first and the last stay vector code. */
+ * which most packets run with no lane missing. */
 static __attribute__((noinline)) void lanes_environment(const packed_scene *scene, const int *miss,
                                                         path_lanes *s) {
-    lanes3 m, rgb;
-    float density[LANES], light_pdf[LANES];
-    if (scene->frame.flags & TZ_FLAG_ENVIRONMENT) {
-        int texel[LANES];
-        for (int k = 0; k < LANES; k++) {
-            set3(&m, k, environment_map_direction(scene, get3(&s->d, k)));
-            texel[k] = environment_texel_of(scene, get3(&m, k));
-        }
-        for (int k = 0; k < LANES; k++) {
-            tz_vec4 t = environment_texel(scene, texel[k]);
-            set3(&rgb, k, xyz(t));
-            density[k] = t.w;
-        }
-        for (int k = 0; k < LANES; k++)
-            light_pdf[k] = environment_light_pdf(scene, get3(&m, k), density[k]);
-    } else {
-        for (int k = 0; k < LANES; k++) {
-            environment_look e = environment_look_along(scene, get3(&s->d, k));
-            set3(&rgb, k, e.radiance);
-            light_pdf[k] = e.light_pdf;
-        }
-    }
+    lanes3 rgb;
+    float light_pdf[LANES];
+    lanes_environment_look(scene, &s->d, &rgb, light_pdf);
     for (int k = 0; k < LANES; k++) {
         vec3 radiance = get3(&s->radiance, k), d = get3(&s->d, k);
         float w = environment_mis_weight(scene, s->specular[k], s->last_pdf[k], light_pdf[k]);

@@ -24,6 +24,35 @@ static __attribute__((noinline)) void trace_lanes(const packed_scene *p, const l
     }
 }
 
+/* environment_look_along of the lanes' directions d: the radiance rgb and light pdf of what each
+ * finds where it meets nothing, in three loops, the texels' indices, their fetch and the pdfs,
+ * so that the first and the last stay vector code. */
+LANE_FN void lanes_environment_look(const packed_scene *scene, const lanes3 *d, lanes3 *rgb,
+                                    float *light_pdf) {
+    if (!(scene->frame.flags & TZ_FLAG_ENVIRONMENT)) {
+        for (int k = 0; k < LANES; k++) {
+            environment_look e = environment_look_along(scene, get3(d, k));
+            set3(rgb, k, e.radiance);
+            light_pdf[k] = e.light_pdf;
+        }
+        return;
+    }
+    lanes3 m;
+    int texel[LANES];
+    float density[LANES];
+    for (int k = 0; k < LANES; k++) {
+        set3(&m, k, environment_map_direction(scene, get3(d, k)));
+        texel[k] = environment_texel_of(scene, get3(&m, k));
+    }
+    for (int k = 0; k < LANES; k++) {
+        tz_vec4 t = environment_texel(scene, texel[k]);
+        set3(rgb, k, xyz(t));
+        density[k] = t.w;
+    }
+    for (int k = 0; k < LANES; k++)
+        light_pdf[k] = environment_light_pdf(scene, get3(&m, k), density[k]);
+}
+
 /* A vertex of the lanes' paths: the hit and the hit primitive's surface (sphere 0's where none):
  * n and ng its shading and geometric normals facing the ray. */
 typedef struct vertex_lanes {
