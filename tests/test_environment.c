@@ -87,6 +87,29 @@ static bool parse_format(scene *s, render_opts *o, const char *fmt, ...) {
     return parse_scene_text(text, s, o);
 }
 
+/* environment_table_pick from its guide finds what a search from the start finds, the first k
+ * whose next cdf entry exceeds u, for every table of the packed map p (w x h) at u on and beside
+ * each entry and at evenly spaced u (the guide's own bounds among them). */
+static void expect_guided_picks(const packed_scene *p, int w, int h) {
+    int guides = (h + 1) + h * (w + 1), wrong = 0, tried = 0;
+    for (int table = 0; table <= h; table++) {
+        int count = table == 0 ? h : w;
+        int first = table == 0 ? 0 : (h + 1) + (table - 1) * (w + 1);
+        int guide = table == 0 ? guides : guides + h + (table - 1) * w;
+        for (int i = 0; i < 3 * (count + 1) + 4 * count; i++) {
+            float u = i < 3 * (count + 1) ? environment_float(p, first + i / 3)
+                                          : (float)(i - 3 * (count + 1)) / (float)(4 * count);
+            if (i < 3 * (count + 1) && i % 3 != 1) u = nextafterf(u, i % 3 ? 2.0f : -1.0f);
+            if (!(u >= 0.0f && u < 1.0f)) continue;
+            int want = 0;
+            while (want < count - 1 && !(u < environment_float(p, first + want + 1))) want++;
+            wrong += environment_table_pick(p, first, count, guide, u).k != want;
+            tried++;
+        }
+    }
+    CHECK(wrong == 0, "%d of %d guided table picks differ from the search's", wrong, tried);
+}
+
 /* The chi-square test of environment_sample_at against the texels' pdf: every texel a bin (its
  * expected share pdf / (w h)), bins expecting fewer than 5 pooled; and each sample's pdf against
  * environment_pdf of its direction. */
@@ -106,6 +129,7 @@ static void test_sampling(void) {
     CHECK(scene_pack(&s, &o, &p), "packing");
     CHECK(p.frame.env_slot == 1u && p.frame.emitter_count == 1u, "the map is the one emitter");
     enum { W = 32, H = 16, SAMPLES = 1000000 };
+    expect_guided_picks(&p, W, H);
     static double observed[W * H];
     uint32_t rng = rng_seed(7, 0, 0);
     int pdf_off = 0;

@@ -3,8 +3,10 @@
  * gpu_emitter) is picked (pick_emitter), sampled from a vertex (emitter_sample_from: a direction,
  * its pdf, where the shadow ray ends and the radiance), its pdf for a direction found otherwise
  * (light_pdf_at) and the radiance seen along a ray (emitter_radiance); the environment, what a
- * ray that meets nothing sees (today the scene's constant background), is evaluated through
- * environment_radiance at every miss, with its MIS weight in path mode (environment_mis_weight).
+ * ray that meets nothing sees (a map or the constant background), is evaluated through
+ * environment_radiance at every miss in report mode, and in path mode through
+ * environment_look_along (radiance and light pdf from one look-up) with its MIS weight
+ * (environment_mis_weight).
  * A new kind of light is a branch of emitter_sample_from and light_pdf_at and its packing in
  * src/render/scene_pack.c. */
 #ifndef TRAZADOR_COMMON_EMITTER_H
@@ -64,7 +66,7 @@ TZ_LANE_FN int environment_texel_of(TZ_SCENE_PARAM vec3 m) {
 }
 
 /* The radiance the environment sends along direction d to a ray that meets nothing: the map's
- * texel, or the constant background without a map. */
+ * texel, or the constant background without a map (report mode's look-up). */
 TZ_LANE_FN vec3 environment_radiance(TZ_SCENE_PARAM vec3 d) {
     vec3 seen = xyz(TZ_FRAME.background);
     if ((TZ_FLAGS & TZ_FLAG_ENVIRONMENT) != 0u) {
@@ -74,28 +76,55 @@ TZ_LANE_FN vec3 environment_radiance(TZ_SCENE_PARAM vec3 d) {
     return seen;
 }
 
-/* The solid-angle pdf (the pick included) with which light sampling draws direction d toward
- * the environment: 0 where the environment is not sampled (the constant background, report
- * mode). */
-TZ_LANE_FN float environment_pdf(TZ_SCENE_PARAM vec3 d) {
+/* The solid-angle pdf (the pick included) with which light sampling draws map direction m, whose
+ * texel's pdf over the map's unit square is density: 0 where the environment is not sampled
+ * (report mode, a black map). */
+TZ_LANE_FN float environment_light_pdf(TZ_SCENE_PARAM vec3 m, float density) {
     float pdf = 0.0f;
-    if (((TZ_FLAGS & TZ_FLAG_ENVIRONMENT) != 0u) TZ_AND(TZ_FRAME.env_slot > 0u)) {
-        vec3 m = environment_map_direction(TZ_SCENE_ARG d);
+    if (TZ_FRAME.env_slot > 0u) {
         TZ_PRECISE float sin_theta = TZ_SQRT(m.x * m.x + m.z * m.z);
         float pick = emitter_emission_pick(TZ_SCENE_ARG TZ_INT(TZ_FRAME.env_slot) - 1).w;
-        float texel = environment_texel(TZ_SCENE_ARG environment_texel_of(TZ_SCENE_ARG m)).w;
-        float p = pick * texel / (TZ_TWO_PI_SQUARED * sin_theta);
+        float p = pick * density / (TZ_TWO_PI_SQUARED * sin_theta);
         pdf = sin_theta > 0.0f ? p : 0.0f;
     }
     return pdf;
 }
 
-/* The MIS weight of the environment's radiance found along d by a ray the BSDF drew with pdf
- * bsdf_pdf (specular: a camera ray or a mirror's or glass's, which light sampling cannot draw):
- * the power heuristic against environment_pdf, 1 where light sampling never draws d or BSDF
- * sampling is alone, 0 where light sampling is. */
-TZ_LANE_FN float environment_mis_weight(TZ_SCENE_PARAM TZ_BOOL specular, float bsdf_pdf, vec3 d) {
-    float light_pdf = environment_pdf(TZ_SCENE_ARG d);
+/* What a ray along d that meets nothing finds in path mode, from one look-up of the map: the
+ * environment's radiance (environment_radiance's) and the pdf with which light sampling draws d
+ * (environment_light_pdf's; 0 for the constant background). */
+TZ_STRUCT(environment_look) {
+    vec3 radiance;
+    float light_pdf;
+}
+TZ_STRUCT_END(environment_look)
+TZ_LANE_FN environment_look environment_look_along(TZ_SCENE_PARAM vec3 d) {
+    environment_look l;
+    l.radiance = xyz(TZ_FRAME.background);
+    l.light_pdf = 0.0f;
+    if ((TZ_FLAGS & TZ_FLAG_ENVIRONMENT) != 0u) {
+        vec3 m = environment_map_direction(TZ_SCENE_ARG d);
+        TZ_VEC4 texel = environment_texel(TZ_SCENE_ARG environment_texel_of(TZ_SCENE_ARG m));
+        l.radiance = xyz(texel);
+        l.light_pdf = environment_light_pdf(TZ_SCENE_ARG m, texel.w);
+    }
+    return l;
+}
+
+/* The solid-angle pdf (the pick included) with which light sampling draws direction d toward
+ * the environment: 0 where the environment is not sampled (the constant background, report
+ * mode). */
+TZ_LANE_FN float environment_pdf(TZ_SCENE_PARAM vec3 d) {
+    return environment_look_along(TZ_SCENE_ARG d).light_pdf;
+}
+
+/* The MIS weight of the environment's radiance found by a ray the BSDF drew with pdf bsdf_pdf
+ * (specular: a camera ray or a mirror's or glass's, which light sampling cannot draw) along a
+ * direction light sampling draws with pdf light_pdf (environment_look_along's): the power
+ * heuristic, 1 where light sampling never draws it or BSDF sampling is alone, 0 where light
+ * sampling is. */
+TZ_LANE_FN float environment_mis_weight(TZ_SCENE_PARAM TZ_BOOL specular, float bsdf_pdf,
+                                        float light_pdf) {
     float n_light = TZ_FLOAT(TZ_FRAME.light_samples);
     TZ_BOOL bsdf_only = (TZ_FRAME.flags & TZ_FLAG_BSDF_ONLY) != 0u;
     TZ_BOOL full = specular TZ_OR !(light_pdf > 0.0f) TZ_OR bsdf_only;
@@ -125,26 +154,25 @@ TZ_LANE_FN vec3 sun_seen(TZ_SCENE_PARAM TZ_BOOL specular, float bsdf_pdf, vec3 d
 }
 
 /* The first index k of `count` whose next entry of the table at `first` exceeds u (the cdf
- * table's entries first..first + count, from 0 to 1), and u's place between the two in [0, 1). */
+ * table's entries first..first + count, from 0 to 1), and u's place between the two in [0, 1):
+ * from the entry its guide (`count` entries at `guide`, environment_pack.c) names for u, a step
+ * down while u lies below it (a guide rounded up) and up while the next entry does not exceed
+ * u; the first such k whatever the start, so a binary search's. */
 TZ_STRUCT(table_pick) {
     int k;
     float within;
 }
 TZ_STRUCT_END(table_pick)
-TZ_FN table_pick environment_table_pick(TZ_SCENE_PARAM int first, int count, float u) {
-    int lo = 0, hi = count - 1;
-    while (lo < hi) {
-        int mid = (lo + hi) / 2;
-        if (u < environment_float(TZ_SCENE_ARG first + mid + 1))
-            hi = mid;
-        else
-            lo = mid + 1;
-    }
-    float below = environment_float(TZ_SCENE_ARG first + lo);
-    float above = environment_float(TZ_SCENE_ARG first + lo + 1);
+TZ_FN table_pick environment_table_pick(TZ_SCENE_PARAM int first, int count, int guide, float u) {
+    int j = environment_index_of(u * TZ_FLOAT(count), count);
+    int k = TZ_INT(environment_float(TZ_SCENE_ARG guide + j));
+    while (k > 0 && u < environment_float(TZ_SCENE_ARG first + k)) k--;
+    while (k < count - 1 && !(u < environment_float(TZ_SCENE_ARG first + k + 1))) k++;
+    float below = environment_float(TZ_SCENE_ARG first + k);
+    float above = environment_float(TZ_SCENE_ARG first + k + 1);
     float within = (u - below) / (above - below);
     table_pick t;
-    t.k = lo;
+    t.k = k;
     t.within = TZ_MIN(TZ_MAX(within, 0.0f), 0.99999994f);
     return t;
 }
@@ -160,8 +188,10 @@ TZ_STRUCT(environment_sample) {
 TZ_STRUCT_END(environment_sample)
 TZ_FN environment_sample environment_sample_at(TZ_SCENE_PARAM float ua, float ub) {
     int w = TZ_INT(TZ_FRAME.env_width), h = TZ_INT(TZ_FRAME.env_height);
-    table_pick row = environment_table_pick(TZ_SCENE_ARG 0, h, ua);
-    table_pick column = environment_table_pick(TZ_SCENE_ARG h + 1 + row.k * (w + 1), w, ub);
+    int guides = (h + 1) + h * (w + 1);
+    table_pick row = environment_table_pick(TZ_SCENE_ARG 0, h, guides, ua);
+    table_pick column =
+        environment_table_pick(TZ_SCENE_ARG h + 1 + row.k * (w + 1), w, guides + h + row.k * w, ub);
     float u = (TZ_FLOAT(column.k) + column.within) / TZ_FLOAT(w);
     float v = (TZ_FLOAT(row.k) + row.within) / TZ_FLOAT(h);
     cos_sin theta = cos_sin_turn(v * 0.5f);

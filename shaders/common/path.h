@@ -101,8 +101,9 @@ TZ_FN path_state path_step(TZ_SCENE_PARAM path_state p) {
     float t;
     int id = integrator_nearest(TZ_SCENE_ARG p.o, p.d, p.self, TZ_REF(t));
     if (id < 0) {
-        float w = environment_mis_weight(TZ_SCENE_ARG p.specular, p.last.bsdf_pdf, p.d);
-        TZ_PRECISE vec3 seen = v3_scale(v3_mul(p.beta, environment_radiance(TZ_SCENE_ARG p.d)), w);
+        environment_look e = environment_look_along(TZ_SCENE_ARG p.d);
+        float w = environment_mis_weight(TZ_SCENE_ARG p.specular, p.last.bsdf_pdf, e.light_pdf);
+        TZ_PRECISE vec3 seen = v3_scale(v3_mul(p.beta, e.radiance), w);
         p.radiance = v3_add(p.radiance, seen);
         if ((flags & TZ_FLAG_SUN_DISC) != 0u) {
             vec3 sun = sun_seen(TZ_SCENE_ARG p.specular, p.last.bsdf_pdf, p.d);

@@ -2,7 +2,8 @@
  * common/emitter.h): each texel's radiance and its pdf over the map's unit square, then the
  * tables that sample it by importance, built once here in double so that every back end reads
  * the same floats: a texel's weight is its luminance times the sine of its row's polar angle
- * (the solid angle it spans), the rows' marginal cdf and each row's conditional cdf. */
+ * (the solid angle it spans), the rows' marginal cdf and each row's conditional cdf, then each
+ * table's guide (environment_table_pick reads it: where to start looking for u). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -29,10 +30,21 @@ static void put_cdf(float *cdf, const double *w, int count, double total) {
     cdf[count] = 1.0f;
 }
 
+/* guide[j] for j in [0, count): the first entry k of cdf[0..count] whose next one exceeds
+ * j / count, as a float, so that a search for u from guide[u count] takes a step or two. */
+static void put_guide(float *guide, const float *cdf, int count) {
+    int k = 0;
+    for (int j = 0; j < count; j++) {
+        float u = (float)j / (float)count;
+        while (k < count - 1 && !(u < cdf[k + 1])) k++;
+        guide[j] = (float)k;
+    }
+}
+
 bool environment_pack(const environment_map *m, packed_scene *out, double *mean) {
     *mean = 0.0;
     size_t w = m->rgb ? (size_t)m->width : 0, h = m->rgb ? (size_t)m->height : 0;
-    size_t floats = w ? (h + 1) + h * (w + 1) : 0;
+    size_t floats = w ? (h + 1) + h * (w + 1) + h + h * w : 0;
     size_t texels = w * h + (floats + 3) / 4;
     out->environment = big_calloc(texels ? texels : 1, sizeof *out->environment);
     double *weight = calloc(w * h + 1, sizeof *weight), *row_sum = calloc(h + 1, sizeof *row_sum);
@@ -62,9 +74,14 @@ bool environment_pack(const environment_map *m, packed_scene *out, double *mean)
         out->environment[k] = (tz_vec4){rgb[0], rgb[1], rgb[2], (float)pdf};
     }
     float *tables = (float *)(out->environment + w * h);
+    float *guides = tables + (h + 1) + h * (w + 1);
     if (w) put_cdf(tables, row_sum, (int)h, total);
-    for (size_t r = 0; r < h; r++)
-        put_cdf(tables + (h + 1) + r * (w + 1), weight + r * w, (int)w, row_sum[r]);
+    if (w) put_guide(guides, tables, (int)h);
+    for (size_t r = 0; r < h; r++) {
+        float *cdf = tables + (h + 1) + r * (w + 1);
+        put_cdf(cdf, weight + r * w, (int)w, row_sum[r]);
+        put_guide(guides + h + r * w, cdf, (int)w);
+    }
     free(weight);
     free(row_sum);
     if (!(total > 0.0)) *mean = 0.0; /* a black map lights nothing: no emitter */

@@ -245,10 +245,13 @@ LANE_FN void lanes_pick_spheres(const small_spheres *t, const int *index, vertex
  * which most packets run with no lane missing. */
 static __attribute__((noinline)) void lanes_environment(const packed_scene *scene, const int *miss,
                                                         path_lanes *s) {
+    lanes3 rgb;
+    float light_pdf[LANES];
+    lanes_environment_look(scene, &s->d, &rgb, light_pdf);
     for (int k = 0; k < LANES; k++) {
         vec3 radiance = get3(&s->radiance, k), d = get3(&s->d, k);
-        float w = environment_mis_weight(scene, s->specular[k], s->last_pdf[k], d);
-        vec3 seen = v3_scale(v3_mul(get3(&s->beta, k), environment_radiance(scene, d)), w);
+        float w = environment_mis_weight(scene, s->specular[k], s->last_pdf[k], light_pdf[k]);
+        vec3 seen = v3_scale(v3_mul(get3(&s->beta, k), get3(&rgb, k)), w);
         vec3 with_sun = v3_add(radiance, seen);
         if (scene->frame.flags & TZ_FLAG_SUN_DISC)
             with_sun = v3_add(with_sun, v3_mul(get3(&s->beta, k),

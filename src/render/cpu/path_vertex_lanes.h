@@ -24,6 +24,35 @@ static __attribute__((noinline)) void trace_lanes(const packed_scene *p, const l
     }
 }
 
+/* environment_look_along of the lanes' directions d: the radiance rgb and light pdf of what each
+ * finds where it meets nothing, in three loops, the texels' indices, their fetch and the pdfs,
+ * so that the first and the last stay vector code. */
+LANE_FN void lanes_environment_look(const packed_scene *scene, const lanes3 *d, lanes3 *rgb,
+                                    float *light_pdf) {
+    if (!(scene->frame.flags & TZ_FLAG_ENVIRONMENT)) {
+        for (int k = 0; k < LANES; k++) {
+            environment_look e = environment_look_along(scene, get3(d, k));
+            set3(rgb, k, e.radiance);
+            light_pdf[k] = e.light_pdf;
+        }
+        return;
+    }
+    lanes3 m;
+    int texel[LANES];
+    float density[LANES];
+    for (int k = 0; k < LANES; k++) {
+        set3(&m, k, environment_map_direction(scene, get3(d, k)));
+        texel[k] = environment_texel_of(scene, get3(&m, k));
+    }
+    for (int k = 0; k < LANES; k++) {
+        tz_vec4 t = environment_texel(scene, texel[k]);
+        set3(rgb, k, xyz(t));
+        density[k] = t.w;
+    }
+    for (int k = 0; k < LANES; k++)
+        light_pdf[k] = environment_light_pdf(scene, get3(&m, k), density[k]);
+}
+
 /* A vertex of the lanes' paths: the hit and the hit primitive's surface (sphere 0's where none):
  * n and ng its shading and geometric normals facing the ray. */
 typedef struct vertex_lanes {
@@ -190,10 +219,9 @@ static __attribute__((noinline)) void lanes_emitter_maps(const packed_scene *sce
 }
 
 /* emitter_light of path.h for the diffuse lanes (a sphere's strategies, sphere_cone_light and
- * sphere_area_light, both computed and one selected, a triangle's and the environment's
- * direction lane by lane), the
- * shadow rays traced together (hint as packet_trace's), added to direct; ul, ua, ub the lanes'
- * numbers. */
+ * sphere_area_light, both computed and one selected where some lane aims at a sphere, a
+ * triangle's and the environment's direction lane by lane), the shadow rays traced together (hint
+ * as packet_trace's), added to direct; ul, ua, ub the lanes' numbers. */
 LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *v, const float *ul,
                                  const float *ua, const float *ub, uint32_t *hint, lanes3 *direct) {
     int e[LANES], slot[LANES], triangle[LANES], env[LANES], sun[LANES], strategy[LANES];
@@ -226,14 +254,20 @@ LANE_FN void lanes_emitter_light(const packed_scene *scene, const vertex_lanes *
         set3(&c, k, get3(&c, 0));
         set3(&emission, k, get3(&emission, 0));
     }
-    for (int k = 0; k < LANES; k++) {
+    int sphere[LANES];
+    for (int k = 0; k < LANES; k++) sphere[k] = v->diffuse[k] & !(triangle[k] | env[k] | sun[k]);
+    int any_sphere = any_lane(sphere);
+    /* no lane aims at a sphere (the lights are faces, the map, the sun): none wanted yet */
+    for (int k = 0; !any_sphere && k < LANES; k++)
+        shadow_lane_set(&s, k, get3(&v->pos, k), get3(&v->n, k), 0.0f, 0.0f, INFINITY, 0);
+    for (int k = 0; any_sphere && k < LANES; k++) {
         strategy[k] =
             light_strategy(get3(&v->pos, k), get3(&v->n, k), v->id[k], e[k], get3(&c, k), r[k]);
         cos_sin phi = cos_sin_turn(ub[k]);
         cos_phi[k] = phi.c;
         sin_phi[k] = phi.s;
     }
-    for (int k = 0; k < LANES; k++) {
+    for (int k = 0; any_sphere && k < LANES; k++) {
         vec3 pos = get3(&v->pos, k), n = get3(&v->n, k), ng = get3(&v->ng, k), ck = get3(&c, k);
         float rk = r[k];
         cos_sin phi;
