@@ -47,7 +47,7 @@ static void *gather_run(void *arg) {
         for (size_t f = from; f < to && !g->failed; f++) {
             const struct aiFace *face = &me->mFaces[f];
             if (face->mNumIndices != 3) continue;
-            mf->material = me->mMaterialIndex < g->sc->mNumMaterials ? (int)me->mMaterialIndex : -1;
+            mf->material = mesh_face_material(g->sc, me);
             for (int k = 0; k < 3; k++) {
                 unsigned index = face->mIndices[corner_of[k]];
                 struct aiVector3D v = me->mVertices[index];
@@ -60,17 +60,25 @@ static void *gather_run(void *arg) {
                 struct aiVector3D n = me->mNormals ? me->mNormals[index] : (struct aiVector3D){0};
                 bool finite = isfinite(n.x) && isfinite(n.y) && isfinite(n.z);
                 mf->n[k] = finite ? v3(n.x, n.y, -n.z) : v3(0, 0, 0);
-                struct aiVector3D t =
-                    me->mTextureCoords[0] ? me->mTextureCoords[0][index] : (struct aiVector3D){0};
-                finite = isfinite(t.x) && isfinite(t.y);
-                mf->uv[k][0] = finite ? t.x : 0.0f;
-                mf->uv[k][1] = finite ? t.y : 0.0f;
+                mesh_corner_uv(me, index, mf->uv[k]);
             }
             mf++;
             g->written++;
         }
     }
     return NULL;
+}
+
+int mesh_face_material(const struct aiScene *sc, const struct aiMesh *me) {
+    return me->mMaterialIndex < sc->mNumMaterials ? (int)me->mMaterialIndex : -1;
+}
+
+void mesh_corner_uv(const struct aiMesh *me, unsigned index, float uv[2]) {
+    struct aiVector3D t =
+        me->mTextureCoords[0] ? me->mTextureCoords[0][index] : (struct aiVector3D){0};
+    bool finite = isfinite(t.x) && isfinite(t.y);
+    uv[0] = finite ? t.x : 0.0f;
+    uv[1] = finite ? t.y : 0.0f;
 }
 
 /* The triangle faces of sc into out->faces (room for all of them), in order: on every core when

@@ -1,6 +1,6 @@
 /* mesh_import.h: the parts of a model's import in mesh_load.c's child process that live in files
- * of their own: the faces and embedded images gathered (mesh_gather.c) and the file system
- * assimp reads through (mesh_files.c). */
+ * of their own: the faces and embedded images gathered (mesh_gather.c, whose corner readers
+ * mesh_nodes.c shares) and the file system assimp reads through (mesh_files.c). */
 #ifndef TRAZADOR_MESH_IMPORT_H
 #define TRAZADOR_MESH_IMPORT_H
 
@@ -10,6 +10,7 @@
 #include "scene/mesh_load.h"
 
 struct aiScene;
+struct aiMesh;
 struct aiFileIO;
 struct aiFile;
 
@@ -17,6 +18,11 @@ struct aiFile;
  * of them), in order: on every core when there are many and every triangle mesh holds triangles
  * alone; false (error) at the first non-finite corner, the one a single pass would meet first. */
 bool mesh_gather_faces(const struct aiScene *sc, mesh *out, char *error, size_t error_size);
+/* The material index of mesh me's faces, -1 where sc has no such material. */
+int mesh_face_material(const struct aiScene *sc, const struct aiMesh *me);
+/* The first UV channel of me's vertex index into uv, (0, 0) where it has none or it is not
+ * finite. */
+void mesh_corner_uv(const struct aiMesh *me, unsigned index, float uv[2]);
 /* The compressed bytes of the embedded images ("*N") the materials name into out->embedded, each
  * material's path renamed to its index there; an image assimp holds decoded (its height not 0)
  * or past the limits is named unsupported and its maps dropped. False out of memory. */

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "scene/mesh_import.h"
 #include "scene/mesh_load.h"
 
 /* Deeper node hierarchies are refused (the walks recurse). */
@@ -83,7 +84,7 @@ static bool fail(gather *g, const char *what, unsigned a, unsigned b) {
 }
 
 /* Appends mesh i's triangles moved by x (NULL: as they are), in trazador's left-handed space as
- * gather_run (mesh_load.c) writes them; a mirroring x winds them back, as PreTransformVertices
+ * gather_run (mesh_gather.c) writes them; a mirroring x winds them back, as PreTransformVertices
  * does. */
 static bool add_mesh(gather *g, unsigned i, const affine *x) {
     const struct aiMesh *me = g->sc->mMeshes[i];
@@ -105,7 +106,7 @@ static bool add_mesh(gather *g, unsigned i, const affine *x) {
     for (unsigned f = 0; f < me->mNumFaces; f++) {
         const struct aiFace *face = &me->mFaces[f];
         if (face->mNumIndices != 3) continue;
-        mf->material = me->mMaterialIndex < g->sc->mNumMaterials ? (int)me->mMaterialIndex : -1;
+        mf->material = mesh_face_material(g->sc, me);
         for (int k = 0; k < 3; k++) {
             unsigned index = face->mIndices[corner_of[k]];
             struct aiVector3D v = me->mVertices[index];
@@ -124,11 +125,7 @@ static bool add_mesh(gather *g, unsigned i, const affine *x) {
             for (int r = 0; x && len > 0.0 && r < 3; r++) u[r] /= sqrt(len);
             bool finite = isfinite(u[0]) && isfinite(u[1]) && isfinite(u[2]);
             mf->n[k] = finite ? v3((float)u[0], (float)u[1], (float)-u[2]) : v3(0, 0, 0);
-            struct aiVector3D t =
-                me->mTextureCoords[0] ? me->mTextureCoords[0][index] : (struct aiVector3D){0};
-            finite = isfinite(t.x) && isfinite(t.y);
-            mf->uv[k][0] = finite ? t.x : 0.0f;
-            mf->uv[k][1] = finite ? t.y : 0.0f;
+            mesh_corner_uv(me, index, mf->uv[k]);
         }
         mf++;
     }
