@@ -1,6 +1,7 @@
 /* mesh_test.h: what the mesh tests (tests/test_mesh.c, tests/test_mesh_render.c) share: model
  * files written into the test's temporary folder, scene texts parsed as a file there (so that
- * mesh paths are relative to it), and renders on the CPU back end. */
+ * mesh paths are relative to it), renders on the CPU back end by packet build, and the instance
+ * tests' (tests/test_instances.c, tests/test_mesh_nodes.c) comparison of every Vulkan walk. */
 #ifndef TRAZADOR_MESH_TEST_H
 #define TRAZADOR_MESH_TEST_H
 
@@ -10,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "check.h"
 #include "render/render.h"
 #include "scene/scene.h"
 #include "tmp_dir.h"
@@ -57,6 +59,56 @@ static inline bool render(const scene *s, film *f) {
     render_opts o;
     render_opts_from_scene(s, &o);
     return render_film(&render_backend_cpu, s, &o, f);
+}
+
+/* Renders s with the packet build named (NULL: the fastest) into *f; false on failure. */
+static inline bool render_with(const scene *s, const char *build, film *f) {
+    if (build)
+        setenv("TRAZADOR_PACKET_BUILD", build, 1);
+    else
+        unsetenv("TRAZADOR_PACKET_BUILD");
+    bool ok = render(s, f);
+    unsetenv("TRAZADOR_PACKET_BUILD");
+    return ok;
+}
+
+/* Whether two films hold the same bits. */
+static inline bool same_film(const film *a, const film *b) {
+    return a->width == b->width && a->height == b->height &&
+           !memcmp(a->accum, b->accum, (size_t)a->width * a->height * 4 * sizeof *a->accum);
+}
+
+/* Scene s (named what) on the CPU back end and on every Vulkan walk the device has, in report
+ * mode (with the indirect bounce) and path mode: the same film bit for bit. */
+static inline void expect_walks_agree(const char *what, const scene *s) {
+    static const render_walk walks[] = {RENDER_WALK_COMPUTE, RENDER_WALK_COOPERATIVE,
+                                        RENDER_WALK_RAY_QUERY};
+    static const char *const walk_names[] = {"compute", "cooperative", "rayquery"};
+    for (int path = 0; path < 2; path++) {
+        render_opts o;
+        render_opts_from_scene(s, &o);
+        o.mode = path ? RENDER_MODE_PATH : RENDER_MODE_REPORT;
+        o.indirect = !path;
+        o.bounces = 4;
+        o.validate = true;
+        film cpu = {0};
+        CHECK(render_film(&render_backend_cpu, s, &o, &cpu), "%s: the CPU render failed", what);
+        for (size_t w = 0; w < sizeof walks / sizeof walks[0]; w++) {
+            o.walk = walks[w];
+            film gpu = {0};
+            bool rendered = render_film(&render_backend_vulkan, s, &o, &gpu);
+            /* a device without ray queries refuses that walk (test_vk_rayquery checks it) */
+            if (!rendered && walks[w] == RENDER_WALK_RAY_QUERY) continue;
+            CHECK(rendered, "%s: the %s walk failed", what, walk_names[w]);
+            CHECK(rendered && cpu.accum && same_film(&cpu, &gpu) && cpu.nonfinite == gpu.nonfinite,
+                  "%s, %s mode: the %s walk differs from the CPU back end", what,
+                  path ? "path" : "report", walk_names[w]);
+            printf("%s, %s mode, %s walk: %s\n", what, path ? "path" : "report", walk_names[w],
+                   rendered ? "the CPU's bits" : "failed");
+            film_free(&gpu);
+        }
+        film_free(&cpu);
+    }
 }
 
 #endif

@@ -43,6 +43,22 @@ scene_for() {
     head -c $((64 * 48 * 12)) /dev/zero
 } >"$tmp/black.pfm"
 
+# seen_and_agrees FILE: $tmp/cpu.pfm, the CPU back end's render of $tmp/model.scene, is not
+# black, and the Vulkan back end renders the very same file (where a device exists).
+seen_and_agrees() {
+    local file=$1 rc=0
+    "$tz" diff "$tmp/cpu.pfm" "$tmp/black.pfm" >/dev/null 2>&1 || rc=$?
+    [ $rc = 1 ] || fail "$file: not seen (every pixel black, or diff failed: exit $rc)"
+    [ $vulkan = 1 ] || return 0
+    if ! "$tz" render "$tmp/model.scene" --backend vulkan --validate --spp 1 --quiet \
+        -o "$tmp/vk.pfm" 2>"$tmp/vk.log"; then
+        fail "$file: not rendered on Vulkan: $(tail -1 "$tmp/vk.log")"
+    elif ! cmp -s "$tmp/cpu.pfm" "$tmp/vk.pfm"; then
+        fail "$file: Vulkan and the CPU back end differ"
+        "$tz" diff "$tmp/cpu.pfm" "$tmp/vk.pfm" || true
+    fi
+}
+
 # model FILE DISTANCE FACES: loads, counts, is seen, and agrees across back ends.
 model() {
     local file=$1 distance=$2 faces=$3 out
@@ -54,17 +70,7 @@ model() {
     fi
     grep -q "scene: 0 spheres, $faces triangles" <<<"$out" ||
         fail "$file: expected $faces triangles: $(grep 'scene: 0 spheres' <<<"$out")"
-    local rc=0
-    "$tz" diff "$tmp/cpu.pfm" "$tmp/black.pfm" >/dev/null 2>&1 || rc=$?
-    [ $rc = 1 ] || fail "$file: not seen (every pixel black, or diff failed: exit $rc)"
-    [ $vulkan = 1 ] || return 0
-    if ! "$tz" render "$tmp/model.scene" --backend vulkan --validate --spp 1 --quiet \
-        -o "$tmp/vk.pfm" 2>"$tmp/vk.log"; then
-        fail "$file: not rendered on Vulkan: $(tail -1 "$tmp/vk.log")"
-    elif ! cmp -s "$tmp/cpu.pfm" "$tmp/vk.pfm"; then
-        fail "$file: Vulkan and the CPU back end differ"
-        "$tz" diff "$tmp/cpu.pfm" "$tmp/vk.pfm" || true
-    fi
+    seen_and_agrees "$file"
 }
 
 model OBJ/spider.obj 100 1312
@@ -356,16 +362,7 @@ shared() {
     fi
     grep -q "meshes that $instances instances share), bounding box" "$tmp/err" ||
         fail "$file: --verbose does not count $instances instances"
-    local rc=0
-    "$tz" diff "$tmp/cpu.pfm" "$tmp/black.pfm" >/dev/null 2>&1 || rc=$?
-    [ $rc = 1 ] || fail "$file: not seen (every pixel black, or diff failed: exit $rc)"
-    [ $vulkan = 1 ] || return 0
-    if ! "$tz" render "$tmp/model.scene" --backend vulkan --validate --spp 1 --quiet \
-        -o "$tmp/vk.pfm" 2>"$tmp/vk.log"; then
-        fail "$file: not rendered on Vulkan: $(tail -1 "$tmp/vk.log")"
-    elif ! cmp -s "$tmp/cpu.pfm" "$tmp/vk.pfm"; then
-        fail "$file: Vulkan and the CPU back end differ"
-    fi
+    seen_and_agrees "$file"
 }
 
 shared glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb 600 100

@@ -51,23 +51,6 @@ static const char *header =
     "light position -4 9 -6 power 300\nsphere lambertian center 0 -1001 0 radius 1000 color 0.7 "
     "0.7 0.7\nrender samples 2\n";
 
-/* Renders s with the packet build named (NULL: the fastest) into *f; false on failure. */
-static bool render_with(const scene *s, const char *build, film *f) {
-    if (build)
-        setenv("TRAZADOR_PACKET_BUILD", build, 1);
-    else
-        unsetenv("TRAZADOR_PACKET_BUILD");
-    bool ok = render(s, f);
-    unsetenv("TRAZADOR_PACKET_BUILD");
-    return ok;
-}
-
-/* Whether two films hold the same bits. */
-static bool same_film(const film *a, const film *b) {
-    return a->width == b->width && a->height == b->height &&
-           !memcmp(a->accum, b->accum, (size_t)a->width * a->height * 4 * sizeof *a->accum);
-}
-
 /* Two identity instances of a 100,000-face model (coincident: the tie rule picks the first)
  * against two flattened copies (the model under a second name): the same film, bit for bit, in
  * report and path mode; the packet builds and the reference agree on the instances. */
@@ -361,45 +344,15 @@ static void test_digest(void) {
     scene_free(&a), scene_free(&b), scene_free(&c);
 }
 
-/* The walks of the Vulkan back end, and their names. */
-static const render_walk walks[] = {RENDER_WALK_COMPUTE, RENDER_WALK_COOPERATIVE,
-                                    RENDER_WALK_RAY_QUERY};
-static const char *const walk_names[] = {"compute", "cooperative", "rayquery"};
-
-/* Scene text on the CPU back end and on every Vulkan walk the device has, in report mode (with
- * the indirect bounce) and path mode: the same film bit for bit. */
-static void expect_walks_agree(const char *what, const char *text) {
+/* Scene text on the CPU back end and on every Vulkan walk: the same film bit for bit. */
+static void expect_text_walks_agree(const char *what, const char *text) {
     scene s;
     scene_error err;
     bool ok = parse(text, 1, &s, &err);
     CHECK(ok, "%s: %s", what, err.message);
     if (!ok) return;
     CHECK(s.instance_count > 0, "%s: no instances", what);
-    for (int path = 0; path < 2; path++) {
-        render_opts o;
-        render_opts_from_scene(&s, &o);
-        o.mode = path ? RENDER_MODE_PATH : RENDER_MODE_REPORT;
-        o.indirect = !path;
-        o.bounces = 4;
-        o.validate = true;
-        film cpu = {0};
-        CHECK(render_film(&render_backend_cpu, &s, &o, &cpu), "%s: the CPU render failed", what);
-        for (size_t w = 0; w < sizeof walks / sizeof walks[0]; w++) {
-            o.walk = walks[w];
-            film gpu = {0};
-            bool rendered = render_film(&render_backend_vulkan, &s, &o, &gpu);
-            /* a device without ray queries refuses that walk (test_vk_rayquery checks it) */
-            if (!rendered && walks[w] == RENDER_WALK_RAY_QUERY) continue;
-            CHECK(rendered, "%s: the %s walk failed", what, walk_names[w]);
-            CHECK(rendered && cpu.accum && same_film(&cpu, &gpu) && cpu.nonfinite == gpu.nonfinite,
-                  "%s, %s mode: the %s walk differs from the CPU back end", what,
-                  path ? "path" : "report", walk_names[w]);
-            printf("%s, %s mode, %s walk: %s\n", what, path ? "path" : "report", walk_names[w],
-                   rendered ? "the CPU's bits" : "failed");
-            film_free(&gpu);
-        }
-        film_free(&cpu);
-    }
+    expect_walks_agree(what, &s);
     scene_free(&s);
 }
 
@@ -412,7 +365,7 @@ static void test_vulkan(void) {
              "%smesh lambertian file big.obj color 0.8 0.3 0.2 smooth on\nmesh lambertian "
              "file big.obj color 0.8 0.3 0.2 smooth on\n",
              header);
-    expect_walks_agree("identity", text);
+    expect_text_walks_agree("identity", text);
     char *grid = grid_text("small.obj", 300);
     size_t len = strlen(grid);
     char *mixed = malloc(len + 512);
@@ -421,13 +374,13 @@ static void test_vulkan(void) {
              "sphere refractive center 2 1 -2 radius 0.8\n",
              grid);
     free(grid);
-    expect_walks_agree("moved", mixed);
+    expect_text_walks_agree("moved", mixed);
     free(mixed);
     char cut[2048];
     cutout_text(cut, sizeof cut, true);
-    expect_walks_agree("cut-out instances", cut);
+    expect_text_walks_agree("cut-out instances", cut);
     char *thousand = grid_text("big.obj", 1000);
-    expect_walks_agree("1,000 of 100,000 faces", thousand);
+    expect_text_walks_agree("1,000 of 100,000 faces", thousand);
     free(thousand);
 }
 

@@ -124,22 +124,6 @@ static bool parse_model(const char *name, const char *extra, scene *s) {
     return ok;
 }
 
-/* Renders s with the packet build named (NULL: the fastest) into *f; false on failure. */
-static bool render_with(const scene *s, const char *build, film *f) {
-    if (build)
-        setenv("TRAZADOR_PACKET_BUILD", build, 1);
-    else
-        unsetenv("TRAZADOR_PACKET_BUILD");
-    bool ok = render(s, f);
-    unsetenv("TRAZADOR_PACKET_BUILD");
-    return ok;
-}
-
-static bool same_film(const film *a, const film *b) {
-    return a->width == b->width && a->height == b->height &&
-           !memcmp(a->accum, b->accum, (size_t)a->width * a->height * 4 * sizeof *a->accum);
-}
-
 /* Two identity nodes sharing the mesh against the mesh written twice: the same bits. */
 static void test_identity(void) {
     char nodes[512] = "";
@@ -341,11 +325,6 @@ static void test_collada(void) {
     scene_free(&s);
 }
 
-/* The Vulkan walks. */
-static const render_walk walks[] = {RENDER_WALK_COMPUTE, RENDER_WALK_COOPERATIVE,
-                                    RENDER_WALK_RAY_QUERY};
-static const char *const walk_names[] = {"compute", "cooperative", "rayquery"};
-
 /* The moved nodes (with the mesh line moved and smooth) on the CPU back end and every Vulkan
  * walk, report and path mode: the same film bit for bit. */
 static void test_vulkan(void) {
@@ -354,29 +333,7 @@ static void test_vulkan(void) {
     if (!parse_model("moved.gltf", " smooth on scale 1.2 rotate 0 1 0 20 translate 0.3 0 0", &s))
         return;
     CHECK(s.instance_count == MOVED, "vulkan: %d instances", s.instance_count);
-    for (int path = 0; path < 2; path++) {
-        render_opts o;
-        render_opts_from_scene(&s, &o);
-        o.mode = path ? RENDER_MODE_PATH : RENDER_MODE_REPORT;
-        o.indirect = !path;
-        o.bounces = 4;
-        o.validate = true;
-        film cpu = {0};
-        CHECK(render_film(&render_backend_cpu, &s, &o, &cpu), "the CPU render failed");
-        for (size_t w = 0; w < sizeof walks / sizeof walks[0]; w++) {
-            o.walk = walks[w];
-            film gpu = {0};
-            bool rendered = render_film(&render_backend_vulkan, &s, &o, &gpu);
-            if (!rendered && walks[w] == RENDER_WALK_RAY_QUERY) continue; /* not on this device */
-            CHECK(rendered && cpu.accum && same_film(&cpu, &gpu) && cpu.nonfinite == gpu.nonfinite,
-                  "%s mode: the %s walk differs from the CPU back end", path ? "path" : "report",
-                  walk_names[w]);
-            printf("moved nodes, %s mode, %s walk: %s\n", path ? "path" : "report", walk_names[w],
-                   rendered ? "rendered" : "failed");
-            film_free(&gpu);
-        }
-        film_free(&cpu);
-    }
+    expect_walks_agree("moved nodes", &s);
     scene_free(&s);
 }
 
