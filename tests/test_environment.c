@@ -112,7 +112,7 @@ static void expect_guided_picks(const packed_scene *p, int w, int h) {
 
 /* The chi-square test of environment_sample_at against the texels' pdf: every texel a bin (its
  * expected share pdf / (w h)), bins expecting fewer than 5 pooled; and each sample's pdf against
- * environment_pdf of its direction. */
+ * environment_look_along's light pdf of its direction. */
 static void test_sampling(void) {
     const char *map = tmp_path("varied.exr");
     CHECK(write_map(map, 32, 16, varied), "writing %s", map);
@@ -138,7 +138,7 @@ static void test_sampling(void) {
         environment_sample es = environment_sample_at(&p, ua, ub);
         int t = environment_texel_of(&p, environment_map_direction(&p, es.wi));
         observed[t] += 1.0;
-        double looked_up = environment_pdf(&p, es.wi);
+        double looked_up = environment_look_along(&p, es.wi).light_pdf;
         if (fabs(looked_up - es.pdf) > 1e-3 * es.pdf) pdf_off++;
     }
     double chi2 = 0.0, pool_o = 0.0, pool_e = 0.0;
@@ -156,7 +156,8 @@ static void test_sampling(void) {
     CHECK(z < 4.0, "environment sampling: chi-square z score %.2f over %d bins", z, dof);
     CHECK(observed[(H - 2) * W + 3] == 0.0, "a black texel was drawn");
     /* samples near a texel's edge may look up its neighbour: a few per thousand at most */
-    CHECK(pdf_off < SAMPLES / 1000, "%d samples' pdf differ from environment_pdf", pdf_off);
+    CHECK(pdf_off < SAMPLES / 1000, "%d samples' pdf differ from environment_look_along's",
+          pdf_off);
     /* the solid-angle pdf integrates to 1 over the sphere: midpoints of 4 x 4 cells a texel, in
      * the map's (u, v), d omega = 2 pi^2 sin(theta) du dv */
     double integral = 0.0;
@@ -165,7 +166,8 @@ static void test_sampling(void) {
             double theta = PI * (i + 0.5) / (4 * H), phi = 2 * PI * (j + 0.5) / (4 * W) - PI;
             vec3 d = v3((float)(sin(theta) * sin(phi)), (float)cos(theta),
                         (float)(sin(theta) * cos(phi)));
-            integral += environment_pdf(&p, d) * 2 * PI * PI * sin(theta) / (16.0 * W * H);
+            integral +=
+                environment_look_along(&p, d).light_pdf * 2 * PI * PI * sin(theta) / (16.0 * W * H);
         }
     CHECK(fabs(integral - 1.0) < 1e-4, "the environment pdf integrates to %.5f", integral);
     scene_pack_free(&p);

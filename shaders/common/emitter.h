@@ -111,13 +111,6 @@ TZ_LANE_FN environment_look environment_look_along(TZ_SCENE_PARAM vec3 d) {
     return l;
 }
 
-/* The solid-angle pdf (the pick included) with which light sampling draws direction d toward
- * the environment: 0 where the environment is not sampled (the constant background, report
- * mode). */
-TZ_LANE_FN float environment_pdf(TZ_SCENE_PARAM vec3 d) {
-    return environment_look_along(TZ_SCENE_ARG d).light_pdf;
-}
-
 /* The MIS weight of the environment's radiance found by a ray the BSDF drew with pdf bsdf_pdf
  * (specular: a camera ray or a mirror's or glass's, which light sampling cannot draw) along a
  * direction light sampling draws with pdf light_pdf (environment_look_along's): the power
