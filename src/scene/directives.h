@@ -123,6 +123,8 @@ bool mesh_transform_point(const mesh_transform *m, vec3 v, vec3 *out);
 vec3 mesh_transform_direction(const mesh_transform *m, vec3 v);
 /* A normal by the inverse transpose, R S^-1, renormalized; false when it is zero. */
 bool mesh_transform_normal(const mesh_transform *m, vec3 n, vec3 *out);
+/* The transform as affine rows [R S | t]. */
+void mesh_transform_rows(const mesh_transform *m, double out[3][4]);
 /* Instances (scene_instance.c): the models the parse's mesh lines loaded, by their key (path,
  * smooth and the line's material, NULL for the file's own). */
 typedef struct mesh_placed mesh_placed;

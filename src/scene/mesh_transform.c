@@ -51,3 +51,10 @@ bool mesh_transform_normal(const mesh_transform *m, vec3 n, vec3 *out) {
     *out = v3((float)(o[0] / length), (float)(o[1] / length), (float)(o[2] / length));
     return true;
 }
+
+void mesh_transform_rows(const mesh_transform *m, double out[3][4]) {
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) out[i][j] = m->r[i][j] * m->scale[j];
+        out[i][3] = m->translate[i];
+    }
+}

@@ -37,14 +37,6 @@ mesh_placed *mesh_placed_find(parser *p, const char *path, bool smooth, const ma
     return NULL;
 }
 
-/* The transform m as rows [R S | t]. */
-static void rows_of(const mesh_transform *m, double out[3][4]) {
-    for (int i = 0; i < 3; i++) {
-        for (int j = 0; j < 3; j++) out[i][j] = m->r[i][j] * m->scale[j];
-        out[i][3] = m->translate[i];
-    }
-}
-
 bool mesh_placed_note(parser *p, const char *path, bool smooth, const material *given,
                       bool instanceable, int first, int normals_first, const mesh_transform *xf) {
     if (mesh_placed_find(p, path, smooth, given)) return true;
@@ -67,7 +59,7 @@ bool mesh_placed_note(parser *p, const char *path, bool smooth, const material *
                        .normals_count = p->s.normals_count - normals_first,
                        .model = -1};
     if (given) r->m = *given;
-    rows_of(xf, r->to_world);
+    mesh_transform_rows(xf, r->to_world);
     return true;
 }
 
@@ -161,7 +153,7 @@ bool scene_instance_add(parser *p, int model, double to_world[3][4], int col, co
 
 bool mesh_placed_instance(parser *p, mesh_placed *r, const mesh_transform *xf, int col) {
     double rows[3][4];
-    rows_of(xf, rows);
+    mesh_transform_rows(xf, rows);
     return scene_instance_add(p, r->model, rows, col, r->path) && note_box(p, r, rows, col);
 }
 

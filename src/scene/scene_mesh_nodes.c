@@ -51,10 +51,7 @@ bool mesh_nodes_choose(parser *p, mesh *me, const material_spec *m, const materi
 /* rows: the line's transform xf after the node's rows. */
 static void line_after_node(const mesh_transform *xf, const double node[3][4], double rows[3][4]) {
     double line[3][4];
-    for (int i = 0; i < 3; i++) {
-        for (int j = 0; j < 3; j++) line[i][j] = xf->r[i][j] * xf->scale[j];
-        line[i][3] = xf->translate[i];
-    }
+    mesh_transform_rows(xf, line);
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 4; j++)
             rows[i][j] = line[i][0] * node[0][j] + line[i][1] * node[1][j] +
@@ -139,7 +136,7 @@ bool mesh_nodes_place(parser *p, mesh *me, const material_spec *m, const materia
                                        "coordinate range (1e18)",
                                        path, in->node, me->parts[k].mesh);
             if (!scene_instance_add(p, model, rows, col, path)) return false;
-            scene_box_moved(mlo, mhi, rows, lo, hi);
+            for (int a = 0; a < 3; a++) lo[a] = fmin(lo[a], wlo[a]), hi[a] = fmax(hi[a], whi[a]);
             count->placed += (size_t)faces;
             count->instances++;
         }
