@@ -185,6 +185,12 @@ bool mesh_nodes_gather(const struct aiScene *sc, mesh *m, char *error, size_t er
 double mesh_rows_determinant(const double rows[3][4]);
 /* The inverse transpose of rows' 3 x 3 part (cofactors over the determinant), for normals. */
 void mesh_rows_normal_matrix(const double rows[3][4], double out[3][3]);
+/* out = a after b: the rows of b's map followed by a's. */
+void mesh_rows_compose(const double a[3][4], const double b[3][4], double out[3][4]);
+/* Point p moved by rows, in double. */
+void mesh_rows_point(const double rows[3][4], const double p[3], double out[3]);
+/* Normal n by the normal matrix nm (mesh_rows_normal_matrix), normalized where not zero. */
+void mesh_rows_normal(double nm[3][3], const double n[3], double out[3]);
 /* Moves the instances for which flatten[k] is true out of m: their part's faces placed by their
  * rows join the placed faces (as PreTransformVertices would place them: a mirroring node's
  * faces wound back). False out of memory (m kept). */

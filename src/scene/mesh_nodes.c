@@ -59,10 +59,7 @@ static affine compose(const affine *a, const struct aiMatrix4x4 *b) {
     const double r[3][4] = {
         {b->a1, b->a2, b->a3, b->a4}, {b->b1, b->b2, b->b3, b->b4}, {b->c1, b->c2, b->c3, b->c4}};
     affine out;
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 4; j++)
-            out.m[i][j] = a->m[i][0] * r[0][j] + a->m[i][1] * r[1][j] + a->m[i][2] * r[2][j] +
-                          (j == 3 ? a->m[i][3] : 0.0);
+    mesh_rows_compose(a->m, r, out.m);
     return out;
 }
 
@@ -113,16 +110,11 @@ static bool add_mesh(gather *g, unsigned i, const affine *x) {
             if (!isfinite(v.x) || !isfinite(v.y) || !isfinite(v.z))
                 return fail(g, "vertex %u of mesh %u has a non-finite position", index, i);
             double p[3] = {v.x, v.y, v.z}, w[3] = {v.x, v.y, v.z};
-            for (int r = 0; x && r < 3; r++)
-                w[r] = x->m[r][0] * p[0] + x->m[r][1] * p[1] + x->m[r][2] * p[2] + x->m[r][3];
+            if (x) mesh_rows_point(x->m, p, w);
             mf->v[k] = v3((float)w[0], (float)w[1], (float)-w[2]);
             struct aiVector3D n = me->mNormals ? me->mNormals[index] : (struct aiVector3D){0};
-            double q[3] = {n.x, n.y, n.z}, u[3] = {n.x, n.y, n.z}, len = 0.0;
-            for (int r = 0; x && r < 3; r++) {
-                u[r] = nm[r][0] * q[0] + nm[r][1] * q[1] + nm[r][2] * q[2];
-                len += u[r] * u[r];
-            }
-            for (int r = 0; x && len > 0.0 && r < 3; r++) u[r] /= sqrt(len);
+            double q[3] = {n.x, n.y, n.z}, u[3] = {n.x, n.y, n.z};
+            if (x) mesh_rows_normal(nm, q, u);
             bool finite = isfinite(u[0]) && isfinite(u[1]) && isfinite(u[2]);
             mf->n[k] = finite ? v3((float)u[0], (float)u[1], (float)-u[2]) : v3(0, 0, 0);
             mesh_corner_uv(me, index, mf->uv[k]);

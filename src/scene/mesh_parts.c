@@ -25,11 +25,31 @@ void mesh_rows_normal_matrix(const double a[3][4], double out[3][3]) {
         }
 }
 
-/* Point p moved by rows. */
+void mesh_rows_compose(const double a[3][4], const double b[3][4], double out[3][4]) {
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 4; j++)
+            out[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j] +
+                        (j == 3 ? a[i][3] : 0.0);
+}
+
+void mesh_rows_point(const double rows[3][4], const double p[3], double out[3]) {
+    for (int r = 0; r < 3; r++)
+        out[r] = rows[r][0] * p[0] + rows[r][1] * p[1] + rows[r][2] * p[2] + rows[r][3];
+}
+
+void mesh_rows_normal(double nm[3][3], const double n[3], double out[3]) {
+    double len = 0.0;
+    for (int r = 0; r < 3; r++) {
+        out[r] = nm[r][0] * n[0] + nm[r][1] * n[1] + nm[r][2] * n[2];
+        len += out[r] * out[r];
+    }
+    for (int r = 0; len > 0.0 && r < 3; r++) out[r] /= sqrt(len);
+}
+
+/* Point p moved by rows, rounded to float. */
 static vec3 moved(const double rows[3][4], vec3 p) {
     double x[3] = {p.x, p.y, p.z}, w[3];
-    for (int r = 0; r < 3; r++)
-        w[r] = rows[r][0] * x[0] + rows[r][1] * x[1] + rows[r][2] * x[2] + rows[r][3];
+    mesh_rows_point(rows, x, w);
     return v3((float)w[0], (float)w[1], (float)w[2]);
 }
 
@@ -68,13 +88,9 @@ bool mesh_nodes_flatten(mesh *m, const bool *flatten) {
                 int k2 = mirrored && c ? 3 - c : c; /* a mirroring node's faces wound back */
                 to->v[c] = moved(in->rows, from->v[k2]);
                 vec3 n = from->n[k2];
-                double q[3] = {n.x, n.y, n.z}, u[3], len = 0.0;
-                for (int r = 0; r < 3; r++) {
-                    u[r] = nm[r][0] * q[0] + nm[r][1] * q[1] + nm[r][2] * q[2];
-                    len += u[r] * u[r];
-                }
-                len = len > 0.0 ? sqrt(len) : 1.0;
-                to->n[c] = v3((float)(u[0] / len), (float)(u[1] / len), (float)(u[2] / len));
+                double q[3] = {n.x, n.y, n.z}, u[3];
+                mesh_rows_normal(nm, q, u);
+                to->n[c] = v3((float)u[0], (float)u[1], (float)u[2]);
                 memcpy(to->uv[c], from->uv[k2], sizeof to->uv[c]);
             }
         }

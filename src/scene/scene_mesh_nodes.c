@@ -52,10 +52,7 @@ bool mesh_nodes_choose(parser *p, mesh *me, const material_spec *m, const materi
 static void line_after_node(const mesh_transform *xf, const double node[3][4], double rows[3][4]) {
     double line[3][4];
     mesh_transform_rows(xf, line);
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 4; j++)
-            rows[i][j] = line[i][0] * node[0][j] + line[i][1] * node[1][j] +
-                         line[i][2] * node[2][j] + (j == 3 ? line[i][3] : 0.0);
+    mesh_rows_compose((const double(*)[4])line, node, rows);
 }
 
 /* Degenerate faces dropped from the parts: how many, and the first described. */
