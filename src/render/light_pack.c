@@ -7,8 +7,6 @@
 
 #define PI 3.14159265358979323846
 
-static tz_vec4 vec4_from(vec3 v, float w) { return (tz_vec4){v.x, v.y, v.z, w}; }
-
 /* A light as the shaders read it: a spot's falloff as glTF writes it, scale 1 / max(1e-3,
  * cos_inner - cos_outer) and offset -cos_outer scale, in double; a sun's direction toward it. */
 static struct gpu_light gpu_light_of(const light *l) {

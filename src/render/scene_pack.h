@@ -45,6 +45,9 @@ typedef struct packed_scene {
  * (logged) on out-of-memory (environment_pack.c). */
 bool environment_pack(const environment_map *m, packed_scene *out, double *mean);
 
+/* v with w as a vec4 of the shaders' structs. */
+static inline tz_vec4 vec4_from(vec3 v, float w) { return (tz_vec4){v.x, v.y, v.z, w}; }
+
 /* A sun with a disc in path mode: an emitter of this radiance and power (0: none). */
 typedef struct sun_disc {
     vec3 radiance;
@@ -56,6 +59,15 @@ typedef struct sun_disc {
  * (its flux through the disc of the scene's radius, in the environment's unit) returned
  * (light_pack.c). */
 sun_disc lights_pack(const scene *s, bool path_mode, double scene_radius, packed_scene *out);
+/* The radius of a sphere about the scene's box (1 for an empty scene), in double: the
+ * environment's and the sun's powers are those of their light through the disc of that radius
+ * (emitter_pack.c). */
+double emitter_scene_radius(const scene *s);
+/* Path mode's emitter table into out->emitters (emitter_pack.c: spheres, faces in BVH order by
+ * triangle_source, the environment of power env_power, the sun's disc), each emitting
+ * primitive's slot + 1 written back; false (logged) out of memory. */
+bool emitters_pack(packed_scene *out, const scene *sc, bool path_mode,
+                   const uint32_t *triangle_source, double env_power, const sun_disc *sun);
 /* Packs the scene with the options applied, spheres in BVH order unless opts->no_bvh;
  * false (logged) on out-of-memory. */
 bool scene_pack(const scene *s, const render_opts *opts, packed_scene *out);
